@@ -1,0 +1,2 @@
+//! scatterlab: author subsurface-scattering diffusion profiles.
+pub mod model;
