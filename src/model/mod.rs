@@ -14,11 +14,11 @@ pub mod hankel;
 pub mod jimenez;
 // pub mod lut;
 pub mod measured;
-// pub mod multipole;
+pub mod multipole;
 pub mod quad;
 // pub mod sampling;
 pub mod separable;
-// pub mod tabulated;
+pub mod tabulated;
 // pub mod units;
 
 use std::f64::consts::PI;
