@@ -8,7 +8,7 @@
 
 pub mod burley;
 pub mod dipole;
-// pub mod fit;
+pub mod fit;
 pub mod gaussian;
 pub mod hankel;
 pub mod jimenez;
@@ -19,7 +19,7 @@ pub mod quad;
 pub mod sampling;
 pub mod separable;
 pub mod tabulated;
-// pub mod units;
+pub mod units;
 
 use std::f64::consts::PI;
 
