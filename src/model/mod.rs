@@ -33,12 +33,20 @@ pub const DEFAULT_ENERGY_FRACTION: f64 = 0.997;
 /// Errors from building or querying a model. Each names the offending field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
-    #[error("{field} = {value} is outside its range [{min}, {max}]{unit}")]
+    #[error("{field} = {value} is outside its range {}{unit}", range_text(*min, *max))]
     OutOfRange { field: String, value: f64, min: f64, max: f64, unit: &'static str },
     #[error("{field} is not a finite number (got {value})")]
     NotFinite { field: String, value: f64 },
     #[error("{field}: {reason}")]
     Invalid { field: String, reason: String },
+}
+
+fn range_text(min: f64, max: f64) -> String {
+    if max.is_infinite() || max >= f64::MAX {
+        format!("[{min}, ∞)")
+    } else {
+        format!("[{min}, {max}]")
+    }
 }
 
 impl ModelError {
@@ -58,7 +66,7 @@ pub fn check_range(
     if !value.is_finite() {
         return Err(ModelError::NotFinite { field: field.to_owned(), value });
     }
-    if value < min || value > max {
+    if value < min || value > max || (max.is_infinite() && value.is_infinite()) {
         return Err(ModelError::OutOfRange { field: field.to_owned(), value, min, max, unit });
     }
     Ok(value)
@@ -83,7 +91,7 @@ pub const CHANNEL_NAMES: [&str; 3] = ["r", "g", "b"];
 
 /// Checks a radius: finite and non-negative.
 pub fn check_radius(field: &str, radius_mm: f64) -> Result<f64, ModelError> {
-    check_range(field, radius_mm, 0.0, f64::MAX, " mm")
+    check_range(field, radius_mm, 0.0, f64::INFINITY, " mm")
 }
 
 /// Checks a CDF value ξ ∈ [0, 1).

@@ -1,0 +1,546 @@
+//! The scripting interface: subcommands that print the same numbers the
+//! editor shows. `--json` prints exactly the documented keys; bad input
+//! exits non-zero with a one-line error on stderr.
+
+pub mod args;
+
+use crate::model::burley::{sample_radius_checked, sample_radius_halley, Burley};
+use crate::model::fit::{fit_artist, fit_burley, fit_gaussians, fit_jimenez};
+use crate::model::jimenez::Jimenez2012;
+use crate::model::lut::{self, LutEncoding, LutLayout, ShadowLayout};
+use crate::model::sampling::{AngleSequence, SamplePattern};
+use crate::model::separable::SeparableKernel;
+use crate::model::units::{BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
+use crate::model::{check_radius, RadialProfile, Rgb, DEFAULT_ENERGY_FRACTION};
+use crate::settings::ProfileSpec;
+use anyhow::{bail, Context, Result};
+use args::{parse_color, parse_list, Color, ModelArgs, NumberList};
+use clap::{Parser, Subcommand, ValueEnum};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+
+#[derive(Debug, Parser)]
+#[command(name = "scatterlab", version, about = "Author subsurface-scattering diffusion profiles.", long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
+    Profile {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Radii (mm); default: 24 radii up to twice the widest 99.7 % radius.
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list, value_name = "R1,R2,…")]
+        radii: Option<NumberList>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Sample radii and patterns.
+    #[command(subcommand)]
+    Sample(SampleCommand),
+    /// 1D separable kernels.
+    #[command(subcommand)]
+    Kernel(KernelCommand),
+    /// Lookup tables.
+    #[command(subcommand)]
+    Lut(LutCommand),
+    /// Thin-slab transmittance T(d) = ∫2πr R(√(r²+d²)) dr.
+    Transmittance {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Thicknesses (mm).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list, value_name = "D1,D2,…")]
+        thickness: NumberList,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Fit another model to a profile; the error is the relative L2 error of r·R(r) to the 99.7 % radius.
+    Fit {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// burley, jimenez, artist or gaussians:N.
+        #[arg(long, value_name = "MODEL")]
+        to: String,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Express a profile in an engine's parameters (via a Burley fit when needed).
+    Convert {
+        #[command(flatten)]
+        model: ModelArgs,
+        #[arg(long, value_enum)]
+        to: Engine,
+        /// Unity: metres per unit (default 1). Unreal: World Unit Scale (default 0.1). Blender: metres per unit (default 1).
+        #[arg(long, allow_hyphen_values = true)]
+        world_scale: Option<f64>,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Engine {
+    Unity,
+    Unreal,
+    Blender,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum SampleCommand {
+    /// Burley radii for given ξ by the inverse CDF (closed form or Halley).
+    Burley {
+        /// Shape s = 1/d (1/mm).
+        #[arg(long, allow_hyphen_values = true)]
+        shape: f64,
+        /// CDF values ξ in [0, 1).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list, value_name = "X1,X2,…")]
+        xi: NumberList,
+        #[arg(long, value_enum, default_value = "closed-form")]
+        method: InverseMethod,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Golubev 2018 disk sample pattern for a profile.
+    Pattern {
+        #[command(flatten)]
+        model: ModelArgs,
+        #[arg(long, default_value_t = 21)]
+        samples: usize,
+        #[arg(long, value_enum, default_value = "golden-angle")]
+        angles: AnglesArg,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum InverseMethod {
+    ClosedForm,
+    Halley,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AnglesArg {
+    GoldenAngle,
+    Hammersley,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum KernelCommand {
+    /// The Jimenez 2012 demo kernel (centre tap first).
+    Jimenez {
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B", default_value = "0.48,0.41,0.28")]
+        strength: Color,
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B", default_value = "1,0.37,0.3")]
+        falloff: Color,
+        #[arg(long, default_value_t = 17)]
+        taps: usize,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Importance-sampled taps of the pre-integrated kernel (Jimenez 2015) of any profile.
+    Separable {
+        #[command(flatten)]
+        model: ModelArgs,
+        #[arg(long, default_value_t = 7)]
+        taps: usize,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Debug, Subcommand)]
+pub enum LutCommand {
+    /// Penner's pre-integrated D(θ, curvature radius).
+    Preintegrated {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Angles between N and L (radians).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list, value_name = "T1,T2,…")]
+        theta: Option<NumberList>,
+        /// Curvature radii (mm).
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_list, value_name = "C1,C2,…")]
+        curvature_radius: Option<NumberList>,
+        /// Write the table as a PNG (θ or N·L across, curvature down).
+        #[arg(long, value_name = "FILE.png")]
+        out: Option<PathBuf>,
+        /// PNG encoding: linear D or FaceWorks' delta from saturate(N·L).
+        #[arg(long, value_enum, default_value = "linear")]
+        encoding: EncodingArg,
+        /// Baked table size when no --theta/--curvature-radius lists are given.
+        #[arg(long, default_value_t = 256)]
+        size: usize,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Penner's shadow-penumbra table (linear PNG).
+    Shadow {
+        #[command(flatten)]
+        model: ModelArgs,
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        #[arg(long, default_value_t = 64)]
+        size: usize,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EncodingArg {
+    Linear,
+    FaceworksDelta,
+}
+
+/// Runs a parsed command; `None` prints the default profile.
+pub fn run(cli: Cli) -> Result<()> {
+    let Some(command) = cli.command else {
+        println!("(the interactive editor is not built yet; `scatterlab --help` lists the scripting commands)");
+        return profile(&ModelArgs::default(), None, false);
+    };
+    match command {
+        Command::Profile { model, radii, json } => profile(&model, radii, json),
+        Command::Sample(SampleCommand::Burley { shape, xi, method, json }) => sample_burley(shape, &xi.0, method, json),
+        Command::Sample(SampleCommand::Pattern { model, samples, angles, json }) => pattern(&model, samples, angles, json),
+        Command::Kernel(KernelCommand::Jimenez { strength, falloff, taps, json }) => {
+            let k = Jimenez2012::new(strength.0, falloff.0)?.kernel(taps)?;
+            print_kernel(&k, json)
+        }
+        Command::Kernel(KernelCommand::Separable { model, taps, json }) => {
+            let p = model.spec()?.build()?;
+            print_kernel(&SeparableKernel::importance_sampled(p.as_ref(), taps)?, json)
+        }
+        Command::Lut(LutCommand::Preintegrated { model, theta, curvature_radius, out, encoding, size, json }) => {
+            lut_preintegrated(&model, theta, curvature_radius, out, encoding, size, json)
+        }
+        Command::Lut(LutCommand::Shadow { model, out, size }) => lut_shadow(&model, &out, size),
+        Command::Transmittance { model, thickness, json } => transmittance(&model, &thickness.0, json),
+        Command::Fit { model, to, json } => fit(&model, &to, json),
+        Command::Convert { model, to, world_scale, json } => convert(&model, to, world_scale, json),
+    }
+}
+
+fn built(model: &ModelArgs) -> Result<(ProfileSpec, Box<dyn RadialProfile>)> {
+    let spec = model.spec()?;
+    let p = spec.build()?;
+    Ok((spec, p))
+}
+
+fn checked_list(field: &str, values: &[f64]) -> Result<()> {
+    for (i, v) in values.iter().enumerate() {
+        check_radius(&format!("{field}[{i}]"), *v)?;
+    }
+    Ok(())
+}
+
+fn rgb(v: Rgb) -> Value {
+    json!(v)
+}
+
+fn profile(model: &ModelArgs, radii: Option<NumberList>, as_json: bool) -> Result<()> {
+    let (spec, p) = built(model)?;
+    let r997 = p.radius_for_energy(DEFAULT_ENERGY_FRACTION);
+    let radii = match radii {
+        Some(l) => l.0,
+        None => {
+            let max = 2.0 * r997.into_iter().fold(0.0, f64::max);
+            (0..24).map(|i| max * i as f64 / 23.0).collect()
+        }
+    };
+    checked_list("radii", &radii)?;
+    let rows: Vec<(Rgb, Rgb, Rgb)> = radii.iter().map(|&r| (p.reflectance(r), p.r_reflectance(r), p.cdf(r))).collect();
+    let total = p.total_reflectance();
+    if as_json {
+        let out = json!({
+            "radii_mm": radii,
+            "R": rows.iter().map(|r| rgb(r.0)).collect::<Vec<_>>(),
+            "rR": rows.iter().map(|r| rgb(r.1)).collect::<Vec<_>>(),
+            "cdf": rows.iter().map(|r| rgb(r.2)).collect::<Vec<_>>(),
+            "total_reflectance": rgb(total),
+            "radius_997_mm": rgb(r997),
+        });
+        println!("{out}");
+        return Ok(());
+    }
+    println!("model: {}", spec.model_name());
+    println!("total diffuse reflectance (R, G, B): {:.6} {:.6} {:.6}", total[0], total[1], total[2]);
+    println!("radius holding 99.7 % of the energy (mm): {:.6} {:.6} {:.6}", r997[0], r997[1], r997[2]);
+    println!("{:>10}  {:>36}  {:>36}  {:>26}", "r (mm)", "R(r) R G B (1/mm²)", "r·R(r) R G B (1/mm)", "CDF R G B");
+    for (r, (a, b, c)) in radii.iter().zip(&rows) {
+        println!(
+            "{r:>10.4}  {:>11.4e} {:>11.4e} {:>11.4e}  {:>11.4e} {:>11.4e} {:>11.4e}  {:>8.5} {:>8.5} {:>8.5}",
+            a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]
+        );
+    }
+    Ok(())
+}
+
+fn sample_burley(shape: f64, xi: &[f64], method: InverseMethod, as_json: bool) -> Result<()> {
+    crate::model::check_range("shape", shape, 1e-3, 1e4, " 1/mm")?;
+    let mut radii = Vec::with_capacity(xi.len());
+    for (i, &x) in xi.iter().enumerate() {
+        let r = sample_radius_checked(x, shape).with_context(|| format!("xi[{i}]"))?;
+        radii.push(match method {
+            InverseMethod::ClosedForm => r,
+            InverseMethod::Halley => sample_radius_halley(x, shape),
+        });
+    }
+    if as_json {
+        println!("{}", json!({ "xi": xi, "radius_mm": radii }));
+    } else {
+        println!("{:>12}  {:>14}", "xi", "radius (mm)");
+        for (x, r) in xi.iter().zip(&radii) {
+            println!("{x:>12.6}  {r:>14.8}");
+        }
+    }
+    Ok(())
+}
+
+fn pattern(model: &ModelArgs, n: usize, angles: AnglesArg, as_json: bool) -> Result<()> {
+    let (_, p) = built(model)?;
+    let seq = match angles {
+        AnglesArg::GoldenAngle => AngleSequence::GoldenAngle,
+        AnglesArg::Hammersley => AngleSequence::Hammersley,
+    };
+    let pat = SamplePattern::new(p.as_ref(), n, seq)?;
+    if as_json {
+        let samples: Vec<Value> = pat
+            .samples
+            .iter()
+            .map(|s| json!({ "radius_mm": s.radius_mm, "angle_rad": s.angle_rad, "weight": rgb(s.weight) }))
+            .collect();
+        println!("{}", json!({ "sampled_channel": pat.sampled_channel, "angles": seq.id(), "samples": samples }));
+    } else {
+        println!("sampled channel: {} ({} angles)", ["R", "G", "B"][pat.sampled_channel], seq.id());
+        println!("{:>12}  {:>10}  {:>36}", "radius (mm)", "angle", "weight R G B");
+        for s in &pat.samples {
+            println!("{:>12.6}  {:>10.6}  {:>11.4e} {:>11.4e} {:>11.4e}", s.radius_mm, s.angle_rad, s.weight[0], s.weight[1], s.weight[2]);
+        }
+    }
+    Ok(())
+}
+
+fn print_kernel(k: &SeparableKernel, as_json: bool) -> Result<()> {
+    if as_json {
+        let rows: Vec<[f64; 4]> = k.taps.iter().map(|t| [t.weight[0], t.weight[1], t.weight[2], t.offset_mm]).collect();
+        println!("{}", json!({ "kernel": rows }));
+    } else {
+        println!("{:>12} {:>12} {:>12}  {:>12}", "weight R", "weight G", "weight B", "offset (mm)");
+        for t in &k.taps {
+            println!("{:>12.6e} {:>12.6e} {:>12.6e}  {:>12.6}", t.weight[0], t.weight[1], t.weight[2], t.offset_mm);
+        }
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn lut_preintegrated(
+    model: &ModelArgs,
+    theta: Option<NumberList>,
+    radii: Option<NumberList>,
+    out: Option<PathBuf>,
+    encoding: EncodingArg,
+    size: usize,
+    as_json: bool,
+) -> Result<()> {
+    let (_, p) = built(model)?;
+    let enc = match encoding {
+        EncodingArg::Linear => LutEncoding::Linear,
+        EncodingArg::FaceworksDelta => LutEncoding::FaceWorksDelta,
+    };
+    match (theta, radii) {
+        (Some(t), Some(c)) => {
+            for &th in &t.0 {
+                for &cr in &c.0 {
+                    lut::check_lut_inputs(th, cr)?;
+                }
+            }
+            let d: Vec<Vec<Rgb>> = t.0.iter().map(|&th| c.0.iter().map(|&cr| lut::preintegrated_d(p.as_ref(), th, cr)).collect()).collect();
+            if let Some(path) = &out {
+                let (w, h) = (t.0.len(), c.0.len());
+                let mut px = Vec::with_capacity(w * h * 3);
+                for j in 0..h {
+                    for (i, th) in t.0.iter().enumerate() {
+                        px.extend(d[i][j].map(|v| (enc.encode(v, th.cos()).clamp(0.0, 1.0) * 255.0 + 0.5) as u8));
+                    }
+                }
+                write_png(path, w, h, px)?;
+            }
+            if as_json {
+                println!("{}", json!({ "D": d }));
+            } else if out.is_none() {
+                for (th, row) in t.0.iter().zip(&d) {
+                    for (cr, v) in c.0.iter().zip(row) {
+                        println!("theta {th:.6} rad, curvature radius {cr:.4} mm: D = {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+                    }
+                }
+            }
+            Ok(())
+        }
+        (None, None) => {
+            let Some(path) = out else { bail!("give --theta and --curvature-radius lists, or --out FILE.png to bake a table") };
+            if as_json {
+                bail!("--json needs --theta and --curvature-radius lists");
+            }
+            let layout = LutLayout { width: size, height: size, ..LutLayout::default() };
+            let table = lut::Lut::bake(p.as_ref(), layout)?;
+            write_png(&path, size, size, table.to_rgb8(enc))?;
+            println!(
+                "wrote {} ({size}×{size}, x: N·L −1→1, y: 1/c from 1/{} to 1/{} mm⁻¹, {:?}, linear 8-bit)",
+                path.display(),
+                layout.curvature_radius_max_mm,
+                layout.curvature_radius_min_mm,
+                enc
+            );
+            Ok(())
+        }
+        _ => bail!("--theta and --curvature-radius go together"),
+    }
+}
+
+fn lut_shadow(model: &ModelArgs, out: &std::path::Path, size: usize) -> Result<()> {
+    let (_, p) = built(model)?;
+    let layout = ShadowLayout { width: size, height: size, ..ShadowLayout::default() };
+    let t = lut::bake_shadow(p.as_ref(), layout)?;
+    let px: Vec<u8> = t.iter().flat_map(|v| v.map(|x| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8)).collect();
+    write_png(out, size, size, px)?;
+    println!(
+        "wrote {} ({size}×{size}, x: unscattered shadow 0→1, y: 1/penumbra width from 1/{} to 1/{} mm⁻¹, linear 8-bit)",
+        out.display(),
+        layout.penumbra_max_mm,
+        layout.penumbra_min_mm
+    );
+    Ok(())
+}
+
+fn write_png(path: &std::path::Path, w: usize, h: usize, rgb8: Vec<u8>) -> Result<()> {
+    let img = image::RgbImage::from_raw(w as u32, h as u32, rgb8).context("internal: image size mismatch")?;
+    let mut bytes = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
+    crate::fsutil::write_atomic(path, &bytes).with_context(|| format!("{}: cannot write", path.display()))
+}
+
+fn transmittance(model: &ModelArgs, thickness: &[f64], as_json: bool) -> Result<()> {
+    let (_, p) = built(model)?;
+    checked_list("thickness", thickness)?;
+    let t: Vec<Rgb> = thickness.iter().map(|&d| p.transmittance(d)).collect();
+    if as_json {
+        println!("{}", json!({ "thickness_mm": thickness, "T": t }));
+    } else {
+        println!("{:>12}  {:>12} {:>12} {:>12}", "d (mm)", "T R", "T G", "T B");
+        for (d, v) in thickness.iter().zip(&t) {
+            println!("{d:>12.5}  {:>12.6e} {:>12.6e} {:>12.6e}", v[0], v[1], v[2]);
+        }
+    }
+    Ok(())
+}
+
+fn fit(model: &ModelArgs, to: &str, as_json: bool) -> Result<()> {
+    let (_, p) = built(model)?;
+    let target = p.as_ref();
+    let (params, err) = match to {
+        "burley" => {
+            let f = fit_burley(target)?;
+            (json!({ "albedo": rgb(f.model.albedo()), "scattering_distance_mm": rgb(f.model.scattering_distance_mm()) }), f.max_error())
+        }
+        "jimenez" | "jimenez2012" => {
+            let f = fit_jimenez(target)?;
+            (json!({ "strength": rgb(f.model.strength()), "falloff": rgb(f.model.falloff()) }), f.max_error())
+        }
+        "artist" => {
+            let f = fit_artist(target)?;
+            let m = &f.model;
+            (
+                json!({ "sigma_near": rgb(m.sigma_near()), "sigma_far": rgb(m.sigma_far()), "weight": m.weight(), "scale_mm": m.scale_mm() }),
+                f.max_error(),
+            )
+        }
+        other => {
+            let Some(n) = other.strip_prefix("gaussians:") else {
+                bail!("--to must be burley, jimenez, artist or gaussians:N (got `{other}`)");
+            };
+            let n: usize = n.parse().map_err(|_| anyhow::anyhow!("--to gaussians:N needs a whole number N (got `{n}`)"))?;
+            let f = fit_gaussians(target, n)?;
+            let terms: Vec<Value> = (0..n)
+                .map(|k| {
+                    let t: Vec<_> = (0..3).map(|c| f.model.channel_terms(c)[k]).collect();
+                    json!({ "variance_mm2": t[0].variance_mm2, "weights": [t[0].weight, t[1].weight, t[2].weight] })
+                })
+                .collect();
+            (json!({ "gaussians": terms }), f.max_error())
+        }
+    };
+    if as_json {
+        println!("{}", json!({ "params": params, "relative_l2_error": err }));
+    } else {
+        println!("fitted {to}: {}", serde_json::to_string_pretty(&params)?);
+        println!("relative L2 error of r·R(r) to the 99.7 % radius (worst channel): {err:.6}");
+    }
+    Ok(())
+}
+
+fn convert(model: &ModelArgs, to: Engine, world_scale: Option<f64>, as_json: bool) -> Result<()> {
+    let (spec, p) = built(model)?;
+    let (burley, fit_error) = match &spec {
+        ProfileSpec::Burley(b) => (b.build()?, 0.0),
+        _ => {
+            let f = fit_burley(p.as_ref())?;
+            let e = f.max_error();
+            (f.model, e)
+        }
+    };
+    let params = engine_params(&burley, to, world_scale)?;
+    if as_json {
+        println!("{}", json!({ "engine": format!("{to:?}").to_lowercase(), "burley_fit_relative_l2_error": fit_error, "params": params }));
+    } else {
+        if fit_error > 0.0 {
+            println!("(converted through a Burley fit; relative L2 error of r·R(r): {fit_error:.6})");
+        }
+        println!("{}", serde_json::to_string_pretty(&params)?);
+    }
+    Ok(())
+}
+
+/// Engine parameters of a Burley profile as JSON, with units in the keys.
+pub fn engine_params(b: &Burley, to: Engine, world_scale: Option<f64>) -> Result<Value> {
+    Ok(match to {
+        Engine::Unity => {
+            let u = UnityProfile::from_burley(b, world_scale.unwrap_or(1.0))?;
+            json!({
+                "scattering_distance_color": rgb(u.scattering_distance_color),
+                "scattering_distance_multiplier": u.scattering_distance_multiplier,
+                "world_scale_m_per_unit": u.world_scale_m_per_unit,
+                "albedo_for_material": rgb(b.albedo()),
+            })
+        }
+        Engine::Unreal => {
+            let u = UnrealProfile::from_burley(b, world_scale.unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE))?;
+            json!({
+                "surface_albedo": rgb(u.surface_albedo),
+                "mean_free_path_color": rgb(u.mean_free_path_color),
+                "mean_free_path_distance_cm": u.mean_free_path_distance_cm,
+                "world_unit_scale": u.world_unit_scale,
+                "struct_text": u.to_struct_text(),
+            })
+        }
+        Engine::Blender => {
+            let u = BlenderSubsurface::from_burley(b, world_scale.unwrap_or(1.0))?;
+            json!({
+                "base_color": rgb(u.base_color),
+                "subsurface_radius": rgb(u.subsurface_radius),
+                "subsurface_scale": u.subsurface_scale,
+                "metres_per_unit": u.metres_per_unit,
+                "subsurface_method": "Christensen-Burley",
+            })
+        }
+    })
+}
+
+/// A Burley profile (used by tests and exporters).
+pub fn burley_from(spec: &ProfileSpec) -> Option<Burley> {
+    match spec {
+        ProfileSpec::Burley(b) => b.build().ok(),
+        _ => None,
+    }
+}

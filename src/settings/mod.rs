@@ -1,0 +1,9 @@
+//! Serde types that describe a look. Presets are these types written as
+//! RON. Every struct is `#[serde(default)]` so older files still load, and
+//! validation errors name the field (and the loader adds the file).
+
+pub mod preset;
+pub mod profile;
+
+pub use preset::{Preset, PresetError};
+pub use profile::ProfileSpec;
