@@ -152,8 +152,15 @@ pub struct Dipole {
 impl Dipole {
     /// σa, σ′s in mm⁻¹ and the relative index η ∈ [1, 2].
     pub fn new(medium: Medium, eta: f64) -> Result<Self, ModelError> {
-        medium.validate("")?;
         check_range("eta", eta, ETA_RANGE.0, ETA_RANGE.1, "")?;
+        Self::with_relative_index(medium, eta)
+    }
+
+    /// As [`Dipole::new`] with a relative index that may be below 1 (the
+    /// base of a layer stack under a denser layer); η ∈ [0.5, 2].
+    pub fn with_relative_index(medium: Medium, eta: f64) -> Result<Self, ModelError> {
+        medium.validate("")?;
+        check_range("eta (relative)", eta, 0.5, ETA_RANGE.1, "")?;
         let a = boundary_a(eta);
         let coef = [0, 1, 2].map(|c| medium.channel(c));
         let z_r = rgb_map(|c| coef[c].mean_free_path);

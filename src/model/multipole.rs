@@ -219,6 +219,8 @@ impl LayeredMultipole {
         if layers.is_empty() {
             return Err(ModelError::invalid("layers", "at least one layer is required"));
         }
+        check_range("eta_above", eta_above, ETA_RANGE.0, ETA_RANGE.1, "")?;
+        check_range("eta_below", eta_below, ETA_RANGE.0, ETA_RANGE.1, "")?;
         for (i, l) in layers.iter().enumerate() {
             validate_layer(l, &format!("layers[{i}]."))?;
             if l.thickness_mm.is_none() && i + 1 != layers.len() {
@@ -233,16 +235,7 @@ impl LayeredMultipole {
             if l.thickness_mm.is_some() {
                 slabs.push(MultipoleSlab::new(l, above, below, dipoles, &format!("layers[{i}]."))?);
             } else {
-                base = Some(super::dipole::Dipole::new(l.medium, l.eta / above).map_err(|e| match e {
-                    ModelError::OutOfRange { field, value, min, max, unit } if field == "eta" => ModelError::OutOfRange {
-                        field: format!("layers[{i}].eta relative to the layer above"),
-                        value,
-                        min,
-                        max,
-                        unit,
-                    },
-                    other => other,
-                })?);
+                base = Some(super::dipole::Dipole::with_relative_index(l.medium, l.eta / above)?);
             }
         }
         let z_min = slabs

@@ -248,7 +248,11 @@ impl MultipoleSpec {
             [only] if only.thickness_mm.is_some() => {
                 Ok(Box::new(MultipoleSlab::new(only, self.eta_above, self.eta_below, self.dipoles, "layers[0].")?))
             }
-            [only] => Ok(Box::new(Dipole::new(only.medium, only.eta / self.eta_above).map_err(|e| prefix("layers[0].", e))?)),
+            [only] => {
+                crate::model::check_range("eta_above", self.eta_above, 1.0, 2.0, "")?;
+                crate::model::check_range("layers[0].eta", only.eta, 1.0, 2.0, "")?;
+                Ok(Box::new(Dipole::with_relative_index(only.medium, only.eta / self.eta_above).map_err(|e| prefix("layers[0].", e))?))
+            }
             _ => Ok(Box::new(LayeredMultipole::new(&layers, self.eta_above, self.eta_below, self.dipoles)?)),
         }
     }
