@@ -7,8 +7,15 @@ use std::f64::consts::PI;
 use std::process::Command;
 
 fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_scatterlab")).args(args).output().expect("binary runs");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 fn json(args: &[&str]) -> Value {
@@ -33,8 +40,29 @@ fn rel(a: f64, b: f64) -> f64 {
 /// (Christensen & Burley 2015; Golubev 2018): CLI to 1e-5 relative.
 #[test]
 fn profile_burley_matches_closed_form() {
-    let v = json(&["profile", "--model", "burley", "--albedo", "0.8,0.5,0.3", "--distance", "1,0.5,0.25", "--radii", "0.1,0.5,2", "--json"]);
-    assert_eq!(keys(&v), ["radii_mm", "R", "rR", "cdf", "total_reflectance", "radius_997_mm"]);
+    let v = json(&[
+        "profile",
+        "--model",
+        "burley",
+        "--albedo",
+        "0.8,0.5,0.3",
+        "--distance",
+        "1,0.5,0.25",
+        "--radii",
+        "0.1,0.5,2",
+        "--json",
+    ]);
+    assert_eq!(
+        keys(&v),
+        [
+            "radii_mm",
+            "R",
+            "rR",
+            "cdf",
+            "total_reflectance",
+            "radius_997_mm"
+        ]
+    );
     let a = [0.8, 0.5, 0.3];
     let d = [1.0, 0.5, 0.25];
     for (i, r) in [0.1f64, 0.5, 2.0].iter().enumerate() {
@@ -58,23 +86,73 @@ fn profile_burley_matches_closed_form() {
 /// d'Eon's six Gaussians (GPU Gems 3 table) summed by hand.
 #[test]
 fn profile_gaussians_defaults_to_deon_skin() {
-    let table = [(0.0064, [0.233, 0.455, 0.649]), (0.0484, [0.100, 0.336, 0.344]), (0.187, [0.118, 0.198, 0.0]), (0.567, [0.113, 0.007, 0.007]), (1.99, [0.358, 0.004, 0.0]), (7.41, [0.078, 0.0, 0.0])];
-    let v = json(&["profile", "--model", "gaussians", "--radii", "0,0.3,1.5", "--json"]);
+    let table = [
+        (0.0064, [0.233, 0.455, 0.649]),
+        (0.0484, [0.100, 0.336, 0.344]),
+        (0.187, [0.118, 0.198, 0.0]),
+        (0.567, [0.113, 0.007, 0.007]),
+        (1.99, [0.358, 0.004, 0.0]),
+        (7.41, [0.078, 0.0, 0.0]),
+    ];
+    let v = json(&[
+        "profile",
+        "--model",
+        "gaussians",
+        "--radii",
+        "0,0.3,1.5",
+        "--json",
+    ]);
     for (i, r) in [0.0f64, 0.3, 1.5].iter().enumerate() {
         for c in 0..3 {
-            let e: f64 = table.iter().map(|(var, w)| w[c] * (-r * r / (2.0 * var)).exp() / (2.0 * PI * var)).sum();
+            let e: f64 = table
+                .iter()
+                .map(|(var, w)| w[c] * (-r * r / (2.0 * var)).exp() / (2.0 * PI * var))
+                .sum();
             assert!(rel(f(&v["R"][i][c]), e) < 1e-5, "{} vs {e}", v["R"][i][c]);
         }
     }
-    let v = json(&["profile", "--model", "gaussians", "--variances", "0.5", "--weights", "1,0.5,0.25", "--radii", "1", "--json"]);
+    let v = json(&[
+        "profile",
+        "--model",
+        "gaussians",
+        "--variances",
+        "0.5",
+        "--weights",
+        "1,0.5,0.25",
+        "--radii",
+        "1",
+        "--json",
+    ]);
     assert!(rel(f(&v["R"][0][1]), 0.5 * (-1.0f64).exp() / PI) < 1e-12);
 }
 
 /// The corrected dipole (Mikkelsen 2009 eq. 30) typed out, for Skin1 at η = 1.3.
 #[test]
 fn profile_dipole_matches_equation_30() {
-    let v = json(&["profile", "--model", "dipole", "--measured", "Skin1", "--radii", "0,0.5,3", "--json"]);
-    let w = json(&["profile", "--model", "dipole", "--sigma-a", "0.032,0.17,0.48", "--sigma-s-prime", "0.74,0.88,1.01", "--eta", "1.3", "--radii", "0,0.5,3", "--json"]);
+    let v = json(&[
+        "profile",
+        "--model",
+        "dipole",
+        "--measured",
+        "Skin1",
+        "--radii",
+        "0,0.5,3",
+        "--json",
+    ]);
+    let w = json(&[
+        "profile",
+        "--model",
+        "dipole",
+        "--sigma-a",
+        "0.032,0.17,0.48",
+        "--sigma-s-prime",
+        "0.74,0.88,1.01",
+        "--eta",
+        "1.3",
+        "--radii",
+        "0,0.5,3",
+        "--json",
+    ]);
     assert_eq!(v, w);
     let (sa, ss): ([f64; 3], [f64; 3]) = ([0.032, 0.17, 0.48], [0.74, 0.88, 1.01]);
     let eta: f64 = 1.3;
@@ -89,7 +167,8 @@ fn profile_dipole_matches_equation_30() {
             let zv = zr + 4.0 * a / (3.0 * st);
             let (dr, dv) = ((r * r + zr * zr).sqrt(), (r * r + zv * zv).sqrt());
             let e = alpha / (4.0 * PI)
-                * ((str_ * dr + 1.0) * zr * (-str_ * dr).exp() / dr.powi(3) + (str_ * dv + 1.0) * zv * (-str_ * dv).exp() / dv.powi(3));
+                * ((str_ * dr + 1.0) * zr * (-str_ * dr).exp() / dr.powi(3)
+                    + (str_ * dv + 1.0) * zv * (-str_ * dv).exp() / dv.powi(3));
             assert!(rel(f(&v["R"][i][c]), e) < 1e-5);
         }
     }
@@ -101,17 +180,53 @@ fn profile_multipole_from_layers_file() {
     let dir = std::env::temp_dir();
     let one = dir.join(format!("scatterlab-one-{}.ron", std::process::id()));
     std::fs::write(&one, "(layers: [(sigma_a_per_mm: (0.032, 0.17, 0.48), sigma_s_prime_per_mm: (0.74, 0.88, 1.01), eta: 1.3)])").unwrap();
-    let v = json(&["profile", "--model", "multipole", "--layers", one.to_str().unwrap(), "--radii", "0.5,2", "--json"]);
-    let d = json(&["profile", "--model", "dipole", "--measured", "Skin1", "--radii", "0.5,2", "--json"]);
+    let v = json(&[
+        "profile",
+        "--model",
+        "multipole",
+        "--layers",
+        one.to_str().unwrap(),
+        "--radii",
+        "0.5,2",
+        "--json",
+    ]);
+    let d = json(&[
+        "profile",
+        "--model",
+        "dipole",
+        "--measured",
+        "Skin1",
+        "--radii",
+        "0.5,2",
+        "--json",
+    ]);
     assert_eq!(v["R"], d["R"]);
     let two = dir.join(format!("scatterlab-two-{}.ron", std::process::id()));
     std::fs::write(&two, "(layers: [(sigma_a_per_mm: (0.005, 0.005, 0.005), sigma_s_prime_per_mm: (1.3, 1.3, 1.3), eta: 1.4, thickness_mm: 6.0), (sigma_a_per_mm: (0.01, 0.01, 0.01), sigma_s_prime_per_mm: (1.0, 1.0, 1.0), eta: 1.4)])").unwrap();
-    let v = json(&["profile", "--model", "multipole", "--layers", two.to_str().unwrap(), "--radii", "0.5,2", "--json"]);
+    let v = json(&[
+        "profile",
+        "--model",
+        "multipole",
+        "--layers",
+        two.to_str().unwrap(),
+        "--radii",
+        "0.5,2",
+        "--json",
+    ]);
     assert!(f(&v["total_reflectance"][0]) > 0.0 && f(&v["cdf"][1][0]) > f(&v["cdf"][0][0]));
     std::fs::write(&two, "(layers: [(eta: 7.0)])").unwrap();
-    let (code, _, err) = run(&["profile", "--model", "multipole", "--layers", two.to_str().unwrap()]);
+    let (code, _, err) = run(&[
+        "profile",
+        "--model",
+        "multipole",
+        "--layers",
+        two.to_str().unwrap(),
+    ]);
     assert_ne!(code, 0);
-    assert!(err.contains("layers[0].eta") && err.lines().count() == 1, "{err}");
+    assert!(
+        err.contains("layers[0].eta") && err.lines().count() == 1,
+        "{err}"
+    );
     std::fs::remove_file(&one).unwrap();
     std::fs::remove_file(&two).unwrap();
 }
@@ -123,7 +238,9 @@ fn sample_burley_inverts_the_cdf() {
     let arg = xi.map(|x| x.to_string()).join(",");
     let v = json(&["sample", "burley", "--shape", "1.3", "--xi", &arg, "--json"]);
     assert_eq!(keys(&v), ["xi", "radius_mm"]);
-    let h = json(&["sample", "burley", "--shape", "1.3", "--xi", &arg, "--method", "halley", "--json"]);
+    let h = json(&[
+        "sample", "burley", "--shape", "1.3", "--xi", &arg, "--method", "halley", "--json",
+    ]);
     for (i, x) in xi.iter().enumerate() {
         let r = f(&v["radius_mm"][i]);
         let p = 1.0 - 0.25 * (-1.3 * r).exp() - 0.75 * (-1.3 * r / 3.0).exp();
@@ -135,7 +252,17 @@ fn sample_burley_inverts_the_cdf() {
 /// The 11-tap kernel printed in iryoku/separable-sss `SeparableSSS.h`.
 #[test]
 fn kernel_jimenez_matches_published_taps() {
-    let v = json(&["kernel", "jimenez", "--strength", "0.48,0.41,0.28", "--falloff", "1,0.37,0.3", "--taps", "11", "--json"]);
+    let v = json(&[
+        "kernel",
+        "jimenez",
+        "--strength",
+        "0.48,0.41,0.28",
+        "--falloff",
+        "1,0.37,0.3",
+        "--taps",
+        "11",
+        "--json",
+    ]);
     assert_eq!(keys(&v), ["kernel"]);
     let first = [0.560479, 0.669086, 0.784728, 0.0];
     let second = [0.00471691, 0.000184771, 5.07566e-005, -2.0];
@@ -152,13 +279,34 @@ fn kernel_jimenez_matches_published_taps() {
 /// Seed 000's Octave reference: numerator 0.563473 / denominator 0.946522.
 #[test]
 fn lut_preintegrated_reproduces_seed_reference() {
-    let v = json(&["lut", "preintegrated", "--model", "burley", "--albedo", "1,1,1", "--distance", "0.7568628,0.7568628,0.7568628", "--theta", "0.7853981633974483,0", "--curvature-radius", "3,1000", "--json"]);
+    let v = json(&[
+        "lut",
+        "preintegrated",
+        "--model",
+        "burley",
+        "--albedo",
+        "1,1,1",
+        "--distance",
+        "0.7568628,0.7568628,0.7568628",
+        "--theta",
+        "0.7853981633974483,0",
+        "--curvature-radius",
+        "3,1000",
+        "--json",
+    ]);
     assert_eq!(keys(&v), ["D"]);
     assert!(rel(f(&v["D"][0][0][0]), 0.563473 / 0.946522) < 1e-5);
     // θ = 0 on a nearly flat surface: D → cos 0 = 1.
     assert!((f(&v["D"][1][1][2]) - 1.0).abs() < 1e-3);
     let png = std::env::temp_dir().join(format!("scatterlab-lut-{}.png", std::process::id()));
-    let (code, _, err) = run(&["lut", "preintegrated", "--out", png.to_str().unwrap(), "--size", "32"]);
+    let (code, _, err) = run(&[
+        "lut",
+        "preintegrated",
+        "--out",
+        png.to_str().unwrap(),
+        "--size",
+        "32",
+    ]);
     assert_eq!(code, 0, "{err}");
     let img = image::open(&png).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (32, 32));
@@ -173,10 +321,24 @@ fn lut_preintegrated_reproduces_seed_reference() {
 /// Burley transmittance A/4·(e^(−sd) + 3e^(−sd/3)) (Golubev 2018, seed 000 §5-2).
 #[test]
 fn transmittance_matches_closed_form() {
-    let v = json(&["transmittance", "--model", "burley", "--albedo", "0.9,0.6,0.3", "--distance", "1,0.5,0.2", "--thickness", "0,0.4,3", "--json"]);
+    let v = json(&[
+        "transmittance",
+        "--model",
+        "burley",
+        "--albedo",
+        "0.9,0.6,0.3",
+        "--distance",
+        "1,0.5,0.2",
+        "--thickness",
+        "0,0.4,3",
+        "--json",
+    ]);
     assert_eq!(keys(&v), ["thickness_mm", "T"]);
     for (i, t) in [0.0f64, 0.4, 3.0].iter().enumerate() {
-        for (c, (a, d)) in [(0.9f64, 1.0f64), (0.6, 0.5), (0.3, 0.2)].iter().enumerate() {
+        for (c, (a, d)) in [(0.9f64, 1.0f64), (0.6, 0.5), (0.3, 0.2)]
+            .iter()
+            .enumerate()
+        {
             let s = 1.0 / d;
             let e = a / 4.0 * ((-s * t).exp() + 3.0 * (-s * t / 3.0).exp());
             assert!(rel(f(&v["T"][i][c]), e) < 1e-5);
@@ -187,13 +349,31 @@ fn transmittance_matches_closed_form() {
 /// Fitting Burley to a Burley profile returns it with ~0 error.
 #[test]
 fn fit_recovers_known_parameters() {
-    let v = json(&["fit", "--model", "burley", "--albedo", "0.8,0.5,0.3", "--distance", "1,0.5,0.25", "--to", "burley", "--json"]);
+    let v = json(&[
+        "fit",
+        "--model",
+        "burley",
+        "--albedo",
+        "0.8,0.5,0.3",
+        "--distance",
+        "1,0.5,0.25",
+        "--to",
+        "burley",
+        "--json",
+    ]);
     assert_eq!(keys(&v), ["params", "relative_l2_error"]);
     assert!(f(&v["relative_l2_error"]) < 1e-6);
     for (c, d) in [1.0, 0.5, 0.25].iter().enumerate() {
         assert!(rel(f(&v["params"]["scattering_distance_mm"][c]), *d) < 1e-5);
     }
-    let g = json(&["fit", "--model", "gaussians", "--to", "gaussians:6", "--json"]);
+    let g = json(&[
+        "fit",
+        "--model",
+        "gaussians",
+        "--to",
+        "gaussians:6",
+        "--json",
+    ]);
     assert!(f(&g["relative_l2_error"]) < 0.01);
     assert_eq!(g["params"]["gaussians"].as_array().unwrap().len(), 6);
     let (code, _, err) = run(&["fit", "--to", "spline"]);
@@ -226,9 +406,25 @@ fn bad_input_is_one_line_and_non_zero() {
 
 #[test]
 fn convert_round_trips_through_unity_numbers() {
-    let v = json(&["convert", "--model", "burley", "--albedo", "0.9,0.4,0.3", "--distance", "2,0.5,0.25", "--to", "unity", "--json"]);
+    let v = json(&[
+        "convert",
+        "--model",
+        "burley",
+        "--albedo",
+        "0.9,0.4,0.3",
+        "--distance",
+        "2,0.5,0.25",
+        "--to",
+        "unity",
+        "--json",
+    ]);
     let p = &v["params"];
     // HDRP: brightest channel at 191/255, colour × multiplier = d.
     assert!((f(&p["scattering_distance_color"][0]) - 191.0 / 255.0).abs() < 1e-12);
-    assert!(rel(f(&p["scattering_distance_color"][1]) * f(&p["scattering_distance_multiplier"]), 0.5) < 1e-12);
+    assert!(
+        rel(
+            f(&p["scattering_distance_color"][1]) * f(&p["scattering_distance_multiplier"]),
+            0.5
+        ) < 1e-12
+    );
 }

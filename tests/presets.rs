@@ -15,11 +15,21 @@ fn every_preset_loads_and_round_trips() {
         }
         n += 1;
         let p = Preset::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        assert!(!p.source.is_empty(), "{}: presets must state their source", path.display());
+        assert!(
+            !p.source.is_empty(),
+            "{}: presets must state their source",
+            path.display()
+        );
         let profile = p.build_profile().unwrap();
         let t = profile.total_reflectance();
-        assert!(t.iter().all(|v| v.is_finite() && *v > 0.0 && *v <= 1.0 + 1e-12), "{}: {t:?}", path.display());
-        let tmp = std::env::temp_dir().join(format!("scatterlab-preset-{}-{n}.ron", std::process::id()));
+        assert!(
+            t.iter()
+                .all(|v| v.is_finite() && *v > 0.0 && *v <= 1.0 + 1e-12),
+            "{}: {t:?}",
+            path.display()
+        );
+        let tmp =
+            std::env::temp_dir().join(format!("scatterlab-preset-{}-{n}.ron", std::process::id()));
         p.save(&tmp).unwrap();
         assert_eq!(Preset::load(&tmp).unwrap(), p);
         std::fs::remove_file(&tmp).unwrap();

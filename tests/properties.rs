@@ -14,7 +14,12 @@ use scatterlab::model::separable::ArtistTwoGaussian;
 use scatterlab::model::RadialProfile;
 
 fn config(cases: u32) -> Config {
-    Config { cases, rng_seed: RngSeed::Fixed(0x5ca7_7e41), failure_persistence: None, ..Config::default() }
+    Config {
+        cases,
+        rng_seed: RngSeed::Fixed(0x5ca7_7e41),
+        failure_persistence: None,
+        ..Config::default()
+    }
 }
 
 /// log-uniform in [lo, hi] with the edges themselves drawn often.
@@ -40,7 +45,10 @@ fn radii() -> Vec<f64> {
 /// The invariants every profile must satisfy.
 fn check_profile(p: &dyn RadialProfile) -> Result<(), TestCaseError> {
     let total = p.total_reflectance();
-    prop_assert!(total.iter().all(|t| t.is_finite() && *t >= 0.0), "total {total:?}");
+    prop_assert!(
+        total.iter().all(|t| t.is_finite() && *t >= 0.0),
+        "total {total:?}"
+    );
     let mut last = [0.0f64; 3];
     let mut last_t = [f64::INFINITY; 3];
     for r in radii() {
@@ -50,9 +58,18 @@ fn check_profile(p: &dyn RadialProfile) -> Result<(), TestCaseError> {
             prop_assert!(v[ch].is_finite() && v[ch] >= 0.0, "R({r}) = {v:?}");
             prop_assert!(rr[ch].is_finite() && rr[ch] >= 0.0, "rR({r}) = {rr:?}");
             prop_assert!((0.0..=1.0).contains(&c[ch]), "cdf({r}) = {c:?}");
-            prop_assert!(c[ch] >= last[ch] - 1e-9, "cdf not monotone at {r}: {c:?} after {last:?}");
-            prop_assert!((c[ch] + t[ch] - 1.0).abs() < 1e-9, "cdf + tail at {r}: {c:?} {t:?}");
-            prop_assert!(tr[ch].is_finite() && tr[ch] >= 0.0 && tr[ch] <= last_t[ch] + 1e-12, "T({r}) = {tr:?}");
+            prop_assert!(
+                c[ch] >= last[ch] - 1e-9,
+                "cdf not monotone at {r}: {c:?} after {last:?}"
+            );
+            prop_assert!(
+                (c[ch] + t[ch] - 1.0).abs() < 1e-9,
+                "cdf + tail at {r}: {c:?} {t:?}"
+            );
+            prop_assert!(
+                tr[ch].is_finite() && tr[ch] >= 0.0 && tr[ch] <= last_t[ch] + 1e-12,
+                "T({r}) = {tr:?}"
+            );
             last[ch] = c[ch];
             last_t[ch] = tr[ch];
         }
@@ -64,7 +81,10 @@ fn check_profile(p: &dyn RadialProfile) -> Result<(), TestCaseError> {
             if total[ch] > 0.0 && p.dirac_weight()[ch] < total[ch] * xi {
                 let back = p.cdf(r[ch])[ch];
                 let tol = if xi > 0.5 { 1e-7 } else { 1e-7 * xi.max(1e-3) };
-                prop_assert!((back - xi).abs() <= tol.max(1e-12), "cdf(inverse({xi})) = {back}");
+                prop_assert!(
+                    (back - xi).abs() <= tol.max(1e-12),
+                    "cdf(inverse({xi})) = {back}"
+                );
             }
         }
     }

@@ -3,8 +3,8 @@
 
 use crate::model::Rgb;
 use crate::settings::profile::{
-    ArtistSpec, BurleyShape, BurleySpec, DipoleSpec, GaussianTerm, GaussiansSpec, Jimenez2012Spec, MeasuredSpec,
-    MultipoleSpec, ScalingFitId,
+    ArtistSpec, BurleyShape, BurleySpec, DipoleSpec, GaussianTerm, GaussiansSpec, Jimenez2012Spec,
+    MeasuredSpec, MultipoleSpec, ScalingFitId,
 };
 use crate::settings::{Preset, ProfileSpec};
 use anyhow::{bail, Context, Result};
@@ -24,26 +24,37 @@ pub struct Color(pub Rgb);
 pub struct ColorList(pub Vec<Rgb>);
 
 fn number(s: &str) -> Result<f64, String> {
-    s.trim().parse::<f64>().map_err(|_| format!("`{}` is not a number", s.trim()))
+    s.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("`{}` is not a number", s.trim()))
 }
 
 pub fn parse_list(s: &str) -> Result<NumberList, String> {
     if s.trim().is_empty() {
         return Err("expected comma-separated numbers, got nothing".into());
     }
-    s.split(',').map(number).collect::<Result<Vec<_>, _>>().map(NumberList)
+    s.split(',')
+        .map(number)
+        .collect::<Result<Vec<_>, _>>()
+        .map(NumberList)
 }
 
 pub fn parse_color(s: &str) -> Result<Color, String> {
     let v = parse_list(s)?.0;
     match v.as_slice() {
         [r, g, b] => Ok(Color([*r, *g, *b])),
-        _ => Err(format!("expected a colour R,G,B (three numbers), got {} number(s) in `{s}`", v.len())),
+        _ => Err(format!(
+            "expected a colour R,G,B (three numbers), got {} number(s) in `{s}`",
+            v.len()
+        )),
     }
 }
 
 pub fn parse_color_list(s: &str) -> Result<ColorList, String> {
-    s.split(';').map(|c| parse_color(c).map(|c| c.0)).collect::<Result<Vec<_>, _>>().map(ColorList)
+    s.split(';')
+        .map(|c| parse_color(c).map(|c| c.0))
+        .collect::<Result<Vec<_>, _>>()
+        .map(ColorList)
 }
 
 /// Which model a command evaluates.
@@ -213,17 +224,28 @@ impl ModelArgs {
     }
 
     fn burley(&self) -> Result<ProfileSpec> {
-        self.only("--model burley", &["--albedo", "--distance", "--mean-free-path", "--fit"])?;
+        self.only(
+            "--model burley",
+            &["--albedo", "--distance", "--mean-free-path", "--fit"],
+        )?;
         let d = BurleySpec::default();
         let shape = match (self.distance, self.mean_free_path) {
-            (Some(c), _) => BurleyShape::ScatteringDistance { mm: c.0, multiplier: 1.0 },
+            (Some(c), _) => BurleyShape::ScatteringDistance {
+                mm: c.0,
+                multiplier: 1.0,
+            },
             (None, Some(m)) => BurleyShape::MeanFreePath {
                 mm: m.0,
-                fit: self.fit.map_or(ScalingFitId::DiffuseMeanFreePath, Into::into),
+                fit: self
+                    .fit
+                    .map_or(ScalingFitId::DiffuseMeanFreePath, Into::into),
             },
             (None, None) => d.shape,
         };
-        Ok(ProfileSpec::Burley(BurleySpec { albedo: self.albedo.map_or(d.albedo, |c| c.0), shape }))
+        Ok(ProfileSpec::Burley(BurleySpec {
+            albedo: self.albedo.map_or(d.albedo, |c| c.0),
+            shape,
+        }))
     }
 
     fn gaussians(&self) -> Result<ProfileSpec> {
@@ -231,10 +253,22 @@ impl ModelArgs {
         Ok(match (&self.variances, &self.weights) {
             (Some(v), Some(w)) => {
                 if v.0.len() != w.0.len() {
-                    bail!("--variances has {} value(s) but --weights has {} colour(s)", v.0.len(), w.0.len());
+                    bail!(
+                        "--variances has {} value(s) but --weights has {} colour(s)",
+                        v.0.len(),
+                        w.0.len()
+                    );
                 }
                 ProfileSpec::Gaussians(GaussiansSpec {
-                    gaussians: v.0.iter().zip(&w.0).map(|(v, w)| GaussianTerm { variance_mm2: *v, weights: *w }).collect(),
+                    gaussians: v
+                        .0
+                        .iter()
+                        .zip(&w.0)
+                        .map(|(v, w)| GaussianTerm {
+                            variance_mm2: *v,
+                            weights: *w,
+                        })
+                        .collect(),
                 })
             }
             _ => ProfileSpec::Gaussians(GaussiansSpec::default()),
@@ -242,16 +276,28 @@ impl ModelArgs {
     }
 
     fn dipole(&self) -> Result<ProfileSpec> {
-        self.only("--model dipole", &["--sigma-a", "--sigma-s-prime", "--eta", "--measured"])?;
+        self.only(
+            "--model dipole",
+            &["--sigma-a", "--sigma-s-prime", "--eta", "--measured"],
+        )?;
         let eta = self.eta.unwrap_or(1.3);
         if let Some(name) = &self.measured {
-            return Ok(ProfileSpec::Measured(MeasuredSpec { name: name.clone(), eta }));
+            return Ok(ProfileSpec::Measured(MeasuredSpec {
+                name: name.clone(),
+                eta,
+            }));
         }
         let d = DipoleSpec::default();
         match (self.sigma_a, self.sigma_s_prime) {
-            (Some(a), Some(s)) => Ok(ProfileSpec::Dipole(DipoleSpec { sigma_a_per_mm: a.0, sigma_s_prime_per_mm: s.0, eta })),
+            (Some(a), Some(s)) => Ok(ProfileSpec::Dipole(DipoleSpec {
+                sigma_a_per_mm: a.0,
+                sigma_s_prime_per_mm: s.0,
+                eta,
+            })),
             (None, None) => Ok(ProfileSpec::Dipole(DipoleSpec { eta, ..d })),
-            _ => bail!("--model dipole needs both --sigma-a and --sigma-s-prime (or --measured NAME)"),
+            _ => bail!(
+                "--model dipole needs both --sigma-a and --sigma-s-prime (or --measured NAME)"
+            ),
         }
     }
 
@@ -259,7 +305,8 @@ impl ModelArgs {
         self.only("--model multipole", &["--layers", "--dipoles"])?;
         let mut spec = match &self.layers {
             Some(path) => {
-                let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+                let text = std::fs::read_to_string(path)
+                    .with_context(|| format!("{}: cannot read", path.display()))?;
                 ron::Options::default()
                     .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
                     .from_str::<MultipoleSpec>(&text)
@@ -278,11 +325,25 @@ impl ModelArgs {
     }
 
     fn artist(&self) -> Result<ProfileSpec> {
-        self.only("--model artist", &["--sigma-near", "--sigma-far", "--weight", "--scale", "--artist-preset"])?;
+        self.only(
+            "--model artist",
+            &[
+                "--sigma-near",
+                "--sigma-far",
+                "--weight",
+                "--scale",
+                "--artist-preset",
+            ],
+        )?;
         let base = match &self.artist_preset {
             Some(name) => {
                 let m = crate::model::separable::ArtistTwoGaussian::table2(name)?;
-                ArtistSpec { sigma_near: m.sigma_near(), sigma_far: m.sigma_far(), weight: m.weight(), scale_mm: m.scale_mm() }
+                ArtistSpec {
+                    sigma_near: m.sigma_near(),
+                    sigma_far: m.sigma_far(),
+                    weight: m.weight(),
+                    scale_mm: m.scale_mm(),
+                }
             }
             None => ArtistSpec::default(),
         };
@@ -304,7 +365,9 @@ mod tests {
         assert_eq!(parse_list("1, 2.5,3e-2").unwrap().0, vec![1.0, 2.5, 0.03]);
         assert!(parse_list("1,,2").is_err());
         assert_eq!(parse_color("0.1,0.2,0.3").unwrap().0, [0.1, 0.2, 0.3]);
-        assert!(parse_color("0.1,0.2").unwrap_err().contains("three numbers"));
+        assert!(parse_color("0.1,0.2")
+            .unwrap_err()
+            .contains("three numbers"));
         assert_eq!(parse_color_list("1,2,3;4,5,6").unwrap().0.len(), 2);
     }
 }

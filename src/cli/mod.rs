@@ -10,7 +10,9 @@ use crate::model::jimenez::Jimenez2012;
 use crate::model::lut::{self, LutEncoding, LutLayout, ShadowLayout};
 use crate::model::sampling::{AngleSequence, SamplePattern};
 use crate::model::separable::SeparableKernel;
-use crate::model::units::{BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
+use crate::model::units::{
+    BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE,
+};
 use crate::model::{check_radius, RadialProfile, Rgb, DEFAULT_ENERGY_FRACTION};
 use crate::settings::ProfileSpec;
 use anyhow::{bail, Context, Result};
@@ -201,23 +203,56 @@ pub fn run(cli: Cli) -> Result<()> {
     };
     match command {
         Command::Profile { model, radii, json } => profile(&model, radii, json),
-        Command::Sample(SampleCommand::Burley { shape, xi, method, json }) => sample_burley(shape, &xi.0, method, json),
-        Command::Sample(SampleCommand::Pattern { model, samples, angles, json }) => pattern(&model, samples, angles, json),
-        Command::Kernel(KernelCommand::Jimenez { strength, falloff, taps, json }) => {
+        Command::Sample(SampleCommand::Burley {
+            shape,
+            xi,
+            method,
+            json,
+        }) => sample_burley(shape, &xi.0, method, json),
+        Command::Sample(SampleCommand::Pattern {
+            model,
+            samples,
+            angles,
+            json,
+        }) => pattern(&model, samples, angles, json),
+        Command::Kernel(KernelCommand::Jimenez {
+            strength,
+            falloff,
+            taps,
+            json,
+        }) => {
             let k = Jimenez2012::new(strength.0, falloff.0)?.kernel(taps)?;
             print_kernel(&k, json)
         }
         Command::Kernel(KernelCommand::Separable { model, taps, json }) => {
             let p = model.spec()?.build()?;
-            print_kernel(&SeparableKernel::importance_sampled(p.as_ref(), taps)?, json)
+            print_kernel(
+                &SeparableKernel::importance_sampled(p.as_ref(), taps)?,
+                json,
+            )
         }
-        Command::Lut(LutCommand::Preintegrated { model, theta, curvature_radius, out, encoding, size, json }) => {
-            lut_preintegrated(&model, theta, curvature_radius, out, encoding, size, json)
-        }
+        Command::Lut(LutCommand::Preintegrated {
+            model,
+            theta,
+            curvature_radius,
+            out,
+            encoding,
+            size,
+            json,
+        }) => lut_preintegrated(&model, theta, curvature_radius, out, encoding, size, json),
         Command::Lut(LutCommand::Shadow { model, out, size }) => lut_shadow(&model, &out, size),
-        Command::Transmittance { model, thickness, json } => transmittance(&model, &thickness.0, json),
+        Command::Transmittance {
+            model,
+            thickness,
+            json,
+        } => transmittance(&model, &thickness.0, json),
         Command::Fit { model, to, json } => fit(&model, &to, json),
-        Command::Convert { model, to, world_scale, json } => convert(&model, to, world_scale, json),
+        Command::Convert {
+            model,
+            to,
+            world_scale,
+            json,
+        } => convert(&model, to, world_scale, json),
     }
 }
 
@@ -249,7 +284,10 @@ fn profile(model: &ModelArgs, radii: Option<NumberList>, as_json: bool) -> Resul
         }
     };
     checked_list("radii", &radii)?;
-    let rows: Vec<(Rgb, Rgb, Rgb)> = radii.iter().map(|&r| (p.reflectance(r), p.r_reflectance(r), p.cdf(r))).collect();
+    let rows: Vec<(Rgb, Rgb, Rgb)> = radii
+        .iter()
+        .map(|&r| (p.reflectance(r), p.r_reflectance(r), p.cdf(r)))
+        .collect();
     let total = p.total_reflectance();
     if as_json {
         let out = json!({
@@ -264,9 +302,18 @@ fn profile(model: &ModelArgs, radii: Option<NumberList>, as_json: bool) -> Resul
         return Ok(());
     }
     println!("model: {}", spec.model_name());
-    println!("total diffuse reflectance (R, G, B): {:.6} {:.6} {:.6}", total[0], total[1], total[2]);
-    println!("radius holding 99.7 % of the energy (mm): {:.6} {:.6} {:.6}", r997[0], r997[1], r997[2]);
-    println!("{:>10}  {:>36}  {:>36}  {:>26}", "r (mm)", "R(r) R G B (1/mm²)", "r·R(r) R G B (1/mm)", "CDF R G B");
+    println!(
+        "total diffuse reflectance (R, G, B): {:.6} {:.6} {:.6}",
+        total[0], total[1], total[2]
+    );
+    println!(
+        "radius holding 99.7 % of the energy (mm): {:.6} {:.6} {:.6}",
+        r997[0], r997[1], r997[2]
+    );
+    println!(
+        "{:>10}  {:>36}  {:>36}  {:>26}",
+        "r (mm)", "R(r) R G B (1/mm²)", "r·R(r) R G B (1/mm)", "CDF R G B"
+    );
     for (r, (a, b, c)) in radii.iter().zip(&rows) {
         println!(
             "{r:>10.4}  {:>11.4e} {:>11.4e} {:>11.4e}  {:>11.4e} {:>11.4e} {:>11.4e}  {:>8.5} {:>8.5} {:>8.5}",
@@ -310,12 +357,25 @@ fn pattern(model: &ModelArgs, n: usize, angles: AnglesArg, as_json: bool) -> Res
             .iter()
             .map(|s| json!({ "radius_mm": s.radius_mm, "angle_rad": s.angle_rad, "weight": rgb(s.weight) }))
             .collect();
-        println!("{}", json!({ "sampled_channel": pat.sampled_channel, "angles": seq.id(), "samples": samples }));
+        println!(
+            "{}",
+            json!({ "sampled_channel": pat.sampled_channel, "angles": seq.id(), "samples": samples })
+        );
     } else {
-        println!("sampled channel: {} ({} angles)", ["R", "G", "B"][pat.sampled_channel], seq.id());
-        println!("{:>12}  {:>10}  {:>36}", "radius (mm)", "angle", "weight R G B");
+        println!(
+            "sampled channel: {} ({} angles)",
+            ["R", "G", "B"][pat.sampled_channel],
+            seq.id()
+        );
+        println!(
+            "{:>12}  {:>10}  {:>36}",
+            "radius (mm)", "angle", "weight R G B"
+        );
         for s in &pat.samples {
-            println!("{:>12.6}  {:>10.6}  {:>11.4e} {:>11.4e} {:>11.4e}", s.radius_mm, s.angle_rad, s.weight[0], s.weight[1], s.weight[2]);
+            println!(
+                "{:>12.6}  {:>10.6}  {:>11.4e} {:>11.4e} {:>11.4e}",
+                s.radius_mm, s.angle_rad, s.weight[0], s.weight[1], s.weight[2]
+            );
         }
     }
     Ok(())
@@ -323,12 +383,22 @@ fn pattern(model: &ModelArgs, n: usize, angles: AnglesArg, as_json: bool) -> Res
 
 fn print_kernel(k: &SeparableKernel, as_json: bool) -> Result<()> {
     if as_json {
-        let rows: Vec<[f64; 4]> = k.taps.iter().map(|t| [t.weight[0], t.weight[1], t.weight[2], t.offset_mm]).collect();
+        let rows: Vec<[f64; 4]> = k
+            .taps
+            .iter()
+            .map(|t| [t.weight[0], t.weight[1], t.weight[2], t.offset_mm])
+            .collect();
         println!("{}", json!({ "kernel": rows }));
     } else {
-        println!("{:>12} {:>12} {:>12}  {:>12}", "weight R", "weight G", "weight B", "offset (mm)");
+        println!(
+            "{:>12} {:>12} {:>12}  {:>12}",
+            "weight R", "weight G", "weight B", "offset (mm)"
+        );
         for t in &k.taps {
-            println!("{:>12.6e} {:>12.6e} {:>12.6e}  {:>12.6}", t.weight[0], t.weight[1], t.weight[2], t.offset_mm);
+            println!(
+                "{:>12.6e} {:>12.6e} {:>12.6e}  {:>12.6}",
+                t.weight[0], t.weight[1], t.weight[2], t.offset_mm
+            );
         }
     }
     Ok(())
@@ -356,13 +426,22 @@ fn lut_preintegrated(
                     lut::check_lut_inputs(th, cr)?;
                 }
             }
-            let d: Vec<Vec<Rgb>> = t.0.iter().map(|&th| c.0.iter().map(|&cr| lut::preintegrated_d(p.as_ref(), th, cr)).collect()).collect();
+            let d: Vec<Vec<Rgb>> =
+                t.0.iter()
+                    .map(|&th| {
+                        c.0.iter()
+                            .map(|&cr| lut::preintegrated_d(p.as_ref(), th, cr))
+                            .collect()
+                    })
+                    .collect();
             if let Some(path) = &out {
                 let (w, h) = (t.0.len(), c.0.len());
                 let mut px = Vec::with_capacity(w * h * 3);
                 for j in 0..h {
                     for (i, th) in t.0.iter().enumerate() {
-                        px.extend(d[i][j].map(|v| (enc.encode(v, th.cos()).clamp(0.0, 1.0) * 255.0 + 0.5) as u8));
+                        px.extend(d[i][j].map(|v| {
+                            (enc.encode(v, th.cos()).clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+                        }));
                     }
                 }
                 write_png(path, w, h, px)?;
@@ -372,18 +451,29 @@ fn lut_preintegrated(
             } else if out.is_none() {
                 for (th, row) in t.0.iter().zip(&d) {
                     for (cr, v) in c.0.iter().zip(row) {
-                        println!("theta {th:.6} rad, curvature radius {cr:.4} mm: D = {:.6} {:.6} {:.6}", v[0], v[1], v[2]);
+                        println!(
+                            "theta {th:.6} rad, curvature radius {cr:.4} mm: D = {:.6} {:.6} {:.6}",
+                            v[0], v[1], v[2]
+                        );
                     }
                 }
             }
             Ok(())
         }
         (None, None) => {
-            let Some(path) = out else { bail!("give --theta and --curvature-radius lists, or --out FILE.png to bake a table") };
+            let Some(path) = out else {
+                bail!(
+                    "give --theta and --curvature-radius lists, or --out FILE.png to bake a table"
+                )
+            };
             if as_json {
                 bail!("--json needs --theta and --curvature-radius lists");
             }
-            let layout = LutLayout { width: size, height: size, ..LutLayout::default() };
+            let layout = LutLayout {
+                width: size,
+                height: size,
+                ..LutLayout::default()
+            };
             let table = lut::Lut::bake(p.as_ref(), layout)?;
             write_png(&path, size, size, table.to_rgb8(enc))?;
             println!(
@@ -401,9 +491,16 @@ fn lut_preintegrated(
 
 fn lut_shadow(model: &ModelArgs, out: &std::path::Path, size: usize) -> Result<()> {
     let (_, p) = built(model)?;
-    let layout = ShadowLayout { width: size, height: size, ..ShadowLayout::default() };
+    let layout = ShadowLayout {
+        width: size,
+        height: size,
+        ..ShadowLayout::default()
+    };
     let t = lut::bake_shadow(p.as_ref(), layout)?;
-    let px: Vec<u8> = t.iter().flat_map(|v| v.map(|x| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8)).collect();
+    let px: Vec<u8> = t
+        .iter()
+        .flat_map(|v| v.map(|x| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8))
+        .collect();
     write_png(out, size, size, px)?;
     println!(
         "wrote {} ({size}×{size}, x: unscattered shadow 0→1, y: 1/penumbra width from 1/{} to 1/{} mm⁻¹, linear 8-bit)",
@@ -415,10 +512,15 @@ fn lut_shadow(model: &ModelArgs, out: &std::path::Path, size: usize) -> Result<(
 }
 
 fn write_png(path: &std::path::Path, w: usize, h: usize, rgb8: Vec<u8>) -> Result<()> {
-    let img = image::RgbImage::from_raw(w as u32, h as u32, rgb8).context("internal: image size mismatch")?;
+    let img = image::RgbImage::from_raw(w as u32, h as u32, rgb8)
+        .context("internal: image size mismatch")?;
     let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
-    crate::fsutil::write_atomic(path, &bytes).with_context(|| format!("{}: cannot write", path.display()))
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )?;
+    crate::fsutil::write_atomic(path, &bytes)
+        .with_context(|| format!("{}: cannot write", path.display()))
 }
 
 fn transmittance(model: &ModelArgs, thickness: &[f64], as_json: bool) -> Result<()> {
@@ -428,7 +530,10 @@ fn transmittance(model: &ModelArgs, thickness: &[f64], as_json: bool) -> Result<
     if as_json {
         println!("{}", json!({ "thickness_mm": thickness, "T": t }));
     } else {
-        println!("{:>12}  {:>12} {:>12} {:>12}", "d (mm)", "T R", "T G", "T B");
+        println!(
+            "{:>12}  {:>12} {:>12} {:>12}",
+            "d (mm)", "T R", "T G", "T B"
+        );
         for (d, v) in thickness.iter().zip(&t) {
             println!("{d:>12.5}  {:>12.6e} {:>12.6e} {:>12.6e}", v[0], v[1], v[2]);
         }
@@ -442,11 +547,17 @@ fn fit(model: &ModelArgs, to: &str, as_json: bool) -> Result<()> {
     let (params, err) = match to {
         "burley" => {
             let f = fit_burley(target)?;
-            (json!({ "albedo": rgb(f.model.albedo()), "scattering_distance_mm": rgb(f.model.scattering_distance_mm()) }), f.max_error())
+            (
+                json!({ "albedo": rgb(f.model.albedo()), "scattering_distance_mm": rgb(f.model.scattering_distance_mm()) }),
+                f.max_error(),
+            )
         }
         "jimenez" | "jimenez2012" => {
             let f = fit_jimenez(target)?;
-            (json!({ "strength": rgb(f.model.strength()), "falloff": rgb(f.model.falloff()) }), f.max_error())
+            (
+                json!({ "strength": rgb(f.model.strength()), "falloff": rgb(f.model.falloff()) }),
+                f.max_error(),
+            )
         }
         "artist" => {
             let f = fit_artist(target)?;
@@ -460,7 +571,9 @@ fn fit(model: &ModelArgs, to: &str, as_json: bool) -> Result<()> {
             let Some(n) = other.strip_prefix("gaussians:") else {
                 bail!("--to must be burley, jimenez, artist or gaussians:N (got `{other}`)");
             };
-            let n: usize = n.parse().map_err(|_| anyhow::anyhow!("--to gaussians:N needs a whole number N (got `{n}`)"))?;
+            let n: usize = n.parse().map_err(|_| {
+                anyhow::anyhow!("--to gaussians:N needs a whole number N (got `{n}`)")
+            })?;
             let f = fit_gaussians(target, n)?;
             let terms: Vec<Value> = (0..n)
                 .map(|k| {
@@ -492,10 +605,15 @@ fn convert(model: &ModelArgs, to: Engine, world_scale: Option<f64>, as_json: boo
     };
     let params = engine_params(&burley, to, world_scale)?;
     if as_json {
-        println!("{}", json!({ "engine": format!("{to:?}").to_lowercase(), "burley_fit_relative_l2_error": fit_error, "params": params }));
+        println!(
+            "{}",
+            json!({ "engine": format!("{to:?}").to_lowercase(), "burley_fit_relative_l2_error": fit_error, "params": params })
+        );
     } else {
         if fit_error > 0.0 {
-            println!("(converted through a Burley fit; relative L2 error of r·R(r): {fit_error:.6})");
+            println!(
+                "(converted through a Burley fit; relative L2 error of r·R(r): {fit_error:.6})"
+            );
         }
         println!("{}", serde_json::to_string_pretty(&params)?);
     }
@@ -515,7 +633,10 @@ pub fn engine_params(b: &Burley, to: Engine, world_scale: Option<f64>) -> Result
             })
         }
         Engine::Unreal => {
-            let u = UnrealProfile::from_burley(b, world_scale.unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE))?;
+            let u = UnrealProfile::from_burley(
+                b,
+                world_scale.unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE),
+            )?;
             json!({
                 "surface_albedo": rgb(u.surface_albedo),
                 "mean_free_path_color": rgb(u.mean_free_path_color),

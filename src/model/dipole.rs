@@ -80,7 +80,13 @@ pub struct Medium {
 
 impl Medium {
     pub fn validate(&self, prefix: &str) -> Result<(), ModelError> {
-        check_rgb(&format!("{prefix}sigma_a_per_mm"), self.sigma_a_per_mm, SIGMA_A_RANGE.0, SIGMA_A_RANGE.1, " 1/mm")?;
+        check_rgb(
+            &format!("{prefix}sigma_a_per_mm"),
+            self.sigma_a_per_mm,
+            SIGMA_A_RANGE.0,
+            SIGMA_A_RANGE.1,
+            " 1/mm",
+        )?;
         check_rgb(
             &format!("{prefix}sigma_s_prime_per_mm"),
             self.sigma_s_prime_per_mm,
@@ -91,7 +97,11 @@ impl Medium {
         for c in 0..3 {
             if self.sigma_a_per_mm[c] + self.sigma_s_prime_per_mm[c] < 1e-9 {
                 return Err(ModelError::invalid(
-                    format!("{prefix}sigma_a_per_mm.{} + sigma_s_prime_per_mm.{}", super::CHANNEL_NAMES[c], super::CHANNEL_NAMES[c]),
+                    format!(
+                        "{prefix}sigma_a_per_mm.{} + sigma_s_prime_per_mm.{}",
+                        super::CHANNEL_NAMES[c],
+                        super::CHANNEL_NAMES[c]
+                    ),
                     "σa + σ′s must be positive (a medium with no extinction has no profile)",
                 ));
             }
@@ -165,7 +175,13 @@ impl Dipole {
         let coef = [0, 1, 2].map(|c| medium.channel(c));
         let z_r = rgb_map(|c| coef[c].mean_free_path);
         let z_v = rgb_map(|c| z_r[c] + 4.0 * a * coef[c].diffusion);
-        Ok(Self { medium, eta, z_r, z_v, coef })
+        Ok(Self {
+            medium,
+            eta,
+            z_r,
+            z_v,
+            coef,
+        })
     }
 
     /// A named measured material (Jensen 2001, Narasimhan 2006).
@@ -193,7 +209,8 @@ impl RadialProfile for Dipole {
         rgb_map(|c| {
             let k = &self.coef[c];
             k.reduced_albedo / (4.0 * PI)
-                * (source_term(self.z_r[c], k.sigma_tr, radius_mm) + source_term(self.z_v[c], k.sigma_tr, radius_mm))
+                * (source_term(self.z_r[c], k.sigma_tr, radius_mm)
+                    + source_term(self.z_v[c], k.sigma_tr, radius_mm))
         })
     }
 
@@ -202,7 +219,8 @@ impl RadialProfile for Dipole {
     fn total_reflectance(&self) -> Rgb {
         rgb_map(|c| {
             let k = &self.coef[c];
-            0.5 * k.reduced_albedo * ((-k.sigma_tr * self.z_r[c]).exp() + (-k.sigma_tr * self.z_v[c]).exp())
+            0.5 * k.reduced_albedo
+                * ((-k.sigma_tr * self.z_r[c]).exp() + (-k.sigma_tr * self.z_v[c]).exp())
         })
     }
 
@@ -218,7 +236,11 @@ impl RadialProfile for Dipole {
             let (zr, zv) = (self.z_r[c], self.z_v[c]);
             let num = source_tail(zr, s, radius_mm) + source_tail(zv, s, radius_mm);
             let den = (-s * zr).exp() + (-s * zv).exp();
-            if den > 0.0 { (num / den).clamp(0.0, 1.0) } else { 0.0 }
+            if den > 0.0 {
+                (num / den).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
         })
     }
 
@@ -226,7 +248,11 @@ impl RadialProfile for Dipole {
         (0..3)
             .map(|c| {
                 let k = &self.coef[c];
-                if k.sigma_tr > 0.0 { (1.0 / k.sigma_tr).min(1e3 * self.z_v[c]) } else { 10.0 * self.z_v[c] }
+                if k.sigma_tr > 0.0 {
+                    (1.0 / k.sigma_tr).min(1e3 * self.z_v[c])
+                } else {
+                    10.0 * self.z_v[c]
+                }
             })
             .fold(1e-9, f64::max)
     }
@@ -265,7 +291,13 @@ mod tests {
         for c in 0..3 {
             let k = d.coefficients(c);
             assert!((t[c] - jensen_rd(k.reduced_albedo, 1.3)).abs() < 1e-14);
-            let q = quad::integrate_to_infinity(&|r: f64| 2.0 * PI * r * d.reflectance(r)[c], 0.0, 0.5, 1e-14, 1e-12);
+            let q = quad::integrate_to_infinity(
+                &|r: f64| 2.0 * PI * r * d.reflectance(r)[c],
+                0.0,
+                0.5,
+                1e-14,
+                1e-12,
+            );
             assert!((q - t[c]).abs() < 1e-9, "c={c}: {q} vs {}", t[c]);
         }
     }
@@ -291,18 +323,36 @@ mod tests {
             let t = d.total_reflectance();
             for c in 0..3 {
                 let bound = if name == "Marble" { 0.06 } else { 0.01 };
-                assert!((t[c] - albedo[c]).abs() <= bound, "{name} c={c}: {} vs {}", t[c], albedo[c]);
+                assert!(
+                    (t[c] - albedo[c]).abs() <= bound,
+                    "{name} c={c}: {} vs {}",
+                    t[c],
+                    albedo[c]
+                );
             }
         }
     }
 
     #[test]
     fn cdf_matches_quadrature() {
-        let d = Dipole::new(Medium { sigma_a_per_mm: [0.032, 0.17, 0.48], sigma_s_prime_per_mm: [0.74, 0.88, 1.01] }, 1.3).unwrap();
+        let d = Dipole::new(
+            Medium {
+                sigma_a_per_mm: [0.032, 0.17, 0.48],
+                sigma_s_prime_per_mm: [0.74, 0.88, 1.01],
+            },
+            1.3,
+        )
+        .unwrap();
         let tot = d.total_reflectance();
         for &rho in &[0.1, 1.0, 5.0] {
             for c in 0..3 {
-                let q = quad::integrate(&|r: f64| 2.0 * PI * r * d.reflectance(r)[c], 0.0, rho, 1e-15, 1e-13);
+                let q = quad::integrate(
+                    &|r: f64| 2.0 * PI * r * d.reflectance(r)[c],
+                    0.0,
+                    rho,
+                    1e-15,
+                    1e-13,
+                );
                 assert!((q / tot[c] - d.cdf(rho)[c]).abs() < 1e-10);
             }
         }
@@ -312,17 +362,45 @@ mod tests {
     fn edges_stay_finite() {
         for (sa, ss) in [(0.0, 1.0), (1.0, 0.0), (1e3, 1e-6), (1e-9, 1e4)] {
             for eta in [1.0, 2.0] {
-                let d = Dipole::new(Medium { sigma_a_per_mm: [sa; 3], sigma_s_prime_per_mm: [ss; 3] }, eta).unwrap();
+                let d = Dipole::new(
+                    Medium {
+                        sigma_a_per_mm: [sa; 3],
+                        sigma_s_prime_per_mm: [ss; 3],
+                    },
+                    eta,
+                )
+                .unwrap();
                 for r in [0.0, 1e-9, 1.0, 1e6] {
-                    for v in d.reflectance(r).into_iter().chain(d.cdf(r)).chain(d.tail(r)) {
+                    for v in d
+                        .reflectance(r)
+                        .into_iter()
+                        .chain(d.cdf(r))
+                        .chain(d.tail(r))
+                    {
                         assert!(v.is_finite() && v >= 0.0, "sa={sa} ss={ss} r={r}: {v}");
                     }
                 }
                 assert!(d.radius_for_energy(0.997).iter().all(|r| r.is_finite()));
             }
         }
-        let e = Dipole::new(Medium { sigma_a_per_mm: [0.0; 3], sigma_s_prime_per_mm: [0.0; 3] }, 1.3).unwrap_err();
+        let e = Dipole::new(
+            Medium {
+                sigma_a_per_mm: [0.0; 3],
+                sigma_s_prime_per_mm: [0.0; 3],
+            },
+            1.3,
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("sigma_a_per_mm.r"), "{e}");
-        assert!(Dipole::new(Medium { sigma_a_per_mm: [0.1; 3], sigma_s_prime_per_mm: [1.0; 3] }, 2.5).unwrap_err().to_string().contains("eta"));
+        assert!(Dipole::new(
+            Medium {
+                sigma_a_per_mm: [0.1; 3],
+                sigma_s_prime_per_mm: [1.0; 3]
+            },
+            2.5
+        )
+        .unwrap_err()
+        .to_string()
+        .contains("eta"));
     }
 }

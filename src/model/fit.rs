@@ -31,13 +31,22 @@ impl Samples {
         let r_max = target.radius_for_energy(DEFAULT_ENERGY_FRACTION);
         let total = target.total_reflectance();
         let (gx, gw) = quad::gl8();
-        let mut s = Samples { nodes: Default::default(), weights: Default::default(), target: Default::default(), norm2: [0.0; 3] };
+        let mut s = Samples {
+            nodes: Default::default(),
+            weights: Default::default(),
+            target: Default::default(),
+            norm2: [0.0; 3],
+        };
         for c in 0..3 {
             let h = r_max[c].max(1e-12) / PANELS as f64;
             for p in 0..PANELS {
                 for (x, w) in gx.iter().zip(gw) {
                     let r = (p as f64 + 0.5 + 0.5 * x) * h;
-                    let scale = if normalise && total[c] > 0.0 { 1.0 / total[c] } else { 1.0 };
+                    let scale = if normalise && total[c] > 0.0 {
+                        1.0 / total[c]
+                    } else {
+                        1.0
+                    };
                     let t = target.r_reflectance(r)[c] * scale;
                     s.nodes[c].push(r);
                     s.weights[c].push(0.5 * h * w);
@@ -68,7 +77,11 @@ impl Samples {
             tu += self.weights[c][i] * self.target[c][i] * us[i];
             uu += self.weights[c][i] * us[i] * us[i];
         }
-        let a = if uu > 0.0 { (tu / uu).clamp(0.0, max) } else { 0.0 };
+        let a = if uu > 0.0 {
+            (tu / uu).clamp(0.0, max)
+        } else {
+            0.0
+        };
         (a, self.error(c, |r| a * u(r)))
     }
 }
@@ -99,13 +112,21 @@ impl<M> Fit<M> {
 
 /// Minimises f over [a, b] by a coarse scan then Brent around the best cell.
 fn scan_then_brent(f: impl Fn(f64) -> f64, a: f64, b: f64, steps: usize) -> (f64, f64) {
-    let xs: Vec<f64> = (0..=steps).map(|i| a + (b - a) * i as f64 / steps as f64).collect();
+    let xs: Vec<f64> = (0..=steps)
+        .map(|i| a + (b - a) * i as f64 / steps as f64)
+        .collect();
     let vals: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
-    let best = (0..xs.len()).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
+    let best = (0..xs.len())
+        .min_by(|&i, &j| vals[i].total_cmp(&vals[j]))
+        .unwrap_or(0);
     let lo = xs[best.saturating_sub(1)];
     let hi = xs[(best + 1).min(steps)];
     let (x, fx) = quad::minimize_scalar(&f, lo, hi, 1e-10);
-    if fx <= vals[best] { (x, fx) } else { (xs[best], vals[best]) }
+    if fx <= vals[best] {
+        (x, fx)
+    } else {
+        (xs[best], vals[best])
+    }
 }
 
 /// Burley (A, d) per channel: d by search over ln d ∈ [ln 1e-4, ln 1e3],
@@ -126,7 +147,10 @@ pub fn fit_burley(target: &dyn RadialProfile) -> Result<Fit<Burley>, ModelError>
         let (a, e) = s.best_scale(c, |r| unit(d, r), 1.0);
         (albedo[c], dist[c], err[c]) = (a, d, e);
     }
-    Ok(Fit { model: Burley::from_scattering_distance(albedo, dist)?, relative_l2_error: err })
+    Ok(Fit {
+        model: Burley::from_scattering_distance(albedo, dist)?,
+        relative_l2_error: err,
+    })
 }
 
 /// Jimenez 2012 strength and falloff per channel (energy-normalised).
@@ -138,21 +162,28 @@ pub fn fit_jimenez(target: &dyn RadialProfile) -> Result<Fit<Jimenez2012>, Model
     for c in 0..3 {
         // Continuous part for strength 1: the model's own r·R.
         let shape = |f: f64, r: f64| -> f64 {
-            Jimenez2012::new([1.0; 3], [f; 3]).map(|j| j.r_reflectance(r)[c]).unwrap_or(0.0)
+            Jimenez2012::new([1.0; 3], [f; 3])
+                .map(|j| j.r_reflectance(r)[c])
+                .unwrap_or(0.0)
         };
         let obj = |f: f64| s.best_scale(c, |r| shape(f, r), 1.0).1;
         let (f, _) = scan_then_brent(obj, 0.0, 1.0, 100);
         let (k, e) = s.best_scale(c, |r| shape(f, r), 1.0);
         (strength[c], falloff[c], err[c]) = (k, f, e);
     }
-    Ok(Fit { model: Jimenez2012::new(strength, falloff)?, relative_l2_error: err })
+    Ok(Fit {
+        model: Jimenez2012::new(strength, falloff)?,
+        relative_l2_error: err,
+    })
 }
 
 /// The artist two-Gaussian model: shared w, per-channel σn ≤ σf (mm), then
 /// s = max σf and σ′ = σ/s (energy-normalised).
 pub fn fit_artist(target: &dyn RadialProfile) -> Result<Fit<ArtistTwoGaussian>, ModelError> {
     let s = Samples::new(target, true);
-    let g2 = |sigma: f64, r: f64| r * (-r * r / (2.0 * sigma * sigma)).exp() / (2.0 * PI * sigma * sigma);
+    let g2 = |sigma: f64, r: f64| {
+        r * (-r * r / (2.0 * sigma * sigma)).exp() / (2.0 * PI * sigma * sigma)
+    };
     let r997 = target.radius_for_energy(DEFAULT_ENERGY_FRACTION);
     // For a given w, fit (ln σn, ln σf) per channel by Nelder–Mead.
     let per_channel = |w: f64, c: usize| -> (f64, f64, f64) {
@@ -173,7 +204,10 @@ pub fn fit_artist(target: &dyn RadialProfile) -> Result<Fit<ArtistTwoGaussian>, 
     let far = rgb_map(|c| (res[c].1 / scale).clamp(1e-6, 1.0));
     let model = ArtistTwoGaussian::new(near, far, w, scale)?;
     let err = rgb_map(|c| s.error(c, |r| model.r_reflectance(r)[c]));
-    Ok(Fit { model, relative_l2_error: err })
+    Ok(Fit {
+        model,
+        relative_l2_error: err,
+    })
 }
 
 /// Allowed number of Gaussians in a fit.
@@ -182,7 +216,13 @@ pub const GAUSSIANS_RANGE: (usize, usize) = (1, 8);
 /// N Gaussians with shared variances (as d'Eon's table) and per-channel
 /// non-negative weights (Lawson–Hanson NNLS), variances by Nelder–Mead.
 pub fn fit_gaussians(target: &dyn RadialProfile, n: usize) -> Result<Fit<GaussianSum>, ModelError> {
-    check_range("gaussians", n as f64, GAUSSIANS_RANGE.0 as f64, GAUSSIANS_RANGE.1 as f64, "")?;
+    check_range(
+        "gaussians",
+        n as f64,
+        GAUSSIANS_RANGE.0 as f64,
+        GAUSSIANS_RANGE.1 as f64,
+        "",
+    )?;
     let s = Samples::new(target, false);
     let basis = |v: f64, r: f64| r * (-r * r / (2.0 * v)).exp() / (2.0 * PI * v);
     let solve = |lnv: &[f64]| -> ([Vec<f64>; 3], Rgb) {
@@ -191,35 +231,60 @@ pub fn fit_gaussians(target: &dyn RadialProfile, n: usize) -> Result<Fit<Gaussia
         let mut err = [0.0; 3];
         for c in 0..3 {
             let m = s.nodes[c].len();
-            let phi: Vec<Vec<f64>> = vs.iter().map(|&v| (0..m).map(|i| basis(v, s.nodes[c][i])).collect()).collect();
+            let phi: Vec<Vec<f64>> = vs
+                .iter()
+                .map(|&v| (0..m).map(|i| basis(v, s.nodes[c][i])).collect())
+                .collect();
             let mut gram = vec![vec![0.0; n]; n];
             let mut rhs = vec![0.0; n];
             for k in 0..n {
                 for l in 0..n {
-                    gram[k][l] = (0..m).map(|i| s.weights[c][i] * phi[k][i] * phi[l][i]).sum();
+                    gram[k][l] = (0..m)
+                        .map(|i| s.weights[c][i] * phi[k][i] * phi[l][i])
+                        .sum();
                 }
-                rhs[k] = (0..m).map(|i| s.weights[c][i] * phi[k][i] * s.target[c][i]).sum();
+                rhs[k] = (0..m)
+                    .map(|i| s.weights[c][i] * phi[k][i] * s.target[c][i])
+                    .sum();
             }
             let w = nnls(&gram, &rhs);
-            err[c] = s.error(c, |r| vs.iter().zip(&w).map(|(&v, &wk)| wk * basis(v, r)).sum());
+            err[c] = s.error(c, |r| {
+                vs.iter().zip(&w).map(|(&v, &wk)| wk * basis(v, r)).sum()
+            });
             weights[c] = w;
         }
         (weights, err)
     };
-    let r997 = target.radius_for_energy(DEFAULT_ENERGY_FRACTION).into_iter().fold(1e-9, f64::max);
-    let r_min = target.radius_for_energy(0.05).into_iter().filter(|r| *r > 0.0).fold(r997, f64::min);
+    let r997 = target
+        .radius_for_energy(DEFAULT_ENERGY_FRACTION)
+        .into_iter()
+        .fold(1e-9, f64::max);
+    let r_min = target
+        .radius_for_energy(0.05)
+        .into_iter()
+        .filter(|r| *r > 0.0)
+        .fold(r997, f64::min);
     // Start geometrically spaced between the small and large radii.
     let start: Vec<f64> = (0..n)
         .map(|k| {
-            let t = if n == 1 { 0.5 } else { k as f64 / (n - 1) as f64 };
+            let t = if n == 1 {
+                0.5
+            } else {
+                k as f64 / (n - 1) as f64
+            };
             2.0 * ((r_min / 2.0).ln() * (1.0 - t) + (r997 / 3.0).ln() * t)
         })
         .collect();
     let obj = |p: &[f64]| solve(p).1.iter().map(|e| e * e).sum::<f64>();
     let (best, _) = quad::nelder_mead(&obj, &start, &vec![0.7; n], 400 * n * n + 400, 1e-14);
     let (weights, err) = solve(&best);
-    let terms: Vec<(f64, Rgb)> = (0..n).map(|k| (best[k].exp(), rgb_map(|c| weights[c][k]))).collect();
-    Ok(Fit { model: GaussianSum::new(&terms)?, relative_l2_error: err })
+    let terms: Vec<(f64, Rgb)> = (0..n)
+        .map(|k| (best[k].exp(), rgb_map(|c| weights[c][k])))
+        .collect();
+    Ok(Fit {
+        model: GaussianSum::new(&terms)?,
+        relative_l2_error: err,
+    })
 }
 
 /// Lawson–Hanson non-negative least squares on normal equations G w = b.
@@ -228,14 +293,20 @@ fn nnls(gram: &[Vec<f64>], rhs: &[f64]) -> Vec<f64> {
     let mut w = vec![0.0; n];
     let mut passive = vec![false; n];
     for _ in 0..3 * n + 10 {
-        let grad: Vec<f64> = (0..n).map(|k| rhs[k] - (0..n).map(|l| gram[k][l] * w[l]).sum::<f64>()).collect();
-        let cand = (0..n).filter(|&k| !passive[k] && grad[k] > 1e-14 * (1.0 + rhs[k].abs())).max_by(|&a, &b| grad[a].total_cmp(&grad[b]));
+        let grad: Vec<f64> = (0..n)
+            .map(|k| rhs[k] - (0..n).map(|l| gram[k][l] * w[l]).sum::<f64>())
+            .collect();
+        let cand = (0..n)
+            .filter(|&k| !passive[k] && grad[k] > 1e-14 * (1.0 + rhs[k].abs()))
+            .max_by(|&a, &b| grad[a].total_cmp(&grad[b]));
         let Some(k) = cand else { break };
         passive[k] = true;
         loop {
             let idx: Vec<usize> = (0..n).filter(|&i| passive[i]).collect();
             let z_sub = solve_linear(
-                &idx.iter().map(|&i| idx.iter().map(|&j| gram[i][j]).collect()).collect::<Vec<Vec<f64>>>(),
+                &idx.iter()
+                    .map(|&i| idx.iter().map(|&j| gram[i][j]).collect())
+                    .collect::<Vec<Vec<f64>>>(),
                 &idx.iter().map(|&i| rhs[i]).collect::<Vec<f64>>(),
             );
             let mut z = vec![0.0; n];
@@ -270,9 +341,15 @@ fn nnls(gram: &[Vec<f64>], rhs: &[f64]) -> Vec<f64> {
 /// pivots are treated as zero components.
 fn solve_linear(a: &[Vec<f64>], b: &[f64]) -> Vec<f64> {
     let n = b.len();
-    let mut m: Vec<Vec<f64>> = a.iter().zip(b).map(|(row, &bi)| row.iter().copied().chain([bi]).collect()).collect();
+    let mut m: Vec<Vec<f64>> = a
+        .iter()
+        .zip(b)
+        .map(|(row, &bi)| row.iter().copied().chain([bi]).collect())
+        .collect();
     for col in 0..n {
-        let piv = (col..n).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs())).unwrap_or(col);
+        let piv = (col..n)
+            .max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))
+            .unwrap_or(col);
         m.swap(col, piv);
         let p = m[col][col];
         if p.abs() < 1e-300 {
@@ -287,7 +364,15 @@ fn solve_linear(a: &[Vec<f64>], b: &[f64]) -> Vec<f64> {
             }
         }
     }
-    (0..n).map(|i| if m[i][i].abs() < 1e-300 { 0.0 } else { m[i][n] / m[i][i] }).collect()
+    (0..n)
+        .map(|i| {
+            if m[i][i].abs() < 1e-300 {
+                0.0
+            } else {
+                m[i][n] / m[i][i]
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -298,11 +383,14 @@ mod tests {
     /// Fitting a model to itself recovers it with ~0 error.
     #[test]
     fn burley_fit_recovers_itself() {
-        let b = Burley::from_scattering_distance([0.9, 0.5, 0.3], [0.7568628, 0.32156864, 0.2]).unwrap();
+        let b = Burley::from_scattering_distance([0.9, 0.5, 0.3], [0.7568628, 0.32156864, 0.2])
+            .unwrap();
         let f = fit_burley(&b).unwrap();
         assert!(f.max_error() < 1e-6, "{:?}", f.relative_l2_error);
         for c in 0..3 {
-            assert!((f.model.scattering_distance_mm()[c] - b.scattering_distance_mm()[c]).abs() < 1e-5);
+            assert!(
+                (f.model.scattering_distance_mm()[c] - b.scattering_distance_mm()[c]).abs() < 1e-5
+            );
             assert!((f.model.albedo()[c] - b.albedo()[c]).abs() < 1e-6);
         }
     }
@@ -313,8 +401,16 @@ mod tests {
         let f = fit_jimenez(&j).unwrap();
         assert!(f.max_error() < 1e-5, "{:?}", f.relative_l2_error);
         for c in 0..3 {
-            assert!((f.model.falloff()[c] - j.falloff()[c]).abs() < 1e-4, "{:?}", f.model);
-            assert!((f.model.strength()[c] - j.strength()[c]).abs() < 1e-4, "{:?}", f.model);
+            assert!(
+                (f.model.falloff()[c] - j.falloff()[c]).abs() < 1e-4,
+                "{:?}",
+                f.model
+            );
+            assert!(
+                (f.model.strength()[c] - j.strength()[c]).abs() < 1e-4,
+                "{:?}",
+                f.model
+            );
         }
     }
 
@@ -333,7 +429,12 @@ mod tests {
     fn artist_fit_recovers_table2_kernel() {
         let m = ArtistTwoGaussian::table2("production").unwrap();
         let f = fit_artist(&m).unwrap();
-        assert!(f.max_error() < 1e-3, "{:?} {:?}", f.relative_l2_error, f.model);
+        assert!(
+            f.max_error() < 1e-3,
+            "{:?} {:?}",
+            f.relative_l2_error,
+            f.model
+        );
         assert!((f.model.weight() - 0.65).abs() < 1e-2, "{:?}", f.model);
     }
 

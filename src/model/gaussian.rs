@@ -35,24 +35,61 @@ pub struct Term {
 pub struct GaussianSum {
     channels: [Vec<Term>; 3],
     dirac: Rgb,
+    /// When all channels share their variances (d'Eon's table): one
+    /// exponential per term serves three channels.
+    shared: Option<Vec<(f64, Rgb)>>,
+}
+
+fn share(channels: &[Vec<Term>; 3]) -> Option<Vec<(f64, Rgb)>> {
+    let n = channels[0].len();
+    if channels[1].len() != n || channels[2].len() != n {
+        return None;
+    }
+    (0..n)
+        .map(|k| {
+            let v = channels[0][k].variance_mm2;
+            (channels[1][k].variance_mm2 == v && channels[2][k].variance_mm2 == v).then(|| {
+                (
+                    v,
+                    [
+                        channels[0][k].weight,
+                        channels[1][k].weight,
+                        channels[2][k].weight,
+                    ],
+                )
+            })
+        })
+        .collect()
 }
 
 impl GaussianSum {
     /// Shared variances with RGB weights, as d'Eon tabulates them.
     pub fn new(terms: &[(f64, Rgb)]) -> Result<Self, ModelError> {
         if terms.is_empty() {
-            return Err(ModelError::invalid("gaussians", "at least one Gaussian is required"));
+            return Err(ModelError::invalid(
+                "gaussians",
+                "at least one Gaussian is required",
+            ));
         }
         let mut channels: [Vec<Term>; 3] = Default::default();
         for (k, (v, w)) in terms.iter().enumerate() {
-            check_range(&format!("gaussians[{k}].variance_mm2"), *v, VARIANCE_RANGE_MM2.0, VARIANCE_RANGE_MM2.1, " mm²")?;
+            check_range(
+                &format!("gaussians[{k}].variance_mm2"),
+                *v,
+                VARIANCE_RANGE_MM2.0,
+                VARIANCE_RANGE_MM2.1,
+                " mm²",
+            )?;
             for c in 0..3 {
                 let field = format!("gaussians[{k}].weights.{}", CHANNEL_NAMES[c]);
                 check_range(&field, w[c], 0.0, 1e6, "")?;
-                channels[c].push(Term { weight: w[c], variance_mm2: *v });
+                channels[c].push(Term {
+                    weight: w[c],
+                    variance_mm2: *v,
+                });
             }
         }
-        Ok(Self { channels, dirac: [0.0; 3] })
+        Ok(Self::from_channels(channels, [0.0; 3]))
     }
 
     /// d'Eon's six-Gaussian skin profile.
@@ -61,15 +98,23 @@ impl GaussianSum {
         let mut channels: [Vec<Term>; 3] = Default::default();
         for (v, w) in DEON_SKIN {
             for c in 0..3 {
-                channels[c].push(Term { weight: w[c], variance_mm2: v });
+                channels[c].push(Term {
+                    weight: w[c],
+                    variance_mm2: v,
+                });
             }
         }
-        Self { channels, dirac: [0.0; 3] }
+        Self::from_channels(channels, [0.0; 3])
     }
 
     /// Per-channel terms and Dirac weights, already validated by the caller.
     pub(crate) fn from_channels(channels: [Vec<Term>; 3], dirac: Rgb) -> Self {
-        Self { channels, dirac }
+        let shared = share(&channels);
+        Self {
+            channels,
+            dirac,
+            shared,
+        }
     }
 
     pub fn channel_terms(&self, channel: usize) -> &[Term] {
@@ -81,7 +126,10 @@ impl GaussianSum {
         rgb_map(|c| {
             self.channels[c]
                 .iter()
-                .map(|t| t.weight * (-x_mm * x_mm / (2.0 * t.variance_mm2)).exp() / (2.0 * PI * t.variance_mm2).sqrt())
+                .map(|t| {
+                    t.weight * (-x_mm * x_mm / (2.0 * t.variance_mm2)).exp()
+                        / (2.0 * PI * t.variance_mm2).sqrt()
+                })
                 .sum()
         })
     }
@@ -90,10 +138,22 @@ impl GaussianSum {
 impl RadialProfile for GaussianSum {
     fn reflectance(&self, radius_mm: f64) -> Rgb {
         let r2 = radius_mm * radius_mm;
+        if let Some(terms) = &self.shared {
+            let mut out = [0.0; 3];
+            for (v, w) in terms {
+                let g = (-r2 / (2.0 * v)).exp() / (2.0 * PI * v);
+                for c in 0..3 {
+                    out[c] += w[c] * g;
+                }
+            }
+            return out;
+        }
         rgb_map(|c| {
             self.channels[c]
                 .iter()
-                .map(|t| t.weight * (-r2 / (2.0 * t.variance_mm2)).exp() / (2.0 * PI * t.variance_mm2))
+                .map(|t| {
+                    t.weight * (-r2 / (2.0 * t.variance_mm2)).exp() / (2.0 * PI * t.variance_mm2)
+                })
                 .sum()
         })
     }
@@ -113,8 +173,10 @@ impl RadialProfile for GaussianSum {
             if total[c] <= 0.0 {
                 return 1.0;
             }
-            let inside: f64 =
-                self.channels[c].iter().map(|t| -t.weight * (-r2 / (2.0 * t.variance_mm2)).exp_m1()).sum();
+            let inside: f64 = self.channels[c]
+                .iter()
+                .map(|t| -t.weight * (-r2 / (2.0 * t.variance_mm2)).exp_m1())
+                .sum();
             ((self.dirac[c] + inside) / total[c]).clamp(0.0, 1.0)
         })
     }
@@ -126,8 +188,10 @@ impl RadialProfile for GaussianSum {
             if total[c] <= 0.0 {
                 return 0.0;
             }
-            let outside: f64 =
-                self.channels[c].iter().map(|t| t.weight * (-r2 / (2.0 * t.variance_mm2)).exp()).sum();
+            let outside: f64 = self.channels[c]
+                .iter()
+                .map(|t| t.weight * (-r2 / (2.0 * t.variance_mm2)).exp())
+                .sum();
             (outside / total[c]).clamp(0.0, 1.0)
         })
     }
@@ -169,14 +233,23 @@ mod tests {
         let rows: Vec<Vec<f64>> = text
             .lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with("variance"))
-            .map(|l| l.split(',').map(|x| x.trim().parse::<f64>().unwrap()).collect())
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.trim().parse::<f64>().unwrap())
+                    .collect()
+            })
             .collect();
         assert_eq!(rows.len(), 6);
         for (row, (v, w)) in rows.iter().zip(DEON_SKIN) {
             assert_eq!(row[0], v);
             assert_eq!(&row[1..4], &w[..]);
             // FaceWorks stores σ = √v to three digits.
-            assert!((row[4] - v.sqrt()).abs() < 6e-4, "{} vs {}", row[4], v.sqrt());
+            assert!(
+                (row[4] - v.sqrt()).abs() < 6e-4,
+                "{} vs {}",
+                row[4],
+                v.sqrt()
+            );
         }
     }
 
@@ -185,7 +258,13 @@ mod tests {
     fn deon_total_is_one_per_channel_by_quadrature() {
         let p = GaussianSum::deon_skin();
         for c in 0..3 {
-            let v = quad::integrate_to_infinity(&|r: f64| 2.0 * PI * r * p.reflectance(r)[c], 0.0, 0.5, 1e-14, 1e-13);
+            let v = quad::integrate_to_infinity(
+                &|r: f64| 2.0 * PI * r * p.reflectance(r)[c],
+                0.0,
+                0.5,
+                1e-14,
+                1e-13,
+            );
             assert!((v - 1.0).abs() < 1e-9, "channel {c}: {v}");
             assert!((p.total_reflectance()[c] - 1.0).abs() < 1e-12);
         }
@@ -200,7 +279,11 @@ mod tests {
             for c in 0..3 {
                 let f = |y: f64| 2.0 * p.reflectance((x * x + y * y).sqrt())[c];
                 let v = quad::integrate_to_infinity(&f, 0.0, 0.1, 1e-15, 1e-13);
-                assert!((v - a[c]).abs() < 1e-9 * a[c].max(1e-6), "x={x} c={c}: {v} vs {}", a[c]);
+                assert!(
+                    (v - a[c]).abs() < 1e-9 * a[c].max(1e-6),
+                    "x={x} c={c}: {v} vs {}",
+                    a[c]
+                );
             }
         }
     }

@@ -32,7 +32,9 @@ pub fn ln_gamma(z: Complex64) -> Complex64 {
     ];
     if z.re < 0.5 {
         // Γ(z)Γ(1−z) = π / sin(πz)
-        return Complex64::new(PI.ln(), 0.0) - ln_sin(z * PI) - ln_gamma(Complex64::new(1.0, 0.0) - z);
+        return Complex64::new(PI.ln(), 0.0)
+            - ln_sin(z * PI)
+            - ln_gamma(Complex64::new(1.0, 0.0) - z);
     }
     let z = z - 1.0;
     let mut x = Complex64::new(COEF[0], 0.0);
@@ -84,7 +86,11 @@ pub fn inverse_2d(f_of_k: &[f64], k_min: f64, k_max: f64) -> (Vec<f64>, Vec<f64>
     inv.process(&mut buf); // U_j = Σ u_n e^{+2πi jn/M}
     let period = m as f64 * dlk;
     for (j, b) in buf.iter_mut().enumerate() {
-        let jj = if j < m / 2 { j as f64 } else { j as f64 - m as f64 };
+        let jj = if j < m / 2 {
+            j as f64
+        } else {
+            j as f64 - m as f64
+        };
         let omega = 2.0 * PI * jj / period;
         let s = Complex64::new(2.0 - BIAS, -omega);
         let phase = Complex64::new(0.0, omega * (kappa0 + rho0)).exp();
@@ -98,7 +104,10 @@ pub fn inverse_2d(f_of_k: &[f64], k_min: f64, k_max: f64) -> (Vec<f64>, Vec<f64>
     // Keep the central 2n outputs: the outer ones see the kernel's periodic
     // image (padding by 4 pushes that error below 1e-9 of the peak there).
     let keep = n..3 * n;
-    let radii: Vec<f64> = keep.clone().map(|i| (rho0 + i as f64 * dlk).exp()).collect();
+    let radii: Vec<f64> = keep
+        .clone()
+        .map(|i| (rho0 + i as f64 * dlk).exp())
+        .collect();
     let values: Vec<f64> = keep
         .zip(&radii)
         .map(|(i, r)| buf[i].re / m as f64 / (2.0 * PI) / r.powf(2.0 - BIAS))
@@ -127,7 +136,9 @@ mod tests {
             assert!((v - reference).abs() < 1e-10, "t={t}: {v} vs {reference}");
         }
         // Reflection branch: Γ(0.1) = 9.513507698668732.
-        assert!((ln_gamma(Complex64::new(0.1, 0.0)).exp().re - 9.513_507_698_668_732).abs() < 1e-10);
+        assert!(
+            (ln_gamma(Complex64::new(0.1, 0.0)).exp().re - 9.513_507_698_668_732).abs() < 1e-10
+        );
     }
 
     /// A normalised 2D Gaussian and its transform e^(−v k²/2) (closed form).

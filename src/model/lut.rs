@@ -17,7 +17,12 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// (numerator, denominator) of D(θ, c) for one channel by adaptive
 /// quadrature of the ring integral (reference grade, used by the CLI).
-pub fn ring_integral(profile: &dyn RadialProfile, channel: usize, theta: f64, curvature_radius_mm: f64) -> (f64, f64) {
+pub fn ring_integral(
+    profile: &dyn RadialProfile,
+    channel: usize,
+    theta: f64,
+    curvature_radius_mm: f64,
+) -> (f64, f64) {
     let c = curvature_radius_mm;
     let total = profile.total_reflectance()[channel];
     if total <= 0.0 {
@@ -29,16 +34,26 @@ pub fn ring_integral(profile: &dyn RadialProfile, channel: usize, theta: f64, cu
         2.0 * PI * profile.r_reflectance(r)[channel] / total * c * (0.5 * x).cos()
     };
     let w = |x: f64| 0.5 * ((theta + x).cos().max(0.0) + (theta - x).cos().max(0.0));
-    let mut breaks: Vec<f64> = [FRAC_PI_2 - theta, 1.5 * PI - theta, theta - FRAC_PI_2, theta + FRAC_PI_2]
-        .into_iter()
-        .filter(|x| *x > 0.0 && *x < PI)
-        .collect();
+    let mut breaks: Vec<f64> = [
+        FRAC_PI_2 - theta,
+        1.5 * PI - theta,
+        theta - FRAC_PI_2,
+        theta + FRAC_PI_2,
+    ]
+    .into_iter()
+    .filter(|x| *x > 0.0 && *x < PI)
+    .collect();
     // Resolve a profile much narrower than the ring near x = 0.
     let narrow = 2.0 * (profile.length_scale_mm() / (2.0 * c)).min(1.0).asin();
-    breaks.extend([0.0, PI, narrow * 1e-3, narrow * 1e-1, narrow].into_iter().filter(|x| *x >= 0.0 && *x <= PI));
+    breaks.extend(
+        [0.0, PI, narrow * 1e-3, narrow * 1e-1, narrow]
+            .into_iter()
+            .filter(|x| *x >= 0.0 && *x <= PI),
+    );
     breaks.sort_by(f64::total_cmp);
     breaks.dedup();
-    let num = quad::integrate_with_breaks(&|x| g(x) * w(x), &breaks, 1e-15, 1e-13) + dirac * theta.cos().max(0.0);
+    let num = quad::integrate_with_breaks(&|x| g(x) * w(x), &breaks, 1e-15, 1e-13)
+        + dirac * theta.cos().max(0.0);
     let den = profile.cdf(2.0 * c)[channel];
     (num, den)
 }
@@ -47,7 +62,11 @@ pub fn ring_integral(profile: &dyn RadialProfile, channel: usize, theta: f64, cu
 pub fn preintegrated_d(profile: &dyn RadialProfile, theta: f64, curvature_radius_mm: f64) -> Rgb {
     rgb_map(|ch| {
         let (n, d) = ring_integral(profile, ch, theta, curvature_radius_mm);
-        if d > 0.0 { n / d } else { theta.cos().max(0.0) }
+        if d > 0.0 {
+            n / d
+        } else {
+            theta.cos().max(0.0)
+        }
     })
 }
 
@@ -95,7 +114,12 @@ pub struct LutLayout {
 
 impl Default for LutLayout {
     fn default() -> Self {
-        Self { width: 256, height: 256, curvature_radius_min_mm: 1.0, curvature_radius_max_mm: 100.0 }
+        Self {
+            width: 256,
+            height: 256,
+            curvature_radius_min_mm: 1.0,
+            curvature_radius_max_mm: 100.0,
+        }
     }
 }
 
@@ -103,8 +127,20 @@ impl LutLayout {
     pub fn validate(&self) -> Result<(), ModelError> {
         check_range("width", self.width as f64, 1.0, 8192.0, " texels")?;
         check_range("height", self.height as f64, 1.0, 8192.0, " texels")?;
-        check_range("curvature_radius_min_mm", self.curvature_radius_min_mm, 1e-3, 1e4, " mm")?;
-        check_range("curvature_radius_max_mm", self.curvature_radius_max_mm, self.curvature_radius_min_mm, 1e4, " mm")?;
+        check_range(
+            "curvature_radius_min_mm",
+            self.curvature_radius_min_mm,
+            1e-3,
+            1e4,
+            " mm",
+        )?;
+        check_range(
+            "curvature_radius_max_mm",
+            self.curvature_radius_max_mm,
+            self.curvature_radius_min_mm,
+            1e4,
+            " mm",
+        )?;
         Ok(())
     }
     /// N·L at column i.
@@ -113,7 +149,10 @@ impl LutLayout {
     }
     /// Curvature radius (mm) at row j.
     pub fn curvature_radius(&self, j: usize) -> f64 {
-        let (k0, k1) = (1.0 / self.curvature_radius_max_mm, 1.0 / self.curvature_radius_min_mm);
+        let (k0, k1) = (
+            1.0 / self.curvature_radius_max_mm,
+            1.0 / self.curvature_radius_min_mm,
+        );
         1.0 / (k0 + (j as f64 + 0.5) * (k1 - k0) / self.height as f64)
     }
 }
@@ -129,7 +168,9 @@ impl Lut {
     /// Bakes D for every texel of `layout` (the fast row method).
     pub fn bake(profile: &dyn RadialProfile, layout: LutLayout) -> Result<Self, ModelError> {
         layout.validate()?;
-        let thetas: Vec<f64> = (0..layout.width).map(|i| layout.n_dot_l(i).clamp(-1.0, 1.0).acos()).collect();
+        let thetas: Vec<f64> = (0..layout.width)
+            .map(|i| layout.n_dot_l(i).clamp(-1.0, 1.0).acos())
+            .collect();
         let d: Vec<Rgb> = (0..layout.height)
             .into_par_iter()
             .flat_map_iter(|j| bake_row(profile, &thetas, layout.curvature_radius(j)))
@@ -163,8 +204,15 @@ fn bake_row(profile: &dyn RadialProfile, thetas: &[f64], c: f64) -> Vec<Rgb> {
         .flat_map(|&t| [FRAC_PI_2 - t, 1.5 * PI - t, t - FRAC_PI_2, t + FRAC_PI_2])
         .filter(|x| *x > 0.0 && *x < PI)
         .collect();
-    let narrow = 2.0 * (profile.length_scale_mm().max(profile.r_floor_mm()) / (2.0 * c)).min(1.0).asin();
-    pts.extend((0..48).map(|k| narrow * 1e-4 * 1.25f64.powi(k)).filter(|x| *x < PI));
+    let narrow = 2.0
+        * (profile.length_scale_mm().max(profile.r_floor_mm()) / (2.0 * c))
+            .min(1.0)
+            .asin();
+    pts.extend(
+        (0..48)
+            .map(|k| narrow * 1e-4 * 1.25f64.powi(k))
+            .filter(|x| *x < PI),
+    );
     pts.extend((0..=64).map(|k| PI * k as f64 / 64.0));
     pts.sort_by(f64::total_cmp);
     pts.dedup();
@@ -184,7 +232,11 @@ fn bake_row(profile: &dyn RadialProfile, thetas: &[f64], c: f64) -> Vec<Rgb> {
             let jac = c * (0.5 * x).cos();
             let (cx, sx) = (x.cos(), x.sin());
             for ch in 0..3 {
-                let g = if total[ch] > 0.0 { 2.0 * PI * rr[ch] / total[ch] * jac } else { 0.0 };
+                let g = if total[ch] > 0.0 {
+                    2.0 * PI * rr[ch] / total[ch] * jac
+                } else {
+                    0.0
+                };
                 acc_c[ch] += w0 * g * cx;
                 acc_s[ch] += w0 * g * sx;
             }
@@ -203,7 +255,10 @@ fn bake_row(profile: &dyn RadialProfile, thetas: &[f64], c: f64) -> Vec<Rgb> {
         .map(|&t| {
             let (ct, st) = (t.cos(), t.sin());
             // cos⁺(θ + x): x ∈ [0, π/2 − θ) ∪ (3π/2 − θ, π]
-            let p1 = [(0.0, (FRAC_PI_2 - t).max(0.0)), ((1.5 * PI - t).min(PI), PI)];
+            let p1 = [
+                (0.0, (FRAC_PI_2 - t).max(0.0)),
+                ((1.5 * PI - t).min(PI), PI),
+            ];
             // cos⁺(θ − x): x ∈ [max(0, θ − π/2), min(π, θ + π/2)]
             let p2 = [((t - FRAC_PI_2).max(0.0), (t + FRAC_PI_2).min(PI))];
             rgb_map(|ch| {
@@ -215,7 +270,10 @@ fn bake_row(profile: &dyn RadialProfile, thetas: &[f64], c: f64) -> Vec<Rgb> {
                         return (0.0, 0.0);
                     }
                     let (ia, ib) = (at(a), at(b));
-                    (cum_cos[ib][ch] - cum_cos[ia][ch], cum_sin[ib][ch] - cum_sin[ia][ch])
+                    (
+                        cum_cos[ib][ch] - cum_cos[ia][ch],
+                        cum_sin[ib][ch] - cum_sin[ia][ch],
+                    )
                 };
                 let mut num = 0.0;
                 for (a, b) in p1 {
@@ -246,7 +304,12 @@ pub struct ShadowLayout {
 
 impl Default for ShadowLayout {
     fn default() -> Self {
-        Self { width: 64, height: 64, penumbra_min_mm: 1.0, penumbra_max_mm: 100.0 }
+        Self {
+            width: 64,
+            height: 64,
+            penumbra_min_mm: 1.0,
+            penumbra_max_mm: 100.0,
+        }
     }
 }
 
@@ -256,11 +319,20 @@ impl Default for ShadowLayout {
 /// and the pre-integrated 1D kernel is exact for it (Jimenez 2015 §4): with
 /// s(t) = smoothstep(t) across the penumbra, t = s⁻¹(u) and X distributed
 /// as the strip CDF Φ, the value is E[s(t + X/w)] = ∫₀¹ s′(y)(1 − Φ((y − t)w)) dy.
-pub fn bake_shadow(profile: &dyn RadialProfile, layout: ShadowLayout) -> Result<Vec<Rgb>, ModelError> {
+pub fn bake_shadow(
+    profile: &dyn RadialProfile,
+    layout: ShadowLayout,
+) -> Result<Vec<Rgb>, ModelError> {
     check_range("width", layout.width as f64, 1.0, 4096.0, " texels")?;
     check_range("height", layout.height as f64, 1.0, 4096.0, " texels")?;
     check_range("penumbra_min_mm", layout.penumbra_min_mm, 1e-3, 1e4, " mm")?;
-    check_range("penumbra_max_mm", layout.penumbra_max_mm, layout.penumbra_min_mm, 1e4, " mm")?;
+    check_range(
+        "penumbra_max_mm",
+        layout.penumbra_max_mm,
+        layout.penumbra_min_mm,
+        1e4,
+        " mm",
+    )?;
     let strip = StripTable::new(profile);
     let (k0, k1) = (1.0 / layout.penumbra_max_mm, 1.0 / layout.penumbra_min_mm);
     let (gx, gw) = quad::gauss_legendre(24);
@@ -280,7 +352,8 @@ pub fn bake_shadow(profile: &dyn RadialProfile, layout: ShadowLayout) -> Result<
                         let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
                         for (x, wt) in gx.iter().zip(gw.iter()) {
                             let y = m + h * x;
-                            acc += wt * h * 6.0 * y * (1.0 - y) * (1.0 - strip.eval(ch, (y - t) * w));
+                            acc +=
+                                wt * h * 6.0 * y * (1.0 - y) * (1.0 - strip.eval(ch, (y - t) * w));
                         }
                     }
                     acc.clamp(0.0, 1.0)
@@ -301,9 +374,14 @@ impl StripTable {
     fn new(profile: &dyn RadialProfile) -> Self {
         let r = profile.radius_for_energy(0.9999);
         let half = r.into_iter().fold(1e-9, f64::max);
-        let xs: Vec<f64> = (0..Self::NODES).map(|i| -half + 2.0 * half * i as f64 / (Self::NODES - 1) as f64).collect();
+        let xs: Vec<f64> = (0..Self::NODES)
+            .map(|i| -half + 2.0 * half * i as f64 / (Self::NODES - 1) as f64)
+            .collect();
         let rows: Vec<Rgb> = xs.par_iter().map(|&x| profile.strip_cdf(x)).collect();
-        Self { half, values: [0, 1, 2].map(|c| rows.iter().map(|v| v[c]).collect()) }
+        Self {
+            half,
+            values: [0, 1, 2].map(|c| rows.iter().map(|v| v[c]).collect()),
+        }
     }
     fn eval(&self, c: usize, x: f64) -> f64 {
         if x <= -self.half {
@@ -342,9 +420,17 @@ mod tests {
     /// The fast bake agrees with the adaptive ring integral everywhere.
     #[test]
     fn bake_matches_reference_quadrature() {
-        let layout = LutLayout { width: 33, height: 9, curvature_radius_min_mm: 0.5, curvature_radius_max_mm: 80.0 };
+        let layout = LutLayout {
+            width: 33,
+            height: 9,
+            curvature_radius_min_mm: 0.5,
+            curvature_radius_max_mm: 80.0,
+        };
         for p in [
-            Box::new(Burley::from_scattering_distance([0.8, 0.5, 0.3], [0.7568628, 0.32156864, 0.2]).unwrap()) as Box<dyn RadialProfile>,
+            Box::new(
+                Burley::from_scattering_distance([0.8, 0.5, 0.3], [0.7568628, 0.32156864, 0.2])
+                    .unwrap(),
+            ) as Box<dyn RadialProfile>,
             Box::new(GaussianSum::deon_skin()),
         ] {
             let lut = Lut::bake(p.as_ref(), layout).unwrap();
@@ -354,7 +440,12 @@ mod tests {
                     let reference = preintegrated_d(p.as_ref(), theta, layout.curvature_radius(j));
                     let v = lut.d[j * layout.width + i];
                     for c in 0..3 {
-                        assert!((v[c] - reference[c]).abs() < 1e-6, "i={i} j={j} c={c}: {} vs {}", v[c], reference[c]);
+                        assert!(
+                            (v[c] - reference[c]).abs() < 1e-6,
+                            "i={i} j={j} c={c}: {} vs {}",
+                            v[c],
+                            reference[c]
+                        );
                     }
                 }
             }
@@ -370,7 +461,15 @@ mod tests {
             let d = preintegrated_d(&b, theta, 1e4);
             assert!((d[0] - theta.cos().max(0.0)).abs() < 1e-3, "{theta}: {d:?}");
         }
-        let lut = Lut::bake(&b, LutLayout { width: 64, height: 8, ..Default::default() }).unwrap();
+        let lut = Lut::bake(
+            &b,
+            LutLayout {
+                width: 64,
+                height: 8,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         for row in lut.d.chunks(64) {
             for w in row.windows(2) {
                 for c in 0..3 {
@@ -395,14 +494,24 @@ mod tests {
     #[test]
     fn shadow_table_limits() {
         let b = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
-        let wide = ShadowLayout { width: 32, height: 1, penumbra_min_mm: 1e4, penumbra_max_mm: 1e4 };
+        let wide = ShadowLayout {
+            width: 32,
+            height: 1,
+            penumbra_min_mm: 1e4,
+            penumbra_max_mm: 1e4,
+        };
         let t = bake_shadow(&b, wide).unwrap();
         // A 10 m penumbra: scattering changes nothing.
         for i in 0..32 {
             let u = (i as f64 + 0.5) / 32.0;
             assert!((t[i][2] - u).abs() < 2e-3, "{} vs {u}", t[i][2]);
         }
-        let narrow = ShadowLayout { width: 32, height: 4, penumbra_min_mm: 0.5, penumbra_max_mm: 20.0 };
+        let narrow = ShadowLayout {
+            width: 32,
+            height: 4,
+            penumbra_min_mm: 0.5,
+            penumbra_max_mm: 20.0,
+        };
         let t = bake_shadow(&b, narrow).unwrap();
         for row in t.chunks(32) {
             for w in row.windows(2) {

@@ -16,7 +16,10 @@ pub struct Material {
 
 impl Material {
     pub fn medium(&self) -> Medium {
-        Medium { sigma_a_per_mm: self.sigma_a_per_mm, sigma_s_prime_per_mm: self.sigma_s_prime_per_mm }
+        Medium {
+            sigma_a_per_mm: self.sigma_a_per_mm,
+            sigma_s_prime_per_mm: self.sigma_s_prime_per_mm,
+        }
     }
 }
 
@@ -40,16 +43,25 @@ pub fn all() -> Vec<Material> {
 
 /// Normalises a name for lookup: case, spaces, '-', '_' and '&' are ignored.
 fn key(name: &str) -> String {
-    name.chars().filter(|c| c.is_alphanumeric()).flat_map(char::to_lowercase).collect()
+    name.chars()
+        .filter(|c| c.is_alphanumeric())
+        .flat_map(char::to_lowercase)
+        .collect()
 }
 
 /// Finds a material by name ("Skin1", "whole milk", "wholemilk" …).
 pub fn find(name: &str) -> Result<Material, ModelError> {
     let k = key(name);
-    all().into_iter().find(|m| key(&m.name) == k).ok_or_else(|| {
-        let names: Vec<String> = all().into_iter().map(|m| m.name).collect();
-        ModelError::invalid("measured", format!("unknown material `{name}`; known: {}", names.join(", ")))
-    })
+    all()
+        .into_iter()
+        .find(|m| key(&m.name) == k)
+        .ok_or_else(|| {
+            let names: Vec<String> = all().into_iter().map(|m| m.name).collect();
+            ModelError::invalid(
+                "measured",
+                format!("unknown material `{name}`; known: {}", names.join(", ")),
+            )
+        })
 }
 
 #[cfg(test)]
@@ -58,13 +70,20 @@ mod tests {
 
     #[test]
     fn table_parses_completely() {
-        let rows = TABLE.lines().skip(1).filter(|l| !l.trim().is_empty()).count();
+        let rows = TABLE
+            .lines()
+            .skip(1)
+            .filter(|l| !l.trim().is_empty())
+            .count();
         assert_eq!(all().len(), rows);
         assert_eq!(rows, 47);
         let s = find("skin 1").unwrap();
         assert_eq!(s.sigma_a_per_mm, [0.032, 0.17, 0.48]);
         assert_eq!(s.sigma_s_prime_per_mm, [0.74, 0.88, 1.01]);
         assert!(find("Head & Shoulders Shampoo").is_ok());
-        assert!(find("unobtainium").unwrap_err().to_string().contains("Skin1"));
+        assert!(find("unobtainium")
+            .unwrap_err()
+            .to_string()
+            .contains("Skin1"));
     }
 }

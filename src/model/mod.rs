@@ -34,7 +34,13 @@ pub const DEFAULT_ENERGY_FRACTION: f64 = 0.997;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     #[error("{field} = {value} is outside its range {}{unit}", range_text(*min, *max))]
-    OutOfRange { field: String, value: f64, min: f64, max: f64, unit: &'static str },
+    OutOfRange {
+        field: String,
+        value: f64,
+        min: f64,
+        max: f64,
+        unit: &'static str,
+    },
     #[error("{field} is not a finite number (got {value})")]
     NotFinite { field: String, value: f64 },
     #[error("{field}: {reason}")]
@@ -51,7 +57,10 @@ fn range_text(min: f64, max: f64) -> String {
 
 impl ModelError {
     pub fn invalid(field: impl Into<String>, reason: impl Into<String>) -> Self {
-        Self::Invalid { field: field.into(), reason: reason.into() }
+        Self::Invalid {
+            field: field.into(),
+            reason: reason.into(),
+        }
     }
 }
 
@@ -64,10 +73,19 @@ pub fn check_range(
     unit: &'static str,
 ) -> Result<f64, ModelError> {
     if !value.is_finite() {
-        return Err(ModelError::NotFinite { field: field.to_owned(), value });
+        return Err(ModelError::NotFinite {
+            field: field.to_owned(),
+            value,
+        });
     }
     if value < min || value > max || (max.is_infinite() && value.is_infinite()) {
-        return Err(ModelError::OutOfRange { field: field.to_owned(), value, min, max, unit });
+        return Err(ModelError::OutOfRange {
+            field: field.to_owned(),
+            value,
+            min,
+            max,
+            unit,
+        });
     }
     Ok(value)
 }
@@ -97,7 +115,10 @@ pub fn check_radius(field: &str, radius_mm: f64) -> Result<f64, ModelError> {
 /// Checks a CDF value ξ ∈ [0, 1).
 pub fn check_xi(field: &str, xi: f64) -> Result<f64, ModelError> {
     if !xi.is_finite() {
-        return Err(ModelError::NotFinite { field: field.to_owned(), value: xi });
+        return Err(ModelError::NotFinite {
+            field: field.to_owned(),
+            value: xi,
+        });
     }
     if !(0.0..1.0).contains(&xi) {
         return Err(ModelError::OutOfRange {
@@ -218,7 +239,13 @@ pub fn invert_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, channel: usize, 
     let use_tail = xi > 0.5;
     let target = if use_tail { 1.0 - xi } else { xi };
     // g(r) increases with r and has root where the CDF equals ξ.
-    let g = |r: f64| if use_tail { target - p.tail(r)[c] } else { p.cdf(r)[c] - target };
+    let g = |r: f64| {
+        if use_tail {
+            target - p.tail(r)[c]
+        } else {
+            p.cdf(r)[c] - target
+        }
+    };
     let mut hi = p.length_scale_mm().max(1e-12);
     let mut guard = 0;
     while g(hi) < 0.0 && guard < 2000 {
@@ -239,7 +266,11 @@ pub fn invert_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, channel: usize, 
         }
         // dP/dr = 2πr R(r)/total (continuous part).
         let pdf = 2.0 * PI * p.r_reflectance(r)[c] / total;
-        let mut next = if pdf > 0.0 && pdf.is_finite() { r - gr / pdf } else { f64::NAN };
+        let mut next = if pdf > 0.0 && pdf.is_finite() {
+            r - gr / pdf
+        } else {
+            f64::NAN
+        };
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }

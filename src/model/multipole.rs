@@ -76,26 +76,43 @@ impl SlabChannel {
     }
 
     fn reflectance(&self, r: f64) -> f64 {
-        let s: f64 = self.sources().map(|(zr, zv)| source_term(zv, self.sigma_tr, r) - source_term(zr, self.sigma_tr, r)).sum();
+        let s: f64 = self
+            .sources()
+            .map(|(zr, zv)| source_term(zv, self.sigma_tr, r) - source_term(zr, self.sigma_tr, r))
+            .sum();
         self.alpha / (4.0 * PI) * s
     }
 
     fn transmittance(&self, r: f64) -> f64 {
         let t = self.thickness;
-        let s: f64 =
-            self.sources().map(|(zr, zv)| source_term(zr + t, self.sigma_tr, r) - source_term(zv + t, self.sigma_tr, r)).sum();
+        let s: f64 = self
+            .sources()
+            .map(|(zr, zv)| {
+                source_term(zr + t, self.sigma_tr, r) - source_term(zv + t, self.sigma_tr, r)
+            })
+            .sum();
         self.alpha / (4.0 * PI) * s
     }
 
     /// Reflected energy beyond radius ρ (ρ = 0 gives the total).
     fn reflectance_beyond(&self, rho: f64) -> f64 {
-        let s: f64 = self.sources().map(|(zr, zv)| source_tail(zv, self.sigma_tr, rho) - source_tail(zr, self.sigma_tr, rho)).sum();
+        let s: f64 = self
+            .sources()
+            .map(|(zr, zv)| {
+                source_tail(zv, self.sigma_tr, rho) - source_tail(zr, self.sigma_tr, rho)
+            })
+            .sum();
         0.5 * self.alpha * s
     }
 
     fn transmittance_total(&self) -> f64 {
         let t = self.thickness;
-        let s: f64 = self.sources().map(|(zr, zv)| source_tail(zr + t, self.sigma_tr, 0.0) - source_tail(zv + t, self.sigma_tr, 0.0)).sum();
+        let s: f64 = self
+            .sources()
+            .map(|(zr, zv)| {
+                source_tail(zr + t, self.sigma_tr, 0.0) - source_tail(zv + t, self.sigma_tr, 0.0)
+            })
+            .sum();
         0.5 * self.alpha * s
     }
 
@@ -103,7 +120,11 @@ impl SlabChannel {
     fn geometric(&self, m: u32, sigma_e: f64) -> f64 {
         let x = -2.0 * self.period_half * sigma_e;
         let den = x.exp_m1();
-        if den == 0.0 { m as f64 } else { (m as f64 * x).exp_m1() / den }
+        if den == 0.0 {
+            m as f64
+        } else {
+            (m as f64 * x).exp_m1() / den
+        }
     }
 
     /// 2D Fourier transforms (R̂, T̂) at spatial frequency k (rad/mm).
@@ -128,13 +149,40 @@ pub struct MultipoleSlab {
 
 impl MultipoleSlab {
     /// A slab of `layer` (finite thickness) between `eta_above` and `eta_below`.
-    pub fn new(layer: &Layer, eta_above: f64, eta_below: f64, dipoles: u32, prefix: &str) -> Result<Self, ModelError> {
+    pub fn new(
+        layer: &Layer,
+        eta_above: f64,
+        eta_below: f64,
+        dipoles: u32,
+        prefix: &str,
+    ) -> Result<Self, ModelError> {
         validate_layer(layer, prefix)?;
-        check_range(&format!("{prefix}eta_above"), eta_above, ETA_RANGE.0, ETA_RANGE.1, "")?;
-        check_range(&format!("{prefix}eta_below"), eta_below, ETA_RANGE.0, ETA_RANGE.1, "")?;
-        check_range("dipoles", dipoles as f64, DIPOLES_RANGE.0 as f64, DIPOLES_RANGE.1 as f64, "")?;
+        check_range(
+            &format!("{prefix}eta_above"),
+            eta_above,
+            ETA_RANGE.0,
+            ETA_RANGE.1,
+            "",
+        )?;
+        check_range(
+            &format!("{prefix}eta_below"),
+            eta_below,
+            ETA_RANGE.0,
+            ETA_RANGE.1,
+            "",
+        )?;
+        check_range(
+            "dipoles",
+            dipoles as f64,
+            DIPOLES_RANGE.0 as f64,
+            DIPOLES_RANGE.1 as f64,
+            "",
+        )?;
         let s = layer.thickness_mm.ok_or_else(|| {
-            ModelError::invalid(format!("{prefix}thickness_mm"), "a slab needs a finite thickness")
+            ModelError::invalid(
+                format!("{prefix}thickness_mm"),
+                "a slab needs a finite thickness",
+            )
         })?;
         let a0 = boundary_a(layer.eta / eta_above);
         let a_s = boundary_a(layer.eta / eta_below);
@@ -162,15 +210,30 @@ impl MultipoleSlab {
     }
 
     fn smallest_depth(&self) -> f64 {
-        self.channels.iter().map(|ch| ch.ell.min(0.5 * ch.thickness)).fold(f64::INFINITY, f64::min)
+        self.channels
+            .iter()
+            .map(|ch| ch.ell.min(0.5 * ch.thickness))
+            .fold(f64::INFINITY, f64::min)
     }
 }
 
 fn validate_layer(layer: &Layer, prefix: &str) -> Result<(), ModelError> {
     layer.medium.validate(prefix)?;
-    check_range(&format!("{prefix}eta"), layer.eta, ETA_RANGE.0, ETA_RANGE.1, "")?;
+    check_range(
+        &format!("{prefix}eta"),
+        layer.eta,
+        ETA_RANGE.0,
+        ETA_RANGE.1,
+        "",
+    )?;
     if let Some(s) = layer.thickness_mm {
-        check_range(&format!("{prefix}thickness_mm"), s, THICKNESS_RANGE_MM.0, THICKNESS_RANGE_MM.1, " mm")?;
+        check_range(
+            &format!("{prefix}thickness_mm"),
+            s,
+            THICKNESS_RANGE_MM.0,
+            THICKNESS_RANGE_MM.1,
+            " mm",
+        )?;
     }
     Ok(())
 }
@@ -189,13 +252,23 @@ impl RadialProfile for MultipoleSlab {
     fn tail(&self, radius_mm: f64) -> Rgb {
         rgb_map(|c| {
             let total = self.channels[c].reflectance_beyond(0.0);
-            if total > 0.0 { (self.channels[c].reflectance_beyond(radius_mm) / total).clamp(0.0, 1.0) } else { 0.0 }
+            if total > 0.0 {
+                (self.channels[c].reflectance_beyond(radius_mm) / total).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
         })
     }
     fn length_scale_mm(&self) -> f64 {
         self.channels
             .iter()
-            .map(|ch| if ch.sigma_tr > 0.0 { (1.0 / ch.sigma_tr).min(1e3 * ch.z_v0) } else { 10.0 * ch.z_v0 })
+            .map(|ch| {
+                if ch.sigma_tr > 0.0 {
+                    (1.0 / ch.sigma_tr).min(1e3 * ch.z_v0)
+                } else {
+                    10.0 * ch.z_v0
+                }
+            })
             .fold(1e-9, f64::max)
     }
 }
@@ -215,16 +288,27 @@ impl LayeredMultipole {
     /// `layers` top to bottom; only the last may be semi-infinite. Light
     /// arrives from a medium of index `eta_above`; a finite last layer sits
     /// on a medium of index `eta_below`.
-    pub fn new(layers: &[Layer], eta_above: f64, eta_below: f64, dipoles: u32) -> Result<Self, ModelError> {
+    pub fn new(
+        layers: &[Layer],
+        eta_above: f64,
+        eta_below: f64,
+        dipoles: u32,
+    ) -> Result<Self, ModelError> {
         if layers.is_empty() {
-            return Err(ModelError::invalid("layers", "at least one layer is required"));
+            return Err(ModelError::invalid(
+                "layers",
+                "at least one layer is required",
+            ));
         }
         check_range("eta_above", eta_above, ETA_RANGE.0, ETA_RANGE.1, "")?;
         check_range("eta_below", eta_below, ETA_RANGE.0, ETA_RANGE.1, "")?;
         for (i, l) in layers.iter().enumerate() {
             validate_layer(l, &format!("layers[{i}]."))?;
             if l.thickness_mm.is_none() && i + 1 != layers.len() {
-                return Err(ModelError::invalid(format!("layers[{i}].thickness_mm"), "only the last layer may be semi-infinite"));
+                return Err(ModelError::invalid(
+                    format!("layers[{i}].thickness_mm"),
+                    "only the last layer may be semi-infinite",
+                ));
             }
         }
         let mut slabs = Vec::new();
@@ -233,15 +317,29 @@ impl LayeredMultipole {
             let above = if i == 0 { eta_above } else { layers[i - 1].eta };
             let below = layers.get(i + 1).map_or(eta_below, |n| n.eta);
             if l.thickness_mm.is_some() {
-                slabs.push(MultipoleSlab::new(l, above, below, dipoles, &format!("layers[{i}]."))?);
+                slabs.push(MultipoleSlab::new(
+                    l,
+                    above,
+                    below,
+                    dipoles,
+                    &format!("layers[{i}]."),
+                )?);
             } else {
-                base = Some(super::dipole::Dipole::with_relative_index(l.medium, l.eta / above)?);
+                base = Some(super::dipole::Dipole::with_relative_index(
+                    l.medium,
+                    l.eta / above,
+                )?);
             }
         }
         let z_min = slabs
             .iter()
             .map(MultipoleSlab::smallest_depth)
-            .chain(base.iter().map(|d| d.source_depths_mm().0.into_iter().fold(f64::INFINITY, f64::min)))
+            .chain(base.iter().map(|d| {
+                d.source_depths_mm()
+                    .0
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min)
+            }))
             .fold(f64::INFINITY, f64::min);
         let k_max = 80.0 / z_min;
         let k_min = k_max * 1e-10;
@@ -257,7 +355,10 @@ impl LayeredMultipole {
             radii = r;
             *v = f;
         }
-        Ok(Self { profile: TabulatedProfile::new(&radii, values, total), total })
+        Ok(Self {
+            profile: TabulatedProfile::new(&radii, values, total),
+            total,
+        })
     }
 
     pub fn tabulated(&self) -> &TabulatedProfile {
@@ -269,7 +370,11 @@ impl LayeredMultipole {
 /// far out it would swamp the CDF. Zero the samples beyond the first one,
 /// outward of the peak, that falls under 1e-8 of the peak.
 fn truncate_noise(values: &mut [f64]) {
-    let (peak_i, peak) = values.iter().copied().enumerate().fold((0, 0.0), |b, (i, v)| if v > b.1 { (i, v) } else { b });
+    let (peak_i, peak) = values
+        .iter()
+        .copied()
+        .enumerate()
+        .fold((0, 0.0), |b, (i, v)| if v > b.1 { (i, v) } else { b });
     if let Some(cut) = (peak_i..values.len()).find(|&i| values[i] < 1e-8 * peak) {
         values[cut..].iter_mut().for_each(|v| *v = 0.0);
     }
@@ -335,21 +440,54 @@ mod tests {
     use crate::model::quad;
 
     fn skin1() -> Medium {
-        Medium { sigma_a_per_mm: [0.032, 0.17, 0.48], sigma_s_prime_per_mm: [0.74, 0.88, 1.01] }
+        Medium {
+            sigma_a_per_mm: [0.032, 0.17, 0.48],
+            sigma_s_prime_per_mm: [0.74, 0.88, 1.01],
+        }
     }
 
     /// Closed-form totals equal quadrature of the r-space sums.
     #[test]
     fn slab_totals_match_quadrature() {
         for s in [0.05, 1.0, 4.0] {
-            let slab = MultipoleSlab::new(&Layer { medium: skin1(), thickness_mm: Some(s), eta: 1.4 }, 1.0, 1.0, 10, "").unwrap();
+            let slab = MultipoleSlab::new(
+                &Layer {
+                    medium: skin1(),
+                    thickness_mm: Some(s),
+                    eta: 1.4,
+                },
+                1.0,
+                1.0,
+                10,
+                "",
+            )
+            .unwrap();
             let (rt, tt) = (slab.total_reflectance(), slab.total_transmittance());
             for c in 0..3 {
-                let qr = quad::integrate_to_infinity(&|r: f64| 2.0 * PI * r * slab.channels[c].reflectance(r), 0.0, 0.5, 1e-14, 1e-11);
-                let qt = quad::integrate_to_infinity(&|r: f64| 2.0 * PI * r * slab.channels[c].transmittance(r), 0.0, 0.5, 1e-14, 1e-11);
-                assert!((qr - rt[c]).abs() < 1e-8 && (qt - tt[c]).abs() < 1e-8, "s={s} c={c}: {qr} {qt} vs {rt:?} {tt:?}");
+                let qr = quad::integrate_to_infinity(
+                    &|r: f64| 2.0 * PI * r * slab.channels[c].reflectance(r),
+                    0.0,
+                    0.5,
+                    1e-14,
+                    1e-11,
+                );
+                let qt = quad::integrate_to_infinity(
+                    &|r: f64| 2.0 * PI * r * slab.channels[c].transmittance(r),
+                    0.0,
+                    0.5,
+                    1e-14,
+                    1e-11,
+                );
+                assert!(
+                    (qr - rt[c]).abs() < 1e-8 && (qt - tt[c]).abs() < 1e-8,
+                    "s={s} c={c}: {qr} {qt} vs {rt:?} {tt:?}"
+                );
                 // Energy: reflected + transmitted ≤ α′ (the rest is absorbed).
-                assert!(rt[c] >= 0.0 && tt[c] >= 0.0 && rt[c] + tt[c] <= skin1().channel(c).reduced_albedo + 1e-12);
+                assert!(
+                    rt[c] >= 0.0
+                        && tt[c] >= 0.0
+                        && rt[c] + tt[c] <= skin1().channel(c).reduced_albedo + 1e-12
+                );
             }
         }
     }
@@ -357,15 +495,39 @@ mod tests {
     /// Frequency-space closed form against 2π∫R(r)J₀(kr)r dr by quadrature.
     #[test]
     fn fourier_closed_form_matches_hankel_quadrature() {
-        let slab = MultipoleSlab::new(&Layer { medium: skin1(), thickness_mm: Some(0.8), eta: 1.4 }, 1.0, 1.3, 6, "").unwrap();
+        let slab = MultipoleSlab::new(
+            &Layer {
+                medium: skin1(),
+                thickness_mm: Some(0.8),
+                eta: 1.4,
+            },
+            1.0,
+            1.3,
+            6,
+            "",
+        )
+        .unwrap();
         for k in [0.0, 0.7, 5.0] {
             for c in 0..3 {
                 let (rk, tk) = slab.channels[c].fourier(k);
                 let hr = quad::integrate_to_infinity(
-                    &|r: f64| 2.0 * PI * slab.channels[c].reflectance(r) * libm::j0(k * r) * r, 0.0, 0.3, 1e-14, 1e-11);
+                    &|r: f64| 2.0 * PI * slab.channels[c].reflectance(r) * libm::j0(k * r) * r,
+                    0.0,
+                    0.3,
+                    1e-14,
+                    1e-11,
+                );
                 let ht = quad::integrate_to_infinity(
-                    &|r: f64| 2.0 * PI * slab.channels[c].transmittance(r) * libm::j0(k * r) * r, 0.0, 0.3, 1e-14, 1e-11);
-                assert!((rk - hr).abs() < 1e-7 && (tk - ht).abs() < 1e-7, "k={k} c={c}: {rk} {hr} / {tk} {ht}");
+                    &|r: f64| 2.0 * PI * slab.channels[c].transmittance(r) * libm::j0(k * r) * r,
+                    0.0,
+                    0.3,
+                    1e-14,
+                    1e-11,
+                );
+                assert!(
+                    (rk - hr).abs() < 1e-7 && (tk - ht).abs() < 1e-7,
+                    "k={k} c={c}: {rk} {hr} / {tk} {ht}"
+                );
             }
         }
     }
@@ -376,8 +538,21 @@ mod tests {
         let d = Dipole::new(skin1(), 1.3).unwrap();
         let mut last = f64::INFINITY;
         for s in [2.0, 8.0, 32.0, 128.0] {
-            let slab = MultipoleSlab::new(&Layer { medium: skin1(), thickness_mm: Some(s), eta: 1.3 }, 1.0, 1.0, 10, "").unwrap();
-            let err: f64 = (0..3).map(|c| (slab.total_reflectance()[c] - d.total_reflectance()[c]).abs()).sum();
+            let slab = MultipoleSlab::new(
+                &Layer {
+                    medium: skin1(),
+                    thickness_mm: Some(s),
+                    eta: 1.3,
+                },
+                1.0,
+                1.0,
+                10,
+                "",
+            )
+            .unwrap();
+            let err: f64 = (0..3)
+                .map(|c| (slab.total_reflectance()[c] - d.total_reflectance()[c]).abs())
+                .sum();
             assert!(err <= last + 1e-15, "s={s}: {err} after {last}");
             last = err;
             if s == 128.0 {
@@ -396,9 +571,25 @@ mod tests {
     #[test]
     fn vanishing_thickness_stays_finite() {
         for s in [1e-6, 1e-3, 0.5] {
-            let slab = MultipoleSlab::new(&Layer { medium: skin1(), thickness_mm: Some(s), eta: 1.4 }, 1.0, 1.0, 10, "").unwrap();
+            let slab = MultipoleSlab::new(
+                &Layer {
+                    medium: skin1(),
+                    thickness_mm: Some(s),
+                    eta: 1.4,
+                },
+                1.0,
+                1.0,
+                10,
+                "",
+            )
+            .unwrap();
             for r in [0.0, 1e-7, 0.01, 1.0, 100.0] {
-                for v in slab.reflectance(r).into_iter().chain(slab.transmittance_profile(r)).chain(slab.cdf(r)) {
+                for v in slab
+                    .reflectance(r)
+                    .into_iter()
+                    .chain(slab.transmittance_profile(r))
+                    .chain(slab.cdf(r))
+                {
                     assert!(v.is_finite() && v >= 0.0, "s={s} r={r}: {v}");
                 }
             }
@@ -408,7 +599,11 @@ mod tests {
     /// A one-slab "stack" inverted by FFTLog matches the r-space closed form.
     #[test]
     fn fftlog_inversion_matches_single_slab_closed_form() {
-        let layer = Layer { medium: skin1(), thickness_mm: Some(1.5), eta: 1.4 };
+        let layer = Layer {
+            medium: skin1(),
+            thickness_mm: Some(1.5),
+            eta: 1.4,
+        };
         let stack = LayeredMultipole::new(&[layer], 1.0, 1.0, 10).unwrap();
         let slab = MultipoleSlab::new(&layer, 1.0, 1.0, 10, "").unwrap();
         for c in 0..3 {
@@ -416,7 +611,10 @@ mod tests {
             for r in [0.01, 0.1, 0.5, 1.0, 3.0, 8.0] {
                 let (a, b) = (stack.reflectance(r)[c], slab.reflectance(r)[c]);
                 assert!((a - b).abs() < 1e-6 * peak, "c={c} r={r}: {a} vs {b}");
-                assert!((stack.cdf(r)[c] - slab.cdf(r)[c]).abs() < crate::model::tabulated::CDF_ERROR_BOUND);
+                assert!(
+                    (stack.cdf(r)[c] - slab.cdf(r)[c]).abs()
+                        < crate::model::tabulated::CDF_ERROR_BOUND
+                );
             }
             assert!((stack.total_reflectance()[c] - slab.total_reflectance()[c]).abs() < 1e-12);
         }
@@ -428,12 +626,36 @@ mod tests {
     /// of identical index-matched layers reproduces the semi-infinite dipole.
     #[test]
     fn two_layer_stack_is_physical() {
-        let top = Medium { sigma_a_per_mm: [0.005; 3], sigma_s_prime_per_mm: [1.3; 3] };
-        let bottom = Medium { sigma_a_per_mm: [0.01; 3], sigma_s_prime_per_mm: [1.0; 3] };
+        let top = Medium {
+            sigma_a_per_mm: [0.005; 3],
+            sigma_s_prime_per_mm: [1.3; 3],
+        };
+        let bottom = Medium {
+            sigma_a_per_mm: [0.01; 3],
+            sigma_s_prime_per_mm: [1.0; 3],
+        };
         let stack = LayeredMultipole::new(
-            &[Layer { medium: top, thickness_mm: Some(6.0), eta: 1.4 }, Layer { medium: bottom, thickness_mm: None, eta: 1.4 }],
-            1.0, 1.0, 10).unwrap();
-        let (a, b) = (Dipole::new(top, 1.4).unwrap().total_reflectance()[0], Dipole::new(bottom, 1.4).unwrap().total_reflectance()[0]);
+            &[
+                Layer {
+                    medium: top,
+                    thickness_mm: Some(6.0),
+                    eta: 1.4,
+                },
+                Layer {
+                    medium: bottom,
+                    thickness_mm: None,
+                    eta: 1.4,
+                },
+            ],
+            1.0,
+            1.0,
+            10,
+        )
+        .unwrap();
+        let (a, b) = (
+            Dipole::new(top, 1.4).unwrap().total_reflectance()[0],
+            Dipole::new(bottom, 1.4).unwrap().total_reflectance()[0],
+        );
         let t = stack.total_reflectance()[0];
         assert!(t > a.min(b) && t < a.max(b), "{t} not between {a} and {b}");
         // Identical index-matched layers: the internal extrapolated boundary
@@ -443,12 +665,35 @@ mod tests {
         let mut last = f64::INFINITY;
         for s in [2.0, 5.0, 10.0, 20.0] {
             let same = LayeredMultipole::new(
-                &[Layer { medium: skin1(), thickness_mm: Some(s), eta: 1.3 }, Layer { medium: skin1(), thickness_mm: None, eta: 1.3 }],
-                1.0, 1.0, 10).unwrap();
-            let err = (same.total_reflectance()[0] - d.total_reflectance()[0]).abs() / d.total_reflectance()[0];
+                &[
+                    Layer {
+                        medium: skin1(),
+                        thickness_mm: Some(s),
+                        eta: 1.3,
+                    },
+                    Layer {
+                        medium: skin1(),
+                        thickness_mm: None,
+                        eta: 1.3,
+                    },
+                ],
+                1.0,
+                1.0,
+                10,
+            )
+            .unwrap();
+            let err = (same.total_reflectance()[0] - d.total_reflectance()[0]).abs()
+                / d.total_reflectance()[0];
             assert!(err < last, "s={s}: {err}");
             last = err;
-            assert!(same.tabulated().quadrature_defect().iter().all(|&e| e < 1e-4), "{:?}", same.tabulated().quadrature_defect());
+            assert!(
+                same.tabulated()
+                    .quadrature_defect()
+                    .iter()
+                    .all(|&e| e < 1e-4),
+                "{:?}",
+                same.tabulated().quadrature_defect()
+            );
         }
         assert!(last < 1e-5, "{last}");
     }

@@ -78,11 +78,15 @@ pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, abs_tol: f64, rel_tol: 
     heap.push(Piece(e, a, b, v));
     let (mut total, mut err) = (v, e);
     for _ in 0..2000 {
-        let tol = abs_tol.max(rel_tol * total.abs()).max(50.0 * f64::EPSILON * total.abs());
+        let tol = abs_tol
+            .max(rel_tol * total.abs())
+            .max(50.0 * f64::EPSILON * total.abs());
         if err <= tol {
             break;
         }
-        let Some(Piece(pe, pa, pb, pv)) = heap.pop() else { break };
+        let Some(Piece(pe, pa, pb, pv)) = heap.pop() else {
+            break;
+        };
         let m = 0.5 * (pa + pb);
         if m <= pa || m >= pb {
             heap.push(Piece(0.0, pa, pb, pv));
@@ -107,7 +111,10 @@ pub fn integrate_with_breaks(
     rel_tol: f64,
 ) -> f64 {
     let n = breaks.len().saturating_sub(1).max(1) as f64;
-    breaks.windows(2).map(|w| integrate(f, w[0], w[1], abs_tol / n, rel_tol)).sum()
+    breaks
+        .windows(2)
+        .map(|w| integrate(f, w[0], w[1], abs_tol / n, rel_tol))
+        .sum()
 }
 
 /// ∫_a^∞ f for a function that decays on the length `scale`: panels of
@@ -238,7 +245,11 @@ pub fn minimize_scalar(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64)
             e = if x >= xm { a - x } else { b - x };
             d = CGOLD * e;
         }
-        let u = if d.abs() >= tol1 { x + d } else { x + tol1.copysign(d) };
+        let u = if d.abs() >= tol1 {
+            x + d
+        } else {
+            x + tol1.copysign(d)
+        };
         let fu = f(u);
         if fu <= fx {
             if u >= x {
@@ -289,10 +300,13 @@ pub fn nelder_mead(
         if (values[n] - values[0]).abs() <= ftol * (values[0].abs() + 1e-30) {
             break;
         }
-        let centroid: Vec<f64> =
-            (0..n).map(|k| simplex[..n].iter().map(|p| p[k]).sum::<f64>() / n as f64).collect();
+        let centroid: Vec<f64> = (0..n)
+            .map(|k| simplex[..n].iter().map(|p| p[k]).sum::<f64>() / n as f64)
+            .collect();
         let along = |t: f64| -> Vec<f64> {
-            (0..n).map(|k| centroid[k] + t * (simplex[n][k] - centroid[k])).collect()
+            (0..n)
+                .map(|k| centroid[k] + t * (simplex[n][k] - centroid[k]))
+                .collect()
         };
         let xr = along(-1.0);
         let fr = f(&xr);
@@ -305,15 +319,20 @@ pub fn nelder_mead(
         } else if fr < values[n - 1] {
             (simplex[n], values[n]) = (xr, fr);
         } else {
-            let xc = if fr < values[n] { along(-0.5) } else { along(0.5) };
+            let xc = if fr < values[n] {
+                along(-0.5)
+            } else {
+                along(0.5)
+            };
             let fc = f(&xc);
             evals += 1;
             if fc < values[n].min(fr) {
                 (simplex[n], values[n]) = (xc, fc);
             } else {
                 for i in 1..=n {
-                    let p: Vec<f64> =
-                        (0..n).map(|k| simplex[0][k] + 0.5 * (simplex[i][k] - simplex[0][k])).collect();
+                    let p: Vec<f64> = (0..n)
+                        .map(|k| simplex[0][k] + 0.5 * (simplex[i][k] - simplex[0][k]))
+                        .collect();
                     values[i] = f(&p);
                     simplex[i] = p;
                     evals += 1;
@@ -321,7 +340,9 @@ pub fn nelder_mead(
             }
         }
     }
-    let best = (0..=n).min_by(|&i, &j| values[i].total_cmp(&values[j])).unwrap_or(0);
+    let best = (0..=n)
+        .min_by(|&i, &j| values[i].total_cmp(&values[j]))
+        .unwrap_or(0);
     (simplex[best].clone(), values[best])
 }
 
@@ -361,6 +382,9 @@ mod tests {
         assert!((x - 1.3).abs() < 1e-6 && (fx - 2.0).abs() < 1e-12);
         let rosen = |p: &[f64]| (1.0 - p[0]).powi(2) + 100.0 * (p[1] - p[0] * p[0]).powi(2);
         let (p, _) = nelder_mead(&rosen, &[-1.2, 1.0], &[0.5, 0.5], 5000, 1e-16);
-        assert!((p[0] - 1.0).abs() < 1e-4 && (p[1] - 1.0).abs() < 1e-4, "{p:?}");
+        assert!(
+            (p[0] - 1.0).abs() < 1e-4 && (p[1] - 1.0).abs() < 1e-4,
+            "{p:?}"
+        );
     }
 }

@@ -51,27 +51,54 @@ pub struct SamplePattern {
 
 impl SamplePattern {
     /// Golubev 2018's pattern for `profile` with `n` samples.
-    pub fn new(profile: &dyn RadialProfile, n: usize, angles: AngleSequence) -> Result<Self, ModelError> {
-        check_range("samples", n as f64, SAMPLES_RANGE.0 as f64, SAMPLES_RANGE.1 as f64, "")?;
+    pub fn new(
+        profile: &dyn RadialProfile,
+        n: usize,
+        angles: AngleSequence,
+    ) -> Result<Self, ModelError> {
+        check_range(
+            "samples",
+            n as f64,
+            SAMPLES_RANGE.0 as f64,
+            SAMPLES_RANGE.1 as f64,
+            "",
+        )?;
         let widest = profile.radius_for_energy(DEFAULT_ENERGY_FRACTION);
-        let dom = (0..3).max_by(|&a, &b| widest[a].total_cmp(&widest[b])).unwrap_or(0);
+        let dom = (0..3)
+            .max_by(|&a, &b| widest[a].total_cmp(&widest[b]))
+            .unwrap_or(0);
         let total = profile.total_reflectance();
         let samples = (0..n)
             .map(|i| {
                 let xi = (i as f64 + 0.5) / n as f64;
                 let r = profile.inverse_cdf(dom, xi);
-                let angle = 2.0 * PI
+                let angle = 2.0
+                    * PI
                     * match angles {
                         AngleSequence::GoldenAngle => (i as f64 * INV_GOLDEN_RATIO).fract(),
                         AngleSequence::Hammersley => radical_inverse_base2(i as u32),
                     };
                 // w_c = R_c(r) / (N·q(r)), q = area density = R_dom(r)/A_dom.
                 let rr = profile.r_reflectance(r);
-                let weight = rgb_map(|c| if rr[dom] > 0.0 { total[dom] * rr[c] / (n as f64 * rr[dom]) } else { 0.0 });
-                DiskSample { radius_mm: r, angle_rad: angle, weight }
+                let weight = rgb_map(|c| {
+                    if rr[dom] > 0.0 {
+                        total[dom] * rr[c] / (n as f64 * rr[dom])
+                    } else {
+                        0.0
+                    }
+                });
+                DiskSample {
+                    radius_mm: r,
+                    angle_rad: angle,
+                    weight,
+                }
             })
             .collect();
-        Ok(Self { samples, sampled_channel: dom, angles })
+        Ok(Self {
+            samples,
+            sampled_channel: dom,
+            angles,
+        })
     }
 
     /// Σᵢ w_c,i per channel: the estimate of the total reflectance.
@@ -100,7 +127,10 @@ mod tests {
             assert!((s[c] - b.albedo()[c]).abs() < 2e-3, "{s:?}");
         }
         // Sampled channel: every weight is exactly A/N.
-        assert!(p.samples.iter().all(|x| (x.weight[0] - 0.9 / 4096.0).abs() < 1e-15));
+        assert!(p
+            .samples
+            .iter()
+            .all(|x| (x.weight[0] - 0.9 / 4096.0).abs() < 1e-15));
     }
 
     #[test]

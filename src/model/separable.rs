@@ -41,11 +41,20 @@ impl SeparableKernel {
     /// (Jimenez 2015 §4 and §7). `taps` must be odd. A Dirac part (the
     /// Jimenez 2012 strength lerp) goes to the centre tap; the continuous
     /// part is sampled at the quantiles of the dominant channel.
-    pub fn importance_sampled(profile: &dyn RadialProfile, taps: usize) -> Result<Self, ModelError> {
+    pub fn importance_sampled(
+        profile: &dyn RadialProfile,
+        taps: usize,
+    ) -> Result<Self, ModelError> {
         super::jimenez::check_taps(taps)?;
         let total = profile.total_reflectance();
         let dirac = profile.dirac_weight();
-        let frac = rgb_map(|c| if total[c] > 0.0 { dirac[c] / total[c] } else { 1.0 });
+        let frac = rgb_map(|c| {
+            if total[c] > 0.0 {
+                dirac[c] / total[c]
+            } else {
+                1.0
+            }
+        });
         // Continuous strip CDF per channel, renormalised without the Dirac.
         let phi_cont = |x: f64| -> Rgb {
             let phi = profile.strip_cdf(x);
@@ -58,10 +67,18 @@ impl SeparableKernel {
             })
         };
         let radius = profile.radius_for_energy(super::DEFAULT_ENERGY_FRACTION);
-        let dom = (0..3).filter(|&c| frac[c] < 1.0).max_by(|&a, &b| radius[a].total_cmp(&radius[b]));
+        let dom = (0..3)
+            .filter(|&c| frac[c] < 1.0)
+            .max_by(|&a, &b| radius[a].total_cmp(&radius[b]));
         let Some(dom) = dom else {
             // Nothing scatters: the identity kernel.
-            let mut out = vec![Tap { weight: [0.0; 3], offset_mm: 0.0 }; taps];
+            let mut out = vec![
+                Tap {
+                    weight: [0.0; 3],
+                    offset_mm: 0.0
+                };
+                taps
+            ];
             out[0].weight = rgb_map(|c| if total[c] > 0.0 { 1.0 } else { 0.0 });
             return Ok(Self { taps: out });
         };
@@ -77,13 +94,20 @@ impl SeparableKernel {
         let mut out: Vec<Tap> = (0..taps)
             .map(|i| {
                 let centre = 2 * i + 1 == taps;
-                let offset = if centre { 0.0 } else { quantile((i as f64 + 0.5) / taps as f64) };
+                let offset = if centre {
+                    0.0
+                } else {
+                    quantile((i as f64 + 0.5) / taps as f64)
+                };
                 let weight = rgb_map(|c| {
                     let cont = (1.0 - frac[c]) * (cum[i + 1][c] - cum[i][c]).max(0.0);
                     let energy = if total[c] > 0.0 { 1.0 } else { 0.0 };
                     energy * (cont + if centre { frac[c] } else { 0.0 })
                 });
-                Tap { weight, offset_mm: offset }
+                Tap {
+                    weight,
+                    offset_mm: offset,
+                }
             })
             .collect();
         let centre = out.remove(taps / 2);
@@ -140,9 +164,27 @@ pub fn preintegrated(profile: &dyn RadialProfile, x_mm: f64) -> Rgb {
 
 /// Jimenez 2015 Table 2 kernel presets: (name, s mm, σ′n RGB, σ′f RGB, w).
 pub const TABLE2_PRESETS: [(&str, f64, Rgb, Rgb, f64); 3] = [
-    ("single-layer", 10.34, [0.077, 0.034, 0.02], [1.0, 0.45, 0.25], 0.5),
-    ("multi-layer", 9.27, [0.055, 0.044, 0.038], [1.0, 0.2, 0.13], 0.5),
-    ("production", 9.9, [0.22, 0.07, 0.07], [1.0, 0.3, 0.15], 0.65),
+    (
+        "single-layer",
+        10.34,
+        [0.077, 0.034, 0.02],
+        [1.0, 0.45, 0.25],
+        0.5,
+    ),
+    (
+        "multi-layer",
+        9.27,
+        [0.055, 0.044, 0.038],
+        [1.0, 0.2, 0.13],
+        0.5,
+    ),
+    (
+        "production",
+        9.9,
+        [0.22, 0.07, 0.07],
+        [1.0, 0.3, 0.15],
+        0.65,
+    ),
 ];
 
 /// The artist-friendly two-Gaussian model (Jimenez 2015 §5).
@@ -157,7 +199,12 @@ pub struct ArtistTwoGaussian {
 
 impl ArtistTwoGaussian {
     /// σ′n, σ′f ∈ (0, 1] per channel, w ∈ [0, 1], s ∈ [1e-4, 1e3] mm.
-    pub fn new(sigma_near: Rgb, sigma_far: Rgb, weight: f64, scale_mm: f64) -> Result<Self, ModelError> {
+    pub fn new(
+        sigma_near: Rgb,
+        sigma_far: Rgb,
+        weight: f64,
+        scale_mm: f64,
+    ) -> Result<Self, ModelError> {
         check_rgb("sigma_near", sigma_near, 1e-6, 1.0, " (relative to scale)")?;
         check_rgb("sigma_far", sigma_far, 1e-6, 1.0, " (relative to scale)")?;
         check_range("weight", weight, 0.0, 1.0, "")?;
@@ -165,16 +212,34 @@ impl ArtistTwoGaussian {
         let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
             let vn = (sigma_near[c] * scale_mm).powi(2);
             let vf = (sigma_far[c] * scale_mm).powi(2);
-            vec![Term { weight, variance_mm2: vn }, Term { weight: 1.0 - weight, variance_mm2: vf }]
+            vec![
+                Term {
+                    weight,
+                    variance_mm2: vn,
+                },
+                Term {
+                    weight: 1.0 - weight,
+                    variance_mm2: vf,
+                },
+            ]
         });
-        Ok(Self { sigma_near, sigma_far, weight, scale_mm, profile: GaussianSum::from_channels(channels, [0.0; 3]) })
+        Ok(Self {
+            sigma_near,
+            sigma_far,
+            weight,
+            scale_mm,
+            profile: GaussianSum::from_channels(channels, [0.0; 3]),
+        })
     }
 
     /// One of [`TABLE2_PRESETS`] by name.
     pub fn table2(name: &str) -> Result<Self, ModelError> {
         let (_, s, n, f, w) = TABLE2_PRESETS.iter().find(|p| p.0 == name).ok_or_else(|| {
             let known: Vec<&str> = TABLE2_PRESETS.iter().map(|p| p.0).collect();
-            ModelError::invalid("artist preset", format!("unknown `{name}`; known: {}", known.join(", ")))
+            ModelError::invalid(
+                "artist preset",
+                format!("unknown `{name}`; known: {}", known.join(", ")),
+            )
         })?;
         Self::new(*n, *f, *w, *s)
     }
@@ -231,14 +296,23 @@ mod tests {
         if x <= 2.0 {
             let t = x / 3.75;
             let t2 = t * t;
-            let i0 = 1.0 + t2 * (3.5156229 + t2 * (3.0899424 + t2 * (1.2067492 + t2 * (0.2659732 + t2 * (0.0360768 + t2 * 0.0045813)))));
+            let i0 = 1.0
+                + t2 * (3.5156229
+                    + t2 * (3.0899424
+                        + t2 * (1.2067492 + t2 * (0.2659732 + t2 * (0.0360768 + t2 * 0.0045813)))));
             let y = x * x / 4.0;
             -(x / 2.0).ln() * i0 - 0.57721566
-                + y * (0.42278420 + y * (0.23069756 + y * (0.03488590 + y * (0.00262698 + y * (0.00010750 + y * 0.0000074)))))
+                + y * (0.42278420
+                    + y * (0.23069756
+                        + y * (0.03488590 + y * (0.00262698 + y * (0.00010750 + y * 0.0000074)))))
         } else {
             let y = 2.0 / x;
             (-x).exp() / x.sqrt()
-                * (1.25331414 + y * (-0.07832358 + y * (0.02189568 + y * (-0.01062446 + y * (0.00587872 + y * (-0.00251540 + y * 0.00053208))))))
+                * (1.25331414
+                    + y * (-0.07832358
+                        + y * (0.02189568
+                            + y * (-0.01062446
+                                + y * (0.00587872 + y * (-0.00251540 + y * 0.00053208))))))
         }
     }
 
@@ -250,8 +324,13 @@ mod tests {
             let a = preintegrated(&p, x);
             for c in 0..3 {
                 let s = p.shape_per_mm()[c];
-                let reference = p.albedo()[c] * s * (bessel_k0(s * x) + bessel_k0(s * x / 3.0)) / (4.0 * PI);
-                assert!((a[c] - reference).abs() < 2e-6 * reference, "x={x} c={c}: {} vs {reference}", a[c]);
+                let reference =
+                    p.albedo()[c] * s * (bessel_k0(s * x) + bessel_k0(s * x / 3.0)) / (4.0 * PI);
+                assert!(
+                    (a[c] - reference).abs() < 2e-6 * reference,
+                    "x={x} c={c}: {} vs {reference}",
+                    a[c]
+                );
             }
         }
     }
@@ -264,7 +343,10 @@ mod tests {
             let a = preintegrated(&p, x);
             let b = p.preintegrated(x);
             for c in 0..3 {
-                assert!((a[c] - b[c]).abs() < 1e-8 * b[c].max(1e-9), "x={x}: {a:?} {b:?}");
+                assert!(
+                    (a[c] - b[c]).abs() < 1e-8 * b[c].max(1e-9),
+                    "x={x}: {a:?} {b:?}"
+                );
             }
         }
     }

@@ -35,19 +35,28 @@ impl TabulatedProfile {
         let n = radii.len();
         let ln_r0 = radii[0].ln();
         let dln = (radii[n - 1] / radii[0]).ln() / (n - 1) as f64;
-        let values = values.map(|v| v.into_iter().map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }).collect::<Vec<_>>());
+        let values = values.map(|v| {
+            v.into_iter()
+                .map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 })
+                .collect::<Vec<_>>()
+        });
         let mut cdf: [Vec<f64>; 3] = Default::default();
         let mut tail: [Vec<f64>; 3] = Default::default();
         let mut defect = [0.0; 3];
         for c in 0..3 {
-            let e: Vec<f64> = (0..n).map(|i| 2.0 * PI * radii[i] * radii[i] * values[c][i]).collect();
+            let e: Vec<f64> = (0..n)
+                .map(|i| 2.0 * PI * radii[i] * radii[i] * values[c][i])
+                .collect();
             let de = |i: usize| -> f64 {
                 let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
                 (e[b] - e[a]) / ((b - a) as f64 * dln)
             };
             // Cell integrals with the end correction h²/12·(e′_i − e′_{i+1}).
             let cell: Vec<f64> = (0..n - 1)
-                .map(|i| (0.5 * dln * (e[i] + e[i + 1]) + dln * dln / 12.0 * (de(i) - de(i + 1))).max(0.0))
+                .map(|i| {
+                    (0.5 * dln * (e[i] + e[i + 1]) + dln * dln / 12.0 * (de(i) - de(i + 1)))
+                        .max(0.0)
+                })
                 .collect();
             let inner = PI * radii[0] * radii[0] * values[c][0];
             let mut acc = vec![inner; n];
@@ -59,7 +68,11 @@ impl TabulatedProfile {
                 rev[i] = rev[i + 1] + cell[i];
             }
             let sum = acc[n - 1];
-            defect[c] = if total[c] > 0.0 { (sum - total[c]).abs() / total[c] } else { 0.0 };
+            defect[c] = if total[c] > 0.0 {
+                (sum - total[c]).abs() / total[c]
+            } else {
+                0.0
+            };
             if sum > 0.0 {
                 cdf[c] = acc.iter().map(|a| a / sum).collect();
                 tail[c] = rev.iter().map(|a| a / sum).collect();
@@ -68,7 +81,15 @@ impl TabulatedProfile {
                 tail[c] = vec![0.0; n];
             }
         }
-        Self { ln_r0, dln, values, cdf, tail, total, defect }
+        Self {
+            ln_r0,
+            dln,
+            values,
+            cdf,
+            tail,
+            total,
+            defect,
+        }
     }
 
     /// Relative mismatch between the integrated samples and the exact total.
@@ -99,22 +120,36 @@ impl TabulatedProfile {
         let sum = self.cdf[c].last().copied().unwrap_or(1.0);
         let _ = sum;
         let norm = self.norm(c);
-        if norm > 0.0 { 2.0 * PI * r * r * self.values[c][i] / norm } else { 0.0 }
+        if norm > 0.0 {
+            2.0 * PI * r * r * self.values[c][i] / norm
+        } else {
+            0.0
+        }
     }
 
     fn norm(&self, c: usize) -> f64 {
         // Recover the integrated sum from the first cell: cdf[0] = inner/sum.
         let r0 = self.r_at(0);
         let inner = PI * r0 * r0 * self.values[c][0];
-        if self.cdf[c][0] > 0.0 { inner / self.cdf[c][0] } else { self.total[c] }
+        if self.cdf[c][0] > 0.0 {
+            inner / self.cdf[c][0]
+        } else {
+            self.total[c]
+        }
     }
 
     /// Hermite interpolation of a cumulative array with known slopes.
     fn hermite(&self, arr: &[f64], c: usize, i: usize, t: f64, sign: f64) -> f64 {
         let (p0, p1) = (arr[i], arr[i + 1]);
-        let (m0, m1) = (sign * self.density(c, i) * self.dln, sign * self.density(c, i + 1) * self.dln);
+        let (m0, m1) = (
+            sign * self.density(c, i) * self.dln,
+            sign * self.density(c, i + 1) * self.dln,
+        );
         let (t2, t3) = (t * t, t * t * t);
-        (2.0 * t3 - 3.0 * t2 + 1.0) * p0 + (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) * p1 + (t3 - t2) * m1
+        (2.0 * t3 - 3.0 * t2 + 1.0) * p0
+            + (t3 - 2.0 * t2 + t) * m0
+            + (-2.0 * t3 + 3.0 * t2) * p1
+            + (t3 - t2) * m1
     }
 }
 
@@ -127,8 +162,16 @@ impl RadialProfile for TabulatedProfile {
             Some((i, t)) => rgb_map(|c| {
                 let v = &self.values[c];
                 let p = |k: isize| v[(k.clamp(0, n as isize - 1)) as usize];
-                let (a, b, cc, d) = (p(i as isize - 1), p(i as isize), p(i as isize + 1), p(i as isize + 2));
-                let y = b + 0.5 * t * (cc - a + t * (2.0 * a - 5.0 * b + 4.0 * cc - d + t * (3.0 * (b - cc) + d - a)));
+                let (a, b, cc, d) = (
+                    p(i as isize - 1),
+                    p(i as isize),
+                    p(i as isize + 1),
+                    p(i as isize + 2),
+                );
+                let y = b + 0.5
+                    * t
+                    * (cc - a
+                        + t * (2.0 * a - 5.0 * b + 4.0 * cc - d + t * (3.0 * (b - cc) + d - a)));
                 y.max(0.0)
             }),
         }
@@ -183,7 +226,12 @@ mod tests {
     fn tabulated_burley_cdf_error() {
         let b = Burley::from_scattering_distance([0.8, 0.5, 0.3], [1.0, 0.3, 0.1]).unwrap();
         let radii = log_grid(1e-6, 1e3, 2048);
-        let values = [0, 1, 2].map(|c| radii.iter().map(|&r| b.reflectance(r)[c]).collect::<Vec<_>>());
+        let values = [0, 1, 2].map(|c| {
+            radii
+                .iter()
+                .map(|&r| b.reflectance(r)[c])
+                .collect::<Vec<_>>()
+        });
         let t = TabulatedProfile::new(&radii, values, b.total_reflectance());
         let mut worst: f64 = 0.0;
         for i in 0..400 {

@@ -25,16 +25,39 @@ pub struct UnityProfile {
 
 impl UnityProfile {
     pub fn from_burley(b: &Burley, world_scale_m_per_unit: f64) -> Result<Self, ModelError> {
-        check_range("world_scale_m_per_unit", world_scale_m_per_unit, 1e-3, 1e3, " m/unit")?;
+        check_range(
+            "world_scale_m_per_unit",
+            world_scale_m_per_unit,
+            1e-3,
+            1e3,
+            " m/unit",
+        )?;
         let (color, multiplier) = split_hdr(b.scattering_distance_mm());
-        Ok(Self { scattering_distance_color: color, scattering_distance_multiplier: multiplier, world_scale_m_per_unit })
+        Ok(Self {
+            scattering_distance_color: color,
+            scattering_distance_multiplier: multiplier,
+            world_scale_m_per_unit,
+        })
     }
 
     /// Back to Burley; Unity's profile has no albedo, so it is supplied.
     pub fn to_burley(&self, albedo: Rgb) -> Result<Burley, ModelError> {
-        check_rgb("scattering_distance_color", self.scattering_distance_color, 0.0, 1.0, "")?;
-        check_range("scattering_distance_multiplier", self.scattering_distance_multiplier, 0.0, 1e6, "")?;
-        let d = rgb_map(|c| self.scattering_distance_color[c] * self.scattering_distance_multiplier);
+        check_rgb(
+            "scattering_distance_color",
+            self.scattering_distance_color,
+            0.0,
+            1.0,
+            "",
+        )?;
+        check_range(
+            "scattering_distance_multiplier",
+            self.scattering_distance_multiplier,
+            0.0,
+            1e6,
+            "",
+        )?;
+        let d =
+            rgb_map(|c| self.scattering_distance_color[c] * self.scattering_distance_multiplier);
         Burley::from_scattering_distance(albedo, d)
     }
 }
@@ -77,7 +100,11 @@ impl UnrealProfile {
         check_range("world_unit_scale", world_unit_scale, 1e-4, 50.0, "")?;
         let a = b.albedo();
         let d = b.scattering_distance_mm();
-        let mfp_mm = rgb_map(|c| d[c] * world_unit_scale / UNREAL_DEFAULT_WORLD_UNIT_SCALE * UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(a[c]));
+        let mfp_mm = rgb_map(|c| {
+            d[c] * world_unit_scale / UNREAL_DEFAULT_WORLD_UNIT_SCALE
+                * UNREAL_DMFP_TO_MFP
+                * ScalingFit::Perpendicular.scale(a[c])
+        });
         let max = mfp_mm.into_iter().fold(0.0, f64::max);
         Ok(Self {
             surface_albedo: a,
@@ -89,13 +116,26 @@ impl UnrealProfile {
 
     pub fn to_burley(&self) -> Result<Burley, ModelError> {
         check_rgb("surface_albedo", self.surface_albedo, 0.0, 1.0, "")?;
-        check_rgb("mean_free_path_color", self.mean_free_path_color, 0.0, 1.0, "")?;
-        check_range("mean_free_path_distance_cm", self.mean_free_path_distance_cm, 1e-6, 1e3, " cm")?;
+        check_rgb(
+            "mean_free_path_color",
+            self.mean_free_path_color,
+            0.0,
+            1.0,
+            "",
+        )?;
+        check_range(
+            "mean_free_path_distance_cm",
+            self.mean_free_path_distance_cm,
+            1e-6,
+            1e3,
+            " cm",
+        )?;
         check_range("world_unit_scale", self.world_unit_scale, 1e-4, 50.0, "")?;
         let a = self.surface_albedo;
         let d = rgb_map(|c| {
             let mfp_mm = self.mean_free_path_color[c] * self.mean_free_path_distance_cm * MM_PER_CM;
-            mfp_mm / (UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(a[c])) * UNREAL_DEFAULT_WORLD_UNIT_SCALE
+            mfp_mm / (UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(a[c]))
+                * UNREAL_DEFAULT_WORLD_UNIT_SCALE
                 / self.world_unit_scale
         });
         Burley::from_scattering_distance(a, d)
@@ -131,16 +171,35 @@ impl BlenderSubsurface {
         check_range("metres_per_unit", metres_per_unit, 1e-6, 1e3, " m/unit")?;
         let a = b.albedo();
         let d = b.scattering_distance_mm();
-        let units = rgb_map(|c| d[c] * 4.0 * PI * ScalingFit::DiffuseSurface.scale(a[c]) / (MM_PER_M * metres_per_unit));
+        let units = rgb_map(|c| {
+            d[c] * 4.0 * PI * ScalingFit::DiffuseSurface.scale(a[c]) / (MM_PER_M * metres_per_unit)
+        });
         let scale = units.into_iter().fold(0.0, f64::max);
-        Ok(Self { base_color: a, subsurface_radius: rgb_map(|c| units[c] / scale), subsurface_scale: scale, metres_per_unit })
+        Ok(Self {
+            base_color: a,
+            subsurface_radius: rgb_map(|c| units[c] / scale),
+            subsurface_scale: scale,
+            metres_per_unit,
+        })
     }
 
     pub fn to_burley(&self) -> Result<Burley, ModelError> {
         check_rgb("base_color", self.base_color, 0.0, 1.0, "")?;
         check_rgb("subsurface_radius", self.subsurface_radius, 0.0, 1e6, "")?;
-        check_range("subsurface_scale", self.subsurface_scale, 0.0, 1e6, " units")?;
-        check_range("metres_per_unit", self.metres_per_unit, 1e-6, 1e3, " m/unit")?;
+        check_range(
+            "subsurface_scale",
+            self.subsurface_scale,
+            0.0,
+            1e6,
+            " units",
+        )?;
+        check_range(
+            "metres_per_unit",
+            self.metres_per_unit,
+            1e-6,
+            1e3,
+            " m/unit",
+        )?;
         let a = self.base_color;
         let d = rgb_map(|c| {
             self.subsurface_radius[c] * self.subsurface_scale * self.metres_per_unit * MM_PER_M
@@ -155,7 +214,8 @@ mod tests {
     use super::*;
 
     fn skin() -> Burley {
-        Burley::from_scattering_distance([0.91058, 0.338275, 0.2718], [0.7568628, 0.32156864, 0.2]).unwrap()
+        Burley::from_scattering_distance([0.91058, 0.338275, 0.2718], [0.7568628, 0.32156864, 0.2])
+            .unwrap()
     }
 
     fn close(a: Rgb, b: Rgb, tol: f64) -> bool {
@@ -167,16 +227,28 @@ mod tests {
         let b = skin();
         for ws in [0.01, 1.0] {
             let u = UnityProfile::from_burley(&b, ws).unwrap();
-            assert!(close(u.to_burley(b.albedo()).unwrap().scattering_distance_mm(), b.scattering_distance_mm(), 1e-12));
+            assert!(close(
+                u.to_burley(b.albedo()).unwrap().scattering_distance_mm(),
+                b.scattering_distance_mm(),
+                1e-12
+            ));
         }
         for wus in [0.1, 1.0, 0.02] {
             let u = UnrealProfile::from_burley(&b, wus).unwrap();
             let back = u.to_burley().unwrap();
-            assert!(close(back.scattering_distance_mm(), b.scattering_distance_mm(), 1e-12));
+            assert!(close(
+                back.scattering_distance_mm(),
+                b.scattering_distance_mm(),
+                1e-12
+            ));
             assert!(close(back.albedo(), b.albedo(), 1e-15));
         }
         let bl = BlenderSubsurface::from_burley(&b, 1.0).unwrap();
-        assert!(close(bl.to_burley().unwrap().scattering_distance_mm(), b.scattering_distance_mm(), 1e-12));
+        assert!(close(
+            bl.to_burley().unwrap().scattering_distance_mm(),
+            b.scattering_distance_mm(),
+            1e-12
+        ));
         assert_eq!(bl.subsurface_radius[0], 1.0);
     }
 
@@ -200,18 +272,32 @@ mod tests {
             world_unit_scale: 0.1,
         };
         let b = u.to_burley().unwrap();
-        let mfp = rgb_map(|c| b.scattering_distance_mm()[c] * UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(u.surface_albedo[c]));
+        let mfp = rgb_map(|c| {
+            b.scattering_distance_mm()[c]
+                * UNREAL_DMFP_TO_MFP
+                * ScalingFit::Perpendicular.scale(u.surface_albedo[c])
+        });
         let sigma_t = [0.74 + 0.032, 0.88 + 0.17, 1.01 + 0.48];
         for c in 0..3 {
-            assert!((mfp[c] - 1.0 / sigma_t[c]).abs() < 2e-3, "c={c}: {} vs {}", mfp[c], 1.0 / sigma_t[c]);
+            assert!(
+                (mfp[c] - 1.0 / sigma_t[c]).abs() < 2e-3,
+                "c={c}: {} vs {}",
+                mfp[c],
+                1.0 / sigma_t[c]
+            );
         }
     }
 
     #[test]
     fn bad_engine_input_is_named() {
-        let e = UnrealProfile { surface_albedo: [0.5; 3], mean_free_path_color: [1.0; 3], mean_free_path_distance_cm: -1.0, world_unit_scale: 0.1 }
-            .to_burley()
-            .unwrap_err();
+        let e = UnrealProfile {
+            surface_albedo: [0.5; 3],
+            mean_free_path_color: [1.0; 3],
+            mean_free_path_distance_cm: -1.0,
+            world_unit_scale: 0.1,
+        }
+        .to_burley()
+        .unwrap_err();
         assert!(e.to_string().contains("mean_free_path_distance_cm"), "{e}");
     }
 }

@@ -40,9 +40,15 @@ impl Default for Preset {
 #[derive(Debug, thiserror::Error)]
 pub enum PresetError {
     #[error("{path}: cannot read: {error}")]
-    Read { path: PathBuf, error: std::io::Error },
+    Read {
+        path: PathBuf,
+        error: std::io::Error,
+    },
     #[error("{path}: cannot write: {error}")]
-    Write { path: PathBuf, error: std::io::Error },
+    Write {
+        path: PathBuf,
+        error: std::io::Error,
+    },
     #[error("{path}: not a valid preset: {message}")]
     Parse { path: PathBuf, message: String },
     #[error("{path}: {error}")]
@@ -55,7 +61,8 @@ impl Preset {
     /// The embedded default skin look.
     pub fn default_skin() -> Self {
         // The embedded file is tested to parse and validate.
-        Self::from_ron(DEFAULT_PRESET_RON, Path::new("<embedded default preset>")).unwrap_or_default()
+        Self::from_ron(DEFAULT_PRESET_RON, Path::new("<embedded default preset>"))
+            .unwrap_or_default()
     }
 
     /// Parses and validates RON; `origin` names the source in errors.
@@ -63,16 +70,28 @@ impl Preset {
         let preset: Preset = ron::Options::default()
             .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
             .from_str(text)
-            .map_err(|e| PresetError::Parse { path: origin.to_owned(), message: e.to_string() })?;
+            .map_err(|e| PresetError::Parse {
+                path: origin.to_owned(),
+                message: e.to_string(),
+            })?;
         if preset.format_version > FORMAT_VERSION {
-            return Err(PresetError::TooNew { path: origin.to_owned(), found: preset.format_version });
+            return Err(PresetError::TooNew {
+                path: origin.to_owned(),
+                found: preset.format_version,
+            });
         }
-        preset.validate().map_err(|error| PresetError::Invalid { path: origin.to_owned(), error })?;
+        preset.validate().map_err(|error| PresetError::Invalid {
+            path: origin.to_owned(),
+            error,
+        })?;
         Ok(preset)
     }
 
     pub fn load(path: &Path) -> Result<Self, PresetError> {
-        let text = std::fs::read_to_string(path).map_err(|error| PresetError::Read { path: path.to_owned(), error })?;
+        let text = std::fs::read_to_string(path).map_err(|error| PresetError::Read {
+            path: path.to_owned(),
+            error,
+        })?;
         Self::from_ron(&text, path)
     }
 
@@ -87,7 +106,8 @@ impl Preset {
 
     /// RON text with a header comment (the writer drops other comments).
     pub fn to_ron(&self) -> String {
-        let body = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::new().depth_limit(6)).unwrap_or_default();
+        let body = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::new().depth_limit(6))
+            .unwrap_or_default();
         format!(
             "// scatterlab preset (format {FORMAT_VERSION}), written by scatterlab {}.\n// Units: distances in mm, coefficients in 1/mm, variances in mm^2, colours linear RGB.\n{body}\n",
             env!("CARGO_PKG_VERSION")
@@ -96,9 +116,16 @@ impl Preset {
 
     /// Validates, then writes atomically.
     pub fn save(&self, path: &Path) -> Result<(), PresetError> {
-        self.validate().map_err(|error| PresetError::Invalid { path: path.to_owned(), error })?;
-        crate::fsutil::write_atomic(path, self.to_ron().as_bytes())
-            .map_err(|error| PresetError::Write { path: path.to_owned(), error })
+        self.validate().map_err(|error| PresetError::Invalid {
+            path: path.to_owned(),
+            error,
+        })?;
+        crate::fsutil::write_atomic(path, self.to_ron().as_bytes()).map_err(|error| {
+            PresetError::Write {
+                path: path.to_owned(),
+                error,
+            }
+        })
     }
 }
 
@@ -125,17 +152,30 @@ mod tests {
     #[test]
     fn errors_name_field_and_file() {
         let nan = "(profile: Burley((albedo: (0.5, NaN, 0.5))))";
-        let e = Preset::from_ron(nan, Path::new("bad.ron")).unwrap_err().to_string();
-        assert!(e.contains("bad.ron") && e.contains("profile.albedo.g"), "{e}");
+        let e = Preset::from_ron(nan, Path::new("bad.ron"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("bad.ron") && e.contains("profile.albedo.g"),
+            "{e}"
+        );
         let neg = "(profile: Dipole((sigma_a_per_mm: (-1, 0, 0))))";
-        let e = Preset::from_ron(neg, Path::new("neg.ron")).unwrap_err().to_string();
+        let e = Preset::from_ron(neg, Path::new("neg.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("profile.sigma_a_per_mm.r"), "{e}");
         let typo = "(profil: Burley(()))";
-        let e = Preset::from_ron(typo, Path::new("typo.ron")).unwrap_err().to_string();
+        let e = Preset::from_ron(typo, Path::new("typo.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("typo.ron") && e.contains("profil"), "{e}");
-        let e = Preset::from_ron("(format_version: 99)", Path::new("new.ron")).unwrap_err().to_string();
+        let e = Preset::from_ron("(format_version: 99)", Path::new("new.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("newer"), "{e}");
-        let e = Preset::load(Path::new("/definitely/not/here.ron")).unwrap_err().to_string();
+        let e = Preset::load(Path::new("/definitely/not/here.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("/definitely/not/here.ron"), "{e}");
     }
 }

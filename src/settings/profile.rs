@@ -76,7 +76,10 @@ impl Default for BurleySpec {
     fn default() -> Self {
         Self {
             albedo: [1.0; 3],
-            shape: BurleyShape::ScatteringDistance { mm: UNITY_DEFAULT_SKIN_DISTANCE_MM, multiplier: 1.0 },
+            shape: BurleyShape::ScatteringDistance {
+                mm: UNITY_DEFAULT_SKIN_DISTANCE_MM,
+                multiplier: 1.0,
+            },
         }
     }
 }
@@ -90,7 +93,9 @@ impl BurleySpec {
                 let d = crate::model::rgb_map(|c| mm[c] * multiplier);
                 Burley::from_scattering_distance(self.albedo, d).map_err(|e| prefix("shape.", e))
             }
-            BurleyShape::MeanFreePath { mm, fit } => Burley::from_mean_free_path(self.albedo, *mm, (*fit).into()),
+            BurleyShape::MeanFreePath { mm, fit } => {
+                Burley::from_mean_free_path(self.albedo, *mm, (*fit).into())
+            }
         }
     }
 }
@@ -105,7 +110,10 @@ pub struct GaussianTerm {
 
 impl Default for GaussianTerm {
     fn default() -> Self {
-        Self { variance_mm2: 1.0, weights: [1.0; 3] }
+        Self {
+            variance_mm2: 1.0,
+            weights: [1.0; 3],
+        }
     }
 }
 
@@ -117,7 +125,15 @@ pub struct GaussiansSpec {
 
 impl Default for GaussiansSpec {
     fn default() -> Self {
-        Self { gaussians: DEON_SKIN.iter().map(|(v, w)| GaussianTerm { variance_mm2: *v, weights: *w }).collect() }
+        Self {
+            gaussians: DEON_SKIN
+                .iter()
+                .map(|(v, w)| GaussianTerm {
+                    variance_mm2: *v,
+                    weights: *w,
+                })
+                .collect(),
+        }
     }
 }
 
@@ -130,7 +146,10 @@ pub struct Jimenez2012Spec {
 
 impl Default for Jimenez2012Spec {
     fn default() -> Self {
-        Self { strength: DEFAULT_STRENGTH, falloff: DEFAULT_FALLOFF }
+        Self {
+            strength: DEFAULT_STRENGTH,
+            falloff: DEFAULT_FALLOFF,
+        }
     }
 }
 
@@ -150,7 +169,12 @@ pub struct ArtistSpec {
 impl Default for ArtistSpec {
     fn default() -> Self {
         // Jimenez 2015 Table 2, "production".
-        Self { sigma_near: [0.22, 0.07, 0.07], sigma_far: [1.0, 0.3, 0.15], weight: 0.65, scale_mm: 9.9 }
+        Self {
+            sigma_near: [0.22, 0.07, 0.07],
+            sigma_far: [1.0, 0.3, 0.15],
+            weight: 0.65,
+            scale_mm: 9.9,
+        }
     }
 }
 
@@ -166,7 +190,11 @@ pub struct DipoleSpec {
 impl Default for DipoleSpec {
     fn default() -> Self {
         // Jensen 2001 Skin1.
-        Self { sigma_a_per_mm: [0.032, 0.17, 0.48], sigma_s_prime_per_mm: [0.74, 0.88, 1.01], eta: 1.3 }
+        Self {
+            sigma_a_per_mm: [0.032, 0.17, 0.48],
+            sigma_s_prime_per_mm: [0.74, 0.88, 1.01],
+            eta: 1.3,
+        }
     }
 }
 
@@ -179,7 +207,10 @@ pub struct MeasuredSpec {
 
 impl Default for MeasuredSpec {
     fn default() -> Self {
-        Self { name: "Skin1".into(), eta: 1.3 }
+        Self {
+            name: "Skin1".into(),
+            eta: 1.3,
+        }
     }
 }
 
@@ -196,7 +227,12 @@ pub struct LayerSpec {
 
 impl Default for LayerSpec {
     fn default() -> Self {
-        Self { sigma_a_per_mm: [0.032, 0.17, 0.48], sigma_s_prime_per_mm: [0.74, 0.88, 1.01], eta: 1.4, thickness_mm: None }
+        Self {
+            sigma_a_per_mm: [0.032, 0.17, 0.48],
+            sigma_s_prime_per_mm: [0.74, 0.88, 1.01],
+            eta: 1.4,
+            thickness_mm: None,
+        }
     }
 }
 
@@ -218,8 +254,18 @@ impl Default for MultipoleSpec {
         // Donner & Jensen 2006 fig. 4a (seed 002 Table 3).
         Self {
             layers: vec![
-                LayerSpec { sigma_a_per_mm: [0.005; 3], sigma_s_prime_per_mm: [1.3; 3], eta: 1.4, thickness_mm: Some(6.0) },
-                LayerSpec { sigma_a_per_mm: [0.01; 3], sigma_s_prime_per_mm: [1.0; 3], eta: 1.4, thickness_mm: None },
+                LayerSpec {
+                    sigma_a_per_mm: [0.005; 3],
+                    sigma_s_prime_per_mm: [1.3; 3],
+                    eta: 1.4,
+                    thickness_mm: Some(6.0),
+                },
+                LayerSpec {
+                    sigma_a_per_mm: [0.01; 3],
+                    sigma_s_prime_per_mm: [1.0; 3],
+                    eta: 1.4,
+                    thickness_mm: None,
+                },
             ],
             eta_above: 1.0,
             eta_below: 1.0,
@@ -233,7 +279,10 @@ impl MultipoleSpec {
         self.layers
             .iter()
             .map(|l| Layer {
-                medium: Medium { sigma_a_per_mm: l.sigma_a_per_mm, sigma_s_prime_per_mm: l.sigma_s_prime_per_mm },
+                medium: Medium {
+                    sigma_a_per_mm: l.sigma_a_per_mm,
+                    sigma_s_prime_per_mm: l.sigma_s_prime_per_mm,
+                },
                 thickness_mm: l.thickness_mm,
                 eta: l.eta,
             })
@@ -245,26 +294,54 @@ impl MultipoleSpec {
     pub fn build(&self) -> Result<Box<dyn RadialProfile>, ModelError> {
         let layers = self.layers();
         match layers.as_slice() {
-            [only] if only.thickness_mm.is_some() => {
-                Ok(Box::new(MultipoleSlab::new(only, self.eta_above, self.eta_below, self.dipoles, "layers[0].")?))
-            }
+            [only] if only.thickness_mm.is_some() => Ok(Box::new(MultipoleSlab::new(
+                only,
+                self.eta_above,
+                self.eta_below,
+                self.dipoles,
+                "layers[0].",
+            )?)),
             [only] => {
                 crate::model::check_range("eta_above", self.eta_above, 1.0, 2.0, "")?;
                 crate::model::check_range("layers[0].eta", only.eta, 1.0, 2.0, "")?;
-                Ok(Box::new(Dipole::with_relative_index(only.medium, only.eta / self.eta_above).map_err(|e| prefix("layers[0].", e))?))
+                Ok(Box::new(
+                    Dipole::with_relative_index(only.medium, only.eta / self.eta_above)
+                        .map_err(|e| prefix("layers[0].", e))?,
+                ))
             }
-            _ => Ok(Box::new(LayeredMultipole::new(&layers, self.eta_above, self.eta_below, self.dipoles)?)),
+            _ => Ok(Box::new(LayeredMultipole::new(
+                &layers,
+                self.eta_above,
+                self.eta_below,
+                self.dipoles,
+            )?)),
         }
     }
 }
 
 fn prefix(p: &str, e: ModelError) -> ModelError {
     match e {
-        ModelError::OutOfRange { field, value, min, max, unit } => {
-            ModelError::OutOfRange { field: format!("{p}{field}"), value, min, max, unit }
-        }
-        ModelError::NotFinite { field, value } => ModelError::NotFinite { field: format!("{p}{field}"), value },
-        ModelError::Invalid { field, reason } => ModelError::Invalid { field: format!("{p}{field}"), reason },
+        ModelError::OutOfRange {
+            field,
+            value,
+            min,
+            max,
+            unit,
+        } => ModelError::OutOfRange {
+            field: format!("{p}{field}"),
+            value,
+            min,
+            max,
+            unit,
+        },
+        ModelError::NotFinite { field, value } => ModelError::NotFinite {
+            field: format!("{p}{field}"),
+            value,
+        },
+        ModelError::Invalid { field, reason } => ModelError::Invalid {
+            field: format!("{p}{field}"),
+            reason,
+        },
     }
 }
 
@@ -287,21 +364,31 @@ impl ProfileSpec {
         let built: Result<Box<dyn RadialProfile>, ModelError> = match self {
             ProfileSpec::Burley(b) => b.build().map(|m| Box::new(m) as _),
             ProfileSpec::Gaussians(g) => {
-                let terms: Vec<(f64, Rgb)> = g.gaussians.iter().map(|t| (t.variance_mm2, t.weights)).collect();
+                let terms: Vec<(f64, Rgb)> = g
+                    .gaussians
+                    .iter()
+                    .map(|t| (t.variance_mm2, t.weights))
+                    .collect();
                 GaussianSum::new(&terms).map(|m| Box::new(m) as _)
             }
-            ProfileSpec::Jimenez2012(j) => Jimenez2012::new(j.strength, j.falloff).map(|m| Box::new(m) as _),
+            ProfileSpec::Jimenez2012(j) => {
+                Jimenez2012::new(j.strength, j.falloff).map(|m| Box::new(m) as _)
+            }
             ProfileSpec::Artist(a) => {
-                ArtistTwoGaussian::new(a.sigma_near, a.sigma_far, a.weight, a.scale_mm).map(|m| Box::new(m) as _)
+                ArtistTwoGaussian::new(a.sigma_near, a.sigma_far, a.weight, a.scale_mm)
+                    .map(|m| Box::new(m) as _)
             }
             ProfileSpec::Dipole(d) => Dipole::new(
-                Medium { sigma_a_per_mm: d.sigma_a_per_mm, sigma_s_prime_per_mm: d.sigma_s_prime_per_mm },
+                Medium {
+                    sigma_a_per_mm: d.sigma_a_per_mm,
+                    sigma_s_prime_per_mm: d.sigma_s_prime_per_mm,
+                },
                 d.eta,
             )
             .map(|m| Box::new(m) as _),
-            ProfileSpec::Measured(m) => {
-                measured::find(&m.name).and_then(|mat| Dipole::measured(&mat, m.eta)).map(|m| Box::new(m) as _)
-            }
+            ProfileSpec::Measured(m) => measured::find(&m.name)
+                .and_then(|mat| Dipole::measured(&mat, m.eta))
+                .map(|m| Box::new(m) as _),
             ProfileSpec::Multipole(m) => m.build(),
         };
         built.map_err(|e| prefix("profile.", e))
