@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! Criterion benchmarks of the numerics (issue budgets in docs/benchmarks.md).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};

@@ -1,3 +1,8 @@
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+// `!(x > 0.0)` is deliberate throughout: it is true for NaN as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Per-channel numerics index several arrays with one channel index.
+#![allow(clippy::needless_range_loop)]
 //! scatterlab: author subsurface-scattering diffusion profiles.
 //!
 //! Layering (see ARCHITECTURE.md): `model` is pure math (profiles, kernels,

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! CLI contracts: `--json` keys, values against independent references
 //! (closed forms typed from the papers, published tables, the seeds'
 //! numbers), and one-line errors with a non-zero exit for bad input.

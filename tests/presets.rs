@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! Every shipped preset loads, validates, builds a finite profile, and
 //! survives a save/load round trip; hostile files give named errors.
 

@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! Property tests over each model's documented parameter range, edges
 //! included: outputs finite, CDFs monotone in [0, 1], inverse CDFs round
 //! trip, transmittance falls with thickness; out-of-range input is an error

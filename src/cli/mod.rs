@@ -29,6 +29,7 @@ pub struct Cli {
 }
 
 #[derive(Debug, Subcommand)]
+#[allow(clippy::large_enum_variant)] // parsed once per process
 pub enum Command {
     /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
     Profile {
@@ -91,6 +92,7 @@ pub enum Engine {
 }
 
 #[derive(Debug, Subcommand)]
+#[allow(clippy::large_enum_variant)]
 pub enum SampleCommand {
     /// Burley radii for given ξ by the inverse CDF (closed form or Halley).
     Burley {

@@ -285,7 +285,6 @@ pub fn invert_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, channel: usize, 
 /// See [`RadialProfile::strip_cdf`].
 pub fn strip_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, x_mm: f64) -> Rgb {
     let total = p.total_reflectance();
-    let dirac = p.dirac_weight();
     let x = x_mm.abs();
     let scale = p.length_scale_mm();
     rgb_map(|c| {
@@ -299,7 +298,7 @@ pub fn strip_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, x_mm: f64) -> Rgb
             2.0 * PI * p.r_reflectance(r)[c] / total[c] * (x / r).min(1.0).acos() / PI
         };
         let beyond = quad::integrate_to_infinity(&f, x, scale, 1e-14, 1e-12);
-        let _ = dirac;
+        // The Dirac at 0 is inside for every x ≥ 0 and outside below.
         if x_mm >= 0.0 {
             (1.0 - beyond).clamp(0.0, 1.0)
         } else {

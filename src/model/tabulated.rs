@@ -117,8 +117,6 @@ impl TabulatedProfile {
     /// Energy density per unit ln r at node i, normalised.
     fn density(&self, c: usize, i: usize) -> f64 {
         let r = self.r_at(i);
-        let sum = self.cdf[c].last().copied().unwrap_or(1.0);
-        let _ = sum;
         let norm = self.norm(c);
         if norm > 0.0 {
             2.0 * PI * r * r * self.values[c][i] / norm
