@@ -66,7 +66,7 @@ impl Samples {
                 self.weights[c][i] * d * d
             })
             .sum();
-        relative(num, self.norm2[c])
+        super::relative_l2(num, self.norm2[c])
     }
 
     /// Best scale a for a·u(r) in least squares, and the resulting error.
@@ -83,16 +83,6 @@ impl Samples {
             0.0
         };
         (a, self.error(c, |r| a * u(r)))
-    }
-}
-
-fn relative(num: f64, den: f64) -> f64 {
-    if den > 0.0 {
-        (num / den).sqrt()
-    } else if num > 0.0 {
-        f64::INFINITY
-    } else {
-        0.0
     }
 }
 

@@ -153,29 +153,7 @@ pub fn check_taps(taps: usize) -> Result<usize, ModelError> {
     Ok(taps)
 }
 
-impl RadialProfile for Jimenez2012 {
-    fn reflectance(&self, radius_mm: f64) -> Rgb {
-        self.profile.reflectance(radius_mm)
-    }
-    fn total_reflectance(&self) -> Rgb {
-        self.profile.total_reflectance()
-    }
-    fn dirac_weight(&self) -> Rgb {
-        self.profile.dirac_weight()
-    }
-    fn cdf(&self, radius_mm: f64) -> Rgb {
-        self.profile.cdf(radius_mm)
-    }
-    fn tail(&self, radius_mm: f64) -> Rgb {
-        self.profile.tail(radius_mm)
-    }
-    fn length_scale_mm(&self) -> f64 {
-        self.profile.length_scale_mm()
-    }
-    fn strip_cdf(&self, x_mm: f64) -> Rgb {
-        self.profile.strip_cdf(x_mm)
-    }
-}
+super::delegate_radial_profile!(Jimenez2012, profile);
 
 #[cfg(test)]
 mod tests {

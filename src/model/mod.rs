@@ -6,6 +6,49 @@
 //! reflectance ∫2πr R(r) dr, its radial CDF and inverse CDF, and the
 //! thin-slab transmittance T(d) = ∫2πr R(√(r²+d²)) dr (seed 000 §5-2).
 
+/// Implements [`RadialProfile`] for a wrapper by forwarding every method
+/// to the inner profile in `$field`.
+macro_rules! delegate_radial_profile {
+    ($ty:ty, $field:ident) => {
+        impl $crate::model::RadialProfile for $ty {
+            fn reflectance(&self, radius_mm: f64) -> $crate::model::Rgb {
+                self.$field.reflectance(radius_mm)
+            }
+            fn r_reflectance(&self, radius_mm: f64) -> $crate::model::Rgb {
+                self.$field.r_reflectance(radius_mm)
+            }
+            fn total_reflectance(&self) -> $crate::model::Rgb {
+                self.$field.total_reflectance()
+            }
+            fn dirac_weight(&self) -> $crate::model::Rgb {
+                self.$field.dirac_weight()
+            }
+            fn cdf(&self, radius_mm: f64) -> $crate::model::Rgb {
+                self.$field.cdf(radius_mm)
+            }
+            fn tail(&self, radius_mm: f64) -> $crate::model::Rgb {
+                self.$field.tail(radius_mm)
+            }
+            fn inverse_cdf(&self, channel: usize, xi: f64) -> f64 {
+                self.$field.inverse_cdf(channel, xi)
+            }
+            fn length_scale_mm(&self) -> f64 {
+                self.$field.length_scale_mm()
+            }
+            fn r_floor_mm(&self) -> f64 {
+                self.$field.r_floor_mm()
+            }
+            fn strip_cdf(&self, x_mm: f64) -> $crate::model::Rgb {
+                self.$field.strip_cdf(x_mm)
+            }
+            fn transmittance(&self, thickness_mm: f64) -> $crate::model::Rgb {
+                self.$field.transmittance(thickness_mm)
+            }
+        }
+    };
+}
+pub(crate) use delegate_radial_profile;
+
 pub mod burley;
 pub mod dipole;
 pub mod fit;
@@ -338,12 +381,17 @@ where
             let m = model.r_reflectance(r)[c];
             ((m - t) * (m - t), t * t)
         });
-        if den > 0.0 {
-            (num / den).sqrt()
-        } else if num > 0.0 {
-            f64::INFINITY
-        } else {
-            0.0
-        }
+        relative_l2(num, den)
     })
+}
+
+/// √(num/den) for squared norms, with 0/0 = 0 and x/0 = ∞.
+pub(crate) fn relative_l2(num: f64, den: f64) -> f64 {
+    if den > 0.0 {
+        (num / den).sqrt()
+    } else if num > 0.0 {
+        f64::INFINITY
+    } else {
+        0.0
+    }
 }

@@ -415,29 +415,28 @@ fn combine(slabs: &[MultipoleSlab], base: Option<&super::dipole::Dipole>, c: usi
     }
 }
 
-impl RadialProfile for LayeredMultipole {
-    fn reflectance(&self, radius_mm: f64) -> Rgb {
-        self.profile.reflectance(radius_mm)
-    }
-    fn total_reflectance(&self) -> Rgb {
-        self.total
-    }
-    fn cdf(&self, radius_mm: f64) -> Rgb {
-        self.profile.cdf(radius_mm)
-    }
-    fn tail(&self, radius_mm: f64) -> Rgb {
-        self.profile.tail(radius_mm)
-    }
-    fn length_scale_mm(&self) -> f64 {
-        self.profile.length_scale_mm()
-    }
-}
+super::delegate_radial_profile!(LayeredMultipole, profile);
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::model::dipole::Dipole;
     use crate::model::quad;
+
+    fn slab(s: f64, eta: f64) -> MultipoleSlab {
+        MultipoleSlab::new(
+            &Layer {
+                medium: skin1(),
+                thickness_mm: Some(s),
+                eta,
+            },
+            1.0,
+            1.0,
+            10,
+            "",
+        )
+        .unwrap()
+    }
 
     fn skin1() -> Medium {
         Medium {
@@ -450,18 +449,7 @@ mod tests {
     #[test]
     fn slab_totals_match_quadrature() {
         for s in [0.05, 1.0, 4.0] {
-            let slab = MultipoleSlab::new(
-                &Layer {
-                    medium: skin1(),
-                    thickness_mm: Some(s),
-                    eta: 1.4,
-                },
-                1.0,
-                1.0,
-                10,
-                "",
-            )
-            .unwrap();
+            let slab = slab(s, 1.4);
             let (rt, tt) = (slab.total_reflectance(), slab.total_transmittance());
             for c in 0..3 {
                 let qr = quad::integrate_to_infinity(
@@ -538,18 +526,7 @@ mod tests {
         let d = Dipole::new(skin1(), 1.3).unwrap();
         let mut last = f64::INFINITY;
         for s in [2.0, 8.0, 32.0, 128.0] {
-            let slab = MultipoleSlab::new(
-                &Layer {
-                    medium: skin1(),
-                    thickness_mm: Some(s),
-                    eta: 1.3,
-                },
-                1.0,
-                1.0,
-                10,
-                "",
-            )
-            .unwrap();
+            let slab = slab(s, 1.3);
             let err: f64 = (0..3)
                 .map(|c| (slab.total_reflectance()[c] - d.total_reflectance()[c]).abs())
                 .sum();
@@ -571,18 +548,7 @@ mod tests {
     #[test]
     fn vanishing_thickness_stays_finite() {
         for s in [1e-6, 1e-3, 0.5] {
-            let slab = MultipoleSlab::new(
-                &Layer {
-                    medium: skin1(),
-                    thickness_mm: Some(s),
-                    eta: 1.4,
-                },
-                1.0,
-                1.0,
-                10,
-                "",
-            )
-            .unwrap();
+            let slab = slab(s, 1.4);
             for r in [0.0, 1e-7, 0.01, 1.0, 100.0] {
                 for v in slab
                     .reflectance(r)

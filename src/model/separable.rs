@@ -263,26 +263,7 @@ impl ArtistTwoGaussian {
     }
 }
 
-impl RadialProfile for ArtistTwoGaussian {
-    fn reflectance(&self, radius_mm: f64) -> Rgb {
-        self.profile.reflectance(radius_mm)
-    }
-    fn total_reflectance(&self) -> Rgb {
-        self.profile.total_reflectance()
-    }
-    fn cdf(&self, radius_mm: f64) -> Rgb {
-        self.profile.cdf(radius_mm)
-    }
-    fn tail(&self, radius_mm: f64) -> Rgb {
-        self.profile.tail(radius_mm)
-    }
-    fn length_scale_mm(&self) -> f64 {
-        self.profile.length_scale_mm()
-    }
-    fn strip_cdf(&self, x_mm: f64) -> Rgb {
-        self.profile.strip_cdf(x_mm)
-    }
-}
+super::delegate_radial_profile!(ArtistTwoGaussian, profile);
 
 #[cfg(test)]
 mod tests {
