@@ -429,3 +429,59 @@ fn convert_round_trips_through_unity_numbers() {
         ) < 1e-12
     );
 }
+
+/// Engine parameters in, engine parameters out: Unreal → Unity → Unreal
+/// returns the input (the conversions are exact inverses).
+#[test]
+fn converts_between_engines_both_ways() {
+    let v = json(&[
+        "convert",
+        "--model",
+        "unreal",
+        "--albedo",
+        "0.44,0.22,0.13",
+        "--mfp-color",
+        "1,0.735,0.518",
+        "--mfp-distance-cm",
+        "0.1295",
+        "--to",
+        "unity",
+        "--json",
+    ]);
+    let p = &v["params"];
+    let (color, mult) = (
+        &p["scattering_distance_color"],
+        f(&p["scattering_distance_multiplier"]),
+    );
+    let c = format!("{},{},{}", f(&color[0]), f(&color[1]), f(&color[2]));
+    let back = json(&[
+        "convert",
+        "--model",
+        "unity",
+        "--albedo",
+        "0.44,0.22,0.13",
+        "--scattering-color",
+        &c,
+        "--multiplier",
+        &mult.to_string(),
+        "--to",
+        "unreal",
+        "--json",
+    ]);
+    let q = &back["params"];
+    assert!(rel(f(&q["mean_free_path_distance_cm"]), 0.1295) < 1e-9);
+    for (k, e) in [1.0, 0.735, 0.518].iter().enumerate() {
+        assert!(rel(f(&q["mean_free_path_color"][k]), *e) < 1e-9);
+    }
+    let (code, _, err) = run(&[
+        "convert",
+        "--model",
+        "unreal",
+        "--albedo",
+        "0.5,0.5,0.5",
+        "--to",
+        "unity",
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--mfp-color"), "{err}");
+}

@@ -1,6 +1,9 @@
 //! Argument types: comma-separated lists, `R,G,B` colours and `;`-separated
 //! colour lists, and the flags that choose a profile model.
 
+use crate::model::units::{
+    BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE,
+};
 use crate::model::Rgb;
 use crate::settings::profile::{
     ArtistSpec, BurleyShape, BurleySpec, DipoleSpec, GaussianTerm, GaussiansSpec, Jimenez2012Spec,
@@ -67,6 +70,12 @@ pub enum ModelKind {
     #[value(name = "jimenez2012", alias = "jimenez")]
     Jimenez2012,
     Artist,
+    /// Unity HDRP diffusion profile parameters (converted to Burley).
+    Unity,
+    /// Unreal Engine 5 subsurface profile parameters (converted to Burley).
+    Unreal,
+    /// Blender Principled BSDF Christensen–Burley parameters (converted to Burley).
+    Blender,
 }
 
 /// Burley's published s(A) fits, by command-line name.
@@ -154,6 +163,30 @@ pub struct ModelArgs {
     /// Artist model: a Jimenez 2015 Table 2 kernel (single-layer, multi-layer, production).
     #[arg(long, value_name = "NAME")]
     pub artist_preset: Option<String>,
+    /// Unity: Scattering Color (LDR, linear RGB).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub scattering_color: Option<Color>,
+    /// Unity: scattering distance multiplier (mm at world scale 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub multiplier: Option<f64>,
+    /// Unreal: Mean Free Path Color.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub mfp_color: Option<Color>,
+    /// Unreal: Mean Free Path Distance (cm).
+    #[arg(long, allow_hyphen_values = true)]
+    pub mfp_distance_cm: Option<f64>,
+    /// Unreal: World Unit Scale (default 0.1, physical).
+    #[arg(long, allow_hyphen_values = true)]
+    pub world_unit_scale: Option<f64>,
+    /// Blender: Subsurface Radius.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub subsurface_radius: Option<Color>,
+    /// Blender: Subsurface Scale (scene units).
+    #[arg(long, allow_hyphen_values = true)]
+    pub subsurface_scale: Option<f64>,
+    /// Blender: metres per scene unit (default 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub metres_per_unit: Option<f64>,
 }
 
 impl ModelArgs {
@@ -179,11 +212,23 @@ impl ModelArgs {
             ("--weight", self.weight.is_some()),
             ("--scale", self.scale.is_some()),
         ];
-        let mut v: Vec<&str> = flags.iter().filter(|f| f.1).map(|f| f.0).collect();
-        if self.artist_preset.is_some() {
-            v.push("--artist-preset");
-        }
-        v
+        let engine: [(&str, bool); 9] = [
+            ("--artist-preset", self.artist_preset.is_some()),
+            ("--scattering-color", self.scattering_color.is_some()),
+            ("--multiplier", self.multiplier.is_some()),
+            ("--mfp-color", self.mfp_color.is_some()),
+            ("--mfp-distance-cm", self.mfp_distance_cm.is_some()),
+            ("--world-unit-scale", self.world_unit_scale.is_some()),
+            ("--subsurface-radius", self.subsurface_radius.is_some()),
+            ("--subsurface-scale", self.subsurface_scale.is_some()),
+            ("--metres-per-unit", self.metres_per_unit.is_some()),
+        ];
+        flags
+            .iter()
+            .chain(&engine)
+            .filter(|f| f.1)
+            .map(|f| f.0)
+            .collect()
     }
 
     /// Rejects flags that the chosen model does not read.
@@ -218,6 +263,9 @@ impl ModelArgs {
                 })
             }
             (Some(ModelKind::Artist), _) => self.artist()?,
+            (Some(ModelKind::Unity), _) => self.unity()?,
+            (Some(ModelKind::Unreal), _) => self.unreal()?,
+            (Some(ModelKind::Blender), _) => self.blender()?,
         };
         spec.build()?;
         Ok(spec)
@@ -324,6 +372,80 @@ impl ModelArgs {
         Ok(p)
     }
 
+    fn unity(&self) -> Result<ProfileSpec> {
+        self.only(
+            "--model unity",
+            &["--albedo", "--scattering-color", "--multiplier"],
+        )?;
+        let color = self
+            .scattering_color
+            .context("--model unity needs --scattering-color R,G,B")?;
+        let u = UnityProfile {
+            scattering_distance_color: color.0,
+            scattering_distance_multiplier: self.multiplier.unwrap_or(1.0),
+            world_scale_m_per_unit: 1.0,
+        };
+        Ok(burley_spec(
+            &u.to_burley(self.albedo.map_or([1.0; 3], |c| c.0))?,
+        ))
+    }
+
+    fn unreal(&self) -> Result<ProfileSpec> {
+        self.only(
+            "--model unreal",
+            &[
+                "--albedo",
+                "--mfp-color",
+                "--mfp-distance-cm",
+                "--world-unit-scale",
+            ],
+        )?;
+        let u = UnrealProfile {
+            surface_albedo: self
+                .albedo
+                .context("--model unreal needs --albedo R,G,B (SurfaceAlbedo)")?
+                .0,
+            mean_free_path_color: self
+                .mfp_color
+                .context("--model unreal needs --mfp-color R,G,B")?
+                .0,
+            mean_free_path_distance_cm: self
+                .mfp_distance_cm
+                .context("--model unreal needs --mfp-distance-cm X")?,
+            world_unit_scale: self
+                .world_unit_scale
+                .unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE),
+        };
+        Ok(burley_spec(&u.to_burley()?))
+    }
+
+    fn blender(&self) -> Result<ProfileSpec> {
+        self.only(
+            "--model blender",
+            &[
+                "--albedo",
+                "--subsurface-radius",
+                "--subsurface-scale",
+                "--metres-per-unit",
+            ],
+        )?;
+        let b = BlenderSubsurface {
+            base_color: self
+                .albedo
+                .context("--model blender needs --albedo R,G,B (Base Color)")?
+                .0,
+            subsurface_radius: self
+                .subsurface_radius
+                .context("--model blender needs --subsurface-radius R,G,B")?
+                .0,
+            subsurface_scale: self
+                .subsurface_scale
+                .context("--model blender needs --subsurface-scale X")?,
+            metres_per_unit: self.metres_per_unit.unwrap_or(1.0),
+        };
+        Ok(burley_spec(&b.to_burley()?))
+    }
+
     fn artist(&self) -> Result<ProfileSpec> {
         self.only(
             "--model artist",
@@ -354,6 +476,17 @@ impl ModelArgs {
             scale_mm: self.scale.unwrap_or(base.scale_mm),
         }))
     }
+}
+
+/// A Burley spec holding a built profile's A and d.
+fn burley_spec(b: &crate::model::burley::Burley) -> ProfileSpec {
+    ProfileSpec::Burley(BurleySpec {
+        albedo: b.albedo(),
+        shape: BurleyShape::ScatteringDistance {
+            mm: b.scattering_distance_mm(),
+            multiplier: 1.0,
+        },
+    })
 }
 
 #[cfg(test)]
