@@ -14,4 +14,5 @@
 pub mod cli;
 pub mod fsutil;
 pub mod model;
+pub mod render;
 pub mod settings;

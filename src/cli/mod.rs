@@ -70,6 +70,31 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Render the head offscreen with an SSS method and write a PNG.
+    Render {
+        #[command(flatten)]
+        model: ModelArgs,
+        #[arg(long, value_enum, default_value = "burley")]
+        method: MethodArg,
+        #[arg(long, default_value_t = 512)]
+        width: u32,
+        #[arg(long, default_value_t = 512)]
+        height: u32,
+        /// Burley disk samples.
+        #[arg(long, default_value_t = 21)]
+        samples: usize,
+        /// Separable kernel taps (odd).
+        #[arg(long, default_value_t = 17)]
+        taps: usize,
+        /// Turn off the per-pixel random rotation (reproducible images).
+        #[arg(long)]
+        deterministic: bool,
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        /// Also write per-frame statistics as JSON.
+        #[arg(long, value_name = "FILE.json")]
+        stats: Option<PathBuf>,
+    },
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert {
         #[command(flatten)]
@@ -82,6 +107,13 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    None,
+    Burley,
+    Separable,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -249,6 +281,25 @@ pub fn run(cli: Cli) -> Result<()> {
             json,
         } => transmittance(&model, &thickness.0, json),
         Command::Fit { model, to, json } => fit(&model, &to, json),
+        Command::Render {
+            model,
+            method,
+            width,
+            height,
+            samples,
+            taps,
+            deterministic,
+            out,
+            stats,
+        } => render(
+            &model,
+            method,
+            (width, height),
+            (samples, taps),
+            deterministic,
+            &out,
+            stats.as_deref(),
+        ),
         Command::Convert {
             model,
             to,
@@ -523,6 +574,63 @@ fn write_png(path: &std::path::Path, w: usize, h: usize, rgb8: Vec<u8>) -> Resul
     )?;
     crate::fsutil::write_atomic(path, &bytes)
         .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+fn render(
+    model: &ModelArgs,
+    method: MethodArg,
+    (width, height): (u32, u32),
+    (samples, taps): (usize, usize),
+    deterministic: bool,
+    out: &std::path::Path,
+    stats_path: Option<&std::path::Path>,
+) -> Result<()> {
+    use crate::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
+    crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
+    crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
+    let (_, p) = built(model)?;
+    let inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
+    let mut renderer = Renderer::new(GpuContext::new_headless()?, &Mesh::default_head()?)?;
+    let settings = RenderSettings {
+        width,
+        height,
+        method: match method {
+            MethodArg::None => Method::None,
+            MethodArg::Burley => Method::Burley,
+            MethodArg::Separable => Method::Separable,
+        },
+        deterministic,
+        ..RenderSettings::default()
+    };
+    let (image, stats) = renderer.render(&inputs, &settings)?;
+    let mut bytes = Vec::new();
+    image.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )?;
+    crate::fsutil::write_atomic(out, &bytes)
+        .with_context(|| format!("{}: cannot write", out.display()))?;
+    if let Some(path) = stats_path {
+        let j = json!({
+            "method": stats.method,
+            "passes": stats.passes,
+            "samples_per_sss_pixel": stats.samples_per_sss_pixel,
+            "width": stats.width,
+            "height": stats.height,
+            "adapter": stats.adapter,
+        });
+        crate::fsutil::write_atomic(path, serde_json::to_string_pretty(&j)?.as_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    println!(
+        "wrote {} ({}×{}, {}, passes: {})",
+        out.display(),
+        width,
+        height,
+        stats.adapter,
+        stats.passes.join(", ")
+    );
+    Ok(())
 }
 
 fn transmittance(model: &ModelArgs, thickness: &[f64], as_json: bool) -> Result<()> {

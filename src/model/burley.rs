@@ -207,7 +207,11 @@ impl RadialProfile for Burley {
             let s = self.shape_per_mm[c];
             let x = x_mm.abs();
             let beyond = (bickley_ki1(s * x) + 3.0 * bickley_ki1(s * x / 3.0)) / (4.0 * PI);
-            if x_mm >= 0.0 { 1.0 - beyond } else { beyond }
+            if x_mm >= 0.0 {
+                1.0 - beyond
+            } else {
+                beyond
+            }
         })
     }
 
@@ -228,7 +232,11 @@ pub fn bickley_ki1(x: f64) -> f64 {
         (-x * c).exp() / c
     };
     // The integrand is below 1e-300 once x·cosh u > 690 or cosh u > 1e300.
-    let u_max = if x > 0.0 { (690.0 / x).max(1.0).acosh() } else { 700.0 };
+    let u_max = if x > 0.0 {
+        (690.0 / x).max(1.0).acosh()
+    } else {
+        700.0
+    };
     super::quad::integrate(&f, 0.0, u_max.min(700.0), 1e-16, 1e-13)
 }
 
@@ -504,7 +512,12 @@ mod tests {
         for x in [-2.0, -0.1, 0.0, 0.03, 0.4, 1.5, 6.0] {
             let (a, b) = (p.strip_cdf(x), crate::model::strip_cdf_numerically(&p, x));
             for c in 0..3 {
-                assert!((a[c] - b[c]).abs() < 1e-9, "x={x} c={c}: {} vs {}", a[c], b[c]);
+                assert!(
+                    (a[c] - b[c]).abs() < 1e-9,
+                    "x={x} c={c}: {} vs {}",
+                    a[c],
+                    b[c]
+                );
             }
         }
     }

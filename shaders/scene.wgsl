@@ -1,0 +1,97 @@
+// Scene pass: lights the mesh and writes the separate buffers the SSS
+// methods read (seed 000 §4: specular is never blurred).
+//   target 0: diffuse irradiance × albedo^pre (rgb), SSS mask (a)
+//   target 1: specular radiance (rgb)
+//   target 2: albedo^post (rgb), linear view depth in world units (a)
+// Twin of `render::gpu_types::SceneUniforms`.
+
+struct SceneUniforms {
+    clip_from_world: mat4x4<f32>,
+    view_from_world: mat4x4<f32>,
+    camera_position: vec4<f32>,
+    light_direction: vec4<f32>,   // xyz: towards the light (unit), w: unused
+    light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
+    sky_radiance: vec4<f32>,      // rgb: ambient from above
+    ground_radiance: vec4<f32>,   // rgb: ambient from below
+    skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
+    params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness, z: F0
+};
+
+@group(0) @binding(0) var<uniform> u: SceneUniforms;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) material: f32,   // 0 skin, 1 eye, 2 teeth
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) material: f32,
+    @location(4) view_depth: f32,
+};
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var o: VertexOut;
+    let world = vec4<f32>(v.position, 1.0);
+    o.clip = u.clip_from_world * world;
+    o.world = v.position;
+    o.normal = v.normal;
+    o.uv = v.uv;
+    o.material = v.material;
+    o.view_depth = -(u.view_from_world * world).z;
+    return o;
+}
+
+struct TargetsOut {
+    @location(0) diffuse: vec4<f32>,
+    @location(1) specular: vec4<f32>,
+    @location(2) albedo_depth: vec4<f32>,
+};
+
+const PI: f32 = 3.14159265;
+
+// GGX / Trowbridge-Reitz specular with Smith height-correlated visibility.
+fn ggx(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
+    let h = normalize(v + l);
+    let nl = max(dot(n, l), 0.0);
+    let nv = max(dot(n, v), 1e-4);
+    let nh = max(dot(n, h), 0.0);
+    let a = roughness * roughness;
+    let a2 = a * a;
+    let d = a2 / (PI * pow(nh * nh * (a2 - 1.0) + 1.0, 2.0));
+    let vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2) + 1e-6);
+    let f = f0 + (1.0 - f0) * pow(1.0 - max(dot(v, h), 0.0), 5.0);
+    return d * vis * f * nl;
+}
+
+@fragment
+fn fs_main(i: VertexOut) -> TargetsOut {
+    let n = normalize(i.normal);
+    let v = normalize(u.camera_position.xyz - i.world);
+    let l = u.light_direction.xyz;
+    var albedo = u.skin_albedo.rgb;
+    var mask = 1.0;
+    if (i.material > 0.5 && i.material < 1.5) {
+        albedo = vec3<f32>(0.8, 0.78, 0.75);
+        mask = 0.0;
+    } else if (i.material > 1.5) {
+        albedo = vec3<f32>(0.85, 0.8, 0.7);
+        mask = 0.0;
+    }
+    // Irradiance/π: directional light plus a sky/ground hemisphere.
+    let nl = max(dot(n, l), 0.0);
+    let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
+    let irradiance = u.light_radiance.rgb * nl / PI + hemi;
+    let pre = select(0.0, u.params.x, mask > 0.0);
+    var o: TargetsOut;
+    o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
+    o.specular = vec4<f32>(u.light_radiance.rgb * ggx(n, v, l, u.params.y, u.params.z), 1.0);
+    o.albedo_depth = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), i.view_depth);
+    return o;
+}

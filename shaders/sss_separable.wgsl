@@ -1,0 +1,37 @@
+// Separable SSS (Jimenez 2012, SSSSBlurPS): one 1D pass along
+// `s.direction.xy`, offsets in mm scaled to pixels by depth, and the
+// follow-surface term that lerps back to the centre colour across depth
+// discontinuities.
+
+struct Tap {
+    weight: vec4<f32>,   // rgb weight, a: offset (mm)
+};
+
+@group(0) @binding(3) var<storage, read> taps: array<Tap>;
+
+@fragment
+fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(in.clip.xy);
+    let centre = load_diffuse(p);
+    if (centre.a <= 1.0 / 255.0) {
+        return centre;
+    }
+    let z = load_depth(p);
+    let step = s.direction.xy * pixels_per_mm(z) * centre.a;
+    let n = u32(s.params.x);
+    var acc = centre.rgb * taps[0].weight.rgb;
+    for (var i = 1u; i < n; i = i + 1u) {
+        let t = taps[i].weight;
+        let q = p + vec2<i32>(round(step * t.a));
+        var c = load_diffuse(q);
+        let dz_mm = abs(load_depth(q) - z) * s.projection.y;
+        // Follow the surface: beyond a few mm of depth difference, use the centre.
+        let k = clamp(s.direction.z * dz_mm, 0.0, 1.0);
+        var col = mix(c.rgb, centre.rgb, k);
+        if (c.a <= 1.0 / 255.0) {
+            col = centre.rgb;
+        }
+        acc = acc + t.rgb * col;
+    }
+    return vec4<f32>(acc, centre.a);
+}

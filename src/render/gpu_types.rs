@@ -1,0 +1,71 @@
+//! Rust twins of the WGSL uniform and storage structs. Each has explicit
+//! padding (vec4 slots) and a size assertion; the comment names its twin.
+
+use bytemuck::{Pod, Zeroable};
+
+/// Twin of `SceneUniforms` in `shaders/scene.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct SceneUniforms {
+    pub clip_from_world: [[f32; 4]; 4],
+    pub view_from_world: [[f32; 4]; 4],
+    pub camera_position: [f32; 4],
+    pub light_direction: [f32; 4],
+    pub light_radiance: [f32; 4],
+    pub sky_radiance: [f32; 4],
+    pub ground_radiance: [f32; 4],
+    pub skin_albedo: [f32; 4],
+    /// x: pre-scatter exponent, y: roughness, z: F0.
+    pub params: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 2 * 64 + 7 * 16);
+
+/// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct SssUniforms {
+    pub size: [f32; 4],
+    pub projection: [f32; 4],
+    pub params: [f32; 4],
+    pub direction: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<SssUniforms>() == 64);
+
+/// Twin of `Sample` in `shaders/sss_burley.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuSample {
+    pub radius_mm: f32,
+    pub angle: f32,
+    pub inv_pdf: f32,
+    pub pad: f32,
+}
+const _: () = assert!(std::mem::size_of::<GpuSample>() == 16);
+
+/// Twin of `Tap` in `shaders/sss_separable.wgsl`: rgb weight, a = offset (mm).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTap {
+    pub weight_offset: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuTap>() == 16);
+
+/// Twin of `CompositeUniforms` in `shaders/composite.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct CompositeUniforms {
+    pub exposure: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<CompositeUniforms>() == 16);
+
+/// Mesh vertex (locations 0–3 in `shaders/scene.wgsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+    /// 0 skin, 1 eye, 2 teeth.
+    pub material: f32,
+}
+const _: () = assert!(std::mem::size_of::<Vertex>() == 36);

@@ -1,0 +1,872 @@
+//! The frame: scene pass → SSS pass(es) → composite, all offscreen.
+
+use super::context::{GpuContext, GpuError};
+use super::gpu_types::{CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms};
+use super::mesh::Mesh;
+use crate::model::sampling::{AngleSequence, SamplePattern};
+use crate::model::separable::SeparableKernel;
+use crate::model::{ModelError, RadialProfile};
+use glam::{Mat4, Vec3};
+use wgpu::util::DeviceExt;
+
+/// Screen-space SSS methods implemented so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Plain diffuse, the baseline.
+    None,
+    /// Golubev 2018 importance-sampled disk.
+    Burley,
+    /// Jimenez 2012 two-pass separable blur.
+    Separable,
+}
+
+impl Method {
+    pub fn id(self) -> &'static str {
+        match self {
+            Method::None => "none",
+            Method::Burley => "burley",
+            Method::Separable => "separable",
+        }
+    }
+}
+
+/// Where the albedo is applied (d'Eon 2007; seed 000 §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexturingMode {
+    PostScatter,
+    PreAndPostScatter,
+}
+
+/// What one frame looks like.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub method: Method,
+    pub texturing: TexturingMode,
+    /// Camera orbit around the head: yaw and pitch (radians), distance (m).
+    pub camera_yaw: f32,
+    pub camera_pitch: f32,
+    pub camera_distance_m: f32,
+    pub fov_y: f32,
+    /// Direction towards the light: azimuth and elevation (radians).
+    pub light_azimuth: f32,
+    pub light_elevation: f32,
+    pub light_intensity: f32,
+    pub skin_albedo: [f32; 3],
+    pub exposure: f32,
+    /// Turns off per-pixel random rotation (for tests).
+    pub deterministic: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            method: Method::Burley,
+            texturing: TexturingMode::PreAndPostScatter,
+            camera_yaw: 0.35,
+            camera_pitch: 0.05,
+            camera_distance_m: 0.55,
+            fov_y: 30f32.to_radians(),
+            light_azimuth: 0.9,
+            light_elevation: 0.35,
+            light_intensity: 4.0,
+            skin_albedo: [0.62, 0.40, 0.32],
+            exposure: 1.0,
+            deterministic: false,
+        }
+    }
+}
+
+/// Per-profile GPU inputs, computed on the CPU and rebuilt only when the
+/// profile or the counts change.
+#[derive(Debug, Clone)]
+pub struct ProfileInputs {
+    pub samples: Vec<GpuSample>,
+    pub lut: Vec<[f32; 4]>,
+    pub lut_radius_mm: f32,
+    pub taps: Vec<GpuTap>,
+}
+
+const LUT_SIZE: usize = 256;
+
+impl ProfileInputs {
+    /// Burley disk samples, the r·R_N(r) table and separable taps for `profile`.
+    pub fn new(
+        profile: &dyn RadialProfile,
+        samples: usize,
+        taps: usize,
+    ) -> Result<Self, ModelError> {
+        let pattern = SamplePattern::new(profile, samples, AngleSequence::GoldenAngle)?;
+        let total = profile.total_reflectance();
+        let dom = pattern.sampled_channel;
+        let gpu_samples = pattern
+            .samples
+            .iter()
+            .map(|s| {
+                let rr = profile.r_reflectance(s.radius_mm)[dom];
+                let inv_pdf = if rr > 0.0 {
+                    total[dom] * s.radius_mm / rr
+                } else {
+                    0.0
+                };
+                GpuSample {
+                    radius_mm: s.radius_mm as f32,
+                    angle: s.angle_rad as f32,
+                    inv_pdf: inv_pdf as f32,
+                    pad: 0.0,
+                }
+            })
+            .collect();
+        let r_max = profile
+            .radius_for_energy(0.999)
+            .into_iter()
+            .fold(1e-6, f64::max);
+        let lut = (0..LUT_SIZE)
+            .map(|i| {
+                let t = i as f64 / (LUT_SIZE - 1) as f64;
+                let rr = profile.r_reflectance(r_max * t * t);
+                let n = |c: usize| {
+                    if total[c] > 0.0 {
+                        (rr[c] / total[c]) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                [n(0), n(1), n(2), 0.0]
+            })
+            .collect();
+        let kernel = SeparableKernel::importance_sampled(profile, taps)?;
+        let taps = kernel
+            .taps
+            .iter()
+            .map(|t| GpuTap {
+                weight_offset: [
+                    t.weight[0] as f32,
+                    t.weight[1] as f32,
+                    t.weight[2] as f32,
+                    t.offset_mm as f32,
+                ],
+            })
+            .collect();
+        Ok(Self {
+            samples: gpu_samples,
+            lut,
+            lut_radius_mm: r_max as f32,
+            taps,
+        })
+    }
+}
+
+/// What a frame did (proof of skipped work comes with later passes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameStats {
+    pub method: &'static str,
+    pub passes: Vec<&'static str>,
+    pub samples_per_sss_pixel: u32,
+    pub width: u32,
+    pub height: u32,
+    pub adapter: String,
+}
+
+const HDR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+const DEPTH_CHANNEL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const OUTPUT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+struct Targets {
+    size: (u32, u32),
+    diffuse: wgpu::TextureView,
+    specular: wgpu::TextureView,
+    albedo_depth: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    ping: wgpu::TextureView,
+    pong: wgpu::TextureView,
+    output: wgpu::Texture,
+}
+
+/// Owns the device, the mesh and the pipelines.
+pub struct Renderer {
+    ctx: GpuContext,
+    vertex_buffer: wgpu::Buffer,
+    index_buffer: wgpu::Buffer,
+    index_count: u32,
+    mesh_centre: Vec3,
+    metres_per_unit: f32,
+    scene_layout: wgpu::BindGroupLayout,
+    scene_pipeline: wgpu::RenderPipeline,
+    burley_layout: wgpu::BindGroupLayout,
+    burley_pipeline: wgpu::RenderPipeline,
+    separable_layout: wgpu::BindGroupLayout,
+    separable_pipeline: wgpu::RenderPipeline,
+    composite_layout: wgpu::BindGroupLayout,
+    composite_pipeline: wgpu::RenderPipeline,
+    targets: Option<Targets>,
+}
+
+fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn buffer_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+    stages: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+const FULLSCREEN: &str = include_str!("../../shaders/fullscreen.wgsl");
+const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");
+
+/// Every WGSL module the renderer builds, as (name, full source) pairs;
+/// the tests validate each with naga.
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    vec![
+        ("scene", include_str!("../../shaders/scene.wgsl").to_owned()),
+        (
+            "sss_burley",
+            format!(
+                "{FULLSCREEN}\n{SSS_COMMON}\n{}",
+                include_str!("../../shaders/sss_burley.wgsl")
+            ),
+        ),
+        (
+            "sss_separable",
+            format!(
+                "{FULLSCREEN}\n{SSS_COMMON}\n{}",
+                include_str!("../../shaders/sss_separable.wgsl")
+            ),
+        ),
+        (
+            "composite",
+            format!(
+                "{FULLSCREEN}\n{}",
+                include_str!("../../shaders/composite.wgsl")
+            ),
+        ),
+    ]
+}
+
+impl Renderer {
+    pub fn new(ctx: GpuContext, mesh: &Mesh) -> Result<Self, GpuError> {
+        let device = &ctx.device;
+        let sources: std::collections::HashMap<_, _> = shader_sources().into_iter().collect();
+        let module = |name: &'static str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(sources[name].as_str().into()),
+            })
+        };
+        let built = ctx.checked("pipeline creation", || {
+            let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("scene"),
+                entries: &[buffer_entry(
+                    0,
+                    wgpu::BufferBindingType::Uniform,
+                    wgpu::ShaderStages::VERTEX_FRAGMENT,
+                )],
+            });
+            let storage = wgpu::BufferBindingType::Storage { read_only: true };
+            let frag = wgpu::ShaderStages::FRAGMENT;
+            let burley_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("sss burley"),
+                entries: &[
+                    buffer_entry(0, wgpu::BufferBindingType::Uniform, frag),
+                    texture_entry(1),
+                    texture_entry(2),
+                    buffer_entry(3, storage, frag),
+                    buffer_entry(4, storage, frag),
+                ],
+            });
+            let separable_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("sss separable"),
+                    entries: &[
+                        buffer_entry(0, wgpu::BufferBindingType::Uniform, frag),
+                        texture_entry(1),
+                        texture_entry(2),
+                        buffer_entry(3, storage, frag),
+                    ],
+                });
+            let composite_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("composite"),
+                    entries: &[
+                        buffer_entry(0, wgpu::BufferBindingType::Uniform, frag),
+                        texture_entry(1),
+                        texture_entry(2),
+                        texture_entry(3),
+                    ],
+                });
+            let scene_pipeline = scene_pipeline(device, &module("scene"), &scene_layout);
+            let burley_pipeline = fullscreen_pipeline(
+                device,
+                &module("sss_burley"),
+                "fs_burley",
+                &burley_layout,
+                HDR,
+            );
+            let separable_pipeline = fullscreen_pipeline(
+                device,
+                &module("sss_separable"),
+                "fs_separable",
+                &separable_layout,
+                HDR,
+            );
+            let composite_pipeline = fullscreen_pipeline(
+                device,
+                &module("composite"),
+                "fs_composite",
+                &composite_layout,
+                OUTPUT,
+            );
+            (
+                scene_layout,
+                scene_pipeline,
+                burley_layout,
+                burley_pipeline,
+                separable_layout,
+                separable_pipeline,
+                composite_layout,
+                composite_pipeline,
+            )
+        })?;
+        let (
+            scene_layout,
+            scene_pipeline,
+            burley_layout,
+            burley_pipeline,
+            separable_layout,
+            separable_pipeline,
+            composite_layout,
+            composite_pipeline,
+        ) = built;
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("vertices"),
+            contents: bytemuck::cast_slice(&mesh.vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("indices"),
+            contents: bytemuck::cast_slice(&mesh.indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        let (lo, hi) = mesh.bounds();
+        Ok(Self {
+            vertex_buffer,
+            index_buffer,
+            index_count: mesh.indices.len() as u32,
+            mesh_centre: Vec3::new(
+                0.5 * (lo.x + hi.x),
+                lo.y + 0.62 * (hi.y - lo.y),
+                0.5 * (lo.z + hi.z),
+            ),
+            metres_per_unit: mesh.metres_per_unit,
+            scene_layout,
+            scene_pipeline,
+            burley_layout,
+            burley_pipeline,
+            separable_layout,
+            separable_pipeline,
+            composite_layout,
+            composite_pipeline,
+            targets: None,
+            ctx,
+        })
+    }
+
+    pub fn adapter_name(&self) -> String {
+        format!(
+            "{} ({:?})",
+            self.ctx.adapter_info.name, self.ctx.adapter_info.backend
+        )
+    }
+
+    fn ensure_targets(&mut self, w: u32, h: u32) {
+        if self.targets.as_ref().is_some_and(|t| t.size == (w, h)) {
+            return;
+        }
+        let device = &self.ctx.device;
+        let make = |label, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let view = |t: wgpu::Texture| t.create_view(&Default::default());
+        let output = make(
+            "output",
+            OUTPUT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        self.targets = Some(Targets {
+            size: (w, h),
+            diffuse: view(make("diffuse", HDR, rt)),
+            specular: view(make("specular", HDR, rt)),
+            albedo_depth: view(make("albedo+depth", DEPTH_CHANNEL, rt)),
+            depth: view(make(
+                "depth",
+                wgpu::TextureFormat::Depth32Float,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )),
+            ping: view(make("sss ping", HDR, rt)),
+            pong: view(make("sss pong", HDR, rt)),
+            output,
+        });
+    }
+
+    /// Renders one frame and reads it back as 8-bit sRGB RGBA.
+    pub fn render(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+    ) -> Result<(image::RgbaImage, FrameStats), GpuError> {
+        self.ensure_targets(s.width, s.height);
+        let Some(t) = self.targets.as_ref() else {
+            return Err(GpuError::Readback("no targets".into()));
+        };
+        let ctx = &self.ctx;
+        let device = &ctx.device;
+        let aspect = s.width as f32 / s.height as f32;
+        let dist = s.camera_distance_m / self.metres_per_unit;
+        let eye = self.mesh_centre
+            + dist
+                * Vec3::new(
+                    s.camera_yaw.sin() * s.camera_pitch.cos(),
+                    s.camera_pitch.sin(),
+                    s.camera_yaw.cos() * s.camera_pitch.cos(),
+                );
+        let view = Mat4::look_at_rh(eye, self.mesh_centre, Vec3::Y);
+        let proj = Mat4::perspective_rh(s.fov_y, aspect, 0.05 * dist, 10.0 * dist);
+        let light = Vec3::new(
+            s.light_azimuth.sin() * s.light_elevation.cos(),
+            s.light_elevation.sin(),
+            s.light_azimuth.cos() * s.light_elevation.cos(),
+        );
+        let pre = match s.texturing {
+            TexturingMode::PostScatter => 0.0,
+            TexturingMode::PreAndPostScatter => 0.5,
+        };
+        let scene_u = SceneUniforms {
+            clip_from_world: (proj * view).to_cols_array_2d(),
+            view_from_world: view.to_cols_array_2d(),
+            camera_position: eye.extend(1.0).into(),
+            light_direction: light.extend(0.0).into(),
+            light_radiance: [s.light_intensity; 4],
+            sky_radiance: [0.045, 0.05, 0.06, 0.0],
+            ground_radiance: [0.02, 0.018, 0.016, 0.0],
+            skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
+            params: [pre, 0.45, 0.028, 0.0],
+        };
+        let uniform = |label, bytes: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let storage = |label, bytes: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let scene_buf = uniform("scene uniforms", bytemuck::bytes_of(&scene_u));
+        let scene_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &self.scene_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: scene_buf.as_entire_binding(),
+            }],
+        });
+        let sss_u = |n: f32, dir: [f32; 2]| SssUniforms {
+            size: [
+                s.width as f32,
+                s.height as f32,
+                1.0 / s.width as f32,
+                1.0 / s.height as f32,
+            ],
+            projection: [
+                s.height as f32 / (2.0 * (0.5 * s.fov_y).tan()),
+                self.metres_per_unit * 1000.0,
+                0.0,
+                0.0,
+            ],
+            params: [
+                n,
+                if s.deterministic { 1.0 } else { 0.0 },
+                inputs.lut_radius_mm,
+                LUT_SIZE as f32,
+            ],
+            direction: [dir[0], dir[1], 0.5, 0.0],
+        };
+        let mut passes = vec!["scene"];
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        {
+            fn color(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    resolve_target: None,
+                    depth_slice: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            }
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &[
+                    color(&t.diffuse),
+                    color(&t.specular),
+                    color(&t.albedo_depth),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_pipeline(&self.scene_pipeline);
+            pass.set_bind_group(0, &scene_bg, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..self.index_count, 0, 0..1);
+        }
+        fn tex(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            }
+        }
+        let mut scattered = &t.diffuse;
+        let mut samples_per_pixel = 0;
+        let fullscreen = |encoder: &mut wgpu::CommandEncoder,
+                          target: &wgpu::TextureView,
+                          pipeline: &wgpu::RenderPipeline,
+                          bg: &wgpu::BindGroup,
+                          label| {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: target,
+                    resolve_target: None,
+                    depth_slice: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bg, &[]);
+            pass.draw(0..3, 0..1);
+        };
+        // Buffers must outlive the encoder's submission.
+        let mut keep = Vec::new();
+        match s.method {
+            Method::None => {}
+            Method::Burley => {
+                let u = uniform(
+                    "sss uniforms",
+                    bytemuck::bytes_of(&sss_u(inputs.samples.len() as f32, [0.0, 0.0])),
+                );
+                let smp = storage("samples", bytemuck::cast_slice(&inputs.samples));
+                let lut = storage("profile lut", bytemuck::cast_slice(&inputs.lut));
+                let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("burley"),
+                    layout: &self.burley_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: u.as_entire_binding(),
+                        },
+                        tex(1, &t.diffuse),
+                        tex(2, &t.albedo_depth),
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: smp.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: lut.as_entire_binding(),
+                        },
+                    ],
+                });
+                fullscreen(
+                    &mut encoder,
+                    &t.ping,
+                    &self.burley_pipeline,
+                    &bg,
+                    "sss burley",
+                );
+                keep.extend([u, smp, lut]);
+                scattered = &t.ping;
+                samples_per_pixel = inputs.samples.len() as u32;
+                passes.push("sss burley");
+            }
+            Method::Separable => {
+                let taps = storage("taps", bytemuck::cast_slice(&inputs.taps));
+                let n = inputs.taps.len() as f32;
+                for (dir, src, dst, label) in [
+                    ([1.0, 0.0], &t.diffuse, &t.ping, "sss separable x"),
+                    ([0.0, 1.0], &t.ping, &t.pong, "sss separable y"),
+                ] {
+                    let u = uniform("sss uniforms", bytemuck::bytes_of(&sss_u(n, dir)));
+                    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some(label),
+                        layout: &self.separable_layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: u.as_entire_binding(),
+                            },
+                            tex(1, src),
+                            tex(2, &t.albedo_depth),
+                            wgpu::BindGroupEntry {
+                                binding: 3,
+                                resource: taps.as_entire_binding(),
+                            },
+                        ],
+                    });
+                    fullscreen(&mut encoder, dst, &self.separable_pipeline, &bg, label);
+                    keep.push(u);
+                    passes.push(label);
+                }
+                keep.push(taps);
+                scattered = &t.pong;
+                samples_per_pixel = 2 * inputs.taps.len() as u32;
+            }
+        }
+        let cu = uniform(
+            "composite uniforms",
+            bytemuck::bytes_of(&CompositeUniforms {
+                exposure: [s.exposure, 0.0, 0.0, 0.0],
+            }),
+        );
+        let output_view = t.output.create_view(&Default::default());
+        let cbg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("composite"),
+            layout: &self.composite_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: cu.as_entire_binding(),
+                },
+                tex(1, scattered),
+                tex(2, &t.specular),
+                tex(3, &t.albedo_depth),
+            ],
+        });
+        fullscreen(
+            &mut encoder,
+            &output_view,
+            &self.composite_pipeline,
+            &cbg,
+            "composite",
+        );
+        passes.push("composite");
+        let image = ctx.checked("frame", || {
+            readback(ctx, &t.output, s.width, s.height, encoder)
+        })??;
+        drop(keep);
+        let stats = FrameStats {
+            method: s.method.id(),
+            passes,
+            samples_per_sss_pixel: samples_per_pixel,
+            width: s.width,
+            height: s.height,
+            adapter: self.adapter_name(),
+        };
+        Ok((image, stats))
+    }
+}
+
+fn readback(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    w: u32,
+    h: u32,
+    mut encoder: wgpu::CommandEncoder,
+) -> Result<image::RgbaImage, GpuError> {
+    let row = (4 * w).div_ceil(256) * 256;
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: (row * h) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([encoder.finish()]);
+    let slice = buffer.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let data = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let mut pixels = Vec::with_capacity((4 * w * h) as usize);
+    for y in 0..h as usize {
+        pixels.extend_from_slice(&data[y * row as usize..y * row as usize + 4 * w as usize]);
+    }
+    drop(data);
+    buffer.unmap();
+    image::RgbaImage::from_raw(w, h, pixels)
+        .ok_or_else(|| GpuError::Readback("size mismatch".into()))
+}
+
+fn scene_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("scene"),
+        bind_group_layouts: &[Some(layout)],
+        ..Default::default()
+    });
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("scene"),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<super::gpu_types::Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32],
+            })],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[target(HDR), target(HDR), target(DEPTH_CHANNEL)],
+        }),
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &'static str,
+    layout: &wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(entry),
+        bind_group_layouts: &[Some(layout)],
+        ..Default::default()
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(entry),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}

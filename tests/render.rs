@@ -1,0 +1,180 @@
+//! GPU tests on whatever adapter is present (lavapipe in CI; they are not
+//! skipped there). Images are compared with a tolerance; on failure the
+//! actual image and a difference image go to target/test-output/.
+#![allow(clippy::unwrap_used)]
+
+use image::RgbaImage;
+use scatterlab::model::RadialProfile;
+use scatterlab::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
+use scatterlab::settings::Preset;
+use std::path::PathBuf;
+
+fn renderer() -> Renderer {
+    let ctx = GpuContext::new_headless()
+        .expect("a GPU adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
+    Renderer::new(ctx, &Mesh::default_head().unwrap()).unwrap()
+}
+
+fn inputs() -> ProfileInputs {
+    let p = Preset::default_skin().build_profile().unwrap();
+    ProfileInputs::new(p.as_ref(), 21, 17).unwrap()
+}
+
+fn srgb_to_linear(v: u8) -> f64 {
+    let c = v as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn out_dir() -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// RMSE over RGB in [0, 1]; on failure writes actual and |a − b|×8 images.
+fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, tolerance: f64) {
+    let bless = std::env::var_os("SCATTERLAB_BLESS").is_some();
+    if bless || !golden_path.exists() {
+        actual.save(golden_path).unwrap();
+        if !bless {
+            panic!(
+                "{}: no golden image; wrote one from this run — inspect it and commit",
+                golden_path.display()
+            );
+        }
+        return;
+    }
+    let golden = image::open(golden_path).unwrap().to_rgba8();
+    assert_eq!(golden.dimensions(), actual.dimensions());
+    let mut se = 0.0;
+    let mut diff = RgbaImage::new(actual.width(), actual.height());
+    for (x, y, p) in actual.enumerate_pixels() {
+        let g = golden.get_pixel(x, y);
+        let mut d = [0u8; 4];
+        for c in 0..3 {
+            let e = (p[c] as f64 - g[c] as f64) / 255.0;
+            se += e * e;
+            d[c] = ((e.abs() * 8.0).min(1.0) * 255.0) as u8;
+        }
+        d[3] = 255;
+        diff.put_pixel(x, y, image::Rgba(d));
+    }
+    let rmse = (se / (3.0 * (actual.width() * actual.height()) as f64)).sqrt();
+    if rmse > tolerance {
+        actual
+            .save(out_dir().join(format!("{name}-actual.png")))
+            .unwrap();
+        diff.save(out_dir().join(format!("{name}-diff.png")))
+            .unwrap();
+        panic!("{name}: RMSE {rmse:.5} > {tolerance} (actual and diff in target/test-output)");
+    }
+}
+
+#[test]
+fn golden_head_renders_match() {
+    let mut r = renderer();
+    let inp = inputs();
+    for (method, name) in [
+        (Method::None, "head_none"),
+        (Method::Burley, "head_burley"),
+        (Method::Separable, "head_separable"),
+    ] {
+        let s = RenderSettings {
+            width: 160,
+            height: 160,
+            method,
+            deterministic: true,
+            ..Default::default()
+        };
+        let (img, stats) = r.render(&inp, &s).unwrap();
+        assert_eq!(stats.method, method.id());
+        let golden =
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/golden/{name}_160.png"));
+        compare(name, &img, &golden, 0.01);
+    }
+}
+
+/// Subsurface scattering redistributes light; it does not create or destroy
+/// it. The mean linear radiance over the face changes by only a few per cent
+/// while individual pixels change visibly.
+#[test]
+fn burley_conserves_energy_and_blurs() {
+    let mut r = renderer();
+    let inp = inputs();
+    let base = RenderSettings {
+        width: 192,
+        height: 192,
+        deterministic: true,
+        light_intensity: 2.0,
+        ..Default::default()
+    };
+    let (none, _) = r
+        .render(
+            &inp,
+            &RenderSettings {
+                method: Method::None,
+                ..base.clone()
+            },
+        )
+        .unwrap();
+    let (burley, stats) = r
+        .render(
+            &inp,
+            &RenderSettings {
+                method: Method::Burley,
+                ..base
+            },
+        )
+        .unwrap();
+    assert_eq!(stats.passes, vec!["scene", "sss burley", "composite"]);
+    let bg = *none.get_pixel(0, 0);
+    let (mut a, mut b, mut n, mut changed) = (0.0, 0.0, 0usize, 0usize);
+    for (x, y, p) in none.enumerate_pixels() {
+        if *p == bg {
+            continue;
+        }
+        let q = burley.get_pixel(x, y);
+        a += (0..3).map(|c| srgb_to_linear(p[c])).sum::<f64>();
+        b += (0..3).map(|c| srgb_to_linear(q[c])).sum::<f64>();
+        n += 1;
+        if (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 2) {
+            changed += 1;
+        }
+    }
+    assert!(n > 5000, "{n} face pixels");
+    assert!((a - b).abs() / a < 0.05, "mean radiance {a} vs {b}");
+    assert!(changed > n / 50, "only {changed} of {n} pixels changed");
+}
+
+/// The profile's own energy: R integrates to its total in the LUT the shader reads.
+#[test]
+fn profile_lut_holds_the_normalised_profile() {
+    let p = Preset::default_skin().build_profile().unwrap();
+    let inp = ProfileInputs::new(p.as_ref(), 21, 17).unwrap();
+    // ∫2π r·R_N(r) dr over the LUT's radius range ≈ 0.999 (it ends at the 0.999 radius).
+    let n = inp.lut.len();
+    for c in 0..3 {
+        let mut acc = 0.0;
+        for i in 0..n - 1 {
+            let (t0, t1) = (i as f64 / (n - 1) as f64, (i + 1) as f64 / (n - 1) as f64);
+            let (r0, r1) = (
+                inp.lut_radius_mm as f64 * t0 * t0,
+                inp.lut_radius_mm as f64 * t1 * t1,
+            );
+            acc += 0.5
+                * (r1 - r0)
+                * 2.0
+                * std::f64::consts::PI
+                * (inp.lut[i][c] as f64 + inp.lut[i + 1][c] as f64);
+        }
+        let expected = p.cdf(inp.lut_radius_mm as f64)[c];
+        assert!(
+            (acc - expected).abs() < 5e-3,
+            "channel {c}: {acc} vs {expected}"
+        );
+    }
+}
