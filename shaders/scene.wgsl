@@ -15,9 +15,37 @@ struct SceneUniforms {
     ground_radiance: vec4<f32>,   // rgb: ambient from below
     skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
     params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness, z: F0
+    light_clip_from_world: mat4x4<f32>,
+    shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
+@group(0) @binding(1) var shadow_map: texture_depth_2d;
+@group(0) @binding(2) var shadow_sampler: sampler_comparison;
+
+// 5×5 PCF on the light's orthographic depth map.
+fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
+    let p = u.light_clip_from_world * vec4<f32>(world + n * u.shadow.z, 1.0);
+    let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
+    if (uv.x <= 0.0 || uv.x >= 1.0 || uv.y <= 0.0 || uv.y >= 1.0) {
+        return 1.0;
+    }
+    let depth = p.z - u.shadow.y;
+    var lit = 0.0;
+    for (var y = -2; y <= 2; y = y + 1) {
+        for (var x = -2; x <= 2; x = x + 1) {
+            let o = vec2<f32>(f32(x), f32(y)) * u.shadow.x;
+            lit = lit + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, depth);
+        }
+    }
+    return lit / 25.0;
+}
+
+// Depth-only vertex shader for the shadow pass.
+@vertex
+fn vs_shadow(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
+    return u.light_clip_from_world * vec4<f32>(position, 1.0);
+}
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -85,13 +113,14 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         mask = 0.0;
     }
     // Irradiance/π: directional light plus a sky/ground hemisphere.
-    let nl = max(dot(n, l), 0.0);
+    let shadow = shadow_factor(i.world, normalize(i.normal));
+    let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
     let irradiance = u.light_radiance.rgb * nl / PI + hemi;
     let pre = select(0.0, u.params.x, mask > 0.0);
     var o: TargetsOut;
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
-    o.specular = vec4<f32>(u.light_radiance.rgb * ggx(n, v, l, u.params.y, u.params.z), 1.0);
+    o.specular = vec4<f32>(u.light_radiance.rgb * ggx(n, v, l, u.params.y, u.params.z) * shadow, 1.0);
     o.albedo_depth = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), i.view_depth);
     return o;
 }

@@ -144,7 +144,7 @@ pub fn check_taps(taps: usize) -> Result<usize, ModelError> {
         TAPS_RANGE.1 as f64,
         "",
     )?;
-    if taps % 2 == 0 {
+    if taps.is_multiple_of(2) {
         return Err(ModelError::invalid(
             "taps",
             format!("must be odd so that offset 0 is a tap (got {taps})"),

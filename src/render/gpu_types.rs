@@ -17,8 +17,11 @@ pub struct SceneUniforms {
     pub skin_albedo: [f32; 4],
     /// x: pre-scatter exponent, y: roughness, z: F0.
     pub params: [f32; 4],
+    pub light_clip_from_world: [[f32; 4]; 4],
+    /// x: 1/shadow map size, y: depth bias, z: normal offset (world units).
+    pub shadow: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 2 * 64 + 7 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 8 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

@@ -70,10 +70,10 @@ impl Default for RenderSettings {
             camera_pitch: 0.05,
             camera_distance_m: 0.55,
             fov_y: 30f32.to_radians(),
-            light_azimuth: 0.9,
+            light_azimuth: 1.25,
             light_elevation: 0.35,
-            light_intensity: 4.0,
-            skin_albedo: [0.62, 0.40, 0.32],
+            light_intensity: 3.2,
+            skin_albedo: [0.56, 0.33, 0.25],
             exposure: 1.0,
             deterministic: false,
         }
@@ -171,6 +171,7 @@ pub struct FrameStats {
     pub adapter: String,
 }
 
+const SHADOW_SIZE: u32 = 1024;
 const HDR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 const DEPTH_CHANNEL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const OUTPUT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -196,6 +197,11 @@ pub struct Renderer {
     metres_per_unit: f32,
     scene_layout: wgpu::BindGroupLayout,
     scene_pipeline: wgpu::RenderPipeline,
+    shadow_layout: wgpu::BindGroupLayout,
+    shadow_pipeline: wgpu::RenderPipeline,
+    shadow_map: wgpu::TextureView,
+    shadow_sampler: wgpu::Sampler,
+    mesh_radius: f32,
     burley_layout: wgpu::BindGroupLayout,
     burley_pipeline: wgpu::RenderPipeline,
     separable_layout: wgpu::BindGroupLayout,
@@ -278,13 +284,36 @@ impl Renderer {
             })
         };
         let built = ctx.checked("pipeline creation", || {
+            let uniform0 = buffer_entry(
+                0,
+                wgpu::BufferBindingType::Uniform,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+            );
             let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("scene"),
-                entries: &[buffer_entry(
-                    0,
-                    wgpu::BufferBindingType::Uniform,
-                    wgpu::ShaderStages::VERTEX_FRAGMENT,
-                )],
+                entries: &[
+                    uniform0,
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Depth,
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 2,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                        count: None,
+                    },
+                ],
+            });
+            let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("shadow"),
+                entries: &[uniform0],
             });
             let storage = wgpu::BufferBindingType::Storage { read_only: true };
             let frag = wgpu::ShaderStages::FRAGMENT;
@@ -318,7 +347,9 @@ impl Renderer {
                         texture_entry(3),
                     ],
                 });
-            let scene_pipeline = scene_pipeline(device, &module("scene"), &scene_layout);
+            let scene_module = module("scene");
+            let scene_pipeline = scene_pipeline(device, &scene_module, &scene_layout);
+            let shadow_pipeline = shadow_pipeline(device, &scene_module, &shadow_layout);
             let burley_pipeline = fullscreen_pipeline(
                 device,
                 &module("sss_burley"),
@@ -340,27 +371,61 @@ impl Renderer {
                 &composite_layout,
                 OUTPUT,
             );
+            let pipelines = (
+                scene_pipeline,
+                shadow_pipeline,
+                burley_pipeline,
+                separable_pipeline,
+                composite_pipeline,
+            );
             (
                 scene_layout,
-                scene_pipeline,
+                shadow_layout,
                 burley_layout,
-                burley_pipeline,
                 separable_layout,
-                separable_pipeline,
                 composite_layout,
-                composite_pipeline,
+                pipelines,
             )
         })?;
         let (
             scene_layout,
-            scene_pipeline,
+            shadow_layout,
             burley_layout,
-            burley_pipeline,
             separable_layout,
-            separable_pipeline,
             composite_layout,
-            composite_pipeline,
+            pipelines,
         ) = built;
+        let (
+            scene_pipeline,
+            shadow_pipeline,
+            burley_pipeline,
+            separable_pipeline,
+            composite_pipeline,
+        ) = pipelines;
+        let shadow_map = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("shadow map"),
+                size: wgpu::Extent3d {
+                    width: SHADOW_SIZE,
+                    height: SHADOW_SIZE,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Depth32Float,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow pcf"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("vertices"),
             contents: bytemuck::cast_slice(&mesh.vertices),
@@ -381,6 +446,11 @@ impl Renderer {
                 lo.y + 0.62 * (hi.y - lo.y),
                 0.5 * (lo.z + hi.z),
             ),
+            mesh_radius: 0.5 * (hi - lo).length(),
+            shadow_layout,
+            shadow_pipeline,
+            shadow_map,
+            shadow_sampler,
             metres_per_unit: mesh.metres_per_unit,
             scene_layout,
             scene_pipeline,
@@ -474,6 +544,18 @@ impl Renderer {
             s.light_elevation.sin(),
             s.light_azimuth.cos() * s.light_elevation.cos(),
         );
+        // Orthographic light view around the mesh's bounding sphere.
+        let rad = self.mesh_radius;
+        let light_view = Mat4::look_at_rh(
+            self.mesh_centre + light * 2.0 * rad,
+            self.mesh_centre,
+            if light.y.abs() > 0.99 {
+                Vec3::Z
+            } else {
+                Vec3::Y
+            },
+        );
+        let light_proj = Mat4::orthographic_rh(-rad, rad, -rad, rad, 0.01 * rad, 4.0 * rad);
         let pre = match s.texturing {
             TexturingMode::PostScatter => 0.0,
             TexturingMode::PreAndPostScatter => 0.5,
@@ -488,6 +570,14 @@ impl Renderer {
             ground_radiance: [0.02, 0.018, 0.016, 0.0],
             skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
             params: [pre, 0.45, 0.028, 0.0],
+            light_clip_from_world: (light_proj * light_view).to_cols_array_2d(),
+            // Bias: a texel of depth slope; normal offset: one shadow texel in world units.
+            shadow: [
+                1.0 / SHADOW_SIZE as f32,
+                2.0 / SHADOW_SIZE as f32,
+                2.0 * rad / SHADOW_SIZE as f32,
+                0.0,
+            ],
         };
         let uniform = |label, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -507,6 +597,24 @@ impl Renderer {
         let scene_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
             layout: &self.scene_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: scene_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&self.shadow_map),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.shadow_sampler),
+                },
+            ],
+        });
+        let shadow_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow"),
+            layout: &self.shadow_layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: scene_buf.as_entire_binding(),
@@ -533,10 +641,30 @@ impl Renderer {
             ],
             direction: [dir[0], dir[1], 0.5, 0.0],
         };
-        let mut passes = vec!["scene"];
+        let mut passes = vec!["shadow", "scene"];
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
         });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.shadow_map,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &shadow_bg, &[]);
+            pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+            pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..self.index_count, 0, 0..1);
+        }
         {
             fn color(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
                 Some(wgpu::RenderPassColorAttachment {
@@ -825,6 +953,51 @@ fn scene_pipeline(
             depth_compare: Some(wgpu::CompareFunction::Less),
             stencil: Default::default(),
             bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn shadow_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("shadow"),
+        bind_group_layouts: &[Some(layout)],
+        ..Default::default()
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("shadow"),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_shadow"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<super::gpu_types::Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+            })],
+        },
+        fragment: None,
+        primitive: wgpu::PrimitiveState {
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState {
+                constant: 2,
+                slope_scale: 2.0,
+                clamp: 0.0,
+            },
         }),
         multisample: Default::default(),
         multiview_mask: None,
