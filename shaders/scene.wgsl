@@ -17,6 +17,7 @@ struct SceneUniforms {
     params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness, z: F0
     light_clip_from_world: mat4x4<f32>,
     shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
+    pattern: vec4<f32>,           // x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units)
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
@@ -116,7 +117,14 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let shadow = shadow_factor(i.world, normalize(i.normal));
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
-    let irradiance = u.light_radiance.rgb * nl / PI + hemi;
+    var irradiance = u.light_radiance.rgb * nl / PI + hemi;
+    // Test patterns (issue 5's plane scenes): flat irradiance of light_radiance/π.
+    if (u.pattern.x > 0.5 && u.pattern.x < 1.5) {
+        irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, i.world.x > 0.0);
+    } else if (u.pattern.x > 1.5) {
+        let cell = floor(i.world.xy / u.pattern.y);
+        irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, (i32(cell.x) + i32(cell.y)) % 2 == 0);
+    }
     let pre = select(0.0, u.params.x, mask > 0.0);
     var o: TargetsOut;
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);

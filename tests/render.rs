@@ -129,7 +129,10 @@ fn burley_conserves_energy_and_blurs() {
             },
         )
         .unwrap();
-    assert_eq!(stats.passes, vec!["shadow", "scene", "sss burley", "composite"]);
+    assert_eq!(
+        stats.passes,
+        vec!["shadow", "scene", "sss burley", "composite"]
+    );
     let bg = *none.get_pixel(0, 0);
     let (mut a, mut b, mut n, mut changed) = (0.0, 0.0, 0usize, 0usize);
     for (x, y, p) in none.enumerate_pixels() {

@@ -20,8 +20,10 @@ pub struct SceneUniforms {
     pub light_clip_from_world: [[f32; 4]; 4],
     /// x: 1/shadow map size, y: depth bias, z: normal offset (world units).
     pub shadow: [f32; 4],
+    /// x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units).
+    pub pattern: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 8 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 9 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

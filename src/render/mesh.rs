@@ -15,6 +15,8 @@ pub struct Mesh {
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
     pub metres_per_unit: f32,
+    /// Where the camera looks (mesh units).
+    pub focus: [f32; 3],
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -64,6 +66,7 @@ impl Mesh {
             vertices: Vec::new(),
             indices: Vec::new(),
             metres_per_unit,
+            focus: [0.0; 3],
         };
         for m in &models {
             let material = match m.name.as_str() {
@@ -95,7 +98,36 @@ impl Mesh {
             });
         }
         mesh.compute_smooth_normals();
+        // Look at eye height: 62 % up the bounding box (the face of a head).
+        let (lo, hi) = mesh.bounds();
+        mesh.focus = [
+            0.5 * (lo.x + hi.x),
+            lo.y + 0.62 * (hi.y - lo.y),
+            0.5 * (lo.z + hi.z),
+        ];
         Ok(mesh)
+    }
+
+    /// A square of side `size` (units) in the z = 0 plane facing +z, all skin.
+    pub fn plane(size: f32, metres_per_unit: f32) -> Self {
+        let h = 0.5 * size;
+        let v = |x: f32, y: f32, u: f32, w: f32| Vertex {
+            position: [x, y, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            uv: [u, w],
+            material: 0.0,
+        };
+        Mesh {
+            vertices: vec![
+                v(-h, -h, 0.0, 0.0),
+                v(h, -h, 1.0, 0.0),
+                v(h, h, 1.0, 1.0),
+                v(-h, h, 0.0, 1.0),
+            ],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            metres_per_unit,
+            focus: [0.0; 3],
+        }
     }
 
     /// Area-weighted vertex normals, merged across UV seams by position.

@@ -8,4 +8,6 @@ pub mod renderer;
 
 pub use context::{GpuContext, GpuError};
 pub use mesh::Mesh;
-pub use renderer::{FrameStats, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode};
+pub use renderer::{
+    FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode,
+};

@@ -57,6 +57,17 @@ pub struct RenderSettings {
     pub exposure: f32,
     /// Turns off per-pixel random rotation (for tests).
     pub deterministic: bool,
+    /// Lighting, or a flat irradiance test pattern.
+    pub pattern: IrradiancePattern,
+}
+
+/// Irradiance for test scenes: lit normally, a step at world x = 0, or a
+/// checkerboard, each of irradiance light_intensity (flat, unshaded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum IrradiancePattern {
+    Lit,
+    Step,
+    Checkerboard { period_mm: f32 },
 }
 
 impl Default for RenderSettings {
@@ -76,6 +87,7 @@ impl Default for RenderSettings {
             skin_albedo: [0.56, 0.33, 0.25],
             exposure: 1.0,
             deterministic: false,
+            pattern: IrradiancePattern::Lit,
         }
     }
 }
@@ -185,6 +197,10 @@ struct Targets {
     ping: wgpu::TextureView,
     pong: wgpu::TextureView,
     output: wgpu::Texture,
+    /// The textures behind `diffuse`, `ping` and `pong` (for HDR readback).
+    diffuse_tex: wgpu::Texture,
+    ping_tex: wgpu::Texture,
+    pong_tex: wgpu::Texture,
 }
 
 /// Owns the device, the mesh and the pipelines.
@@ -441,11 +457,7 @@ impl Renderer {
             vertex_buffer,
             index_buffer,
             index_count: mesh.indices.len() as u32,
-            mesh_centre: Vec3::new(
-                0.5 * (lo.x + hi.x),
-                lo.y + 0.62 * (hi.y - lo.y),
-                0.5 * (lo.z + hi.z),
-            ),
+            mesh_centre: Vec3::from(mesh.focus),
             mesh_radius: 0.5 * (hi - lo).length(),
             shadow_layout,
             shadow_pipeline,
@@ -495,6 +507,10 @@ impl Renderer {
         };
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |t: wgpu::Texture| t.create_view(&Default::default());
+        let hdr_rt = rt | wgpu::TextureUsages::COPY_SRC;
+        let diffuse_tex = make("diffuse", HDR, hdr_rt);
+        let ping_tex = make("sss ping", HDR, hdr_rt);
+        let pong_tex = make("sss pong", HDR, hdr_rt);
         let output = make(
             "output",
             OUTPUT,
@@ -502,7 +518,7 @@ impl Renderer {
         );
         self.targets = Some(Targets {
             size: (w, h),
-            diffuse: view(make("diffuse", HDR, rt)),
+            diffuse: diffuse_tex.create_view(&Default::default()),
             specular: view(make("specular", HDR, rt)),
             albedo_depth: view(make("albedo+depth", DEPTH_CHANNEL, rt)),
             depth: view(make(
@@ -510,9 +526,12 @@ impl Renderer {
                 wgpu::TextureFormat::Depth32Float,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             )),
-            ping: view(make("sss ping", HDR, rt)),
-            pong: view(make("sss pong", HDR, rt)),
+            ping: ping_tex.create_view(&Default::default()),
+            pong: pong_tex.create_view(&Default::default()),
             output,
+            diffuse_tex,
+            ping_tex,
+            pong_tex,
         });
     }
 
@@ -522,6 +541,26 @@ impl Renderer {
         inputs: &ProfileInputs,
         s: &RenderSettings,
     ) -> Result<(image::RgbaImage, FrameStats), GpuError> {
+        self.render_inner(inputs, s, false)
+            .map(|(img, _, st)| (img, st))
+    }
+
+    /// As [`Renderer::render`], also reading back the scattered diffuse
+    /// irradiance (linear HDR, before albedo and tonemapping), row-major RGBA.
+    pub fn render_with_diffuse(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+    ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
+        self.render_inner(inputs, s, true)
+    }
+
+    fn render_inner(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+        want_diffuse: bool,
+    ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
         self.ensure_targets(s.width, s.height);
         let Some(t) = self.targets.as_ref() else {
             return Err(GpuError::Readback("no targets".into()));
@@ -578,6 +617,13 @@ impl Renderer {
                 2.0 * rad / SHADOW_SIZE as f32,
                 0.0,
             ],
+            pattern: match s.pattern {
+                IrradiancePattern::Lit => [0.0; 4],
+                IrradiancePattern::Step => [1.0, 0.0, 0.0, 0.0],
+                IrradiancePattern::Checkerboard { period_mm } => {
+                    [2.0, period_mm / (1000.0 * self.metres_per_unit), 0.0, 0.0]
+                }
+            },
         };
         let uniform = |label, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -707,6 +753,7 @@ impl Renderer {
             }
         }
         let mut scattered = &t.diffuse;
+        let mut scattered_tex = &t.diffuse_tex;
         let mut samples_per_pixel = 0;
         let fullscreen = |encoder: &mut wgpu::CommandEncoder,
                           target: &wgpu::TextureView,
@@ -770,6 +817,7 @@ impl Renderer {
                 );
                 keep.extend([u, smp, lut]);
                 scattered = &t.ping;
+                scattered_tex = &t.ping_tex;
                 samples_per_pixel = inputs.samples.len() as u32;
                 passes.push("sss burley");
             }
@@ -803,6 +851,7 @@ impl Renderer {
                 }
                 keep.push(taps);
                 scattered = &t.pong;
+                scattered_tex = &t.pong_tex;
                 samples_per_pixel = 2 * inputs.taps.len() as u32;
             }
         }
@@ -834,9 +883,28 @@ impl Renderer {
             "composite",
         );
         passes.push("composite");
-        let image = ctx.checked("frame", || {
-            readback(ctx, &t.output, s.width, s.height, encoder)
+        let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(&t.output, 4)];
+        if want_diffuse {
+            wanted.push((scattered_tex, 8));
+        }
+        let mut bytes = ctx.checked("frame", || {
+            readback(ctx, encoder, &wanted, s.width, s.height)
         })??;
+        let diffuse = if want_diffuse {
+            bytes
+                .pop()
+                .unwrap_or_default()
+                .chunks_exact(8)
+                .map(|px| {
+                    [0, 1, 2, 3]
+                        .map(|k| half_to_f32(u16::from_le_bytes([px[2 * k], px[2 * k + 1]])))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let image = image::RgbaImage::from_raw(s.width, s.height, bytes.swap_remove(0))
+            .ok_or_else(|| GpuError::Readback("size mismatch".into()))?;
         drop(keep);
         let stats = FrameStats {
             method: s.method.id(),
@@ -846,68 +914,104 @@ impl Renderer {
             height: s.height,
             adapter: self.adapter_name(),
         };
-        Ok((image, stats))
+        Ok((image, diffuse, stats))
     }
 }
 
+/// IEEE 754 binary16 → f32 (the HDR targets are Rgba16Float).
+pub fn half_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = ((h >> 10) & 0x1f) as i32;
+    let frac = (h & 0x3ff) as f32;
+    sign * match exp {
+        0 => frac * 2f32.powi(-24),
+        31 => {
+            if frac == 0.0 {
+                f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
+        e => (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+/// Copies each texture (with its bytes per pixel) into a buffer, submits
+/// the frame, waits, and returns tightly packed rows for each.
 fn readback(
     ctx: &GpuContext,
-    texture: &wgpu::Texture,
+    mut encoder: wgpu::CommandEncoder,
+    textures: &[(&wgpu::Texture, u32)],
     w: u32,
     h: u32,
-    mut encoder: wgpu::CommandEncoder,
-) -> Result<image::RgbaImage, GpuError> {
-    let row = (4 * w).div_ceil(256) * 256;
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: (row * h) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
+) -> Result<Vec<Vec<u8>>, GpuError> {
+    let err = |e: String| GpuError::Readback(e);
+    let buffers: Vec<(wgpu::Buffer, u32, u32)> = textures
+        .iter()
+        .map(|&(texture, bpp)| {
+            let row = (bpp * w).div_ceil(256) * 256;
+            let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: (row * h) as u64,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+            (buffer, row, bpp)
+        })
+        .collect();
     ctx.queue.submit([encoder.finish()]);
-    let slice = buffer.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
+    for (buffer, _, _) in &buffers {
+        let tx = tx.clone();
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+    }
     ctx.device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(e.to_string()))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let data = slice
-        .get_mapped_range()
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let mut pixels = Vec::with_capacity((4 * w * h) as usize);
-    for y in 0..h as usize {
-        pixels.extend_from_slice(&data[y * row as usize..y * row as usize + 4 * w as usize]);
+        .map_err(|e| err(e.to_string()))?;
+    for _ in &buffers {
+        rx.recv()
+            .map_err(|e| err(e.to_string()))?
+            .map_err(|e| err(e.to_string()))?;
     }
-    drop(data);
-    buffer.unmap();
-    image::RgbaImage::from_raw(w, h, pixels)
-        .ok_or_else(|| GpuError::Readback("size mismatch".into()))
+    let mut out = Vec::new();
+    for (buffer, row, bpp) in &buffers {
+        let data = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| err(e.to_string()))?;
+        let mut pixels = Vec::with_capacity((bpp * w * h) as usize);
+        for y in 0..h as usize {
+            let start = y * *row as usize;
+            pixels.extend_from_slice(&data[start..start + (bpp * w) as usize]);
+        }
+        drop(data);
+        buffer.unmap();
+        out.push(pixels);
+    }
+    Ok(out)
 }
 
 fn scene_pipeline(

@@ -1,0 +1,106 @@
+//! Physics of the screen-space passes against the profile core. A straight
+//! irradiance edge is additively separable, so the exact 2D convolution
+//! across it is the strip CDF Φ(x) of the profile (Jimenez 2015 §4); for
+//! Burley Φ is a closed form (Ki₁). The rendered, scattered irradiance
+//! across a step must follow it.
+#![allow(clippy::unwrap_used)]
+
+use scatterlab::model::burley::Burley;
+use scatterlab::model::RadialProfile;
+use scatterlab::render::{
+    GpuContext, IrradiancePattern, Mesh, Method, ProfileInputs, RenderSettings, Renderer,
+    TexturingMode,
+};
+
+const WIDTH: u32 = 256;
+/// Field of view and distance so that the image spans 24 mm at the plane.
+const SPAN_MM: f32 = 24.0;
+
+fn settings(method: Method) -> RenderSettings {
+    let fov = 30f32.to_radians();
+    RenderSettings {
+        width: WIDTH,
+        height: 64,
+        method,
+        texturing: TexturingMode::PostScatter,
+        camera_yaw: 0.0,
+        camera_pitch: 0.0,
+        // Height spans SPAN_MM·64/256 mm: distance = half height / tan(fov/2).
+        camera_distance_m: 0.5 * SPAN_MM * 64.0 / WIDTH as f32 / (0.5 * fov).tan() / 1000.0,
+        fov_y: fov,
+        light_intensity: std::f32::consts::PI,
+        deterministic: true,
+        pattern: IrradiancePattern::Step,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn burley_pass_follows_the_strip_cdf_across_an_edge() {
+    let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
+    let (_, diffuse, _) = r
+        .render_with_diffuse(&inputs, &settings(Method::Burley))
+        .unwrap();
+    let (_, flat, _) = r
+        .render_with_diffuse(&inputs, &settings(Method::None))
+        .unwrap();
+    let row = 32usize;
+    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
+    let mut worst = [0.0f64; 3];
+    for px in 0..WIDTH as usize {
+        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
+        let got = diffuse[row * WIDTH as usize + px];
+        let step = flat[row * WIDTH as usize + px];
+        // Without scattering the irradiance is the step itself.
+        assert!(
+            (step[0] as f64 - if x_mm > 0.0 { 1.0 } else { 0.0 }).abs() < 1e-3,
+            "x={x_mm}: {step:?}"
+        );
+        let expected = profile.strip_cdf(x_mm);
+        for c in 0..3 {
+            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
+        }
+    }
+    eprintln!("worst deviation per channel: {worst:?}");
+    // 144 golden-angle samples snapped to pixels: within 0.025 of the exact
+    // edge profile (measured 0.017, 0.011, 0.016 on lavapipe).
+    assert!(
+        worst.iter().all(|w| *w < 0.025),
+        "worst deviation per channel {worst:?}"
+    );
+}
+
+/// The separable method with the importance-sampled pre-integrated kernel
+/// is exact for a straight edge up to its tap discretisation: with 33 taps
+/// each step of the rendered edge is one tap's weight.
+#[test]
+fn separable_pass_follows_the_strip_cdf_across_an_edge() {
+    let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let inputs = ProfileInputs::new(&profile, 21, 33).unwrap();
+    let (_, diffuse, _) = r
+        .render_with_diffuse(&inputs, &settings(Method::Separable))
+        .unwrap();
+    let row = 32usize;
+    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
+    let mut worst = [0.0f64; 3];
+    for px in 0..WIDTH as usize {
+        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
+        let got = diffuse[row * WIDTH as usize + px];
+        let expected = profile.strip_cdf(x_mm);
+        for c in 0..3 {
+            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
+        }
+    }
+    eprintln!("separable worst deviation per channel: {worst:?}");
+    // A 33-tap kernel puts 1/33 ≈ 0.03 of the red energy in each tap
+    // (measured 0.016, 0.016, 0.025 on lavapipe).
+    assert!(
+        worst.iter().all(|w| *w < 0.04),
+        "worst deviation per channel {worst:?}"
+    );
+}
