@@ -4,6 +4,15 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // Mesa's Vulkan WSI probes Wayland and prints "XDG_RUNTIME_DIR is invalid"
+    // on headless machines; give it a private directory so a successful
+    // render prints no error lines.
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join("scatterlab-runtime");
+        if std::fs::create_dir_all(&dir).is_ok() {
+            std::env::set_var("XDG_RUNTIME_DIR", &dir);
+        }
+    }
     let cli = match scatterlab::cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -114,6 +114,7 @@ pub enum MethodArg {
     None,
     Burley,
     Separable,
+    Reference,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -598,6 +599,7 @@ fn render(
             MethodArg::None => Method::None,
             MethodArg::Burley => Method::Burley,
             MethodArg::Separable => Method::Separable,
+            MethodArg::Reference => Method::Reference,
         },
         deterministic,
         ..RenderSettings::default()

@@ -18,6 +18,9 @@ pub enum Method {
     Burley,
     /// Jimenez 2012 two-pass separable blur.
     Separable,
+    /// Brute-force convolution with the exact profile on a dense polar grid
+    /// (48 rings at the dominant channel's quantiles × 48 angles): ground truth.
+    Reference,
 }
 
 impl Method {
@@ -26,6 +29,7 @@ impl Method {
             Method::None => "none",
             Method::Burley => "burley",
             Method::Separable => "separable",
+            Method::Reference => "reference",
         }
     }
 }
@@ -97,6 +101,8 @@ impl Default for RenderSettings {
 #[derive(Debug, Clone)]
 pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
+    /// The dense stratified pattern of the `reference` method.
+    pub reference_samples: Vec<GpuSample>,
     pub lut: Vec<[f32; 4]>,
     pub lut_radius_mm: f32,
     pub taps: Vec<GpuTap>,
@@ -114,23 +120,39 @@ impl ProfileInputs {
         let pattern = SamplePattern::new(profile, samples, AngleSequence::GoldenAngle)?;
         let total = profile.total_reflectance();
         let dom = pattern.sampled_channel;
+        // w = R(ρ)/pdf with the planar area density pdf = R_dom(r)/A_dom.
+        let gpu_sample = |radius: f64, angle: f64| {
+            let rr = profile.r_reflectance(radius)[dom];
+            let inv_pdf = if rr > 0.0 {
+                total[dom] * radius / rr
+            } else {
+                0.0
+            };
+            GpuSample {
+                radius_mm: radius as f32,
+                angle: angle as f32,
+                inv_pdf: inv_pdf as f32,
+                pad: 0.0,
+            }
+        };
         let gpu_samples = pattern
             .samples
             .iter()
-            .map(|s| {
-                let rr = profile.r_reflectance(s.radius_mm)[dom];
-                let inv_pdf = if rr > 0.0 {
-                    total[dom] * s.radius_mm / rr
-                } else {
-                    0.0
-                };
-                GpuSample {
-                    radius_mm: s.radius_mm as f32,
-                    angle: s.angle_rad as f32,
-                    inv_pdf: inv_pdf as f32,
-                    pad: 0.0,
-                }
+            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
+            .collect();
+        // Reference: rings at the quantiles (i + ½)/48, angles (j + ½·(i mod 2))/48.
+        const RINGS: usize = 48;
+        let reference_samples = (0..RINGS)
+            .flat_map(|i| {
+                let r = profile.inverse_cdf(dom, (i as f64 + 0.5) / RINGS as f64);
+                (0..RINGS).map(move |j| {
+                    (
+                        r,
+                        std::f64::consts::TAU * (j as f64 + 0.5 * (i % 2) as f64) / RINGS as f64,
+                    )
+                })
             })
+            .map(|(r, a)| gpu_sample(r, a))
             .collect();
         let r_max = profile
             .radius_for_energy(0.999)
@@ -165,6 +187,7 @@ impl ProfileInputs {
             .collect();
         Ok(Self {
             samples: gpu_samples,
+            reference_samples,
             lut,
             lut_radius_mm: r_max as f32,
             taps,
@@ -781,12 +804,17 @@ impl Renderer {
         let mut keep = Vec::new();
         match s.method {
             Method::None => {}
-            Method::Burley => {
+            Method::Burley | Method::Reference => {
+                let (list, label) = if s.method == Method::Burley {
+                    (&inputs.samples, "sss burley")
+                } else {
+                    (&inputs.reference_samples, "sss reference")
+                };
                 let u = uniform(
                     "sss uniforms",
-                    bytemuck::bytes_of(&sss_u(inputs.samples.len() as f32, [0.0, 0.0])),
+                    bytemuck::bytes_of(&sss_u(list.len() as f32, [0.0, 0.0])),
                 );
-                let smp = storage("samples", bytemuck::cast_slice(&inputs.samples));
+                let smp = storage("samples", bytemuck::cast_slice(list));
                 let lut = storage("profile lut", bytemuck::cast_slice(&inputs.lut));
                 let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("burley"),
@@ -808,18 +836,12 @@ impl Renderer {
                         },
                     ],
                 });
-                fullscreen(
-                    &mut encoder,
-                    &t.ping,
-                    &self.burley_pipeline,
-                    &bg,
-                    "sss burley",
-                );
+                fullscreen(&mut encoder, &t.ping, &self.burley_pipeline, &bg, label);
                 keep.extend([u, smp, lut]);
                 scattered = &t.ping;
                 scattered_tex = &t.ping_tex;
-                samples_per_pixel = inputs.samples.len() as u32;
-                passes.push("sss burley");
+                samples_per_pixel = list.len() as u32;
+                passes.push(label);
             }
             Method::Separable => {
                 let taps = storage("taps", bytemuck::cast_slice(&inputs.taps));
