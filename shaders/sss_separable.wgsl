@@ -22,9 +22,20 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
     var acc = centre.rgb * taps[0].weight.rgb;
     for (var i = 1u; i < n; i = i + 1u) {
         let t = taps[i].weight;
-        let q = p + vec2<i32>(round(step * t.a));
-        var c = load_diffuse(q);
-        let dz_mm = abs(load_depth(q) - z) * s.projection.y;
+        // Linear interpolation along the blur axis between the two nearest
+        // texels (what the demo's bilinear sampler does).
+        let off = step * t.a;
+        let base = floor(off);
+        let f = dot(off - base, abs(s.direction.xy));
+        let q0 = p + vec2<i32>(base);
+        let q1 = q0 + vec2<i32>(abs(s.direction.xy));
+        let c0 = load_diffuse(q0);
+        let c1 = load_diffuse(q1);
+        var c = mix(c0, c1, f);
+        if (min(c0.a, c1.a) <= 1.0 / 255.0) {
+            c = select(c1, c0, c0.a > c1.a);
+        }
+        let dz_mm = abs(mix(load_depth(q0), load_depth(q1), f) - z) * s.projection.y;
         // Follow the surface: beyond a few mm of depth difference, use the centre.
         let k = clamp(s.direction.z * dz_mm, 0.0, 1.0);
         var col = mix(c.rgb, centre.rgb, k);
@@ -34,4 +45,12 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         acc = acc + t.rgb * col;
     }
     return vec4<f32>(acc, centre.a);
+}
+
+// Accumulation for the sum-of-Gaussians method (d'Eon 2007 / Jimenez 2009):
+// adds weight.rgb × the blurred irradiance into the target (additive blend).
+@fragment
+fn fs_accumulate(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(in.clip.xy);
+    return vec4<f32>(load_diffuse(p).rgb * s.direction.xyz, 0.0);
 }

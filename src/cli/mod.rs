@@ -114,6 +114,7 @@ pub enum MethodArg {
     None,
     Burley,
     Separable,
+    Gaussians,
     Reference,
 }
 
@@ -589,8 +590,31 @@ fn render(
     use crate::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
-    let (_, p) = built(model)?;
-    let inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
+    let (spec, p) = built(model)?;
+    let mut inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
+    if method == MethodArg::Gaussians {
+        // A Gaussian-sum preset is used as it is; any other profile is fitted with six.
+        let terms: Vec<(f64, crate::model::Rgb)> = match &spec {
+            ProfileSpec::Gaussians(g) => g
+                .gaussians
+                .iter()
+                .map(|t| (t.variance_mm2, t.weights))
+                .collect(),
+            _ => {
+                let f = crate::model::fit::fit_gaussians(p.as_ref(), 6)?;
+                let m = f.model;
+                (0..m.channel_terms(0).len())
+                    .map(|k| {
+                        (
+                            m.channel_terms(0)[k].variance_mm2,
+                            [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
+                        )
+                    })
+                    .collect()
+            }
+        };
+        inputs.set_gaussians(&terms);
+    }
     let mut renderer = Renderer::new(GpuContext::new_headless()?, &Mesh::default_head()?)?;
     let settings = RenderSettings {
         width,
@@ -600,6 +624,7 @@ fn render(
             MethodArg::Burley => Method::Burley,
             MethodArg::Separable => Method::Separable,
             MethodArg::Reference => Method::Reference,
+            MethodArg::Gaussians => Method::Gaussians,
         },
         deterministic,
         ..RenderSettings::default()

@@ -18,6 +18,9 @@ pub enum Method {
     Burley,
     /// Jimenez 2012 two-pass separable blur.
     Separable,
+    /// The profile as a sum of Gaussians, each blurred in two depth-aware 1D
+    /// passes (d'Eon 2007 in screen space, Jimenez 2009): 12 passes for 6.
+    Gaussians,
     /// Brute-force convolution with the exact profile on a dense polar grid
     /// (48 rings at the dominant channel's quantiles × 48 angles): ground truth.
     Reference,
@@ -30,6 +33,7 @@ impl Method {
             Method::Burley => "burley",
             Method::Separable => "separable",
             Method::Reference => "reference",
+            Method::Gaussians => "gaussians",
         }
     }
 }
@@ -103,6 +107,9 @@ pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
     /// The dense stratified pattern of the `reference` method.
     pub reference_samples: Vec<GpuSample>,
+    /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
+    /// method; empty until [`ProfileInputs::set_gaussians`].
+    pub gaussians: Vec<(f32, [f32; 3])>,
     pub lut: Vec<[f32; 4]>,
     pub lut_radius_mm: f32,
     pub taps: Vec<GpuTap>,
@@ -188,11 +195,60 @@ impl ProfileInputs {
         Ok(Self {
             samples: gpu_samples,
             reference_samples,
+            gaussians: Vec::new(),
             lut,
             lut_radius_mm: r_max as f32,
             taps,
         })
     }
+}
+
+impl ProfileInputs {
+    /// Sets the Gaussians of the `gaussians` method from (variance mm²,
+    /// RGB weight) terms; weights are normalised per channel (the albedo is
+    /// applied separately).
+    pub fn set_gaussians(&mut self, terms: &[(f64, [f64; 3])]) {
+        let sum = [0, 1, 2].map(|c| terms.iter().map(|t| t.1[c]).sum::<f64>());
+        self.gaussians = terms
+            .iter()
+            .map(|(v, w)| {
+                (
+                    v.sqrt() as f32,
+                    [0, 1, 2].map(|c| {
+                        if sum[c] > 0.0 {
+                            (w[c] / sum[c]) as f32
+                        } else {
+                            0.0
+                        }
+                    }),
+                )
+            })
+            .collect();
+    }
+}
+
+/// Taps of a normalised 1D Gaussian of standard deviation σ (mm): 13
+/// offsets over ±3σ, weights ∝ e^(−x²/2σ²) summing to one, centre first.
+pub fn gaussian_taps(sigma_mm: f32) -> Vec<GpuTap> {
+    let n = 13;
+    let offsets: Vec<f32> = (0..n)
+        .map(|j| (j as f32 - 6.0) / 6.0 * 3.0 * sigma_mm)
+        .collect();
+    let w: Vec<f32> = offsets
+        .iter()
+        .map(|o| (-o * o / (2.0 * sigma_mm * sigma_mm)).exp())
+        .collect();
+    let sum: f32 = w.iter().sum();
+    let mut taps: Vec<GpuTap> = offsets
+        .iter()
+        .zip(&w)
+        .map(|(o, w)| GpuTap {
+            weight_offset: [w / sum, w / sum, w / sum, *o],
+        })
+        .collect();
+    let centre = taps.remove(6);
+    taps.insert(0, centre);
+    taps
 }
 
 /// What a frame did (proof of skipped work comes with later passes).
@@ -219,11 +275,13 @@ struct Targets {
     depth: wgpu::TextureView,
     ping: wgpu::TextureView,
     pong: wgpu::TextureView,
+    accum: wgpu::TextureView,
     output: wgpu::Texture,
     /// The textures behind `diffuse`, `ping` and `pong` (for HDR readback).
     diffuse_tex: wgpu::Texture,
     ping_tex: wgpu::Texture,
     pong_tex: wgpu::Texture,
+    accum_tex: wgpu::Texture,
 }
 
 /// Owns the device, the mesh and the pipelines.
@@ -247,6 +305,7 @@ pub struct Renderer {
     separable_pipeline: wgpu::RenderPipeline,
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
+    accumulate_pipeline: wgpu::RenderPipeline,
     targets: Option<Targets>,
 }
 
@@ -410,12 +469,15 @@ impl Renderer {
                 &composite_layout,
                 OUTPUT,
             );
+            let accumulate_pipeline =
+                accumulate_pipeline(device, &module("sss_separable"), &separable_layout);
             let pipelines = (
                 scene_pipeline,
                 shadow_pipeline,
                 burley_pipeline,
                 separable_pipeline,
                 composite_pipeline,
+                accumulate_pipeline,
             );
             (
                 scene_layout,
@@ -440,6 +502,7 @@ impl Renderer {
             burley_pipeline,
             separable_pipeline,
             composite_pipeline,
+            accumulate_pipeline,
         ) = pipelines;
         let shadow_map = device
             .create_texture(&wgpu::TextureDescriptor {
@@ -495,6 +558,7 @@ impl Renderer {
             separable_pipeline,
             composite_layout,
             composite_pipeline,
+            accumulate_pipeline,
             targets: None,
             ctx,
         })
@@ -534,6 +598,7 @@ impl Renderer {
         let diffuse_tex = make("diffuse", HDR, hdr_rt);
         let ping_tex = make("sss ping", HDR, hdr_rt);
         let pong_tex = make("sss pong", HDR, hdr_rt);
+        let accum_tex = make("sss accumulation", HDR, hdr_rt);
         let output = make(
             "output",
             OUTPUT,
@@ -551,10 +616,12 @@ impl Renderer {
             )),
             ping: ping_tex.create_view(&Default::default()),
             pong: pong_tex.create_view(&Default::default()),
+            accum: accum_tex.create_view(&Default::default()),
             output,
             diffuse_tex,
             ping_tex,
             pong_tex,
+            accum_tex,
         });
     }
 
@@ -876,6 +943,89 @@ impl Renderer {
                 scattered_tex = &t.pong_tex;
                 samples_per_pixel = 2 * inputs.taps.len() as u32;
             }
+            Method::Gaussians => {
+                // Clear the accumulation target once, then per Gaussian:
+                // horizontal, vertical, and add weight × result.
+                encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("sss gaussians clear"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &t.accum,
+                        resolve_target: None,
+                        depth_slice: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    ..Default::default()
+                });
+                for (k, (sigma, weight)) in inputs.gaussians.iter().enumerate() {
+                    let taps = storage(
+                        "gaussian taps",
+                        bytemuck::cast_slice(&gaussian_taps(*sigma)),
+                    );
+                    let bind = |u: &wgpu::Buffer, src: &wgpu::TextureView, label| {
+                        device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some(label),
+                            layout: &self.separable_layout,
+                            entries: &[
+                                wgpu::BindGroupEntry {
+                                    binding: 0,
+                                    resource: u.as_entire_binding(),
+                                },
+                                tex(1, src),
+                                tex(2, &t.albedo_depth),
+                                wgpu::BindGroupEntry {
+                                    binding: 3,
+                                    resource: taps.as_entire_binding(),
+                                },
+                            ],
+                        })
+                    };
+                    for (dir, src, dst, label) in [
+                        ([1.0, 0.0], &t.diffuse, &t.ping, "sss gaussian x"),
+                        ([0.0, 1.0], &t.ping, &t.pong, "sss gaussian y"),
+                    ] {
+                        let u = uniform("sss uniforms", bytemuck::bytes_of(&sss_u(13.0, dir)));
+                        fullscreen(
+                            &mut encoder,
+                            dst,
+                            &self.separable_pipeline,
+                            &bind(&u, src, label),
+                            label,
+                        );
+                        keep.push(u);
+                        passes.push(label);
+                    }
+                    let mut acc_u = sss_u(13.0, [0.0, 0.0]);
+                    acc_u.direction = [weight[0], weight[1], weight[2], 0.0];
+                    let u = uniform("accumulate uniforms", bytemuck::bytes_of(&acc_u));
+                    let bg = bind(&u, &t.pong, "sss gaussian accumulate");
+                    {
+                        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                            label: Some("sss gaussian accumulate"),
+                            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                                view: &t.accum,
+                                resolve_target: None,
+                                depth_slice: None,
+                                ops: wgpu::Operations {
+                                    load: wgpu::LoadOp::Load,
+                                    store: wgpu::StoreOp::Store,
+                                },
+                            })],
+                            ..Default::default()
+                        });
+                        pass.set_pipeline(&self.accumulate_pipeline);
+                        pass.set_bind_group(0, &bg, &[]);
+                        pass.draw(0..3, 0..1);
+                    }
+                    let _ = k;
+                    keep.extend([u, taps]);
+                }
+                scattered = &t.accum;
+                scattered_tex = &t.accum_tex;
+                samples_per_pixel = 2 * 13 * inputs.gaussians.len() as u32;
+            }
         }
         let cu = uniform(
             "composite uniforms",
@@ -1080,6 +1230,51 @@ fn scene_pipeline(
             stencil: Default::default(),
             bias: Default::default(),
         }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn accumulate_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("accumulate"),
+        bind_group_layouts: &[Some(layout)],
+        ..Default::default()
+    });
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("accumulate"),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_accumulate"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: HDR,
+                blend: Some(wgpu::BlendState {
+                    color: add,
+                    alpha: add,
+                }),
+                write_mask: wgpu::ColorWrites::COLOR,
+            })],
+        }),
+        primitive: Default::default(),
+        depth_stencil: None,
         multisample: Default::default(),
         multiview_mask: None,
         cache: None,
