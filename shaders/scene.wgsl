@@ -18,11 +18,15 @@ struct SceneUniforms {
     light_clip_from_world: mat4x4<f32>,
     shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
     pattern: vec4<f32>,           // x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units)
+    preintegrated: vec4<f32>,     // x: 1 = pre-integrated method; y, z: curvature (1/mm) at the LUT's first/last row
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
+// Penner's D(θ, κ): x = N·L from −1 to 1, y = curvature κ (1/mm), linear RGB.
+@group(0) @binding(3) var preintegrated_lut: texture_2d<f32>;
+@group(0) @binding(4) var lut_sampler: sampler;
 
 // 5×5 PCF on the light's orthographic depth map.
 fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
@@ -53,6 +57,7 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) material: f32,   // 0 skin, 1 eye, 2 teeth
+    @location(4) curvature: f32,  // 1/mm
 };
 
 struct VertexOut {
@@ -62,6 +67,7 @@ struct VertexOut {
     @location(2) uv: vec2<f32>,
     @location(3) material: f32,
     @location(4) view_depth: f32,
+    @location(5) curvature: f32,
 };
 
 @vertex
@@ -74,6 +80,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     o.uv = v.uv;
     o.material = v.material;
     o.view_depth = -(u.view_from_world * world).z;
+    o.curvature = v.curvature;
     return o;
 }
 
@@ -118,6 +125,13 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
     var irradiance = u.light_radiance.rgb * nl / PI + hemi;
+    if (u.preintegrated.x > 0.5 && mask > 0.0) {
+        // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
+        // saturate(N·L); the shadow map still darkens it.
+        let v = clamp((i.curvature - u.preintegrated.y) / (u.preintegrated.z - u.preintegrated.y), 0.0, 1.0);
+        let d = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * dot(n, l) + 0.5, v), 0.0).rgb;
+        irradiance = u.light_radiance.rgb * d * shadow / PI + hemi;
+    }
     // Test patterns (issue 5's plane scenes): flat irradiance of light_radiance/π.
     if (u.pattern.x > 0.5 && u.pattern.x < 1.5) {
         irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, i.world.x > 0.0);

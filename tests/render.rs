@@ -181,3 +181,14 @@ fn profile_lut_holds_the_normalised_profile() {
         );
     }
 }
+
+#[test]
+fn half_floats_round_trip() {
+    use scatterlab::render::renderer::{f32_to_half, half_to_f32};
+    for x in [0.0f32, 1.0, 0.5, 0.123_456, 3.25, 1000.0, 1e-3] {
+        let y = half_to_f32(f32_to_half(x));
+        assert!((x - y).abs() <= x.abs() * 1e-3, "{x} → {y}");
+    }
+    assert_eq!(f32_to_half(1.0), 0x3c00);
+    assert_eq!(half_to_f32(0x3c00), 1.0);
+}

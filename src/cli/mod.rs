@@ -115,6 +115,7 @@ pub enum MethodArg {
     Burley,
     Separable,
     Gaussians,
+    Preintegrated,
     Reference,
 }
 
@@ -625,6 +626,7 @@ fn render(
             MethodArg::Separable => Method::Separable,
             MethodArg::Reference => Method::Reference,
             MethodArg::Gaussians => Method::Gaussians,
+            MethodArg::Preintegrated => Method::Preintegrated,
         },
         deterministic,
         ..RenderSettings::default()

@@ -22,8 +22,11 @@ pub struct SceneUniforms {
     pub shadow: [f32; 4],
     /// x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units).
     pub pattern: [f32; 4],
+    /// x: 1 for the pre-integrated method; y, z: curvature 1/c (1/mm) at the
+    /// LUT's first and last rows.
+    pub preintegrated: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 9 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 10 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]
@@ -72,5 +75,7 @@ pub struct Vertex {
     pub uv: [f32; 2],
     /// 0 skin, 1 eye, 2 teeth.
     pub material: f32,
+    /// Mean curvature 1/radius in 1/mm (FaceWorks' per-vertex estimate).
+    pub curvature_per_mm: f32,
 }
-const _: () = assert!(std::mem::size_of::<Vertex>() == 36);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 40);

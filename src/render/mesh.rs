@@ -88,6 +88,7 @@ impl Mesh {
                     normal: [0.0; 3],
                     uv,
                     material,
+                    curvature_per_mm: 0.0,
                 });
             }
             mesh.indices.extend(m.mesh.indices.iter().map(|i| base + i));
@@ -98,6 +99,7 @@ impl Mesh {
             });
         }
         mesh.compute_smooth_normals();
+        mesh.compute_curvature(2);
         // Look at eye height: 62 % up the bounding box (the face of a head).
         let (lo, hi) = mesh.bounds();
         mesh.focus = [
@@ -116,6 +118,7 @@ impl Mesh {
             normal: [0.0, 0.0, 1.0],
             uv: [u, w],
             material: 0.0,
+            curvature_per_mm: 0.0,
         };
         Mesh {
             vertices: vec![
@@ -151,6 +154,70 @@ impl Mesh {
                 .unwrap_or(Vec3::Y)
                 .normalize_or(Vec3::Y)
                 .into();
+        }
+    }
+
+    /// Per-vertex curvature as FaceWorks computes it
+    /// (`GFSDK_FaceWorks_CalculateMeshCurvature`): each edge's |ΔN|/|ΔP|,
+    /// the mean of the smallest and largest at each vertex, then `passes`
+    /// rounds of averaging over neighbours. Stored in 1/mm. Vertices that
+    /// share a position (UV seams) share the result.
+    pub fn compute_curvature(&mut self, passes: usize) {
+        use std::collections::HashMap;
+        let key = |p: [f32; 3]| (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
+        let mut id: HashMap<(u32, u32, u32), usize> = HashMap::new();
+        let vid: Vec<usize> = self
+            .vertices
+            .iter()
+            .map(|v| {
+                let n = id.len();
+                *id.entry(key(v.position)).or_insert(n)
+            })
+            .collect();
+        let n = id.len();
+        let (mut lo, mut hi) = (vec![f32::INFINITY; n], vec![0.0f32; n]);
+        let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for tri in self.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+                let dp =
+                    Vec3::from(self.vertices[b].position) - Vec3::from(self.vertices[a].position);
+                let dn = Vec3::from(self.vertices[b].normal) - Vec3::from(self.vertices[a].normal);
+                if dp.length_squared() <= 0.0 {
+                    continue;
+                }
+                let kappa = (dn.length_squared() / dp.length_squared()).sqrt();
+                for (v, w) in [(vid[a], vid[b]), (vid[b], vid[a])] {
+                    lo[v] = lo[v].min(kappa);
+                    hi[v] = hi[v].max(kappa);
+                    neighbours[v].push(w);
+                }
+            }
+        }
+        let mut curv: Vec<f32> = (0..n)
+            .map(|i| {
+                if lo[i].is_finite() {
+                    0.5 * (lo[i] + hi[i])
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        for _ in 0..passes {
+            curv = (0..n)
+                .map(|i| {
+                    if neighbours[i].is_empty() {
+                        curv[i]
+                    } else {
+                        neighbours[i].iter().map(|&j| curv[j]).sum::<f32>()
+                            / neighbours[i].len() as f32
+                    }
+                })
+                .collect();
+        }
+        let per_mm = 1.0 / (self.metres_per_unit * 1000.0);
+        for (v, i) in self.vertices.iter_mut().zip(vid) {
+            v.curvature_per_mm = curv[i] * per_mm;
         }
     }
 
@@ -193,6 +260,41 @@ mod tests {
             .vertices
             .iter()
             .all(|v| (Vec3::from(v.normal).length() - 1.0).abs() < 1e-3));
+    }
+
+    /// A sphere of radius ρ has curvature 1/ρ everywhere (away from the poles).
+    #[test]
+    fn sphere_curvature_is_one_over_radius() {
+        let mut obj = String::new();
+        let (nu, nv) = (48, 24);
+        for j in 0..=nv {
+            for i in 0..nu {
+                let th = std::f32::consts::PI * j as f32 / nv as f32;
+                let ph = std::f32::consts::TAU * i as f32 / nu as f32;
+                obj += &format!(
+                    "v {} {} {}\n",
+                    5.0 * th.sin() * ph.cos(),
+                    5.0 * th.cos(),
+                    5.0 * th.sin() * ph.sin()
+                );
+            }
+        }
+        for j in 0..nv {
+            for i in 0..nu {
+                let a = j * nu + i + 1;
+                let b = j * nu + (i + 1) % nu + 1;
+                obj += &format!("f {} {} {} {}\n", a, b, b + nu, a + nu);
+            }
+        }
+        // 5 units at 0.01 m per unit: radius 50 mm.
+        let m = Mesh::from_obj_text(&obj, "sphere", 0.01).unwrap();
+        for v in m.vertices.iter().filter(|v| v.position[1].abs() < 3.0) {
+            assert!(
+                (v.curvature_per_mm - 1.0 / 50.0).abs() < 0.002,
+                "{}",
+                v.curvature_per_mm
+            );
+        }
     }
 
     #[test]

@@ -21,6 +21,9 @@ pub enum Method {
     /// The profile as a sum of Gaussians, each blurred in two depth-aware 1D
     /// passes (d'Eon 2007 in screen space, Jimenez 2009): 12 passes for 6.
     Gaussians,
+    /// Penner 2011 pre-integrated skin: D(θ, curvature) from a lookup table
+    /// in the scene pass, no screen-space pass.
+    Preintegrated,
     /// Brute-force convolution with the exact profile on a dense polar grid
     /// (48 rings at the dominant channel's quantiles × 48 angles): ground truth.
     Reference,
@@ -34,6 +37,7 @@ impl Method {
             Method::Separable => "separable",
             Method::Reference => "reference",
             Method::Gaussians => "gaussians",
+            Method::Preintegrated => "preintegrated",
         }
     }
 }
@@ -107,6 +111,9 @@ pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
     /// The dense stratified pattern of the `reference` method.
     pub reference_samples: Vec<GpuSample>,
+    /// Penner's D(θ, κ) table (row-major, 64×64) and its layout.
+    pub preintegrated_lut: Vec<[f32; 4]>,
+    pub lut_layout: crate::model::lut::LutLayout,
     /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
     /// method; empty until [`ProfileInputs::set_gaussians`].
     pub gaussians: Vec<(f32, [f32; 3])>,
@@ -192,9 +199,22 @@ impl ProfileInputs {
                 ],
             })
             .collect();
+        let lut_layout = crate::model::lut::LutLayout {
+            width: 64,
+            height: 64,
+            curvature_radius_min_mm: 2.0,
+            curvature_radius_max_mm: 200.0,
+        };
+        let preintegrated_lut = crate::model::lut::Lut::bake(profile, lut_layout)?
+            .d
+            .iter()
+            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+            .collect();
         Ok(Self {
             samples: gpu_samples,
             reference_samples,
+            preintegrated_lut,
+            lut_layout,
             gaussians: Vec::new(),
             lut,
             lut_radius_mm: r_max as f32,
@@ -405,6 +425,22 @@ impl Renderer {
                         binding: 2,
                         visibility: wgpu::ShaderStages::FRAGMENT,
                         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 3,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 4,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                         count: None,
                     },
                 ],
@@ -652,6 +688,27 @@ impl Renderer {
         want_diffuse: bool,
     ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
         self.ensure_targets(s.width, s.height);
+        // Any validation error in the frame is reported, never panicked on.
+        let scope = self
+            .ctx
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = self.encode_and_read(inputs, s, want_diffuse);
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(GpuError::Validation {
+                stage: "frame",
+                message: e.to_string(),
+            }),
+            None => result,
+        }
+    }
+
+    fn encode_and_read(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+        want_diffuse: bool,
+    ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
         let Some(t) = self.targets.as_ref() else {
             return Err(GpuError::Readback("no targets".into()));
         };
@@ -707,6 +764,18 @@ impl Renderer {
                 2.0 * rad / SHADOW_SIZE as f32,
                 0.0,
             ],
+            preintegrated: [
+                if s.method == Method::Preintegrated {
+                    1.0
+                } else {
+                    0.0
+                },
+                1.0 / inputs.lut_layout.curvature_radius(0) as f32,
+                1.0 / inputs
+                    .lut_layout
+                    .curvature_radius(inputs.lut_layout.height - 1) as f32,
+                0.0,
+            ],
             pattern: match s.pattern {
                 IrradiancePattern::Lit => [0.0; 4],
                 IrradiancePattern::Step => [1.0, 0.0, 0.0, 0.0],
@@ -730,6 +799,42 @@ impl Renderer {
             })
         };
         let scene_buf = uniform("scene uniforms", bytemuck::bytes_of(&scene_u));
+        // Penner's table as a small filterable texture (rebuilt with the profile).
+        let lut_tex = device.create_texture_with_data(
+            &ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("pre-integrated lut"),
+                size: wgpu::Extent3d {
+                    width: inputs.lut_layout.width as u32,
+                    height: inputs.lut_layout.height as u32,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(
+                &inputs
+                    .preintegrated_lut
+                    .iter()
+                    .flat_map(|v| v.map(f32_to_half))
+                    .collect::<Vec<u16>>(),
+            ),
+        );
+        let lut_view = lut_tex.create_view(&Default::default());
+        // Rgba16Float: filterable on every adapter (Rgba32Float is not).
+        let lut_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("lut"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            ..Default::default()
+        });
         let scene_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
             layout: &self.scene_layout,
@@ -745,6 +850,14 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: wgpu::BindingResource::Sampler(&self.shadow_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&lut_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&lut_sampler),
                 },
             ],
         });
@@ -870,7 +983,7 @@ impl Renderer {
         // Buffers must outlive the encoder's submission.
         let mut keep = Vec::new();
         match s.method {
-            Method::None => {}
+            Method::None | Method::Preintegrated => {}
             Method::Burley | Method::Reference => {
                 let (list, label) = if s.method == Method::Burley {
                     (&inputs.samples, "sss burley")
@@ -1090,6 +1203,27 @@ impl Renderer {
     }
 }
 
+/// f32 → IEEE 754 binary16, round to nearest (for Rgba16Float uploads of
+/// values well inside the half range; tiny values flush to zero).
+pub fn f32_to_half(x: f32) -> u16 {
+    let bits = x.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let exp = ((bits >> 23) & 0xff) as i32 - 127 + 15;
+    let mant = bits & 0x7f_ffff;
+    if x.is_nan() {
+        return 0x7e00;
+    }
+    if exp >= 31 {
+        return sign | 0x7c00;
+    }
+    if exp <= 0 {
+        return sign;
+    }
+    let half = sign as u32 | ((exp as u32) << 10) | (mant >> 13);
+    // Round to nearest on the dropped bits.
+    (half + ((mant >> 12) & 1)) as u16
+}
+
 /// IEEE 754 binary16 → f32 (the HDR targets are Rgba16Float).
 pub fn half_to_f32(h: u16) -> f32 {
     let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
@@ -1213,7 +1347,7 @@ fn scene_pipeline(
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<super::gpu_types::Vertex>() as u64,
                 step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32],
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32],
             })],
         },
         fragment: Some(wgpu::FragmentState {
