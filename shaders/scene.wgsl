@@ -19,6 +19,8 @@ struct SceneUniforms {
     shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
     pattern: vec4<f32>,           // x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units)
     preintegrated: vec4<f32>,     // x: 1 = pre-integrated method; y, z: curvature (1/mm) at the LUT's first/last row
+    transmission: vec4<f32>,      // x: 0 off, 1 thin, 2 thick; y: table range (mm); z: table size; w: mm per world unit
+    transmission_tint: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
@@ -27,6 +29,26 @@ struct SceneUniforms {
 // Penner's D(θ, κ): x = N·L from −1 to 1, y = curvature κ (1/mm), linear RGB.
 @group(0) @binding(3) var preintegrated_lut: texture_2d<f32>;
 @group(0) @binding(4) var lut_sampler: sampler;
+// Normalised thin-slab transmittance T(d)/total per channel, d = range·i/(size−1).
+@group(0) @binding(5) var<storage, read> transmittance: array<vec4<f32>>;
+
+fn transmittance_at(d_mm: f32) -> vec3<f32> {
+    let n = u.transmission.z;
+    let t = clamp(d_mm / u.transmission.y, 0.0, 1.0) * (n - 1.0);
+    let i = min(u32(t), u32(n) - 2u);
+    return mix(transmittance[i].rgb, transmittance[i + 1u].rgb, t - f32(i));
+}
+
+// Thickness along the light from the shadow map (thick-object mode, Golubev
+// 2018): light-space depth of this point minus the first occluder's, in mm.
+fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
+    let p = u.light_clip_from_world * vec4<f32>(world, 1.0);
+    let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
+    let size = vec2<f32>(textureDimensions(shadow_map));
+    let texel = clamp(vec2<i32>(uv * size), vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1));
+    let occluder = textureLoad(shadow_map, texel, 0);
+    return max(p.z - occluder, 0.0) * u.shadow.w * u.transmission.w;
+}
 
 // 5×5 PCF on the light's orthographic depth map.
 fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
@@ -58,6 +80,7 @@ struct VertexIn {
     @location(2) uv: vec2<f32>,
     @location(3) material: f32,   // 0 skin, 1 eye, 2 teeth
     @location(4) curvature: f32,  // 1/mm
+    @location(5) thickness: f32,  // mm
 };
 
 struct VertexOut {
@@ -68,6 +91,7 @@ struct VertexOut {
     @location(3) material: f32,
     @location(4) view_depth: f32,
     @location(5) curvature: f32,
+    @location(6) thickness: f32,
 };
 
 @vertex
@@ -81,6 +105,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     o.material = v.material;
     o.view_depth = -(u.view_from_world * world).z;
     o.curvature = v.curvature;
+    o.thickness = v.thickness;
     return o;
 }
 
@@ -131,6 +156,19 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         let v = clamp((i.curvature - u.preintegrated.y) / (u.preintegrated.z - u.preintegrated.y), 0.0, 1.0);
         let d = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * dot(n, l) + 0.5, v), 0.0).rgb;
         irradiance = u.light_radiance.rgb * d * shadow / PI + hemi;
+    }
+    if (u.transmission.x > 0.5 && mask > 0.0) {
+        // Light through the back face (Jimenez 2010; Golubev 2018): thin
+        // objects share the front's shadow; thick ones take max(baked,
+        // shadow-map) thickness and are not shadowed by themselves.
+        let back = max(-dot(n, l), 0.0);
+        var d = i.thickness;
+        var reach = back * shadow;
+        if (u.transmission.x > 1.5) {
+            d = max(d, shadow_thickness_mm(i.world));
+            reach = back;
+        }
+        irradiance = irradiance + u.light_radiance.rgb * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
     }
     // Test patterns (issue 5's plane scenes): flat irradiance of light_radiance/π.
     if (u.pattern.x > 0.5 && u.pattern.x < 1.5) {

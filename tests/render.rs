@@ -192,3 +192,59 @@ fn half_floats_round_trip() {
     assert_eq!(f32_to_half(1.0), 0x3c00);
     assert_eq!(half_to_f32(0x3c00), 1.0);
 }
+
+/// Back-lit through the ear (thick-object mode): transmission adds light,
+/// and more red than blue (the red profile reaches deepest, T_R(d) > T_B(d)).
+/// With transmission off nothing is added.
+#[test]
+fn transmission_reddens_a_back_lit_ear() {
+    use scatterlab::render::Transmission;
+    let mut r = renderer();
+    let inp = inputs();
+    let base = RenderSettings {
+        width: 160,
+        height: 160,
+        method: Method::None,
+        deterministic: true,
+        camera_yaw: 60f32.to_radians(),
+        light_azimuth: 200f32.to_radians(),
+        light_elevation: 10f32.to_radians(),
+        ..Default::default()
+    };
+    let (off, _) = r
+        .render(
+            &inp,
+            &RenderSettings {
+                transmission: Transmission::Off,
+                ..base.clone()
+            },
+        )
+        .unwrap();
+    let (thick, _) = r
+        .render(
+            &inp,
+            &RenderSettings {
+                transmission: Transmission::ThickObject,
+                ..base
+            },
+        )
+        .unwrap();
+    let (mut dr, mut db, mut brighter) = (0.0, 0.0, 0usize);
+    for (p, q) in off.pixels().zip(thick.pixels()) {
+        let (a, b) = (
+            srgb_to_linear(q[0]) - srgb_to_linear(p[0]),
+            srgb_to_linear(q[2]) - srgb_to_linear(p[2]),
+        );
+        assert!(
+            a >= -1e-3 && b >= -1e-3,
+            "transmission removed light: {p:?} → {q:?}"
+        );
+        dr += a;
+        db += b;
+        if a > 0.01 {
+            brighter += 1;
+        }
+    }
+    assert!(brighter > 20, "{brighter} pixels gained light");
+    assert!(dr > 2.0 * db, "red gain {dr} vs blue gain {db}");
+}

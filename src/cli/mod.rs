@@ -94,6 +94,8 @@ pub enum Command {
         /// Also write per-frame statistics as JSON.
         #[arg(long, value_name = "FILE.json")]
         stats: Option<PathBuf>,
+        #[command(flatten)]
+        view: ViewArgs,
     },
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert {
@@ -107,6 +109,38 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+/// Camera, light and transmission of a render.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ViewArgs {
+    /// Camera orbit angle around the head (degrees; 0 = front).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20.0)]
+    pub camera_yaw: f32,
+    /// Direction to the light: azimuth (degrees; 0 = from the camera's front, 180 = behind the head).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 72.0)]
+    pub light_azimuth: f32,
+    /// Direction to the light: elevation (degrees).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20.0)]
+    pub light_elevation: f32,
+    #[arg(long, value_enum, default_value = "thin")]
+    pub transmission: TransmissionArg,
+    /// Texturing mode.
+    #[arg(long, value_enum, default_value = "pre-and-post")]
+    pub texturing: TexturingArg,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TransmissionArg {
+    Off,
+    Thin,
+    Thick,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TexturingArg {
+    PostScatter,
+    PreAndPost,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -294,6 +328,7 @@ pub fn run(cli: Cli) -> Result<()> {
             deterministic,
             out,
             stats,
+            view,
         } => render(
             &model,
             method,
@@ -302,6 +337,7 @@ pub fn run(cli: Cli) -> Result<()> {
             deterministic,
             &out,
             stats.as_deref(),
+            &view,
         ),
         Command::Convert {
             model,
@@ -579,6 +615,7 @@ fn write_png(path: &std::path::Path, w: usize, h: usize, rgb8: Vec<u8>) -> Resul
         .with_context(|| format!("{}: cannot write", path.display()))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn render(
     model: &ModelArgs,
     method: MethodArg,
@@ -587,8 +624,12 @@ fn render(
     deterministic: bool,
     out: &std::path::Path,
     stats_path: Option<&std::path::Path>,
+    view: &ViewArgs,
 ) -> Result<()> {
-    use crate::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
+    use crate::render::{
+        GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode,
+        Transmission,
+    };
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
     let (spec, p) = built(model)?;
@@ -629,6 +670,18 @@ fn render(
             MethodArg::Preintegrated => Method::Preintegrated,
         },
         deterministic,
+        camera_yaw: view.camera_yaw.to_radians(),
+        light_azimuth: view.light_azimuth.to_radians(),
+        light_elevation: view.light_elevation.to_radians(),
+        transmission: match view.transmission {
+            TransmissionArg::Off => Transmission::Off,
+            TransmissionArg::Thin => Transmission::ThinObject,
+            TransmissionArg::Thick => Transmission::ThickObject,
+        },
+        texturing: match view.texturing {
+            TexturingArg::PostScatter => TexturingMode::PostScatter,
+            TexturingArg::PreAndPost => TexturingMode::PreAndPostScatter,
+        },
         ..RenderSettings::default()
     };
     let (image, stats) = renderer.render(&inputs, &settings)?;

@@ -25,8 +25,13 @@ pub struct SceneUniforms {
     /// x: 1 for the pre-integrated method; y, z: curvature 1/c (1/mm) at the
     /// LUT's first and last rows.
     pub preintegrated: [f32; 4],
+    /// x: 0 off, 1 thin object, 2 thick object; y: table range (mm);
+    /// z: table size; w: mm per world unit.
+    pub transmission: [f32; 4],
+    /// rgb: transmission tint.
+    pub transmission_tint: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 10 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 12 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]
@@ -77,5 +82,7 @@ pub struct Vertex {
     pub material: f32,
     /// Mean curvature 1/radius in 1/mm (FaceWorks' per-vertex estimate).
     pub curvature_per_mm: f32,
+    /// Thickness (mm) along the inward normal, baked by ray casting.
+    pub thickness_mm: f32,
 }
-const _: () = assert!(std::mem::size_of::<Vertex>() == 40);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 44);

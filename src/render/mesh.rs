@@ -9,6 +9,9 @@ pub const DEFAULT_HEAD_OBJ: &str = include_str!("../../assets/head/head.obj");
 /// Metres per unit of the default head (decimetres).
 pub const DEFAULT_HEAD_METRES_PER_UNIT: f32 = 0.1;
 
+/// Thickness where an inward ray leaves through an open boundary (mm).
+pub const MAX_THICKNESS_MM: f32 = 100.0;
+
 /// A triangle mesh ready for upload.
 #[derive(Debug, Clone)]
 pub struct Mesh {
@@ -89,6 +92,7 @@ impl Mesh {
                     uv,
                     material,
                     curvature_per_mm: 0.0,
+                    thickness_mm: 0.0,
                 });
             }
             mesh.indices.extend(m.mesh.indices.iter().map(|i| base + i));
@@ -100,6 +104,7 @@ impl Mesh {
         }
         mesh.compute_smooth_normals();
         mesh.compute_curvature(2);
+        mesh.bake_thickness(MAX_THICKNESS_MM);
         // Look at eye height: 62 % up the bounding box (the face of a head).
         let (lo, hi) = mesh.bounds();
         mesh.focus = [
@@ -119,6 +124,7 @@ impl Mesh {
             uv: [u, w],
             material: 0.0,
             curvature_per_mm: 0.0,
+            thickness_mm: 1.0,
         };
         Mesh {
             vertices: vec![
@@ -221,6 +227,76 @@ impl Mesh {
         }
     }
 
+    /// Thickness per vertex the way texture bakers do it: a ray from the
+    /// surface along the inward normal to the first surface it meets, over a
+    /// uniform grid of triangles. Misses (open boundaries) get `max_mm`.
+    pub fn bake_thickness(&mut self, max_mm: f32) {
+        let (lo, hi) = self.bounds();
+        let n = 24usize;
+        let cell = (hi - lo).max_element() / n as f32 + 1e-6;
+        let idx = |p: Vec3| -> Option<usize> {
+            let c = ((p - lo) / cell).floor();
+            if c.min_element() < 0.0 || c.max_element() >= n as f32 {
+                return None;
+            }
+            Some((c.x as usize * n + c.y as usize) * n + c.z as usize)
+        };
+        let mut grid: Vec<Vec<u32>> = vec![Vec::new(); n * n * n];
+        let pos = |i: u32| Vec3::from(self.vertices[i as usize].position);
+        for (t, tri) in self.indices.chunks_exact(3).enumerate() {
+            let [a, b, c] = [pos(tri[0]), pos(tri[1]), pos(tri[2])];
+            let (tl, th) = (a.min(b).min(c), a.max(b).max(c));
+            let (cl, ch) = (((tl - lo) / cell).floor(), ((th - lo) / cell).floor());
+            for x in cl.x as usize..=(ch.x as usize).min(n - 1) {
+                for y in cl.y as usize..=(ch.y as usize).min(n - 1) {
+                    for z in cl.z as usize..=(ch.z as usize).min(n - 1) {
+                        grid[(x * n + y) * n + z].push(t as u32);
+                    }
+                }
+            }
+        }
+        let mm_per_unit = self.metres_per_unit * 1000.0;
+        let thickness: Vec<f32> = self
+            .vertices
+            .iter()
+            .map(|v| {
+                let dir = -Vec3::from(v.normal);
+                let origin = Vec3::from(v.position) + dir * (1e-3 * cell);
+                // March through the grid in half-cell steps; test each cell's triangles.
+                let mut best = f32::INFINITY;
+                let mut t = 0.0;
+                let mut seen = usize::MAX;
+                while t < 2.0 * (hi - lo).length() && t < best {
+                    if let Some(c) = idx(origin + dir * t) {
+                        if c != seen {
+                            seen = c;
+                            for &tri in &grid[c] {
+                                let k = 3 * tri as usize;
+                                let (a, b, cc) = (
+                                    pos(self.indices[k]),
+                                    pos(self.indices[k + 1]),
+                                    pos(self.indices[k + 2]),
+                                );
+                                if let Some(h) = ray_triangle(origin, dir, a, b, cc) {
+                                    best = best.min(h);
+                                }
+                            }
+                        }
+                    }
+                    t += 0.5 * cell;
+                }
+                if best.is_finite() {
+                    (best * mm_per_unit).min(max_mm)
+                } else {
+                    max_mm
+                }
+            })
+            .collect();
+        for (v, d) in self.vertices.iter_mut().zip(thickness) {
+            v.thickness_mm = d;
+        }
+    }
+
     /// Axis-aligned bounds (min, max) in mesh units.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.vertices.iter().fold(
@@ -231,6 +307,29 @@ impl Mesh {
             },
         )
     }
+}
+
+/// Möller–Trumbore: distance along `dir` to the triangle, if hit in front.
+fn ray_triangle(o: Vec3, dir: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<f32> {
+    let (e1, e2) = (b - a, c - a);
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = s.dot(p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = dir.dot(q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    (t > 0.0).then_some(t)
 }
 
 #[cfg(test)]
@@ -288,6 +387,15 @@ mod tests {
         }
         // 5 units at 0.01 m per unit: radius 50 mm.
         let m = Mesh::from_obj_text(&obj, "sphere", 0.01).unwrap();
+        // Inward rays cross the sphere: thickness is its diameter, 100 mm
+        // (within the chord error of a 48×24 tessellation).
+        for v in m.vertices.iter().filter(|v| v.position[1].abs() < 3.0) {
+            assert!(
+                (v.thickness_mm - 100.0).abs() < 1.5,
+                "thickness {}",
+                v.thickness_mm
+            );
+        }
         for v in m.vertices.iter().filter(|v| v.position[1].abs() < 3.0) {
             assert!(
                 (v.curvature_per_mm - 1.0 / 50.0).abs() < 0.002,

@@ -10,4 +10,5 @@ pub use context::{GpuContext, GpuError};
 pub use mesh::Mesh;
 pub use renderer::{
     FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode,
+    Transmission,
 };

@@ -71,6 +71,18 @@ pub struct RenderSettings {
     pub deterministic: bool,
     /// Lighting, or a flat irradiance test pattern.
     pub pattern: IrradiancePattern,
+    pub transmission: Transmission,
+    pub transmission_tint: [f32; 3],
+}
+
+/// Light transmitted through thin parts (ears, nostrils).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transmission {
+    Off,
+    /// Baked thickness, shadowing shared with the front face (Jimenez 2010).
+    ThinObject,
+    /// max(baked, shadow-map) thickness, unshadowed (Golubev 2018).
+    ThickObject,
 }
 
 /// Irradiance for test scenes: lit normally, a step at world x = 0, or a
@@ -100,6 +112,8 @@ impl Default for RenderSettings {
             exposure: 1.0,
             deterministic: false,
             pattern: IrradiancePattern::Lit,
+            transmission: Transmission::ThinObject,
+            transmission_tint: [1.0, 1.0, 1.0],
         }
     }
 }
@@ -111,6 +125,9 @@ pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
     /// The dense stratified pattern of the `reference` method.
     pub reference_samples: Vec<GpuSample>,
+    /// Normalised thin-slab transmittance T(d)/total at d = range·i/63.
+    pub transmittance: Vec<[f32; 4]>,
+    pub transmittance_range_mm: f32,
     /// Penner's D(θ, κ) table (row-major, 64×64) and its layout.
     pub preintegrated_lut: Vec<[f32; 4]>,
     pub lut_layout: crate::model::lut::LutLayout,
@@ -210,9 +227,25 @@ impl ProfileInputs {
             .iter()
             .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
             .collect();
+        let transmittance_range_mm = r_max as f32;
+        let transmittance = (0..64)
+            .map(|i| {
+                let t = profile.transmittance(r_max * i as f64 / 63.0);
+                let n = |c: usize| {
+                    if total[c] > 0.0 {
+                        (t[c] / total[c]) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                [n(0), n(1), n(2), 0.0]
+            })
+            .collect();
         Ok(Self {
             samples: gpu_samples,
             reference_samples,
+            transmittance,
+            transmittance_range_mm,
             preintegrated_lut,
             lut_layout,
             gaussians: Vec::new(),
@@ -443,6 +476,11 @@ impl Renderer {
                         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                         count: None,
                     },
+                    buffer_entry(
+                        5,
+                        wgpu::BufferBindingType::Storage { read_only: true },
+                        wgpu::ShaderStages::FRAGMENT,
+                    ),
                 ],
             });
             let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -762,6 +800,23 @@ impl Renderer {
                 1.0 / SHADOW_SIZE as f32,
                 2.0 / SHADOW_SIZE as f32,
                 2.0 * rad / SHADOW_SIZE as f32,
+                // Depth range of the orthographic light projection (world units).
+                4.0 * rad - 0.01 * rad,
+            ],
+            transmission: [
+                match s.transmission {
+                    Transmission::Off => 0.0,
+                    Transmission::ThinObject => 1.0,
+                    Transmission::ThickObject => 2.0,
+                },
+                inputs.transmittance_range_mm,
+                inputs.transmittance.len() as f32,
+                1000.0 * self.metres_per_unit,
+            ],
+            transmission_tint: [
+                s.transmission_tint[0],
+                s.transmission_tint[1],
+                s.transmission_tint[2],
                 0.0,
             ],
             preintegrated: [
@@ -835,6 +890,11 @@ impl Renderer {
             address_mode_v: wgpu::AddressMode::ClampToEdge,
             ..Default::default()
         });
+        let transmittance_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("transmittance"),
+            contents: bytemuck::cast_slice(&inputs.transmittance),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let scene_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
             layout: &self.scene_layout,
@@ -858,6 +918,10 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::Sampler(&lut_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: transmittance_buf.as_entire_binding(),
                 },
             ],
         });
@@ -1347,7 +1411,7 @@ fn scene_pipeline(
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<super::gpu_types::Vertex>() as u64,
                 step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32],
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32, 5 => Float32],
             })],
         },
         fragment: Some(wgpu::FragmentState {
