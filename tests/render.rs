@@ -131,7 +131,7 @@ fn burley_conserves_energy_and_blurs() {
         .unwrap();
     assert_eq!(
         stats.passes,
-        vec!["shadow", "scene", "sss burley", "composite"]
+        vec!["shadow", "scene", "classify", "sss burley", "composite"]
     );
     let bg = *none.get_pixel(0, 0);
     let (mut a, mut b, mut n, mut changed) = (0.0, 0.0, 0usize, 0usize);
@@ -247,4 +247,64 @@ fn transmission_reddens_a_back_lit_ear() {
     }
     assert!(brighter > 20, "{brighter} pixels gained light");
     assert!(dr > 2.0 * db, "red gain {dr} vs blue gain {db}");
+}
+
+/// The GPU's SSS pixel count equals the skin pixels an independent count of
+/// the image finds; with no SSS pixel on screen, or strength 0, no SSS pass runs.
+#[test]
+fn sss_work_is_counted_and_skipped() {
+    use scatterlab::model::jimenez::Jimenez2012;
+    let ctx = GpuContext::new_headless().unwrap();
+    let mut plane = Mesh::plane(60.0, 0.001);
+    let mut r = Renderer::new(ctx, &plane).unwrap();
+    let profile = Preset::default_skin().build_profile().unwrap();
+    let inp = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
+    let s = RenderSettings {
+        width: 128,
+        height: 96,
+        method: Method::Burley,
+        camera_yaw: 0.0,
+        camera_pitch: 0.0,
+        camera_distance_m: 0.15,
+        deterministic: true,
+        ..Default::default()
+    };
+    let (img, stats) = r.render(&inp, &s).unwrap();
+    let bg = *img.get_pixel(0, 0);
+    let covered = img.pixels().filter(|p| **p != bg).count() as u64;
+    assert!(
+        stats.sss_pixels > 0 && stats.sss_pixels < 128 * 96,
+        "{}",
+        stats.sss_pixels
+    );
+    // The plane is uniformly lit skin, so every covered pixel differs from the background.
+    assert_eq!(stats.sss_pixels, covered);
+    assert_eq!(stats.sss_samples, covered * 21);
+    // No skin on screen: the same plane as eye material (mask 0).
+    for v in &mut plane.vertices {
+        v.material = 1.0;
+    }
+    let mut r = Renderer::new(GpuContext::new_headless().unwrap(), &plane).unwrap();
+    let (_, stats) = r.render(&inp, &s).unwrap();
+    assert_eq!(stats.sss_pixels, 0);
+    assert!(
+        !stats.passes.iter().any(|p| p.starts_with("sss")),
+        "{:?}",
+        stats.passes
+    );
+    // Strength 0 scatters nothing: no SSS pass either.
+    let j = Jimenez2012::new([0.0; 3], [1.0, 0.37, 0.3]).unwrap();
+    let inp0 = ProfileInputs::new(&j, 21, 17).unwrap();
+    let mut r = Renderer::new(
+        GpuContext::new_headless().unwrap(),
+        &Mesh::plane(60.0, 0.001),
+    )
+    .unwrap();
+    let (_, stats) = r.render(&inp0, &s).unwrap();
+    assert!(stats.sss_pixels > 0);
+    assert!(
+        !stats.passes.iter().any(|p| p.starts_with("sss")),
+        "{:?}",
+        stats.passes
+    );
 }

@@ -125,6 +125,8 @@ pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
     /// The dense stratified pattern of the `reference` method.
     pub reference_samples: Vec<GpuSample>,
+    /// False when no channel scatters (e.g. Jimenez strength 0): SSS passes are skipped.
+    pub scatters: bool,
     /// Normalised thin-slab transmittance T(d)/total at d = range·i/63.
     pub transmittance: Vec<[f32; 4]>,
     pub transmittance_range_mm: f32,
@@ -241,7 +243,10 @@ impl ProfileInputs {
                 [n(0), n(1), n(2), 0.0]
             })
             .collect();
+        let dirac = profile.dirac_weight();
+        let scatters = (0..3).any(|c| total[c] - dirac[c] > 1e-9 * total[c].max(1e-300));
         Ok(Self {
+            scatters,
             samples: gpu_samples,
             reference_samples,
             transmittance,
@@ -310,6 +315,13 @@ pub struct FrameStats {
     pub method: &'static str,
     pub passes: Vec<&'static str>,
     pub samples_per_sss_pixel: u32,
+    /// Pixels whose SSS mask exceeds 1/255, counted on the GPU.
+    pub sss_pixels: u64,
+    /// Texture reads the SSS passes made: sss_pixels × samples per pixel.
+    pub sss_samples: u64,
+    /// GPU time of the SSS passes (ms) from timestamp queries, where the
+    /// adapter has them (on lavapipe the "GPU" is the CPU).
+    pub sss_gpu_ms: Option<f64>,
     pub width: u32,
     pub height: u32,
     pub adapter: String,
@@ -359,6 +371,8 @@ pub struct Renderer {
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
     accumulate_pipeline: wgpu::RenderPipeline,
+    classify_layout: wgpu::BindGroupLayout,
+    classify_pipeline: wgpu::ComputePipeline,
     targets: Option<Targets>,
 }
 
@@ -400,6 +414,10 @@ const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");
 pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
         ("scene", include_str!("../../shaders/scene.wgsl").to_owned()),
+        (
+            "classify",
+            include_str!("../../shaders/classify.wgsl").to_owned(),
+        ),
         (
             "sss_burley",
             format!(
@@ -602,6 +620,42 @@ impl Renderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
+        let (classify_layout, classify_pipeline) = ctx.checked("classify pipeline", || {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("classify"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    buffer_entry(
+                        1,
+                        wgpu::BufferBindingType::Storage { read_only: false },
+                        wgpu::ShaderStages::COMPUTE,
+                    ),
+                ],
+            });
+            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("classify"),
+                bind_group_layouts: &[Some(&layout)],
+                ..Default::default()
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("classify"),
+                layout: Some(&pl),
+                module: &module("classify"),
+                entry_point: Some("cs_classify"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            (layout, pipeline)
+        })?;
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("vertices"),
             contents: bytemuck::cast_slice(&mesh.vertices),
@@ -633,6 +687,8 @@ impl Renderer {
             composite_layout,
             composite_pipeline,
             accumulate_pipeline,
+            classify_layout,
+            classify_pipeline,
             targets: None,
             ctx,
         })
@@ -697,6 +753,72 @@ impl Renderer {
             pong_tex,
             accum_tex,
         });
+    }
+
+    /// Runs the classification compute pass after the work in `encoder`,
+    /// submits, and reads the SSS pixel count back.
+    fn count_sss_pixels(
+        &self,
+        mut encoder: wgpu::CommandEncoder,
+        diffuse: &wgpu::TextureView,
+    ) -> Result<u64, GpuError> {
+        let device = &self.ctx.device;
+        let counts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sss counts"),
+            contents: bytemuck::cast_slice(&[0u32; 4]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sss counts readback"),
+            size: 16,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("classify"),
+            layout: &self.classify_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(diffuse),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: counts.as_entire_binding(),
+                },
+            ],
+        });
+        let (w, h) = self.targets.as_ref().map_or((0, 0), |t| t.size);
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("classify"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.classify_pipeline);
+            pass.set_bind_group(0, &bg, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        }
+        encoder.copy_buffer_to_buffer(&counts, 0, &read, 0, 16);
+        self.ctx.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        let err = |e: String| GpuError::Readback(e);
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| err(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| err(e.to_string()))?
+            .map_err(|e| err(e.to_string()))?;
+        let data = read
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| err(e.to_string()))?;
+        let n = u32::from_le_bytes([data[0], data[1], data[2], data[3]]) as u64;
+        drop(data);
+        read.unmap();
+        Ok(n)
     }
 
     /// Renders one frame and reads it back as 8-bit sRGB RGBA.
@@ -1013,6 +1135,18 @@ impl Renderer {
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
         }
+        // Classify: count SSS pixels on the GPU; with none on screen, or a
+        // profile that does not scatter (strength 0), no SSS pass runs.
+        let sss_pixels = self.count_sss_pixels(encoder, &t.diffuse)?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame sss"),
+        });
+        passes.push("classify");
+        let method = if sss_pixels > 0 && inputs.scatters {
+            s.method
+        } else {
+            Method::None
+        };
         fn tex(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
                 binding,
@@ -1046,10 +1180,10 @@ impl Renderer {
         };
         // Buffers must outlive the encoder's submission.
         let mut keep = Vec::new();
-        match s.method {
+        match method {
             Method::None | Method::Preintegrated => {}
             Method::Burley | Method::Reference => {
-                let (list, label) = if s.method == Method::Burley {
+                let (list, label) = if method == Method::Burley {
                     (&inputs.samples, "sss burley")
                 } else {
                     (&inputs.reference_samples, "sss reference")
@@ -1259,6 +1393,9 @@ impl Renderer {
             method: s.method.id(),
             passes,
             samples_per_sss_pixel: samples_per_pixel,
+            sss_pixels,
+            sss_samples: sss_pixels * samples_per_pixel as u64,
+            sss_gpu_ms: None,
             width: s.width,
             height: s.height,
             adapter: self.adapter_name(),
