@@ -1147,6 +1147,40 @@ impl Renderer {
         } else {
             Method::None
         };
+        // Timestamps around the SSS passes: two empty compute passes mark them.
+        let timer = self.ctx.timestamps.then(|| {
+            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("sss time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            });
+            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sss time resolve"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let read = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sss time readback"),
+                size: 16,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            (set, resolve, read)
+        });
+        let mark = |encoder: &mut wgpu::CommandEncoder, index: u32| {
+            if let Some((set, _, _)) = &timer {
+                encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("sss timestamp"),
+                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(index),
+                        end_of_pass_write_index: None,
+                    }),
+                });
+            }
+        };
+        mark(&mut encoder, 0);
         fn tex(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
                 binding,
@@ -1338,6 +1372,11 @@ impl Renderer {
                 samples_per_pixel = 2 * 13 * inputs.gaussians.len() as u32;
             }
         }
+        mark(&mut encoder, 1);
+        if let Some((set, resolve, read)) = &timer {
+            encoder.resolve_query_set(set, 0..2, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+        }
         let cu = uniform(
             "composite uniforms",
             bytemuck::bytes_of(&CompositeUniforms {
@@ -1389,19 +1428,43 @@ impl Renderer {
         let image = image::RgbaImage::from_raw(s.width, s.height, bytes.swap_remove(0))
             .ok_or_else(|| GpuError::Readback("size mismatch".into()))?;
         drop(keep);
+        let sss_gpu_ms = match &timer {
+            Some((_, _, read)) if samples_per_pixel > 0 => {
+                read_timestamps(&self.ctx, read).map(|(a, b)| {
+                    b.saturating_sub(a) as f64 * self.ctx.queue.get_timestamp_period() as f64 * 1e-6
+                })
+            }
+            _ => None,
+        };
         let stats = FrameStats {
             method: s.method.id(),
             passes,
             samples_per_sss_pixel: samples_per_pixel,
             sss_pixels,
             sss_samples: sss_pixels * samples_per_pixel as u64,
-            sss_gpu_ms: None,
+            sss_gpu_ms,
             width: s.width,
             height: s.height,
             adapter: self.adapter_name(),
         };
         Ok((image, diffuse, stats))
     }
+}
+
+/// Maps a resolved 2-timestamp buffer (already copied and submitted).
+fn read_timestamps(ctx: &GpuContext, read: &wgpu::Buffer) -> Option<(u64, u64)> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
+    rx.recv().ok()?.ok()?;
+    let data = read.slice(..).get_mapped_range().ok()?;
+    let v: &[u64] = bytemuck::cast_slice(&data);
+    let out = (v[0], v[1]);
+    drop(data);
+    read.unmap();
+    Some(out)
 }
 
 /// f32 → IEEE 754 binary16, round to nearest (for Rgba16Float uploads of
