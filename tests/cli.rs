@@ -485,3 +485,54 @@ fn converts_between_engines_both_ways() {
     assert_ne!(code, 0);
     assert!(err.contains("--mfp-color"), "{err}");
 }
+
+/// `render` writes the PNG and the stats JSON; --compare/--diff compose two frames.
+#[test]
+fn render_writes_image_and_stats() {
+    let dir = std::env::temp_dir();
+    let png = dir.join(format!("scatterlab-render-{}.png", std::process::id()));
+    let stats = dir.join(format!("scatterlab-render-{}.json", std::process::id()));
+    let (code, out, err) = run(&[
+        "render",
+        "--method",
+        "burley",
+        "--width",
+        "96",
+        "--height",
+        "80",
+        "--deterministic",
+        "--out",
+        png.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("sss burley"), "{out}");
+    assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (96, 80));
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["method"], "burley");
+    assert!(s["sss_pixels"].as_u64().unwrap() > 0);
+    assert_eq!(
+        s["sss_samples"].as_u64().unwrap(),
+        s["sss_pixels"].as_u64().unwrap() * 21
+    );
+    let (code, out, err) = run(&[
+        "render",
+        "--method",
+        "burley",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--diff",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("difference heat map"), "{out}");
+    let (code, _, err) = run(&["render", "--width", "8", "--out", png.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains("width"), "{err}");
+    std::fs::remove_file(&png).unwrap();
+    std::fs::remove_file(&stats).unwrap();
+}

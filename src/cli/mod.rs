@@ -96,6 +96,16 @@ pub enum Command {
         stats: Option<PathBuf>,
         #[command(flatten)]
         view: ViewArgs,
+        /// Render a second method and show both, split at --split.
+        #[arg(long, value_enum)]
+        compare: Option<MethodArg>,
+        /// Divider position for --compare (0–1 of the width).
+        #[arg(long, default_value_t = 0.5)]
+        split: f32,
+        /// With --compare: write the |A − B| heat map instead of the split
+        /// (against `reference` when no --compare is given).
+        #[arg(long)]
+        diff: bool,
     },
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert {
@@ -141,6 +151,18 @@ pub enum TransmissionArg {
 pub enum TexturingArg {
     PostScatter,
     PreAndPost,
+}
+
+fn to_method(m: MethodArg) -> crate::render::Method {
+    use crate::render::Method;
+    match m {
+        MethodArg::None => Method::None,
+        MethodArg::Burley => Method::Burley,
+        MethodArg::Separable => Method::Separable,
+        MethodArg::Gaussians => Method::Gaussians,
+        MethodArg::Preintegrated => Method::Preintegrated,
+        MethodArg::Reference => Method::Reference,
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -329,6 +351,9 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             stats,
             view,
+            compare,
+            split,
+            diff,
         } => render(
             &model,
             method,
@@ -338,6 +363,7 @@ pub fn run(cli: Cli) -> Result<()> {
             &out,
             stats.as_deref(),
             &view,
+            (compare, split, diff),
         ),
         Command::Convert {
             model,
@@ -625,10 +651,10 @@ fn render(
     out: &std::path::Path,
     stats_path: Option<&std::path::Path>,
     view: &ViewArgs,
+    (compare, split, diff): (Option<MethodArg>, f32, bool),
 ) -> Result<()> {
     use crate::render::{
-        GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode,
-        Transmission,
+        GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer, TexturingMode, Transmission,
     };
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
@@ -661,14 +687,7 @@ fn render(
     let settings = RenderSettings {
         width,
         height,
-        method: match method {
-            MethodArg::None => Method::None,
-            MethodArg::Burley => Method::Burley,
-            MethodArg::Separable => Method::Separable,
-            MethodArg::Reference => Method::Reference,
-            MethodArg::Gaussians => Method::Gaussians,
-            MethodArg::Preintegrated => Method::Preintegrated,
-        },
+        method: to_method(method),
         deterministic,
         camera_yaw: view.camera_yaw.to_radians(),
         light_azimuth: view.light_azimuth.to_radians(),
@@ -684,7 +703,28 @@ fn render(
         },
         ..RenderSettings::default()
     };
-    let (image, stats) = renderer.render(&inputs, &settings)?;
+    let (mut image, stats) = renderer.render(&inputs, &settings)?;
+    let other = match (compare, diff) {
+        (Some(m), _) => Some(m),
+        (None, true) => Some(MethodArg::Reference),
+        (None, false) => None,
+    };
+    let mut diff_scale = None;
+    if let Some(m) = other {
+        crate::model::check_range("split", split as f64, 0.0, 1.0, "")?;
+        let b_settings = RenderSettings {
+            method: to_method(m),
+            ..settings.clone()
+        };
+        let (b, _) = renderer.render(&inputs, &b_settings)?;
+        if diff {
+            let (d, scale) = crate::render::compare::difference_view(&image, &b, None);
+            image = d;
+            diff_scale = Some(scale);
+        } else {
+            image = crate::render::compare::split_view(&image, &b, split);
+        }
+    }
     let mut bytes = Vec::new();
     image.write_to(
         &mut std::io::Cursor::new(&mut bytes),
@@ -715,6 +755,9 @@ fn render(
         stats.adapter,
         stats.passes.join(", ")
     );
+    if let Some(scale) = diff_scale {
+        println!("difference heat map: top of the colour bar = |ΔL| {scale:.5} (linear luminance)");
+    }
     Ok(())
 }
 

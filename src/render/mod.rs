@@ -1,6 +1,7 @@
 //! wgpu renderer (never egui): offscreen HDR targets, the SSS methods and
 //! readback, so the same code serves the viewport, `render` and the tests.
 
+pub mod compare;
 pub mod context;
 pub mod gpu_types;
 pub mod mesh;

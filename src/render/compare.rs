@@ -1,0 +1,109 @@
+//! Side-by-side comparison of two frames: a split view with a divider, and
+//! a difference heat map |A − B| of linear luminance with a colour scale.
+
+use image::{Rgba, RgbaImage};
+
+/// Left of `split` (0–1 of the width) shows `a`, right shows `b`, with a
+/// 2-pixel light divider.
+pub fn split_view(a: &RgbaImage, b: &RgbaImage, split: f32) -> RgbaImage {
+    let (w, h) = a.dimensions();
+    let x0 = (split.clamp(0.0, 1.0) * w as f32).round() as u32;
+    RgbaImage::from_fn(w, h, |x, y| {
+        if x + 1 >= x0 && x <= x0 {
+            Rgba([230, 230, 230, 255])
+        } else if x < x0 {
+            *a.get_pixel(x, y)
+        } else {
+            *b.get_pixel(x, y)
+        }
+    })
+}
+
+fn srgb_to_linear(v: u8) -> f32 {
+    let c = v as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn luminance(p: &Rgba<u8>) -> f32 {
+    0.2126 * srgb_to_linear(p[0]) + 0.7152 * srgb_to_linear(p[1]) + 0.0722 * srgb_to_linear(p[2])
+}
+
+/// A perceptually ordered black → purple → orange → yellow ramp (an
+/// approximation of matplotlib's "inferno") for t in [0, 1].
+pub fn heat(t: f32) -> [u8; 3] {
+    const STOPS: [(f32, [f32; 3]); 5] = [
+        (0.0, [0.0, 0.0, 0.02]),
+        (0.25, [0.34, 0.06, 0.43]),
+        (0.5, [0.73, 0.21, 0.33]),
+        (0.75, [0.98, 0.55, 0.04]),
+        (1.0, [0.99, 1.0, 0.64]),
+    ];
+    let t = t.clamp(0.0, 1.0);
+    let i = STOPS
+        .iter()
+        .rposition(|s| s.0 <= t)
+        .unwrap_or(0)
+        .min(STOPS.len() - 2);
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let f = (t - a.0) / (b.0 - a.0);
+    [0, 1, 2].map(|c| ((a.1[c] + f * (b.1[c] - a.1[c])) * 255.0).round() as u8)
+}
+
+/// |A − B| of linear luminance as a heat map scaled to `scale` (or to the
+/// largest difference when `None`), with a 12-pixel colour bar at the right
+/// edge (bottom 0, top = scale). Returns the image and the scale used.
+pub fn difference_view(a: &RgbaImage, b: &RgbaImage, scale: Option<f32>) -> (RgbaImage, f32) {
+    let (w, h) = a.dimensions();
+    let diffs: Vec<f32> = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| (luminance(p) - luminance(q)).abs())
+        .collect();
+    let max = scale
+        .unwrap_or_else(|| diffs.iter().copied().fold(0.0, f32::max))
+        .max(1e-6);
+    let bar = 12.min(w / 4);
+    let img = RgbaImage::from_fn(w, h, |x, y| {
+        let t = if x >= w - bar {
+            1.0 - y as f32 / (h.max(2) - 1) as f32
+        } else {
+            diffs[(y * w + x) as usize] / max
+        };
+        let [r, g, b] = heat(t);
+        Rgba([r, g, b, 255])
+    });
+    (img, max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_takes_each_side_from_its_image() {
+        let a = RgbaImage::from_pixel(10, 4, Rgba([10, 0, 0, 255]));
+        let b = RgbaImage::from_pixel(10, 4, Rgba([0, 0, 10, 255]));
+        let s = split_view(&a, &b, 0.5);
+        assert_eq!(*s.get_pixel(1, 1), Rgba([10, 0, 0, 255]));
+        assert_eq!(*s.get_pixel(8, 1), Rgba([0, 0, 10, 255]));
+        assert_eq!(*s.get_pixel(5, 1), Rgba([230, 230, 230, 255]));
+    }
+
+    #[test]
+    fn identical_frames_give_a_black_difference_and_the_bar_spans_the_ramp() {
+        let a = RgbaImage::from_pixel(64, 32, Rgba([120, 90, 80, 255]));
+        let (d, _) = difference_view(&a, &a, Some(0.1));
+        assert_eq!(*d.get_pixel(5, 5), Rgba([0, 0, 5, 255]));
+        assert_eq!(&d.get_pixel(60, 0).0[..3], &heat(1.0)[..]);
+        assert_eq!(&d.get_pixel(60, 31).0[..3], &heat(0.0)[..]);
+        // The auto scale is the largest difference: white vs black is ~1.
+        let b = RgbaImage::from_pixel(64, 32, Rgba([255, 255, 255, 255]));
+        let c = RgbaImage::from_pixel(64, 32, Rgba([0, 0, 0, 255]));
+        let (_, s) = difference_view(&b, &c, None);
+        assert!((s - 1.0).abs() < 1e-4, "{s}");
+    }
+}
