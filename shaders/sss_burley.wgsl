@@ -13,6 +13,11 @@ struct Sample {
 @group(0) @binding(3) var<storage, read> samples: array<Sample>;
 // r·R_N(r) per channel at r = r_max·t², t = i/(size−1).
 @group(0) @binding(4) var<storage, read> profile_lut: array<vec4<f32>>;
+// [0]: samples taken, [1]: pixels convolved, [2]: pixels skipped by the LOD.
+@group(0) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
+// x: samples of the low-LOD pattern stored after the main one; y: filter
+// radius (mm, the widest channel's 0.997 radius); z: LOD on (1) or off (0).
+@group(0) @binding(6) var<uniform> lod: vec4<f32>;
 
 fn profile_rr(r_mm: f32) -> vec3<f32> {
     let n = s.params.w;
@@ -31,7 +36,23 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     }
     let z = load_depth(p);
     let ppm = pixels_per_mm(z) * centre.a;
-    let n = u32(s.params.x);
+    // Discrete LOD (Golubev 2018): no convolution when the disk fits in a
+    // pixel, the short pattern when it fits in a 4×4 footprint.
+    var first = 0u;
+    var n = u32(s.params.x);
+    let radius_px = lod.y * ppm;
+    if (lod.z > 0.5) {
+        if (radius_px < 1.0) {
+            atomicAdd(&counters[2], 1u);
+            return centre;
+        }
+        if (radius_px < 4.0) {
+            first = n;
+            n = u32(lod.x);
+        }
+    }
+    atomicAdd(&counters[1], 1u);
+    atomicAdd(&counters[0], n);
     var rotation = 0.0;
     if (s.params.y < 0.5) {
         rotation = 6.28318531 * hash(vec2<u32>(p));
@@ -39,7 +60,7 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     var sum = vec3<f32>(0.0);
     var wsum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i = i + 1u) {
-        let smp = samples[i];
+        let smp = samples[first + i];
         let a = smp.angle + rotation;
         let off = vec2<f32>(cos(a), sin(a)) * smp.radius_mm * ppm;
         let q = p + vec2<i32>(round(off));

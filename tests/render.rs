@@ -308,3 +308,35 @@ fn sss_work_is_counted_and_skipped() {
         stats.passes
     );
 }
+
+/// Burley's discrete LOD, measured by GPU counters: close up every SSS pixel
+/// takes the full pattern; far away the short pattern; farther still the
+/// disk is under a pixel and nothing is convolved. With the LOD off, every
+/// pixel takes the full pattern.
+#[test]
+fn burley_lod_cuts_samples_on_far_shots() {
+    let mut r = renderer();
+    let inp = inputs();
+    let shot = |distance: f32, lod: bool| RenderSettings {
+        width: 128,
+        height: 128,
+        method: Method::Burley,
+        camera_distance_m: distance,
+        deterministic: true,
+        lod,
+        ..Default::default()
+    };
+    let (_, near) = r.render(&inp, &shot(0.55, true)).unwrap();
+    assert_eq!(near.sss_samples, near.sss_pixels * 21);
+    assert_eq!(near.lod_skipped_pixels, 0);
+    let (_, far) = r.render(&inp, &shot(2.5, true)).unwrap();
+    let low = inp.low_samples.len() as u64;
+    assert!(
+        far.sss_samples < far.sss_pixels * 21 && far.sss_samples >= far.sss_pixels * low,
+        "{far:?}"
+    );
+    let (_, very_far) = r.render(&inp, &shot(12.0, true)).unwrap();
+    assert!(very_far.lod_skipped_pixels > 0, "{very_far:?}");
+    let (_, off) = r.render(&inp, &shot(12.0, false)).unwrap();
+    assert_eq!(off.sss_samples, off.sss_pixels * 21);
+}

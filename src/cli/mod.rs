@@ -138,6 +138,12 @@ pub struct ViewArgs {
     /// Texturing mode.
     #[arg(long, value_enum, default_value = "pre-and-post")]
     pub texturing: TexturingArg,
+    /// Camera distance from the face (m).
+    #[arg(long, default_value_t = 0.55)]
+    pub camera_distance: f32,
+    /// Turn off Burley's discrete LOD.
+    #[arg(long)]
+    pub no_lod: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -658,6 +664,13 @@ fn render(
     };
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
+    crate::model::check_range(
+        "camera_distance",
+        view.camera_distance as f64,
+        0.05,
+        1000.0,
+        " m",
+    )?;
     let (spec, p) = built(model)?;
     let mut inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
     if method == MethodArg::Gaussians {
@@ -690,6 +703,8 @@ fn render(
         method: to_method(method),
         deterministic,
         camera_yaw: view.camera_yaw.to_radians(),
+        camera_distance_m: view.camera_distance,
+        lod: !view.no_lod,
         light_azimuth: view.light_azimuth.to_radians(),
         light_elevation: view.light_elevation.to_radians(),
         transmission: match view.transmission {
@@ -739,6 +754,7 @@ fn render(
             "samples_per_sss_pixel": stats.samples_per_sss_pixel,
             "sss_pixels": stats.sss_pixels,
             "sss_samples": stats.sss_samples,
+            "lod_skipped_pixels": stats.lod_skipped_pixels,
             "sss_gpu_ms": stats.sss_gpu_ms,
             "width": stats.width,
             "height": stats.height,

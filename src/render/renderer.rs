@@ -73,6 +73,8 @@ pub struct RenderSettings {
     pub pattern: IrradiancePattern,
     pub transmission: Transmission,
     pub transmission_tint: [f32; 3],
+    /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
+    pub lod: bool,
 }
 
 /// Light transmitted through thin parts (ears, nostrils).
@@ -114,6 +116,7 @@ impl Default for RenderSettings {
             pattern: IrradiancePattern::Lit,
             transmission: Transmission::ThinObject,
             transmission_tint: [1.0, 1.0, 1.0],
+            lod: true,
         }
     }
 }
@@ -125,6 +128,10 @@ pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
     /// The dense stratified pattern of the `reference` method.
     pub reference_samples: Vec<GpuSample>,
+    /// The short pattern the Burley LOD uses for 1–4 px disks.
+    pub low_samples: Vec<GpuSample>,
+    /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
+    pub filter_radius_mm: f32,
     /// False when no channel scatters (e.g. Jimenez strength 0): SSS passes are skipped.
     pub scatters: bool,
     /// Normalised thin-slab transmittance T(d)/total at d = range·i/63.
@@ -173,6 +180,20 @@ impl ProfileInputs {
             .iter()
             .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
             .collect();
+        let low = SamplePattern::new(
+            profile,
+            (samples / 3).clamp(5, samples.max(5)),
+            AngleSequence::GoldenAngle,
+        )?;
+        let low_samples = low
+            .samples
+            .iter()
+            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
+            .collect();
+        let filter_radius_mm = profile
+            .radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION)
+            .into_iter()
+            .fold(0.0, f64::max) as f32;
         // Reference: rings at the quantiles (i + ½)/48, angles (j + ½·(i mod 2))/48.
         const RINGS: usize = 48;
         let reference_samples = (0..RINGS)
@@ -246,6 +267,8 @@ impl ProfileInputs {
         let dirac = profile.dirac_weight();
         let scatters = (0..3).any(|c| total[c] - dirac[c] > 1e-9 * total[c].max(1e-300));
         Ok(Self {
+            low_samples,
+            filter_radius_mm,
             scatters,
             samples: gpu_samples,
             reference_samples,
@@ -317,8 +340,11 @@ pub struct FrameStats {
     pub samples_per_sss_pixel: u32,
     /// Pixels whose SSS mask exceeds 1/255, counted on the GPU.
     pub sss_pixels: u64,
-    /// Texture reads the SSS passes made: sss_pixels × samples per pixel.
+    /// Samples the SSS passes took: counted on the GPU for burley and
+    /// reference, sss_pixels × taps for the separable methods.
     pub sss_samples: u64,
+    /// Pixels the Burley LOD left unconvolved (disk under one pixel).
+    pub lod_skipped_pixels: u64,
     /// GPU time of the SSS passes (ms) from timestamp queries, where the
     /// adapter has them (on lavapipe the "GPU" is the CPU).
     pub sss_gpu_ms: Option<f64>,
@@ -515,6 +541,12 @@ impl Renderer {
                     texture_entry(2),
                     buffer_entry(3, storage, frag),
                     buffer_entry(4, storage, frag),
+                    buffer_entry(
+                        5,
+                        wgpu::BufferBindingType::Storage { read_only: false },
+                        frag,
+                    ),
+                    buffer_entry(6, wgpu::BufferBindingType::Uniform, frag),
                 ],
             });
             let separable_layout =
@@ -1214,6 +1246,19 @@ impl Renderer {
         };
         // Buffers must outlive the encoder's submission.
         let mut keep = Vec::new();
+        // Samples taken, pixels convolved, pixels skipped by the LOD.
+        let counters = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sss counters"),
+            contents: bytemuck::cast_slice(&[0u32; 4]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let counters_read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sss counters readback"),
+            size: 16,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut counted = false;
         match method {
             Method::None | Method::Preintegrated => {}
             Method::Burley | Method::Reference => {
@@ -1226,7 +1271,22 @@ impl Renderer {
                     "sss uniforms",
                     bytemuck::bytes_of(&sss_u(list.len() as f32, [0.0, 0.0])),
                 );
-                let smp = storage("samples", bytemuck::cast_slice(list));
+                // Main pattern followed by the short LOD pattern.
+                let mut all = list.clone();
+                let use_lod = s.lod && method == Method::Burley;
+                if use_lod {
+                    all.extend_from_slice(&inputs.low_samples);
+                }
+                let smp = storage("samples", bytemuck::cast_slice(&all));
+                let lod_u = uniform(
+                    "lod",
+                    bytemuck::cast_slice(&[
+                        inputs.low_samples.len() as f32,
+                        inputs.filter_radius_mm,
+                        if use_lod { 1.0 } else { 0.0 },
+                        0.0,
+                    ]),
+                );
                 let lut = storage("profile lut", bytemuck::cast_slice(&inputs.lut));
                 let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("burley"),
@@ -1246,10 +1306,19 @@ impl Renderer {
                             binding: 4,
                             resource: lut.as_entire_binding(),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: counters.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 6,
+                            resource: lod_u.as_entire_binding(),
+                        },
                     ],
                 });
                 fullscreen(&mut encoder, &t.ping, &self.burley_pipeline, &bg, label);
-                keep.extend([u, smp, lut]);
+                keep.extend([u, smp, lut, lod_u]);
+                counted = true;
                 scattered = &t.ping;
                 scattered_tex = &t.ping_tex;
                 samples_per_pixel = list.len() as u32;
@@ -1373,6 +1442,7 @@ impl Renderer {
             }
         }
         mark(&mut encoder, 1);
+        encoder.copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         if let Some((set, resolve, read)) = &timer {
             encoder.resolve_query_set(set, 0..2, resolve, 0);
             encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
@@ -1436,12 +1506,22 @@ impl Renderer {
             }
             _ => None,
         };
+        let measured = if counted {
+            read_u32x4(&self.ctx, &counters_read)
+        } else {
+            None
+        };
+        let (sss_samples, lod_skipped_pixels) = match measured {
+            Some(c) => (c[0] as u64, c[2] as u64),
+            None => (sss_pixels * samples_per_pixel as u64, 0),
+        };
         let stats = FrameStats {
             method: s.method.id(),
             passes,
             samples_per_sss_pixel: samples_per_pixel,
             sss_pixels,
-            sss_samples: sss_pixels * samples_per_pixel as u64,
+            sss_samples,
+            lod_skipped_pixels,
             sss_gpu_ms,
             width: s.width,
             height: s.height,
@@ -1449,6 +1529,22 @@ impl Renderer {
         };
         Ok((image, diffuse, stats))
     }
+}
+
+/// Maps a 4 × u32 buffer (already copied and submitted).
+fn read_u32x4(ctx: &GpuContext, read: &wgpu::Buffer) -> Option<[u32; 4]> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
+    rx.recv().ok()?.ok()?;
+    let data = read.slice(..).get_mapped_range().ok()?;
+    let v: &[u32] = bytemuck::cast_slice(&data);
+    let out = [v[0], v[1], v[2], v[3]];
+    drop(data);
+    read.unmap();
+    Some(out)
 }
 
 /// Maps a resolved 2-timestamp buffer (already copied and submitted).
