@@ -501,6 +501,7 @@ fn render_writes_image_and_stats() {
         "--height",
         "80",
         "--deterministic",
+        "--no-lod",
         "--out",
         png.to_str().unwrap(),
         "--stats",
