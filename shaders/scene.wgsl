@@ -14,13 +14,14 @@ struct SceneUniforms {
     sky_radiance: vec4<f32>,      // rgb: ambient from above
     ground_radiance: vec4<f32>,   // rgb: ambient from below
     skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
-    params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness, z: F0
+    params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness of lobe 0, z: F0, w: roughness of lobe 1
     light_clip_from_world: mat4x4<f32>,
     shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
     pattern: vec4<f32>,           // x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units)
     preintegrated: vec4<f32>,     // x: 1 = pre-integrated method; y, z: curvature (1/mm) at the LUT's first/last row
     transmission: vec4<f32>,      // x: 0 off, 1 thin, 2 thick; y: table range (mm); z: table size; w: mm per world unit
     transmission_tint: vec4<f32>,
+    specular: vec4<f32>,          // x: lobe mix (Unreal's dual GGX), y: 1 = Kelemen/Szirmay-Kalos instead
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
@@ -131,6 +132,23 @@ fn ggx(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32
     return d * vis * f * nl;
 }
 
+// Kelemen & Szirmay-Kalos 2001 as d'Eon 2007 (GPU Gems 3 §14.2) writes it:
+// Beckmann distribution, Schlick Fresnel and the 1/|L+V|² visibility term.
+fn kelemen(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
+    let nl = max(dot(n, l), 0.0);
+    if (nl <= 0.0) {
+        return 0.0;
+    }
+    let hu = l + v;
+    let h = normalize(hu);
+    let nh = max(dot(n, h), 1e-4);
+    let m = max(roughness * roughness, 1e-3);
+    let tan2 = (1.0 - nh * nh) / (nh * nh);
+    let beckmann = exp(-tan2 / (m * m)) / (PI * m * m * nh * nh * nh * nh);
+    let f = f0 + (1.0 - f0) * pow(1.0 - max(dot(v, h), 0.0), 5.0);
+    return max(beckmann * f / dot(hu, hu), 0.0) * nl;
+}
+
 @fragment
 fn fs_main(i: VertexOut) -> TargetsOut {
     let n = normalize(i.normal);
@@ -180,7 +198,13 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let pre = select(0.0, u.params.x, mask > 0.0);
     var o: TargetsOut;
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
-    o.specular = vec4<f32>(u.light_radiance.rgb * ggx(n, v, l, u.params.y, u.params.z) * shadow, 1.0);
+    // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
+    // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
+    var spec = mix(ggx(n, v, l, u.params.y, u.params.z), ggx(n, v, l, u.params.w, u.params.z), u.specular.x);
+    if (u.specular.y > 0.5) {
+        spec = kelemen(n, v, l, u.params.y, u.params.z);
+    }
+    o.specular = vec4<f32>(u.light_radiance.rgb * spec * shadow, 1.0);
     o.albedo_depth = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), i.view_depth);
     return o;
 }

@@ -15,7 +15,7 @@ pub struct SceneUniforms {
     pub sky_radiance: [f32; 4],
     pub ground_radiance: [f32; 4],
     pub skin_albedo: [f32; 4],
-    /// x: pre-scatter exponent, y: roughness, z: F0.
+    /// x: pre-scatter exponent, y: roughness of lobe 0, z: F0, w: roughness of lobe 1.
     pub params: [f32; 4],
     pub light_clip_from_world: [[f32; 4]; 4],
     /// x: 1/shadow map size, y: depth bias, z: normal offset (world units).
@@ -30,8 +30,10 @@ pub struct SceneUniforms {
     pub transmission: [f32; 4],
     /// rgb: transmission tint.
     pub transmission_tint: [f32; 4],
+    /// x: lobe mix of the dual GGX, y: 1 = Kelemen/Szirmay-Kalos lobe.
+    pub specular: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 12 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 13 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

@@ -10,6 +10,6 @@ pub mod renderer;
 pub use context::{GpuContext, GpuError};
 pub use mesh::Mesh;
 pub use renderer::{
-    FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, TexturingMode,
-    Transmission,
+    FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, Specular,
+    TexturingMode, Transmission,
 };

@@ -75,6 +75,20 @@ pub struct RenderSettings {
     pub transmission_tint: [f32; 3],
     /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
     pub lod: bool,
+    pub specular: Specular,
+}
+
+/// The specular model (its own buffer; never blurred).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Specular {
+    /// Unreal's dual GGX: two roughnesses mixed by `lobe_mix`.
+    DualGgx {
+        roughness0: f32,
+        roughness1: f32,
+        lobe_mix: f32,
+    },
+    /// Kelemen/Szirmay-Kalos with a Beckmann lobe (d'Eon 2007).
+    Kelemen { roughness: f32 },
 }
 
 /// Light transmitted through thin parts (ears, nostrils).
@@ -117,6 +131,14 @@ impl Default for RenderSettings {
             transmission: Transmission::ThinObject,
             transmission_tint: [1.0, 1.0, 1.0],
             lod: true,
+            // Unreal's SubsurfaceProfile defaults: Roughness0 0.75 and
+            // Roughness1 1.30 as multipliers of a material roughness of
+            // 0.55, LobeMix 0.15.
+            specular: Specular::DualGgx {
+                roughness0: 0.41,
+                roughness1: 0.72,
+                lobe_mix: 0.15,
+            },
         }
     }
 }
@@ -947,7 +969,18 @@ impl Renderer {
             sky_radiance: [0.045, 0.05, 0.06, 0.0],
             ground_radiance: [0.02, 0.018, 0.016, 0.0],
             skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
-            params: [pre, 0.45, 0.028, 0.0],
+            params: match s.specular {
+                Specular::DualGgx {
+                    roughness0,
+                    roughness1,
+                    ..
+                } => [pre, roughness0, 0.028, roughness1],
+                Specular::Kelemen { roughness } => [pre, roughness, 0.028, roughness],
+            },
+            specular: match s.specular {
+                Specular::DualGgx { lobe_mix, .. } => [lobe_mix, 0.0, 0.0, 0.0],
+                Specular::Kelemen { .. } => [0.0, 1.0, 0.0, 0.0],
+            },
             light_clip_from_world: (light_proj * light_view).to_cols_array_2d(),
             // Bias: a texel of depth slope; normal offset: one shadow texel in world units.
             shadow: [
