@@ -185,8 +185,8 @@ pub struct ModelArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub subsurface_scale: Option<f64>,
     /// Blender: metres per scene unit (default 1).
-    #[arg(long, allow_hyphen_values = true)]
-    pub metres_per_unit: Option<f64>,
+    #[arg(long = "blender-metres-per-unit", allow_hyphen_values = true)]
+    pub blender_metres_per_unit: Option<f64>,
 }
 
 impl ModelArgs {
@@ -221,7 +221,10 @@ impl ModelArgs {
             ("--world-unit-scale", self.world_unit_scale.is_some()),
             ("--subsurface-radius", self.subsurface_radius.is_some()),
             ("--subsurface-scale", self.subsurface_scale.is_some()),
-            ("--metres-per-unit", self.metres_per_unit.is_some()),
+            (
+                "--blender-metres-per-unit",
+                self.blender_metres_per_unit.is_some(),
+            ),
         ];
         flags
             .iter()
@@ -426,7 +429,7 @@ impl ModelArgs {
                 "--albedo",
                 "--subsurface-radius",
                 "--subsurface-scale",
-                "--metres-per-unit",
+                "--blender-metres-per-unit",
             ],
         )?;
         let b = BlenderSubsurface {
@@ -441,7 +444,7 @@ impl ModelArgs {
             subsurface_scale: self
                 .subsurface_scale
                 .context("--model blender needs --subsurface-scale X")?,
-            metres_per_unit: self.metres_per_unit.unwrap_or(1.0),
+            metres_per_unit: self.blender_metres_per_unit.unwrap_or(1.0),
         };
         Ok(burley_spec(&b.to_burley()?))
     }

@@ -144,6 +144,13 @@ pub struct ViewArgs {
     /// Turn off Burley's discrete LOD.
     #[arg(long)]
     pub no_lod: bool,
+    /// Render this mesh (OBJ) instead of the default head; groups named
+    /// `eyes`/`teeth` are kept out of the scattering.
+    #[arg(long, value_name = "FILE.obj")]
+    pub mesh: Option<PathBuf>,
+    /// Scale of --mesh: metres per unit (Unity's worldScale convention).
+    #[arg(long, default_value_t = 1.0)]
+    pub metres_per_unit: f32,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -179,6 +186,17 @@ pub enum MethodArg {
     Gaussians,
     Preintegrated,
     Reference,
+}
+
+#[cfg(test)]
+mod tests {
+    /// clap's own consistency checks over every subcommand (duplicate
+    /// names, conflicts) — these otherwise panic at parse time.
+    #[test]
+    fn command_line_definition_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -696,7 +714,20 @@ fn render(
         };
         inputs.set_gaussians(&terms);
     }
-    let mut renderer = Renderer::new(GpuContext::new_headless()?, &Mesh::default_head()?)?;
+    let mesh = match &view.mesh {
+        Some(path) => {
+            crate::model::check_range(
+                "metres_per_unit",
+                view.metres_per_unit as f64,
+                1e-6,
+                1e3,
+                " m/unit",
+            )?;
+            Mesh::load_obj(path, view.metres_per_unit)?
+        }
+        None => Mesh::default_head()?,
+    };
+    let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
     let settings = RenderSettings {
         width,
         height,
