@@ -691,6 +691,14 @@ fn render(
     )?;
     let (spec, p) = built(model)?;
     let mut inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
+    // The separable method: a Jimenez 2012 look keeps the demo's kernel;
+    // any other profile uses the importance-sampled pre-integrated kernel
+    // (Jimenez 2015 §4, §7).
+    if let ProfileSpec::Jimenez2012(j) = &spec {
+        inputs.set_separable_kernel(
+            &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
+        );
+    }
     if method == MethodArg::Gaussians {
         // A Gaussian-sum preset is used as it is; any other profile is fitted with six.
         let terms: Vec<(f64, crate::model::Rgb)> = match &spec {

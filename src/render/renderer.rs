@@ -307,6 +307,23 @@ impl ProfileInputs {
 }
 
 impl ProfileInputs {
+    /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
+    /// of a Jimenez 2012 profile instead of the pre-integrated one).
+    pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel) {
+        self.taps = kernel
+            .taps
+            .iter()
+            .map(|t| GpuTap {
+                weight_offset: [
+                    t.weight[0] as f32,
+                    t.weight[1] as f32,
+                    t.weight[2] as f32,
+                    t.offset_mm as f32,
+                ],
+            })
+            .collect();
+    }
+
     /// Sets the Gaussians of the `gaussians` method from (variance mm²,
     /// RGB weight) terms; weights are normalised per channel (the albedo is
     /// applied separately).
