@@ -155,7 +155,6 @@ fn burley_conserves_energy_and_blurs() {
 /// The profile's own energy: R integrates to its total in the LUT the shader reads.
 #[test]
 fn profile_lut_holds_the_normalised_profile() {
-    use scatterlab::model::RadialProfile;
     let p = Preset::default_skin().build_profile().unwrap();
     let inp = ProfileInputs::new(p.as_ref(), 21, 17).unwrap();
     // ∫2π r·R_N(r) dr over the LUT's radius range ≈ 0.999 (it ends at the 0.999 radius).

@@ -4,8 +4,12 @@
 pub mod compare;
 pub mod context;
 pub mod gpu_types;
+pub mod inputs;
 pub mod mesh;
+pub mod pipelines;
+pub mod readback;
 pub mod renderer;
+pub mod settings;
 
 pub use context::{GpuContext, GpuError};
 pub use mesh::Mesh;

@@ -1,0 +1,236 @@
+//! Per-profile GPU inputs: sample patterns, tables and taps, computed on
+//! the CPU from the profile core and rebuilt only when the profile or the
+//! counts change.
+
+use super::gpu_types::{GpuSample, GpuTap};
+use crate::model::sampling::{AngleSequence, SamplePattern};
+use crate::model::separable::SeparableKernel;
+use crate::model::{ModelError, RadialProfile};
+
+/// Per-profile GPU inputs, computed on the CPU and rebuilt only when the
+/// profile or the counts change.
+#[derive(Debug, Clone)]
+pub struct ProfileInputs {
+    pub samples: Vec<GpuSample>,
+    /// The dense stratified pattern of the `reference` method.
+    pub reference_samples: Vec<GpuSample>,
+    /// The short pattern the Burley LOD uses for 1–4 px disks.
+    pub low_samples: Vec<GpuSample>,
+    /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
+    pub filter_radius_mm: f32,
+    /// False when no channel scatters (e.g. Jimenez strength 0): SSS passes are skipped.
+    pub scatters: bool,
+    /// Normalised thin-slab transmittance T(d)/total at d = range·i/63.
+    pub transmittance: Vec<[f32; 4]>,
+    pub transmittance_range_mm: f32,
+    /// Penner's D(θ, κ) table (row-major, 64×64) and its layout.
+    pub preintegrated_lut: Vec<[f32; 4]>,
+    pub lut_layout: crate::model::lut::LutLayout,
+    /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
+    /// method; empty until [`ProfileInputs::set_gaussians`].
+    pub gaussians: Vec<(f32, [f32; 3])>,
+    pub lut: Vec<[f32; 4]>,
+    pub lut_radius_mm: f32,
+    pub taps: Vec<GpuTap>,
+}
+
+pub(super) const LUT_SIZE: usize = 256;
+
+impl ProfileInputs {
+    /// Burley disk samples, the r·R_N(r) table and separable taps for `profile`.
+    pub fn new(
+        profile: &dyn RadialProfile,
+        samples: usize,
+        taps: usize,
+    ) -> Result<Self, ModelError> {
+        let pattern = SamplePattern::new(profile, samples, AngleSequence::GoldenAngle)?;
+        let total = profile.total_reflectance();
+        let dom = pattern.sampled_channel;
+        // w = R(ρ)/pdf with the planar area density pdf = R_dom(r)/A_dom.
+        let gpu_sample = |radius: f64, angle: f64| {
+            let rr = profile.r_reflectance(radius)[dom];
+            let inv_pdf = if rr > 0.0 {
+                total[dom] * radius / rr
+            } else {
+                0.0
+            };
+            GpuSample {
+                radius_mm: radius as f32,
+                angle: angle as f32,
+                inv_pdf: inv_pdf as f32,
+                pad: 0.0,
+            }
+        };
+        let gpu_samples = pattern
+            .samples
+            .iter()
+            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
+            .collect();
+        let low = SamplePattern::new(
+            profile,
+            (samples / 3).clamp(5, samples.max(5)),
+            AngleSequence::GoldenAngle,
+        )?;
+        let low_samples = low
+            .samples
+            .iter()
+            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
+            .collect();
+        let filter_radius_mm = profile
+            .radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION)
+            .into_iter()
+            .fold(0.0, f64::max) as f32;
+        // Reference: rings at the quantiles (i + ½)/48, angles (j + ½·(i mod 2))/48.
+        const RINGS: usize = 48;
+        let reference_samples = (0..RINGS)
+            .flat_map(|i| {
+                let r = profile.inverse_cdf(dom, (i as f64 + 0.5) / RINGS as f64);
+                (0..RINGS).map(move |j| {
+                    (
+                        r,
+                        std::f64::consts::TAU * (j as f64 + 0.5 * (i % 2) as f64) / RINGS as f64,
+                    )
+                })
+            })
+            .map(|(r, a)| gpu_sample(r, a))
+            .collect();
+        let r_max = profile
+            .radius_for_energy(0.999)
+            .into_iter()
+            .fold(1e-6, f64::max);
+        let lut = (0..LUT_SIZE)
+            .map(|i| {
+                let t = i as f64 / (LUT_SIZE - 1) as f64;
+                let rr = profile.r_reflectance(r_max * t * t);
+                let n = |c: usize| {
+                    if total[c] > 0.0 {
+                        (rr[c] / total[c]) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                [n(0), n(1), n(2), 0.0]
+            })
+            .collect();
+        let kernel = SeparableKernel::importance_sampled(profile, taps)?;
+        let taps = kernel
+            .taps
+            .iter()
+            .map(|t| GpuTap {
+                weight_offset: [
+                    t.weight[0] as f32,
+                    t.weight[1] as f32,
+                    t.weight[2] as f32,
+                    t.offset_mm as f32,
+                ],
+            })
+            .collect();
+        let lut_layout = crate::model::lut::LutLayout {
+            width: 64,
+            height: 64,
+            curvature_radius_min_mm: 2.0,
+            curvature_radius_max_mm: 200.0,
+        };
+        let preintegrated_lut = crate::model::lut::Lut::bake(profile, lut_layout)?
+            .d
+            .iter()
+            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+            .collect();
+        let transmittance_range_mm = r_max as f32;
+        let transmittance = (0..64)
+            .map(|i| {
+                let t = profile.transmittance(r_max * i as f64 / 63.0);
+                let n = |c: usize| {
+                    if total[c] > 0.0 {
+                        (t[c] / total[c]) as f32
+                    } else {
+                        0.0
+                    }
+                };
+                [n(0), n(1), n(2), 0.0]
+            })
+            .collect();
+        let dirac = profile.dirac_weight();
+        let scatters = (0..3).any(|c| total[c] - dirac[c] > 1e-9 * total[c].max(1e-300));
+        Ok(Self {
+            low_samples,
+            filter_radius_mm,
+            scatters,
+            samples: gpu_samples,
+            reference_samples,
+            transmittance,
+            transmittance_range_mm,
+            preintegrated_lut,
+            lut_layout,
+            gaussians: Vec::new(),
+            lut,
+            lut_radius_mm: r_max as f32,
+            taps,
+        })
+    }
+}
+
+impl ProfileInputs {
+    /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
+    /// of a Jimenez 2012 profile instead of the pre-integrated one).
+    pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel) {
+        self.taps = kernel
+            .taps
+            .iter()
+            .map(|t| GpuTap {
+                weight_offset: [
+                    t.weight[0] as f32,
+                    t.weight[1] as f32,
+                    t.weight[2] as f32,
+                    t.offset_mm as f32,
+                ],
+            })
+            .collect();
+    }
+
+    /// Sets the Gaussians of the `gaussians` method from (variance mm²,
+    /// RGB weight) terms; weights are normalised per channel (the albedo is
+    /// applied separately).
+    pub fn set_gaussians(&mut self, terms: &[(f64, [f64; 3])]) {
+        let sum = [0, 1, 2].map(|c| terms.iter().map(|t| t.1[c]).sum::<f64>());
+        self.gaussians = terms
+            .iter()
+            .map(|(v, w)| {
+                (
+                    v.sqrt() as f32,
+                    [0, 1, 2].map(|c| {
+                        if sum[c] > 0.0 {
+                            (w[c] / sum[c]) as f32
+                        } else {
+                            0.0
+                        }
+                    }),
+                )
+            })
+            .collect();
+    }
+}
+
+/// Taps of a normalised 1D Gaussian of standard deviation σ (mm): 13
+/// offsets over ±3σ, weights ∝ e^(−x²/2σ²) summing to one, centre first.
+pub fn gaussian_taps(sigma_mm: f32) -> Vec<GpuTap> {
+    let n = 13;
+    let offsets: Vec<f32> = (0..n)
+        .map(|j| (j as f32 - 6.0) / 6.0 * 3.0 * sigma_mm)
+        .collect();
+    let w: Vec<f32> = offsets
+        .iter()
+        .map(|o| (-o * o / (2.0 * sigma_mm * sigma_mm)).exp())
+        .collect();
+    let sum: f32 = w.iter().sum();
+    let mut taps: Vec<GpuTap> = offsets
+        .iter()
+        .zip(&w)
+        .map(|(o, w)| GpuTap {
+            weight_offset: [w / sum, w / sum, w / sum, *o],
+        })
+        .collect();
+    let centre = taps.remove(6);
+    taps.insert(0, centre);
+    taps
+}

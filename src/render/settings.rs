@@ -1,0 +1,156 @@
+//! What a frame looks like and what it reports.
+
+/// Screen-space SSS methods implemented so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Plain diffuse, the baseline.
+    None,
+    /// Golubev 2018 importance-sampled disk.
+    Burley,
+    /// Jimenez 2012 two-pass separable blur.
+    Separable,
+    /// The profile as a sum of Gaussians, each blurred in two depth-aware 1D
+    /// passes (d'Eon 2007 in screen space, Jimenez 2009): 12 passes for 6.
+    Gaussians,
+    /// Penner 2011 pre-integrated skin: D(θ, curvature) from a lookup table
+    /// in the scene pass, no screen-space pass.
+    Preintegrated,
+    /// Brute-force convolution with the exact profile on a dense polar grid
+    /// (48 rings at the dominant channel's quantiles × 48 angles): ground truth.
+    Reference,
+}
+
+impl Method {
+    pub fn id(self) -> &'static str {
+        match self {
+            Method::None => "none",
+            Method::Burley => "burley",
+            Method::Separable => "separable",
+            Method::Reference => "reference",
+            Method::Gaussians => "gaussians",
+            Method::Preintegrated => "preintegrated",
+        }
+    }
+}
+
+/// Where the albedo is applied (d'Eon 2007; seed 000 §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexturingMode {
+    PostScatter,
+    PreAndPostScatter,
+}
+
+/// What one frame looks like.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub method: Method,
+    pub texturing: TexturingMode,
+    /// Camera orbit around the head: yaw and pitch (radians), distance (m).
+    pub camera_yaw: f32,
+    pub camera_pitch: f32,
+    pub camera_distance_m: f32,
+    pub fov_y: f32,
+    /// Direction towards the light: azimuth and elevation (radians).
+    pub light_azimuth: f32,
+    pub light_elevation: f32,
+    pub light_intensity: f32,
+    pub skin_albedo: [f32; 3],
+    pub exposure: f32,
+    /// Turns off per-pixel random rotation (for tests).
+    pub deterministic: bool,
+    /// Lighting, or a flat irradiance test pattern.
+    pub pattern: IrradiancePattern,
+    pub transmission: Transmission,
+    pub transmission_tint: [f32; 3],
+    /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
+    pub lod: bool,
+    pub specular: Specular,
+}
+
+/// The specular model (its own buffer; never blurred).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Specular {
+    /// Unreal's dual GGX: two roughnesses mixed by `lobe_mix`.
+    DualGgx {
+        roughness0: f32,
+        roughness1: f32,
+        lobe_mix: f32,
+    },
+    /// Kelemen/Szirmay-Kalos with a Beckmann lobe (d'Eon 2007).
+    Kelemen { roughness: f32 },
+}
+
+/// Light transmitted through thin parts (ears, nostrils).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transmission {
+    Off,
+    /// Baked thickness, shadowing shared with the front face (Jimenez 2010).
+    ThinObject,
+    /// max(baked, shadow-map) thickness, unshadowed (Golubev 2018).
+    ThickObject,
+}
+
+/// Irradiance for test scenes: lit normally, a step at world x = 0, or a
+/// checkerboard, each of irradiance light_intensity (flat, unshaded).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum IrradiancePattern {
+    Lit,
+    Step,
+    Checkerboard { period_mm: f32 },
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 512,
+            height: 512,
+            method: Method::Burley,
+            texturing: TexturingMode::PreAndPostScatter,
+            camera_yaw: 0.35,
+            camera_pitch: 0.05,
+            camera_distance_m: 0.55,
+            fov_y: 30f32.to_radians(),
+            light_azimuth: 1.25,
+            light_elevation: 0.35,
+            light_intensity: 3.2,
+            skin_albedo: [0.56, 0.33, 0.25],
+            exposure: 1.0,
+            deterministic: false,
+            pattern: IrradiancePattern::Lit,
+            transmission: Transmission::ThinObject,
+            transmission_tint: [1.0, 1.0, 1.0],
+            lod: true,
+            // Unreal's SubsurfaceProfile defaults: Roughness0 0.75 and
+            // Roughness1 1.30 as multipliers of a material roughness of
+            // 0.55, LobeMix 0.15.
+            specular: Specular::DualGgx {
+                roughness0: 0.41,
+                roughness1: 0.72,
+                lobe_mix: 0.15,
+            },
+        }
+    }
+}
+
+/// What a frame did (proof of skipped work comes with later passes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameStats {
+    pub method: &'static str,
+    pub passes: Vec<&'static str>,
+    pub samples_per_sss_pixel: u32,
+    /// Pixels whose SSS mask exceeds 1/255, counted on the GPU.
+    pub sss_pixels: u64,
+    /// Samples the SSS passes took: counted on the GPU for burley and
+    /// reference, sss_pixels × taps for the separable methods.
+    pub sss_samples: u64,
+    /// Pixels the Burley LOD left unconvolved (disk under one pixel).
+    pub lod_skipped_pixels: u64,
+    /// GPU time of the SSS passes (ms) from timestamp queries, where the
+    /// adapter has them (on lavapipe the "GPU" is the CPU).
+    pub sss_gpu_ms: Option<f64>,
+    pub width: u32,
+    pub height: u32,
+    pub adapter: String,
+}
