@@ -517,6 +517,24 @@ fn render_writes_image_and_stats() {
         s["sss_samples"].as_u64().unwrap(),
         s["sss_pixels"].as_u64().unwrap() * 21
     );
+    // The contract: a `passes` list of {name, pixels, samples, gpu_ms}.
+    let passes = s["passes"].as_array().unwrap();
+    let names: Vec<_> = passes.iter().map(|p| p["name"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        ["shadow", "scene", "classify", "sss burley", "composite"]
+    );
+    for p in passes {
+        assert!(p["pixels"].is_u64() && p["samples"].is_u64(), "{p}");
+        assert!(
+            p["gpu_ms"].is_null() || p["gpu_ms"].as_f64().unwrap() >= 0.0,
+            "{p}"
+        );
+    }
+    let burley = &passes[3];
+    assert_eq!(burley["pixels"], s["sss_pixels"]);
+    assert_eq!(burley["samples"], s["sss_samples"]);
+    assert_eq!(passes[1]["pixels"].as_u64().unwrap(), 96 * 80);
     let (code, out, err) = run(&[
         "render",
         "--method",

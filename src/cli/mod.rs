@@ -810,7 +810,12 @@ fn render(
         width,
         height,
         stats.adapter,
-        stats.passes.join(", ")
+        stats
+            .passes
+            .iter()
+            .map(|p| p.name)
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     if let Some(scale) = diff_scale {
         println!("difference heat map: top of the colour bar = |ΔL| {scale:.5} (linear luminance)");

@@ -10,6 +10,7 @@ pub mod pipelines;
 pub mod readback;
 pub mod renderer;
 pub mod settings;
+pub mod timing;
 
 pub use context::{GpuContext, GpuError};
 pub use mesh::Mesh;
@@ -17,3 +18,4 @@ pub use renderer::{
     FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, Specular,
     TexturingMode, Transmission,
 };
+pub use timing::PassStats;

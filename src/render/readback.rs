@@ -18,17 +18,17 @@ pub(super) fn read_u32x4(ctx: &GpuContext, read: &wgpu::Buffer) -> Option<[u32; 
     Some(out)
 }
 
-/// Maps a resolved 2-timestamp buffer (already copied and submitted).
-pub(super) fn read_timestamps(ctx: &GpuContext, read: &wgpu::Buffer) -> Option<(u64, u64)> {
+/// Maps the first `n` u64 of a readback buffer (already copied and submitted).
+pub(super) fn read_u64s(ctx: &GpuContext, read: &wgpu::Buffer, n: usize) -> Option<Vec<u64>> {
     let (tx, rx) = std::sync::mpsc::channel();
-    read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+    let slice = read.slice(..8 * n as u64);
+    slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
     ctx.device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
     rx.recv().ok()?.ok()?;
-    let data = read.slice(..).get_mapped_range().ok()?;
-    let v: &[u64] = bytemuck::cast_slice(&data);
-    let out = (v[0], v[1]);
+    let data = slice.get_mapped_range().ok()?;
+    let out = bytemuck::cast_slice::<u8, u64>(&data).to_vec();
     drop(data);
     read.unmap();
     Some(out)

@@ -11,10 +11,11 @@ use super::pipelines::{
     texture_entry, DEPTH_CHANNEL, HDR, OUTPUT,
 };
 pub use super::readback::{f32_to_half, half_to_f32};
-use super::readback::{read_timestamps, read_u32x4, readback};
+use super::readback::{read_u32x4, readback};
 pub use super::settings::{
     FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode, Transmission,
 };
+use super::timing::PassTimer;
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
@@ -389,6 +390,7 @@ impl Renderer {
         &self,
         mut encoder: wgpu::CommandEncoder,
         diffuse: &wgpu::TextureView,
+        timer: &mut PassTimer,
     ) -> Result<u64, GpuError> {
         let device = &self.ctx.device;
         let counts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -420,7 +422,7 @@ impl Renderer {
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("classify"),
-                timestamp_writes: None,
+                timestamp_writes: timer.compute("classify", w as u64 * h as u64, 0),
             });
             pass.set_pipeline(&self.classify_pipeline);
             pass.set_bind_group(0, &bg, &[]);
@@ -715,7 +717,8 @@ impl Renderer {
             ],
             direction: [dir[0], dir[1], 0.5, 0.0],
         };
-        let mut passes = vec!["shadow", "scene"];
+        let (w, h) = (s.width as u64, s.height as u64);
+        let mut timer = PassTimer::new(ctx);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
         });
@@ -731,6 +734,7 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
+                timestamp_writes: timer.render("shadow", (SHADOW_SIZE * SHADOW_SIZE) as u64, 0),
                 ..Default::default()
             });
             pass.set_pipeline(&self.shadow_pipeline);
@@ -766,6 +770,7 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
+                timestamp_writes: timer.render("scene", w * h, 0),
                 ..Default::default()
             });
             pass.set_pipeline(&self.scene_pipeline);
@@ -776,50 +781,15 @@ impl Renderer {
         }
         // Classify: count SSS pixels on the GPU; with none on screen, or a
         // profile that does not scatter (strength 0), no SSS pass runs.
-        let sss_pixels = self.count_sss_pixels(encoder, &t.diffuse)?;
+        let sss_pixels = self.count_sss_pixels(encoder, &t.diffuse, &mut timer)?;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame sss"),
         });
-        passes.push("classify");
         let method = if sss_pixels > 0 && inputs.scatters {
             s.method
         } else {
             Method::None
         };
-        // Timestamps around the SSS passes: two empty compute passes mark them.
-        let timer = self.ctx.timestamps.then(|| {
-            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("sss time"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sss time resolve"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let read = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sss time readback"),
-                size: 16,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            (set, resolve, read)
-        });
-        let mark = |encoder: &mut wgpu::CommandEncoder, index: u32| {
-            if let Some((set, _, _)) = &timer {
-                encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("sss timestamp"),
-                    timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(index),
-                        end_of_pass_write_index: None,
-                    }),
-                });
-            }
-        };
-        mark(&mut encoder, 0);
         fn tex(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
                 binding,
@@ -829,11 +799,15 @@ impl Renderer {
         let mut scattered = &t.diffuse;
         let mut scattered_tex = &t.diffuse_tex;
         let mut samples_per_pixel = 0;
+        // One fullscreen triangle into `target`, timed and counted as
+        // (pixels, samples).
         let fullscreen = |encoder: &mut wgpu::CommandEncoder,
+                          timer: &mut PassTimer,
                           target: &wgpu::TextureView,
                           pipeline: &wgpu::RenderPipeline,
                           bg: &wgpu::BindGroup,
-                          label| {
+                          label,
+                          (pixels, samples): (u64, u64)| {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -845,6 +819,7 @@ impl Renderer {
                         store: wgpu::StoreOp::Store,
                     },
                 })],
+                timestamp_writes: timer.render(label, pixels, samples),
                 ..Default::default()
             });
             pass.set_pipeline(pipeline);
@@ -866,6 +841,7 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let mut counted = false;
+        let mut burley_label = None;
         match method {
             Method::None | Method::Preintegrated => {}
             Method::Burley | Method::Reference => {
@@ -923,13 +899,21 @@ impl Renderer {
                         },
                     ],
                 });
-                fullscreen(&mut encoder, &t.ping, &self.burley_pipeline, &bg, label);
+                fullscreen(
+                    &mut encoder,
+                    &mut timer,
+                    &t.ping,
+                    &self.burley_pipeline,
+                    &bg,
+                    label,
+                    (sss_pixels, sss_pixels * list.len() as u64),
+                );
+                burley_label = Some(label);
                 keep.extend([u, smp, lut, lod_u]);
                 counted = true;
                 scattered = &t.ping;
                 scattered_tex = &t.ping_tex;
                 samples_per_pixel = list.len() as u32;
-                passes.push(label);
             }
             Method::Separable => {
                 let taps = storage("taps", bytemuck::cast_slice(&inputs.taps));
@@ -955,9 +939,16 @@ impl Renderer {
                             },
                         ],
                     });
-                    fullscreen(&mut encoder, dst, &self.separable_pipeline, &bg, label);
+                    fullscreen(
+                        &mut encoder,
+                        &mut timer,
+                        dst,
+                        &self.separable_pipeline,
+                        &bg,
+                        label,
+                        (sss_pixels, sss_pixels * inputs.taps.len() as u64),
+                    );
                     keep.push(u);
-                    passes.push(label);
                 }
                 keep.push(taps);
                 scattered = &t.pong;
@@ -978,9 +969,10 @@ impl Renderer {
                             store: wgpu::StoreOp::Store,
                         },
                     })],
+                    timestamp_writes: timer.render("sss gaussians clear", w * h, 0),
                     ..Default::default()
                 });
-                for (k, (sigma, weight)) in inputs.gaussians.iter().enumerate() {
+                for (sigma, weight) in inputs.gaussians.iter() {
                     let taps = storage(
                         "gaussian taps",
                         bytemuck::cast_slice(&gaussian_taps(*sigma)),
@@ -1010,13 +1002,14 @@ impl Renderer {
                         let u = uniform("sss uniforms", bytemuck::bytes_of(&sss_u(13.0, dir)));
                         fullscreen(
                             &mut encoder,
+                            &mut timer,
                             dst,
                             &self.separable_pipeline,
                             &bind(&u, src, label),
                             label,
+                            (sss_pixels, sss_pixels * 13),
                         );
                         keep.push(u);
-                        passes.push(label);
                     }
                     let mut acc_u = sss_u(13.0, [0.0, 0.0]);
                     acc_u.direction = [weight[0], weight[1], weight[2], 0.0];
@@ -1034,13 +1027,14 @@ impl Renderer {
                                     store: wgpu::StoreOp::Store,
                                 },
                             })],
+                            // One load per pixel, over the whole target.
+                            timestamp_writes: timer.render("sss gaussian accumulate", w * h, w * h),
                             ..Default::default()
                         });
                         pass.set_pipeline(&self.accumulate_pipeline);
                         pass.set_bind_group(0, &bg, &[]);
                         pass.draw(0..3, 0..1);
                     }
-                    let _ = k;
                     keep.extend([u, taps]);
                 }
                 scattered = &t.accum;
@@ -1048,12 +1042,7 @@ impl Renderer {
                 samples_per_pixel = 2 * 13 * inputs.gaussians.len() as u32;
             }
         }
-        mark(&mut encoder, 1);
         encoder.copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
-        if let Some((set, resolve, read)) = &timer {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
-        }
         let cu = uniform(
             "composite uniforms",
             bytemuck::bytes_of(&CompositeUniforms {
@@ -1076,12 +1065,14 @@ impl Renderer {
         });
         fullscreen(
             &mut encoder,
+            &mut timer,
             &output_view,
             &self.composite_pipeline,
             &cbg,
             "composite",
+            (w * h, 0),
         );
-        passes.push("composite");
+        timer.resolve(&mut encoder);
         let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(&t.output, 4)];
         if want_diffuse {
             wanted.push((scattered_tex, 8));
@@ -1105,14 +1096,6 @@ impl Renderer {
         let image = image::RgbaImage::from_raw(s.width, s.height, bytes.swap_remove(0))
             .ok_or_else(|| GpuError::Readback("size mismatch".into()))?;
         drop(keep);
-        let sss_gpu_ms = match &timer {
-            Some((_, _, read)) if samples_per_pixel > 0 => {
-                read_timestamps(&self.ctx, read).map(|(a, b)| {
-                    b.saturating_sub(a) as f64 * self.ctx.queue.get_timestamp_period() as f64 * 1e-6
-                })
-            }
-            _ => None,
-        };
         let measured = if counted {
             read_u32x4(&self.ctx, &counters_read)
         } else {
@@ -1122,6 +1105,18 @@ impl Renderer {
             Some(c) => (c[0] as u64, c[2] as u64),
             None => (sss_pixels * samples_per_pixel as u64, 0),
         };
+        if let Some(label) = burley_label {
+            timer.set_samples(label, sss_samples);
+        }
+        let passes = timer.finish(ctx);
+        // Sum over the SSS passes, where every one was timed.
+        let sss: Vec<_> = passes
+            .iter()
+            .filter(|p| p.name.starts_with("sss"))
+            .collect();
+        let sss_gpu_ms = (!sss.is_empty())
+            .then(|| sss.iter().map(|p| p.gpu_ms).sum::<Option<f64>>())
+            .flatten();
         let stats = FrameStats {
             method: s.method.id(),
             passes,

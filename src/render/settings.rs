@@ -134,11 +134,12 @@ impl Default for RenderSettings {
     }
 }
 
-/// What a frame did (proof of skipped work comes with later passes).
+/// What a frame did: the proof that skipped work was skipped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrameStats {
     pub method: &'static str,
-    pub passes: Vec<&'static str>,
+    /// Every pass the frame ran, in order.
+    pub passes: Vec<super::timing::PassStats>,
     pub samples_per_sss_pixel: u32,
     /// Pixels whose SSS mask exceeds 1/255, counted on the GPU.
     pub sss_pixels: u64,
@@ -147,8 +148,9 @@ pub struct FrameStats {
     pub sss_samples: u64,
     /// Pixels the Burley LOD left unconvolved (disk under one pixel).
     pub lod_skipped_pixels: u64,
-    /// GPU time of the SSS passes (ms) from timestamp queries, where the
-    /// adapter has them (on lavapipe the "GPU" is the CPU).
+    /// GPU time of all SSS passes (ms) from timestamp queries, where the
+    /// adapter has them (on lavapipe the "GPU" is the CPU); `None` when no
+    /// SSS pass ran.
     pub sss_gpu_ms: Option<f64>,
     pub width: u32,
     pub height: u32,
