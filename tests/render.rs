@@ -129,9 +129,10 @@ fn burley_conserves_energy_and_blurs() {
             },
         )
         .unwrap();
+    // Same light as the first frame: the shadow map is reused, not redrawn.
     assert_eq!(
         stats.passes.iter().map(|p| p.name).collect::<Vec<_>>(),
-        vec!["shadow", "scene", "classify", "sss burley", "composite"]
+        vec!["scene", "classify", "sss burley", "composite"]
     );
     let bg = *none.get_pixel(0, 0);
     let (mut a, mut b, mut n, mut changed) = (0.0, 0.0, 0usize, 0usize);
@@ -338,4 +339,49 @@ fn burley_lod_cuts_samples_on_far_shots() {
     assert!(very_far.lod_skipped_pixels > 0, "{very_far:?}");
     let (_, off) = r.render(&inp, &shot(12.0, false)).unwrap();
     assert_eq!(off.sss_samples, off.sss_pixels * 21);
+}
+
+/// The shadow map is drawn only when the light moves, and reusing it changes
+/// nothing: a frame after a light change and back equals a first frame.
+#[test]
+fn shadow_map_is_redrawn_only_when_the_light_moves() {
+    let inp = inputs();
+    let s = RenderSettings {
+        width: 96,
+        height: 96,
+        deterministic: true,
+        method: Method::None,
+        ..Default::default()
+    };
+    let moved = RenderSettings {
+        light_azimuth: s.light_azimuth + 0.5,
+        ..s.clone()
+    };
+    let names =
+        |st: &scatterlab::render::FrameStats| st.passes.iter().map(|p| p.name).collect::<Vec<_>>();
+    let mut r = renderer();
+    let (first, a) = r.render(&inp, &s).unwrap();
+    let (_, b) = r.render(&inp, &s).unwrap();
+    let (_, c) = r.render(&inp, &moved).unwrap();
+    let (again, d) = r.render(&inp, &s).unwrap();
+    assert_eq!(names(&a)[0], "shadow");
+    assert_eq!(
+        names(&b)[0],
+        "scene",
+        "unchanged light redrew the shadow map"
+    );
+    assert_eq!(
+        names(&c)[0],
+        "shadow",
+        "moved light kept a stale shadow map"
+    );
+    assert_eq!(names(&d)[0], "shadow");
+    let (_, cached) = r.render(&inp, &s).unwrap();
+    assert_eq!(names(&cached)[0], "scene");
+    assert_eq!(
+        first, again,
+        "shadow map not restored after the light moved back"
+    );
+    let (reused, _) = r.render(&inp, &s).unwrap();
+    assert_eq!(first, reused, "a reused shadow map changed the image");
 }

@@ -63,6 +63,9 @@ pub struct Renderer {
     classify_layout: wgpu::BindGroupLayout,
     classify_pipeline: wgpu::ComputePipeline,
     targets: Option<Targets>,
+    /// The light transform the shadow map was last drawn with: the map
+    /// depends only on it and the mesh, so an unchanged light skips the pass.
+    shadow_key: Option<[[f32; 4]; 4]>,
 }
 
 impl Renderer {
@@ -319,6 +322,7 @@ impl Renderer {
             classify_layout,
             classify_pipeline,
             targets: None,
+            shadow_key: None,
             ctx,
         })
     }
@@ -484,7 +488,12 @@ impl Renderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let result = self.encode_and_read(inputs, s, want_diffuse);
-        match pollster::block_on(scope.pop()) {
+        let error = pollster::block_on(scope.pop());
+        if error.is_some() || result.is_err() {
+            // The shadow map may not have been drawn: draw it next time.
+            self.shadow_key = None;
+        }
+        match error {
             Some(e) => Err(GpuError::Validation {
                 stage: "frame",
                 message: e.to_string(),
@@ -532,6 +541,8 @@ impl Renderer {
             },
         );
         let light_proj = Mat4::orthographic_rh(-rad, rad, -rad, rad, 0.01 * rad, 4.0 * rad);
+        let light_clip = (light_proj * light_view).to_cols_array_2d();
+        let shadow_cached = self.shadow_key == Some(light_clip);
         let pre = match s.texturing {
             TexturingMode::PostScatter => 0.0,
             TexturingMode::PreAndPostScatter => 0.5,
@@ -557,7 +568,7 @@ impl Renderer {
                 Specular::DualGgx { lobe_mix, .. } => [lobe_mix, 0.0, 0.0, 0.0],
                 Specular::Kelemen { .. } => [0.0, 1.0, 0.0, 0.0],
             },
-            light_clip_from_world: (light_proj * light_view).to_cols_array_2d(),
+            light_clip_from_world: light_clip,
             // Bias: a texel of depth slope; normal offset: one shadow texel in world units.
             shadow: [
                 1.0 / SHADOW_SIZE as f32,
@@ -722,7 +733,7 @@ impl Renderer {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
         });
-        {
+        if !shadow_cached {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow"),
                 color_attachments: &[],
@@ -1129,6 +1140,7 @@ impl Renderer {
             height: s.height,
             adapter: self.adapter_name(),
         };
+        self.shadow_key = Some(light_clip);
         Ok((image, diffuse, stats))
     }
 }
