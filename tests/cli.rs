@@ -405,6 +405,41 @@ fn bad_input_is_one_line_and_non_zero() {
     assert!(err.contains("albedo.r"), "{err}");
 }
 
+/// Meshes and their scale: NaN vertices, missing files, garbage and bad
+/// scales are refused with one line that names the file or the field.
+#[test]
+fn render_refuses_bad_meshes_and_scales() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let nan = dir.join("nan.obj");
+    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    let garbage = dir.join("garbage.obj");
+    std::fs::write(&garbage, b"\x00\x01 not an obj\n").unwrap();
+    let out = dir.join("out.png");
+    let o = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["--mesh", nan.to_str().unwrap()], "vertex 3"),
+        (&["--mesh", garbage.to_str().unwrap()], "garbage.obj"),
+        (
+            &["--mesh", "/nonexistent/head.obj"],
+            "/nonexistent/head.obj",
+        ),
+        (&["--metres-per-unit", "-1"], "metres_per_unit"),
+        (&["--metres-per-unit", "nan"], "metres_per_unit"),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["render", "--width", "32", "--height", "32", "--out", o];
+        args.extend_from_slice(extra);
+        let (code, _, err) = run(&args);
+        assert_ne!(code, 0, "{extra:?} succeeded");
+        assert_eq!(err.trim_end().lines().count(), 1, "{extra:?}: {err}");
+        assert!(err.contains(needle), "{extra:?}: {err}");
+        assert!(!err.contains("panicked"), "{extra:?}: {err}");
+    }
+    assert!(!out.exists(), "a failed render wrote {o}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn convert_round_trips_through_unity_numbers() {
     let v = json(&[

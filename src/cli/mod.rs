@@ -149,7 +149,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "FILE.obj")]
     pub mesh: Option<PathBuf>,
     /// Scale of --mesh: metres per unit (Unity's worldScale convention).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub metres_per_unit: f32,
 }
 
@@ -724,17 +724,15 @@ fn render(
         };
         inputs.set_gaussians(&terms);
     }
+    crate::model::check_range(
+        "metres_per_unit",
+        view.metres_per_unit as f64,
+        1e-6,
+        1e3,
+        " m/unit",
+    )?;
     let mesh = match &view.mesh {
-        Some(path) => {
-            crate::model::check_range(
-                "metres_per_unit",
-                view.metres_per_unit as f64,
-                1e-6,
-                1e3,
-                " m/unit",
-            )?;
-            Mesh::load_obj(path, view.metres_per_unit)?
-        }
+        Some(path) => Mesh::load_obj(path, view.metres_per_unit)?,
         None => Mesh::default_head()?,
     };
     let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;

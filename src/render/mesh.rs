@@ -28,6 +28,14 @@ pub enum MeshError {
     Load { path: String, message: String },
     #[error("{path}: the mesh has no triangles")]
     Empty { path: String },
+    #[error("{path}: vertex {vertex} has a non-finite position {position:?}")]
+    NonFinite {
+        path: String,
+        vertex: usize,
+        position: [f32; 3],
+    },
+    #[error("{path}: metres_per_unit = {value} must be finite and positive")]
+    Scale { path: String, value: f32 },
 }
 
 impl Mesh {
@@ -53,6 +61,12 @@ impl Mesh {
         origin: &str,
         metres_per_unit: f32,
     ) -> Result<Self, MeshError> {
+        if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
+            return Err(MeshError::Scale {
+                path: origin.into(),
+                value: metres_per_unit,
+            });
+        }
         let mut reader = std::io::BufReader::new(text.as_bytes());
         let opts = tobj::LoadOptions {
             triangulate: true,
@@ -100,6 +114,19 @@ impl Mesh {
         if mesh.indices.is_empty() {
             return Err(MeshError::Empty {
                 path: origin.into(),
+            });
+        }
+        // A NaN or Inf position would poison the normals, bounds and bakes.
+        if let Some((vertex, v)) = mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.position.iter().all(|x| x.is_finite()))
+        {
+            return Err(MeshError::NonFinite {
+                path: origin.into(),
+                vertex: vertex + 1,
+                position: v.position,
             });
         }
         mesh.compute_smooth_normals();
