@@ -35,11 +35,36 @@ fn settings(method: Method) -> RenderSettings {
     }
 }
 
+/// A 200 mm square plane (1 mm per unit) facing the camera.
+fn plane_renderer() -> Renderer {
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap()
+}
+
+/// Position of pixel column `px` on the plane (mm; the step is at 0).
+fn column_mm(px: usize) -> f64 {
+    (px as f64 + 0.5 - WIDTH as f64 / 2.0) * SPAN_MM as f64 / WIDTH as f64
+}
+
+/// Largest per-channel |rendered − Φ(x)| along the middle row, where Φ is
+/// the profile's strip CDF: the exact response to the step.
+fn worst_edge_deviation(profile: &dyn RadialProfile, diffuse: &[[f32; 4]]) -> [f64; 3] {
+    let row = 32usize;
+    let mut worst = [0.0f64; 3];
+    for px in 0..WIDTH as usize {
+        let got = diffuse[row * WIDTH as usize + px];
+        let expected = profile.strip_cdf(column_mm(px));
+        for c in 0..3 {
+            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
+        }
+    }
+    worst
+}
+
 #[test]
 fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
-    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
-    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let mut r = plane_renderer();
     let inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
     let (_, diffuse, _) = r
         .render_with_diffuse(&inputs, &settings(Method::Burley))
@@ -47,23 +72,15 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     let (_, flat, _) = r
         .render_with_diffuse(&inputs, &settings(Method::None))
         .unwrap();
-    let row = 32usize;
-    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
-    let mut worst = [0.0f64; 3];
+    // Without scattering the irradiance is the step itself.
     for px in 0..WIDTH as usize {
-        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
-        let got = diffuse[row * WIDTH as usize + px];
-        let step = flat[row * WIDTH as usize + px];
-        // Without scattering the irradiance is the step itself.
+        let (x_mm, step) = (column_mm(px), flat[32 * WIDTH as usize + px]);
         assert!(
             (step[0] as f64 - if x_mm > 0.0 { 1.0 } else { 0.0 }).abs() < 1e-3,
             "x={x_mm}: {step:?}"
         );
-        let expected = profile.strip_cdf(x_mm);
-        for c in 0..3 {
-            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
-        }
     }
+    let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("worst deviation per channel: {worst:?}");
     // 144 golden-angle samples snapped to pixels: within 0.025 of the exact
     // edge profile (measured 0.017, 0.011, 0.016 on lavapipe).
@@ -79,23 +96,12 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
 #[test]
 fn separable_pass_follows_the_strip_cdf_across_an_edge() {
     let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
-    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
-    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let mut r = plane_renderer();
     let inputs = ProfileInputs::new(&profile, 21, 33).unwrap();
     let (_, diffuse, _) = r
         .render_with_diffuse(&inputs, &settings(Method::Separable))
         .unwrap();
-    let row = 32usize;
-    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
-    let mut worst = [0.0f64; 3];
-    for px in 0..WIDTH as usize {
-        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
-        let got = diffuse[row * WIDTH as usize + px];
-        let expected = profile.strip_cdf(x_mm);
-        for c in 0..3 {
-            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
-        }
-    }
+    let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("separable worst deviation per channel: {worst:?}");
     // A 33-tap kernel puts 1/33 ≈ 0.03 of the red energy in each tap
     // (measured 0.016, 0.016, 0.025 on lavapipe).
@@ -110,24 +116,13 @@ fn separable_pass_follows_the_strip_cdf_across_an_edge() {
 #[test]
 fn reference_pass_follows_the_strip_cdf_across_an_edge() {
     let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
-    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
-    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let mut r = plane_renderer();
     let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
     let (_, diffuse, stats) = r
         .render_with_diffuse(&inputs, &settings(Method::Reference))
         .unwrap();
     assert_eq!(stats.samples_per_sss_pixel, 48 * 48);
-    let row = 32usize;
-    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
-    let mut worst = [0.0f64; 3];
-    for px in 0..WIDTH as usize {
-        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
-        let got = diffuse[row * WIDTH as usize + px];
-        let expected = profile.strip_cdf(x_mm);
-        for c in 0..3 {
-            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
-        }
-    }
+    let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("reference worst deviation per channel: {worst:?}");
     assert!(
         worst.iter().all(|w| *w < 0.01),
@@ -141,8 +136,7 @@ fn reference_pass_follows_the_strip_cdf_across_an_edge() {
 fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
     use scatterlab::model::gaussian::{GaussianSum, DEON_SKIN};
     let profile = GaussianSum::deon_skin();
-    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
-    let mut r = Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap();
+    let mut r = plane_renderer();
     let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
     inputs.set_gaussians(&DEON_SKIN);
     let (_, diffuse, stats) = r
@@ -155,17 +149,7 @@ fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
         .filter(|p| p.name == "sss gaussian x" || p.name == "sss gaussian y")
         .count();
     assert_eq!(blurs, 12);
-    let row = 32usize;
-    let mm_per_px = SPAN_MM as f64 / WIDTH as f64;
-    let mut worst = [0.0f64; 3];
-    for px in 0..WIDTH as usize {
-        let x_mm = (px as f64 + 0.5 - WIDTH as f64 / 2.0) * mm_per_px;
-        let got = diffuse[row * WIDTH as usize + px];
-        let expected = profile.strip_cdf(x_mm);
-        for c in 0..3 {
-            worst[c] = worst[c].max((got[c] as f64 - expected[c]).abs());
-        }
-    }
+    let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("gaussians worst deviation per channel: {worst:?}");
     // Red carries 0.233 in a σ = 0.08 mm Gaussian, narrower than the
     // 0.094 mm pixel: the pixel grid cannot resolve it (measured 0.055;

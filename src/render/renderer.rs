@@ -851,6 +851,26 @@ impl Renderer {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
+        // Bind group of one depth-aware 1D pass (separable and gaussians).
+        let separable_bg =
+            |u: &wgpu::Buffer, src: &wgpu::TextureView, taps: &wgpu::Buffer, label| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(label),
+                    layout: &self.separable_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: u.as_entire_binding(),
+                        },
+                        tex(1, src),
+                        tex(2, &t.albedo_depth),
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: taps.as_entire_binding(),
+                        },
+                    ],
+                })
+            };
         let mut counted = false;
         let mut burley_label = None;
         match method {
@@ -934,22 +954,7 @@ impl Renderer {
                     ([0.0, 1.0], &t.ping, &t.pong, "sss separable y"),
                 ] {
                     let u = uniform("sss uniforms", bytemuck::bytes_of(&sss_u(n, dir)));
-                    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some(label),
-                        layout: &self.separable_layout,
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: u.as_entire_binding(),
-                            },
-                            tex(1, src),
-                            tex(2, &t.albedo_depth),
-                            wgpu::BindGroupEntry {
-                                binding: 3,
-                                resource: taps.as_entire_binding(),
-                            },
-                        ],
-                    });
+                    let bg = separable_bg(&u, src, &taps, label);
                     fullscreen(
                         &mut encoder,
                         &mut timer,
@@ -989,22 +994,7 @@ impl Renderer {
                         bytemuck::cast_slice(&gaussian_taps(*sigma)),
                     );
                     let bind = |u: &wgpu::Buffer, src: &wgpu::TextureView, label| {
-                        device.create_bind_group(&wgpu::BindGroupDescriptor {
-                            label: Some(label),
-                            layout: &self.separable_layout,
-                            entries: &[
-                                wgpu::BindGroupEntry {
-                                    binding: 0,
-                                    resource: u.as_entire_binding(),
-                                },
-                                tex(1, src),
-                                tex(2, &t.albedo_depth),
-                                wgpu::BindGroupEntry {
-                                    binding: 3,
-                                    resource: taps.as_entire_binding(),
-                                },
-                            ],
-                        })
+                        separable_bg(u, src, &taps, label)
                     };
                     for (dir, src, dst, label) in [
                         ([1.0, 0.0], &t.diffuse, &t.ping, "sss gaussian x"),
