@@ -385,3 +385,46 @@ fn shadow_map_is_redrawn_only_when_the_light_moves() {
     let (reused, _) = r.render(&inp, &s).unwrap();
     assert_eq!(first, reused, "a reused shadow map changed the image");
 }
+
+/// Tables, patterns and kernels go to the GPU once per profile: an
+/// unchanged profile (or a method switch) uploads nothing, an edit uploads
+/// once, and the edit shows in the image.
+#[test]
+fn profile_uploads_only_when_the_profile_changes() {
+    let inp = inputs();
+    let s = RenderSettings {
+        width: 96,
+        height: 96,
+        deterministic: true,
+        method: Method::Burley,
+        ..Default::default()
+    };
+    let mut r = renderer();
+    let (first, a) = r.render(&inp, &s).unwrap();
+    assert!(
+        a.profile_uploaded,
+        "the first frame must upload the profile"
+    );
+    let (_, b) = r.render(&inp, &s).unwrap();
+    assert!(!b.profile_uploaded, "an unchanged profile was re-uploaded");
+    let sep = RenderSettings {
+        method: Method::Separable,
+        ..s.clone()
+    };
+    let (_, c) = r.render(&inp, &sep).unwrap();
+    assert!(
+        !c.profile_uploaded,
+        "a method switch re-uploaded the profile"
+    );
+    // Another look: the Jimenez 2012 demo preset.
+    let other = Preset::load(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("presets/skin_jimenez2012_demo.ron"),
+    )
+    .unwrap();
+    let wide = ProfileInputs::new(other.build_profile().unwrap().as_ref(), 21, 17).unwrap();
+    let (edited, d) = r.render(&wide, &s).unwrap();
+    assert!(d.profile_uploaded, "an edited profile was not uploaded");
+    assert_ne!(first, edited, "the edit did not reach the image");
+    let (_, e) = r.render(&wide, &s).unwrap();
+    assert!(!e.profile_uploaded);
+}

@@ -171,6 +171,41 @@ impl ProfileInputs {
 }
 
 impl ProfileInputs {
+    /// A hash of everything the GPU receives from these inputs: the renderer
+    /// re-uploads tables, patterns and kernels only when it changes.
+    pub fn fingerprint(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let mut bytes = |b: &[u8]| b.hash(&mut h);
+        bytes(bytemuck::cast_slice(&self.samples));
+        bytes(bytemuck::cast_slice(&self.reference_samples));
+        bytes(bytemuck::cast_slice(&self.low_samples));
+        bytes(bytemuck::cast_slice(&self.transmittance));
+        bytes(bytemuck::cast_slice(&self.preintegrated_lut));
+        bytes(bytemuck::cast_slice(&self.lut));
+        bytes(bytemuck::cast_slice(&self.taps));
+        for (sigma, w) in &self.gaussians {
+            bytes(bytemuck::bytes_of(sigma));
+            bytes(bytemuck::cast_slice(w));
+        }
+        bytes(bytemuck::cast_slice(&[
+            self.filter_radius_mm,
+            self.transmittance_range_mm,
+            self.lut_radius_mm,
+        ]));
+        self.scatters.hash(&mut h);
+        (self.lut_layout.width, self.lut_layout.height).hash(&mut h);
+        self.lut_layout
+            .curvature_radius_min_mm
+            .to_bits()
+            .hash(&mut h);
+        self.lut_layout
+            .curvature_radius_max_mm
+            .to_bits()
+            .hash(&mut h);
+        h.finish()
+    }
+
     /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
     /// of a Jimenez 2012 profile instead of the pre-integrated one).
     pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel) {
@@ -211,10 +246,13 @@ impl ProfileInputs {
     }
 }
 
+/// Taps per 1D Gaussian pass of the `gaussians` method.
+pub const GAUSSIAN_TAPS: usize = 13;
+
 /// Taps of a normalised 1D Gaussian of standard deviation σ (mm): 13
 /// offsets over ±3σ, weights ∝ e^(−x²/2σ²) summing to one, centre first.
 pub fn gaussian_taps(sigma_mm: f32) -> Vec<GpuTap> {
-    let n = 13;
+    let n = GAUSSIAN_TAPS;
     let offsets: Vec<f32> = (0..n)
         .map(|j| (j as f32 - 6.0) / 6.0 * 3.0 * sigma_mm)
         .collect();

@@ -3,13 +3,16 @@
 
 pub mod compare;
 pub mod context;
+mod frame;
 pub mod gpu_types;
 pub mod inputs;
 pub mod mesh;
 pub mod pipelines;
+mod profile_gpu;
 pub mod readback;
 pub mod renderer;
 pub mod settings;
+mod sss;
 pub mod timing;
 
 pub use context::{GpuContext, GpuError};

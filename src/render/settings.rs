@@ -152,6 +152,9 @@ pub struct FrameStats {
     /// adapter has them (on lavapipe the "GPU" is the CPU); `None` when no
     /// SSS pass ran.
     pub sss_gpu_ms: Option<f64>,
+    /// Whether this frame uploaded the profile's tables, patterns and
+    /// kernels (false while the profile is unchanged).
+    pub profile_uploaded: bool,
     pub width: u32,
     pub height: u32,
     pub adapter: String,

@@ -1,0 +1,64 @@
+//! `burley` (Golubev 2018, `shaders/sss_burley.wgsl`): one pass over an
+//! importance-sampled disk with per-pixel rotation, energy-normalised
+//! bilateral weights on the Euclidean distance and a discrete LOD.
+//! `reference` runs the same shader with a dense stratified pattern and
+//! no LOD: the brute-force convolution the error views compare against.
+
+use super::{Scattered, SssFrame, SssPipelines};
+use crate::render::frame::{buf, tex, FrameEncoder};
+use crate::render::renderer::HdrTarget;
+
+pub(in crate::render) fn encode(
+    f: &mut FrameEncoder,
+    p: &SssPipelines,
+    io: &SssFrame,
+    reference: bool,
+) -> Scattered {
+    let gpu = io.profile;
+    let (samples, n, label) = if reference {
+        (&gpu.reference_samples, gpu.reference_count, "sss reference")
+    } else {
+        (&gpu.burley_samples, gpu.burley_count, "sss burley")
+    };
+    let u = f.uniform(
+        "sss uniforms",
+        bytemuck::bytes_of(&io.uniforms(n as f32, [0.0; 4])),
+    );
+    let use_lod = io.lod && !reference;
+    let lod = f.uniform(
+        "lod",
+        bytemuck::cast_slice(&[
+            gpu.low_count as f32,
+            gpu.filter_radius_mm,
+            if use_lod { 1.0 } else { 0.0 },
+            0.0,
+        ]),
+    );
+    let t = io.targets;
+    let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &p.burley_layout,
+        entries: &[
+            buf(0, &u),
+            tex(1, t.view(HdrTarget::Diffuse)),
+            tex(2, &t.albedo_depth),
+            buf(3, samples),
+            buf(4, &gpu.profile_lut),
+            buf(5, io.counters),
+            buf(6, &lod),
+        ],
+    });
+    f.fullscreen(
+        t.view(HdrTarget::Ping),
+        &p.burley,
+        &bg,
+        label,
+        (io.sss_pixels, io.sss_pixels * n as u64),
+        false,
+    );
+    Scattered {
+        target: HdrTarget::Ping,
+        samples_per_pixel: n,
+        counted_pass: Some(label),
+    }
+}

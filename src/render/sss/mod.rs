@@ -1,0 +1,132 @@
+//! The screen-space SSS methods, one file each: `burley` (with the
+//! `reference` convolution, which shares its shader), `separable` and
+//! `gaussians`. `none` and `preintegrated` have no pass of their own: they
+//! are lit in the scene pass (`shaders/scene.wgsl`; see `preintegrated.rs`).
+
+pub(super) mod burley;
+pub(super) mod gaussians;
+pub(super) mod preintegrated;
+pub(super) mod separable;
+
+use super::frame::FrameEncoder;
+use super::gpu_types::SssUniforms;
+use super::pipelines::{
+    accumulate_pipeline, buffer_entry, fullscreen_pipeline, texture_entry, HDR,
+};
+use super::profile_gpu::ProfileGpu;
+use super::renderer::{HdrTarget, Targets};
+use super::settings::Method;
+
+/// Layouts and pipelines of the SSS passes, built once with the renderer:
+/// switching methods or editing the profile never recompiles a shader.
+pub(super) struct SssPipelines {
+    pub burley_layout: wgpu::BindGroupLayout,
+    pub burley: wgpu::RenderPipeline,
+    pub separable_layout: wgpu::BindGroupLayout,
+    pub separable: wgpu::RenderPipeline,
+    pub accumulate: wgpu::RenderPipeline,
+}
+
+impl SssPipelines {
+    pub fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+        let storage = wgpu::BufferBindingType::Storage { read_only: true };
+        let uniform = wgpu::BufferBindingType::Uniform;
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let burley_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss burley"),
+            entries: &[
+                buffer_entry(0, uniform, frag),
+                texture_entry(1),
+                texture_entry(2),
+                buffer_entry(3, storage, frag),
+                buffer_entry(4, storage, frag),
+                buffer_entry(
+                    5,
+                    wgpu::BufferBindingType::Storage { read_only: false },
+                    frag,
+                ),
+                buffer_entry(6, uniform, frag),
+            ],
+        });
+        let separable_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss separable"),
+            entries: &[
+                buffer_entry(0, uniform, frag),
+                texture_entry(1),
+                texture_entry(2),
+                buffer_entry(3, storage, frag),
+            ],
+        });
+        let separable_module = module("sss_separable");
+        Self {
+            burley: fullscreen_pipeline(
+                device,
+                &module("sss_burley"),
+                "fs_burley",
+                &burley_layout,
+                HDR,
+            ),
+            separable: fullscreen_pipeline(
+                device,
+                &separable_module,
+                "fs_separable",
+                &separable_layout,
+                HDR,
+            ),
+            accumulate: accumulate_pipeline(device, &separable_module, &separable_layout),
+            burley_layout,
+            separable_layout,
+        }
+    }
+}
+
+/// What the SSS passes of one frame read and write.
+pub(super) struct SssFrame<'t> {
+    pub targets: &'t Targets,
+    pub profile: &'t ProfileGpu,
+    /// Pixels whose mask exceeds 1/255 (from the classify pass).
+    pub sss_pixels: u64,
+    /// Uniforms common to every pass; each pass sets the sample count and
+    /// direction.
+    pub uniforms: SssUniforms,
+    /// GPU counters: samples taken, pixels convolved, pixels skipped by the LOD.
+    pub counters: &'t wgpu::Buffer,
+    pub lod: bool,
+}
+
+impl SssFrame<'_> {
+    pub fn uniforms(&self, count: f32, direction: [f32; 4]) -> SssUniforms {
+        let mut u = self.uniforms;
+        u.params[0] = count;
+        u.direction = direction;
+        u
+    }
+}
+
+/// Where a method left the scattered irradiance, and what it sampled.
+pub(super) struct Scattered {
+    pub target: HdrTarget,
+    pub samples_per_pixel: u32,
+    /// The pass whose samples the GPU counters measured, if any.
+    pub counted_pass: Option<&'static str>,
+}
+
+/// Records `method`'s passes. `none` and `preintegrated` record nothing.
+pub(super) fn encode(
+    method: Method,
+    f: &mut FrameEncoder,
+    p: &SssPipelines,
+    io: &SssFrame,
+) -> Scattered {
+    match method {
+        Method::None | Method::Preintegrated => Scattered {
+            target: HdrTarget::Diffuse,
+            samples_per_pixel: 0,
+            counted_pass: None,
+        },
+        Method::Burley => burley::encode(f, p, io, false),
+        Method::Reference => burley::encode(f, p, io, true),
+        Method::Separable => separable::encode(f, p, io),
+        Method::Gaussians => gaussians::encode(f, p, io),
+    }
+}
