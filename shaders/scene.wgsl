@@ -22,6 +22,9 @@ struct SceneUniforms {
     transmission: vec4<f32>,      // x: 0 off, 1 thin, 2 thick; y: table range (mm); z: table size; w: mm per world unit
     transmission_tint: vec4<f32>,
     specular: vec4<f32>,          // x: lobe mix (Unreal's dual GGX), y: 1 = Kelemen/Szirmay-Kalos instead
+    surface: vec4<f32>,           // x: albedo map absolute (1) or x2 modulation (0); y: roughness map absolute (1) or x2 scale (0); z: thickness map range (mm), 0 = per vertex; w: detail-normal strength
+    preintegrated_normals: vec4<f32>, // xyz: per-channel blend of the detail normal to the smooth one; w: 1 = penumbra table on
+    penumbra: vec4<f32>,          // x, y: 1/width (1/mm) at the table's first/last row; z: PCF footprint (mm) facing the light
 };
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
@@ -32,6 +35,15 @@ struct SceneUniforms {
 @group(0) @binding(4) var lut_sampler: sampler;
 // Normalised thin-slab transmittance T(d)/total per channel, d = range·i/(size−1).
 @group(0) @binding(5) var<storage, read> transmittance: array<vec4<f32>>;
+// Surface maps (top-left UV origin), trilinear and repeating.
+@group(0) @binding(6) var albedo_map: texture_2d<f32>;      // sRGB
+@group(0) @binding(7) var normal_map: texture_2d<f32>;      // tangent space, green = +v (up)
+@group(0) @binding(8) var roughness_map: texture_2d<f32>;
+@group(0) @binding(9) var mask_map: texture_2d<f32>;
+@group(0) @binding(10) var thickness_map: texture_2d<f32>;
+@group(0) @binding(11) var surface_sampler: sampler;
+// Penner's scattered shadow: x = unscattered shadow u, y = 1/penumbra width.
+@group(0) @binding(12) var penumbra_lut: texture_2d<f32>;
 
 fn transmittance_at(d_mm: f32) -> vec3<f32> {
     let n = u.transmission.z;
@@ -82,6 +94,7 @@ struct VertexIn {
     @location(3) material: f32,   // 0 skin, 1 eye, 2 teeth
     @location(4) curvature: f32,  // 1/mm
     @location(5) thickness: f32,  // mm
+    @location(6) tangent: vec4<f32>,
 };
 
 struct VertexOut {
@@ -93,6 +106,7 @@ struct VertexOut {
     @location(4) view_depth: f32,
     @location(5) curvature: f32,
     @location(6) thickness: f32,
+    @location(7) tangent: vec4<f32>,
 };
 
 @vertex
@@ -107,6 +121,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     o.view_depth = -(u.view_from_world * world).z;
     o.curvature = v.curvature;
     o.thickness = v.thickness;
+    o.tangent = v.tangent;
     return o;
 }
 
@@ -149,13 +164,39 @@ fn kelemen(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) ->
     return max(beckmann * f / dot(hu, hu), 0.0) * nl;
 }
 
+// Penner's scattered shadow for the unscattered PCF value `u` across a
+// penumbra whose width on the surface is the PCF footprint / (N·L).
+fn scattered_shadow(lit: f32, n_dot_l: f32) -> vec3<f32> {
+    if (u.penumbra.z <= 0.0) {
+        return vec3<f32>(lit);
+    }
+    let width = u.penumbra.z / max(n_dot_l, 0.05);
+    let y = clamp((1.0 / width - u.penumbra.x) / (u.penumbra.y - u.penumbra.x), 0.0, 1.0);
+    return textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(lit, y), 0.0).rgb;
+}
+
 @fragment
 fn fs_main(i: VertexOut) -> TargetsOut {
-    let n = normalize(i.normal);
+    // Every map is sampled first, in uniform control flow (derivatives).
+    let albedo_tex = textureSample(albedo_map, surface_sampler, i.uv).rgb;
+    let normal_tex = textureSample(normal_map, surface_sampler, i.uv).xyz * 2.0 - 1.0;
+    let rough_tex = textureSample(roughness_map, surface_sampler, i.uv).r;
+    let mask_tex = textureSample(mask_map, surface_sampler, i.uv).r;
+    let thickness_tex = textureSample(thickness_map, surface_sampler, i.uv).r;
+    let ng = normalize(i.normal);
+    // Tangent frame (glTF/MikkTSpace convention: B = w N × T).
+    var n = ng;
+    let t_raw = i.tangent.xyz - ng * dot(ng, i.tangent.xyz);
+    if (dot(t_raw, t_raw) > 1e-12 && u.surface.w > 0.0) {
+        let t = normalize(t_raw);
+        let b = cross(ng, t) * select(1.0, -1.0, i.tangent.w < 0.0);
+        let d = vec3<f32>(normal_tex.xy * u.surface.w, max(normal_tex.z, 1e-3));
+        n = normalize(t * d.x + b * d.y + ng * d.z);
+    }
     let v = normalize(u.camera_position.xyz - i.world);
     let l = u.light_direction.xyz;
-    var albedo = u.skin_albedo.rgb;
-    var mask = 1.0;
+    var albedo = select(u.skin_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
+    var mask = clamp(mask_tex, 0.0, 1.0);
     if (i.material > 0.5 && i.material < 1.5) {
         albedo = vec3<f32>(0.8, 0.78, 0.75);
         mask = 0.0;
@@ -163,24 +204,41 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         albedo = vec3<f32>(0.85, 0.8, 0.7);
         mask = 0.0;
     }
+    let rough_scale = select(2.0 * rough_tex, rough_tex / max(u.params.y, 1e-3), u.surface.y > 0.5);
+    let r0 = clamp(u.params.y * rough_scale, 0.02, 1.0);
+    let r1 = clamp(u.params.w * rough_scale, 0.02, 1.0);
+    var thickness = i.thickness;
+    if (u.surface.z > 0.0) {
+        thickness = thickness_tex * u.surface.z;
+    }
     // Irradiance/π: directional light plus a sky/ground hemisphere.
-    let shadow = shadow_factor(i.world, normalize(i.normal));
+    let shadow = shadow_factor(i.world, ng);
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
     var irradiance = u.light_radiance.rgb * nl / PI + hemi;
     if (u.preintegrated.x > 0.5 && mask > 0.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
-        // saturate(N·L); the shadow map still darkens it.
-        let v = clamp((i.curvature - u.preintegrated.y) / (u.preintegrated.z - u.preintegrated.y), 0.0, 1.0);
-        let d = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * dot(n, l) + 0.5, v), 0.0).rgb;
-        irradiance = u.light_radiance.rgb * d * shadow / PI + hemi;
+        // saturate(N·L), each channel with its own normal (the detail normal
+        // bent back towards the smooth one as far as that channel scatters),
+        // and the penumbra table scatters the shadow edge.
+        let curv = clamp((i.curvature - u.preintegrated.y) / (u.preintegrated.z - u.preintegrated.y), 0.0, 1.0);
+        let k = u.preintegrated_normals.xyz;
+        let nr = normalize(mix(n, ng, k.x));
+        let ngr = normalize(mix(n, ng, k.y));
+        let nb = normalize(mix(n, ng, k.z));
+        let lut_at = preintegrated_d(dot(nr, l), dot(ngr, l), dot(nb, l), curv);
+        var s3 = vec3<f32>(shadow);
+        if (u.preintegrated_normals.w > 0.5) {
+            s3 = scattered_shadow(shadow, max(dot(ng, l), 0.0));
+        }
+        irradiance = u.light_radiance.rgb * lut_at * s3 / PI + hemi;
     }
     if (u.transmission.x > 0.5 && mask > 0.0) {
         // Light through the back face (Jimenez 2010; Golubev 2018): thin
         // objects share the front's shadow; thick ones take max(baked,
         // shadow-map) thickness and are not shadowed by themselves.
-        let back = max(-dot(n, l), 0.0);
-        var d = i.thickness;
+        let back = max(-dot(ng, l), 0.0);
+        var d = thickness;
         var reach = back * shadow;
         if (u.transmission.x > 1.5) {
             d = max(d, shadow_thickness_mm(i.world));
@@ -200,11 +258,19 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
     // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
-    var spec = mix(ggx(n, v, l, u.params.y, u.params.z), ggx(n, v, l, u.params.w, u.params.z), u.specular.x);
+    var spec = mix(ggx(n, v, l, r0, u.params.z), ggx(n, v, l, r1, u.params.z), u.specular.x);
     if (u.specular.y > 0.5) {
-        spec = kelemen(n, v, l, u.params.y, u.params.z);
+        spec = kelemen(n, v, l, r0, u.params.z);
     }
     o.specular = vec4<f32>(u.light_radiance.rgb * spec * shadow, 1.0);
     o.albedo_depth = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), i.view_depth);
     return o;
+}
+
+// D(θ, κ) of each channel at its own N·L.
+fn preintegrated_d(nl_r: f32, nl_g: f32, nl_b: f32, curv: f32) -> vec3<f32> {
+    let r = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_r + 0.5, curv), 0.0).r;
+    let g = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_g + 0.5, curv), 0.0).g;
+    let b = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_b + 0.5, curv), 0.0).b;
+    return vec3<f32>(r, g, b);
 }

@@ -412,12 +412,40 @@ fn render_refuses_bad_meshes_and_scales() {
     let dir = std::env::temp_dir().join(format!("scatterlab-mesh-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let nan = dir.join("nan.obj");
-    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        &nan,
+        "v 0 0 0\nv 1 0 0\nv nan 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
     let garbage = dir.join("garbage.obj");
     std::fs::write(&garbage, b"\x00\x01 not an obj\n").unwrap();
+    let no_uv = dir.join("no_uv.obj");
+    std::fs::write(&no_uv, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let flat_uv = dir.join("flat_uv.obj");
+    std::fs::write(
+        &flat_uv,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n",
+    )
+    .unwrap();
+    let gltf_no_uv = dir.join("no_uv.gltf");
+    std::fs::write(&gltf_no_uv, quad_gltf(false)).unwrap();
+    let corrupt_png = dir.join("corrupt.png");
+    std::fs::write(&corrupt_png, b"\x89PNG\r\n\x1a\ntruncated").unwrap();
     let out = dir.join("out.png");
     let o = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 11] = [
+        (
+            &["--mesh", no_uv.to_str().unwrap()],
+            "no texture coordinates",
+        ),
+        (&["--mesh", flat_uv.to_str().unwrap()], "zero area"),
+        (
+            &["--mesh", gltf_no_uv.to_str().unwrap()],
+            "no texture coordinates",
+        ),
+        (&["--normal", corrupt_png.to_str().unwrap()], "corrupt.png"),
+        (&["--albedo", "/nonexistent/albedo.png"], "albedo"),
+        (&["--thickness-range-mm", "-2"], "thickness_range_mm"),
         (&["--mesh", nan.to_str().unwrap()], "vertex 3"),
         (&["--mesh", garbage.to_str().unwrap()], "garbage.obj"),
         (
@@ -437,6 +465,125 @@ fn render_refuses_bad_meshes_and_scales() {
         assert!(!err.contains("panicked"), "{extra:?}: {err}");
     }
     assert!(!out.exists(), "a failed render wrote {o}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A one-quad glTF (1 m square in z = 0) with its buffer as a data URI;
+/// `uvs` adds TEXCOORD_0.
+fn quad_gltf(uvs: bool) -> String {
+    let mut bytes = Vec::new();
+    for p in [
+        [-0.5f32, -0.5, 0.0],
+        [0.5, -0.5, 0.0],
+        [0.5, 0.5, 0.0],
+        [-0.5, 0.5, 0.0],
+    ] {
+        for c in p {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for t in [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]] {
+        for c in t {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bytes.extend_from_slice(&i.to_le_bytes());
+    }
+    // Standard base64 (RFC 4648), written out so the test needs no crate.
+    let table = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut b64 = String::new();
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (k, b)| n | (*b as u32) << (16 - 8 * k));
+        for k in 0..4 {
+            if k <= chunk.len() {
+                b64.push(table[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                b64.push('=');
+            }
+        }
+    }
+    let uv_attr = if uvs { r#", "TEXCOORD_0": 1"# } else { "" };
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+ "nodes": [{{"mesh": 0}}],
+ "meshes": [{{"name": "quad", "primitives": [{{"attributes": {{"POSITION": 0{uv_attr}}}, "indices": 2}}]}}],
+ "buffers": [{{"byteLength": {len}, "uri": "data:application/octet-stream;base64,{b64}"}}],
+ "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+ "accessors": [
+  {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]}},
+  {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+  {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}]}}"#,
+        len = bytes.len()
+    )
+}
+
+/// A glTF quad renders with textures named on the command line: a red
+/// albedo map shows red, and a black SSS mask turns every SSS pass off.
+#[test]
+fn render_takes_gltf_meshes_and_texture_flags() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = dir.join("quad.gltf");
+    std::fs::write(&mesh, quad_gltf(true)).unwrap();
+    let red = dir.join("red.png");
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([230, 20, 20, 255]))
+        .save(&red)
+        .unwrap();
+    let black = dir.join("black.png");
+    image::GrayImage::from_pixel(4, 4, image::Luma([0]))
+        .save(&black)
+        .unwrap();
+    let png = dir.join("quad.png");
+    let stats = dir.join("quad.json");
+    let base = [
+        "render",
+        "--mesh",
+        mesh.to_str().unwrap(),
+        "--metres-per-unit",
+        "0.2",
+        "--camera-yaw",
+        "0",
+        "--light-azimuth",
+        "0",
+        "--light-elevation",
+        "50",
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--out",
+        png.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+    ];
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["--albedo", red.to_str().unwrap()]);
+    let (code, _, err) = run(&args);
+    assert_eq!(code, 0, "{err}");
+    let img = image::open(&png).unwrap().to_rgba8();
+    let c = img.get_pixel(24, 24);
+    let [r, g, b] = [c[0], c[1], c[2]].map(u32::from);
+    // The specular lobe adds white; the albedo's red excess survives it.
+    assert!(r > g + 80 && r > b + 80, "centre {c:?} is not red");
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert!(s["sss_pixels"].as_u64().unwrap() > 1000, "{s}");
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["--mask", black.to_str().unwrap()]);
+    let (code, _, err) = run(&args);
+    assert_eq!(code, 0, "{err}");
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["sss_pixels"], 0, "a black mask left SSS pixels: {s}");
+    let names: Vec<_> = s["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap().to_owned())
+        .collect();
+    assert!(!names.iter().any(|n| n.starts_with("sss")), "{names:?}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -71,6 +71,9 @@ pub enum Command {
         json: bool,
     },
     /// Render the head offscreen with an SSS method and write a PNG.
+    /// (`--albedo` is the albedo map here; the Burley volume albedo of
+    /// `--model burley` is `--volume-albedo`.)
+    #[command(mut_arg("albedo", |a| a.long("volume-albedo")))]
     Render {
         #[command(flatten)]
         model: ModelArgs,
@@ -144,13 +147,80 @@ pub struct ViewArgs {
     /// Turn off Burley's discrete LOD.
     #[arg(long)]
     pub no_lod: bool,
-    /// Render this mesh (OBJ) instead of the default head; groups named
-    /// `eyes`/`teeth` are kept out of the scattering.
-    #[arg(long, value_name = "FILE.obj")]
+    /// Render this mesh (OBJ, glTF .gltf or .glb) instead of the default
+    /// head. It needs UVs; OBJ groups named `eyes`/`teeth` are kept out of
+    /// the scattering; glTF textures come from its first material.
+    #[arg(long, value_name = "FILE")]
     pub mesh: Option<PathBuf>,
     /// Scale of --mesh: metres per unit (Unity's worldScale convention).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub metres_per_unit: f32,
+    /// Albedo (colour) map, sRGB PNG/JPEG; replaces the mesh's.
+    #[arg(long = "albedo", id = "albedo_map", value_name = "IMG")]
+    pub albedo: Option<PathBuf>,
+    /// Tangent-space normal map (OpenGL convention: green up).
+    #[arg(long, value_name = "IMG")]
+    pub normal: Option<PathBuf>,
+    /// Roughness map (grey, or the red channel), roughness of the first lobe.
+    #[arg(long, value_name = "IMG")]
+    pub roughness: Option<PathBuf>,
+    /// SSS mask (grey): black keeps texels out of every SSS pass.
+    #[arg(long, value_name = "IMG")]
+    pub mask: Option<PathBuf>,
+    /// Thickness map (grey): white = --thickness-range-mm, for transmission.
+    #[arg(long, value_name = "IMG")]
+    pub thickness: Option<PathBuf>,
+    /// Thickness (mm) that a white texel of --thickness stands for.
+    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
+    pub thickness_range_mm: f32,
+}
+
+impl ViewArgs {
+    /// The mesh to render, with any textures named on the command line.
+    pub fn load_mesh(&self) -> anyhow::Result<crate::render::Mesh> {
+        use crate::render::textures::{self, AlbedoMode, RoughnessMode, TextureSlot};
+        use crate::render::Mesh;
+        crate::model::check_range(
+            "metres_per_unit",
+            self.metres_per_unit as f64,
+            1e-6,
+            1e3,
+            " m/unit",
+        )?;
+        crate::model::check_range(
+            "thickness_range_mm",
+            self.thickness_range_mm as f64,
+            1e-3,
+            1e4,
+            " mm",
+        )?;
+        let mut mesh = match &self.mesh {
+            Some(path) => Mesh::load(path, self.metres_per_unit)?,
+            None => Mesh::default_head()?,
+        };
+        let maps = std::sync::Arc::make_mut(&mut mesh.textures);
+        if let Some(p) = &self.albedo {
+            maps.albedo = textures::load(p, TextureSlot::Albedo)?;
+            maps.albedo_mode = AlbedoMode::Absolute;
+        }
+        if let Some(p) = &self.normal {
+            maps.normal = textures::load(p, TextureSlot::Normal)?;
+        }
+        if let Some(p) = &self.roughness {
+            maps.roughness = textures::load(p, TextureSlot::Roughness)?;
+            maps.roughness_mode = RoughnessMode::Absolute;
+        }
+        if let Some(p) = &self.mask {
+            maps.mask = textures::load(p, TextureSlot::Mask)?;
+        }
+        if let Some(p) = &self.thickness {
+            maps.thickness = Some((
+                textures::load(p, TextureSlot::Thickness)?,
+                self.thickness_range_mm,
+            ));
+        }
+        Ok(mesh)
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -680,7 +750,7 @@ fn render(
     (compare, split, diff): (Option<MethodArg>, f32, bool),
 ) -> Result<()> {
     use crate::render::{
-        GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer, TexturingMode, Transmission,
+        GpuContext, ProfileInputs, RenderSettings, Renderer, TexturingMode, Transmission,
     };
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
@@ -724,17 +794,7 @@ fn render(
         };
         inputs.set_gaussians(&terms);
     }
-    crate::model::check_range(
-        "metres_per_unit",
-        view.metres_per_unit as f64,
-        1e-6,
-        1e3,
-        " m/unit",
-    )?;
-    let mesh = match &view.mesh {
-        Some(path) => Mesh::load_obj(path, view.metres_per_unit)?,
-        None => Mesh::default_head()?,
-    };
+    let mesh = view.load_mesh()?;
     let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
     let settings = RenderSettings {
         width,

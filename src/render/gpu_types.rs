@@ -32,8 +32,18 @@ pub struct SceneUniforms {
     pub transmission_tint: [f32; 4],
     /// x: lobe mix of the dual GGX, y: 1 = Kelemen/Szirmay-Kalos lobe.
     pub specular: [f32; 4],
+    /// x: albedo map absolute (1) or ×2 modulation of skin_albedo (0);
+    /// y: roughness map absolute (1) or ×2 scale (0); z: thickness map
+    /// range (mm), 0 = per-vertex bake; w: detail-normal strength.
+    pub surface: [f32; 4],
+    /// `preintegrated`: xyz: per-channel blend of the detail normal back to
+    /// the smooth one; w: 1 = penumbra table on.
+    pub preintegrated_normals: [f32; 4],
+    /// Penumbra table: x, y: 1/width (1/mm) at its first and last rows;
+    /// z: the PCF footprint (mm) on a surface facing the light.
+    pub penumbra: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 13 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 16 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]
@@ -86,5 +96,8 @@ pub struct Vertex {
     pub curvature_per_mm: f32,
     /// Thickness (mm) along the inward normal, baked by ray casting.
     pub thickness_mm: f32,
+    /// Unit tangent along +u and the bitangent's sign (glTF's TANGENT):
+    /// B = w · N × T points along +v, up in the image.
+    pub tangent: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<Vertex>() == 44);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 60);

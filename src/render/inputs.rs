@@ -26,6 +26,13 @@ pub struct ProfileInputs {
     /// Penner's D(θ, κ) table (row-major, 64×64) and its layout.
     pub preintegrated_lut: Vec<[f32; 4]>,
     pub lut_layout: crate::model::lut::LutLayout,
+    /// Penner's penumbra table (row-major) and its layout.
+    pub penumbra_lut: Vec<[f32; 4]>,
+    pub penumbra_layout: crate::model::lut::ShadowLayout,
+    /// Per channel, how far `preintegrated` bends the detail normal back to
+    /// the smooth one: r/(r + 1 mm) for the channel's 0.997-energy radius r
+    /// (Penner 2011's per-channel normals; wide red light ignores pores).
+    pub normal_blend: [f32; 3],
     /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
     /// method; empty until [`ProfileInputs::set_gaussians`].
     pub gaussians: Vec<(f32, [f32; 3])>,
@@ -136,6 +143,13 @@ impl ProfileInputs {
             .iter()
             .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
             .collect();
+        let penumbra_layout = crate::model::lut::ShadowLayout::default();
+        let penumbra_lut = crate::model::lut::bake_shadow(profile, penumbra_layout)?
+            .iter()
+            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+            .collect();
+        let radii = profile.radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION);
+        let normal_blend = radii.map(|r| (r / (r + 1.0)) as f32);
         let transmittance_range_mm = r_max as f32;
         let transmittance = (0..64)
             .map(|i| {
@@ -162,6 +176,9 @@ impl ProfileInputs {
             transmittance_range_mm,
             preintegrated_lut,
             lut_layout,
+            penumbra_lut,
+            penumbra_layout,
+            normal_blend,
             gaussians: Vec::new(),
             lut,
             lut_radius_mm: r_max as f32,
@@ -182,6 +199,16 @@ impl ProfileInputs {
         bytes(bytemuck::cast_slice(&self.low_samples));
         bytes(bytemuck::cast_slice(&self.transmittance));
         bytes(bytemuck::cast_slice(&self.preintegrated_lut));
+        bytes(bytemuck::cast_slice(&self.penumbra_lut));
+        bytes(bytemuck::cast_slice(&self.normal_blend));
+        bytes(bytemuck::cast_slice(&[
+            self.penumbra_layout.penumbra_min_mm,
+            self.penumbra_layout.penumbra_max_mm,
+        ]));
+        bytes(bytemuck::cast_slice(&[
+            self.penumbra_layout.width as u64,
+            self.penumbra_layout.height as u64,
+        ]));
         bytes(bytemuck::cast_slice(&self.lut));
         bytes(bytemuck::cast_slice(&self.taps));
         for (sigma, w) in &self.gaussians {

@@ -1,8 +1,11 @@
 //! Meshes: the embedded default head and OBJ files, with smooth normals.
 
 use super::gpu_types::Vertex;
-use glam::Vec3;
+use super::textures::MeshTextures;
+use bytemuck::Zeroable;
+use glam::{Vec2, Vec3};
 use std::path::Path;
+use std::sync::Arc;
 
 /// The default head (CC0 MakeHuman hm08, see assets/head/ATTRIBUTION.md).
 pub const DEFAULT_HEAD_OBJ: &str = include_str!("../../assets/head/head.obj");
@@ -20,6 +23,9 @@ pub struct Mesh {
     pub metres_per_unit: f32,
     /// Where the camera looks (mesh units).
     pub focus: [f32; 3],
+    /// Albedo, normal, roughness, mask and thickness maps (shared: the
+    /// default head's bake is made once per process).
+    pub textures: Arc<MeshTextures>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -36,15 +42,39 @@ pub enum MeshError {
     },
     #[error("{path}: metres_per_unit = {value} must be finite and positive")]
     Scale { path: String, value: f32 },
+    #[error("{path}: {part} has no texture coordinates (UVs); textures and tangents need them")]
+    NoUvs { path: String, part: String },
+    #[error("{path}: every triangle's UVs have zero area; the mesh is not unwrapped")]
+    ZeroAreaUvs { path: String },
+    #[error(transparent)]
+    Texture(#[from] super::textures::TextureError),
 }
 
 impl Mesh {
+    /// The embedded head with its baked textures (baked once per process).
     pub fn default_head() -> Result<Self, MeshError> {
-        Self::from_obj_text(
+        static TEXTURES: std::sync::OnceLock<Arc<MeshTextures>> = std::sync::OnceLock::new();
+        let mut mesh = Self::from_obj_text(
             DEFAULT_HEAD_OBJ,
             "<embedded default head>",
             DEFAULT_HEAD_METRES_PER_UNIT,
-        )
+        )?;
+        mesh.textures = TEXTURES
+            .get_or_init(|| Arc::new(super::procedural::bake(&mesh)))
+            .clone();
+        Ok(mesh)
+    }
+
+    /// Loads an OBJ, glTF (.gltf) or binary glTF (.glb) file by extension.
+    pub fn load(path: &Path, metres_per_unit: f32) -> Result<Self, MeshError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("gltf") | Some("glb") => super::gltf_mesh::load(path, metres_per_unit),
+            _ => Self::load_obj(path, metres_per_unit),
+        }
     }
 
     pub fn load_obj(path: &Path, metres_per_unit: f32) -> Result<Self, MeshError> {
@@ -55,7 +85,9 @@ impl Mesh {
         Self::from_obj_text(&text, &path.display().to_string(), metres_per_unit)
     }
 
-    /// Parses OBJ text; groups named `eyes`/`teeth` become non-scattering materials.
+    /// Parses OBJ text; groups named `eyes`/`teeth` become non-scattering
+    /// materials. OBJ's v runs up the image; it is flipped to the top-left
+    /// origin the renderer (and glTF) use.
     pub fn from_obj_text(
         text: &str,
         origin: &str,
@@ -79,38 +111,59 @@ impl Mesh {
                     path: origin.into(),
                     message: e.to_string(),
                 })?;
-        let mut mesh = Mesh {
-            vertices: Vec::new(),
-            indices: Vec::new(),
-            metres_per_unit,
-            focus: [0.0; 3],
-        };
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
         for m in &models {
             let material = match m.name.as_str() {
                 "eyes" => 1.0,
                 "teeth" => 2.0,
                 _ => 0.0,
             };
-            let base = mesh.vertices.len() as u32;
+            let base = vertices.len() as u32;
             let p = &m.mesh.positions;
             let t = &m.mesh.texcoords;
-            for i in 0..p.len() / 3 {
-                let uv = if t.len() >= 2 * (i + 1) {
-                    [t[2 * i], t[2 * i + 1]]
-                } else {
-                    [0.0, 0.0]
-                };
-                mesh.vertices.push(Vertex {
-                    position: [p[3 * i], p[3 * i + 1], p[3 * i + 2]],
-                    normal: [0.0; 3],
-                    uv,
-                    material,
-                    curvature_per_mm: 0.0,
-                    thickness_mm: 0.0,
+            if t.len() < 2 * (p.len() / 3) && !m.mesh.indices.is_empty() {
+                return Err(MeshError::NoUvs {
+                    path: origin.into(),
+                    part: format!("group '{}'", m.name),
                 });
             }
-            mesh.indices.extend(m.mesh.indices.iter().map(|i| base + i));
+            for i in 0..p.len() / 3 {
+                vertices.push(Vertex {
+                    position: [p[3 * i], p[3 * i + 1], p[3 * i + 2]],
+                    uv: [t[2 * i], 1.0 - t[2 * i + 1]],
+                    material,
+                    ..Vertex::zeroed()
+                });
+            }
+            indices.extend(m.mesh.indices.iter().map(|i| base + i));
         }
+        Self::from_triangles(vertices, indices, origin, metres_per_unit, false)
+    }
+
+    /// Validates and prepares triangles from any loader: positions finite,
+    /// UVs with area, smooth normals (unless `has_normals`), tangents,
+    /// curvature and the thickness bake, and the camera's focus.
+    pub(super) fn from_triangles(
+        vertices: Vec<Vertex>,
+        indices: Vec<u32>,
+        origin: &str,
+        metres_per_unit: f32,
+        has_normals: bool,
+    ) -> Result<Self, MeshError> {
+        if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
+            return Err(MeshError::Scale {
+                path: origin.into(),
+                value: metres_per_unit,
+            });
+        }
+        let mut mesh = Mesh {
+            vertices,
+            indices,
+            metres_per_unit,
+            focus: [0.0; 3],
+            textures: Arc::new(MeshTextures::default()),
+        };
         if mesh.indices.is_empty() {
             return Err(MeshError::Empty {
                 path: origin.into(),
@@ -129,7 +182,25 @@ impl Mesh {
                 position: v.position,
             });
         }
-        mesh.compute_smooth_normals();
+        let uv_area: f64 = mesh
+            .indices
+            .chunks_exact(3)
+            .map(|t| {
+                let uv = |i: u32| Vec2::from(mesh.vertices[i as usize].uv);
+                ((uv(t[1]) - uv(t[0])).perp_dot(uv(t[2]) - uv(t[0])) as f64).abs()
+            })
+            .sum();
+        if !(uv_area > 1e-12) {
+            return Err(MeshError::ZeroAreaUvs {
+                path: origin.into(),
+            });
+        }
+        if !has_normals {
+            mesh.compute_smooth_normals();
+        }
+        if mesh.vertices.iter().any(|v| v.tangent == [0.0; 4]) {
+            mesh.compute_tangents();
+        }
         mesh.compute_curvature(2);
         mesh.bake_thickness(MAX_THICKNESS_MM);
         // Look at eye height: 62 % up the bounding box (the face of a head).
@@ -152,17 +223,56 @@ impl Mesh {
             material: 0.0,
             curvature_per_mm: 0.0,
             thickness_mm: 1.0,
+            tangent: [1.0, 0.0, 0.0, 1.0],
         };
         Mesh {
             vertices: vec![
-                v(-h, -h, 0.0, 0.0),
-                v(h, -h, 1.0, 0.0),
-                v(h, h, 1.0, 1.0),
-                v(-h, h, 0.0, 1.0),
+                v(-h, -h, 0.0, 1.0),
+                v(h, -h, 1.0, 1.0),
+                v(h, h, 1.0, 0.0),
+                v(-h, h, 0.0, 0.0),
             ],
             indices: vec![0, 1, 2, 0, 2, 3],
             metres_per_unit,
             focus: [0.0; 3],
+            textures: Arc::new(MeshTextures::default()),
+        }
+    }
+
+    /// Per-vertex tangents from the UV layout (Lengyel 2001): T along +u,
+    /// orthogonalised against N, with w = ±1 so that B = w·N×T runs along
+    /// +v up the image. Triangles with degenerate UVs contribute nothing;
+    /// a vertex left without a tangent gets any unit vector ⟂ N.
+    pub fn compute_tangents(&mut self) {
+        let n = self.vertices.len();
+        let (mut tan, mut bit) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+        for tri in self.indices.chunks_exact(3) {
+            let v = |k: usize| &self.vertices[tri[k] as usize];
+            let p = |k: usize| Vec3::from(v(k).position);
+            // Up the image: v_up = −v (top-left origin).
+            let uv = |k: usize| Vec2::new(v(k).uv[0], -v(k).uv[1]);
+            let (e1, e2) = (p(1) - p(0), p(2) - p(0));
+            let (d1, d2) = (uv(1) - uv(0), uv(2) - uv(0));
+            let det = d1.perp_dot(d2);
+            if det.abs() < 1e-20 {
+                continue;
+            }
+            let sdir = (e1 * d2.y - e2 * d1.y) / det;
+            let tdir = (e2 * d1.x - e1 * d2.x) / det;
+            for &i in tri {
+                tan[i as usize] += sdir;
+                bit[i as usize] += tdir;
+            }
+        }
+        for (i, v) in self.vertices.iter_mut().enumerate() {
+            let nrm = Vec3::from(v.normal);
+            let t = (tan[i] - nrm * nrm.dot(tan[i])).normalize_or(nrm.any_orthonormal_vector());
+            let w = if nrm.cross(t).dot(bit[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            v.tangent = [t.x, t.y, t.z, w];
         }
     }
 
@@ -398,10 +508,12 @@ mod tests {
                 let th = std::f32::consts::PI * j as f32 / nv as f32;
                 let ph = std::f32::consts::TAU * i as f32 / nu as f32;
                 obj += &format!(
-                    "v {} {} {}\n",
+                    "v {} {} {}\nvt {} {}\n",
                     5.0 * th.sin() * ph.cos(),
                     5.0 * th.cos(),
-                    5.0 * th.sin() * ph.sin()
+                    5.0 * th.sin() * ph.sin(),
+                    i as f32 / nu as f32,
+                    j as f32 / nv as f32
                 );
             }
         }
@@ -409,7 +521,11 @@ mod tests {
             for i in 0..nu {
                 let a = j * nu + i + 1;
                 let b = j * nu + (i + 1) % nu + 1;
-                obj += &format!("f {} {} {} {}\n", a, b, b + nu, a + nu);
+                obj += &format!(
+                    "f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n",
+                    c = b + nu,
+                    d = a + nu
+                );
             }
         }
         // 5 units at 0.01 m per unit: radius 50 mm.
@@ -430,6 +546,48 @@ mod tests {
                 v.curvature_per_mm
             );
         }
+    }
+
+    /// Lengyel tangents on a plane unwrapped with u along +x and v (up the
+    /// image) along +y: T = +x, and B = w N × T = +y needs w = +1; mirroring
+    /// u flips T and w.
+    #[test]
+    fn tangents_follow_the_uv_layout() {
+        let quad = |u0: f32, u1: f32| {
+            format!(
+                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt {u0} 0\nvt {u1} 0\nvt {u1} 1\nvt {u0} 1\nf 1/1 2/2 3/3 4/4\n"
+            )
+        };
+        let m = Mesh::from_obj_text(&quad(0.0, 1.0), "quad", 1.0).unwrap();
+        for v in &m.vertices {
+            let t = Vec3::from_slice(&v.tangent[..3]);
+            assert!((t - Vec3::X).length() < 1e-5, "{:?}", v.tangent);
+            assert_eq!(v.tangent[3], 1.0);
+            let b = Vec3::from(v.normal).cross(t) * v.tangent[3];
+            assert!((b - Vec3::Y).length() < 1e-5);
+        }
+        let mirrored = Mesh::from_obj_text(&quad(1.0, 0.0), "quad", 1.0).unwrap();
+        for v in &mirrored.vertices {
+            let t = Vec3::from_slice(&v.tangent[..3]);
+            assert!((t + Vec3::X).length() < 1e-5, "{:?}", v.tangent);
+            assert_eq!(v.tangent[3], -1.0, "B must still point up the image");
+        }
+    }
+
+    #[test]
+    fn meshes_without_usable_uvs_are_refused() {
+        let e = Mesh::from_obj_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bare.obj", 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("bare.obj") && e.contains("no texture coordinates"),
+            "{e}"
+        );
+        let flat = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n";
+        let e = Mesh::from_obj_text(flat, "flat.obj", 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("flat.obj") && e.contains("zero area"), "{e}");
     }
 
     #[test]

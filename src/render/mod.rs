@@ -4,15 +4,18 @@
 pub mod compare;
 pub mod context;
 mod frame;
+mod gltf_mesh;
 pub mod gpu_types;
 pub mod inputs;
 pub mod mesh;
 pub mod pipelines;
+pub mod procedural;
 mod profile_gpu;
 pub mod readback;
 pub mod renderer;
 pub mod settings;
 mod sss;
+pub mod textures;
 pub mod timing;
 
 pub use context::{GpuContext, GpuError};

@@ -11,6 +11,8 @@ pub(super) struct ProfileGpu {
     pub key: u64,
     /// Penner's D(θ, κ) table, filterable.
     pub preintegrated_lut: wgpu::TextureView,
+    /// Penner's scattered-shadow table, filterable.
+    pub penumbra_lut: wgpu::TextureView,
     pub transmittance: wgpu::Buffer,
     /// Burley's main pattern followed by the LOD's short one.
     pub burley_samples: wgpu::Buffer,
@@ -37,37 +39,49 @@ impl ProfileGpu {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
-        let lut = device.create_texture_with_data(
-            queue,
-            &wgpu::TextureDescriptor {
-                label: Some("pre-integrated lut"),
-                size: wgpu::Extent3d {
-                    width: inputs.lut_layout.width as u32,
-                    height: inputs.lut_layout.height as u32,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                // Filterable on every adapter (Rgba32Float is not).
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(
-                &inputs
-                    .preintegrated_lut
-                    .iter()
-                    .flat_map(|v| v.map(f32_to_half))
-                    .collect::<Vec<u16>>(),
-            ),
-        );
+        let table = |label, (width, height): (usize, usize), data: &[[f32; 4]]| {
+            device
+                .create_texture_with_data(
+                    queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d {
+                            width: width as u32,
+                            height: height as u32,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        // Filterable on every adapter (Rgba32Float is not).
+                        format: wgpu::TextureFormat::Rgba16Float,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    },
+                    wgpu::util::TextureDataOrder::LayerMajor,
+                    bytemuck::cast_slice(
+                        &data
+                            .iter()
+                            .flat_map(|v| v.map(f32_to_half))
+                            .collect::<Vec<u16>>(),
+                    ),
+                )
+                .create_view(&Default::default())
+        };
         let mut burley = inputs.samples.clone();
         burley.extend_from_slice(&inputs.low_samples);
         Self {
             key: inputs.fingerprint(),
-            preintegrated_lut: lut.create_view(&Default::default()),
+            preintegrated_lut: table(
+                "pre-integrated lut",
+                (inputs.lut_layout.width, inputs.lut_layout.height),
+                &inputs.preintegrated_lut,
+            ),
+            penumbra_lut: table(
+                "penumbra lut",
+                (inputs.penumbra_layout.width, inputs.penumbra_layout.height),
+                &inputs.penumbra_lut,
+            ),
             transmittance: storage("transmittance", bytemuck::cast_slice(&inputs.transmittance)),
             burley_samples: storage("burley samples", bytemuck::cast_slice(&burley)),
             reference_samples: storage(

@@ -19,6 +19,7 @@ pub use super::settings::{
     FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode, Transmission,
 };
 use super::sss::{self, SssFrame, SssPipelines};
+use super::textures::{self, AlbedoMode, RoughnessMode, TextureImage};
 use super::timing::PassTimer;
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -79,6 +80,11 @@ pub struct Renderer {
     shadow_map: wgpu::TextureView,
     shadow_sampler: wgpu::Sampler,
     lut_sampler: wgpu::Sampler,
+    surface_sampler: wgpu::Sampler,
+    /// Albedo, normal, roughness, mask and thickness maps of the mesh.
+    surface_maps: [wgpu::TextureView; 5],
+    /// `SceneUniforms::surface` for these maps (detail strength in w).
+    surface_modes: [f32; 4],
     sss: SssPipelines,
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
@@ -132,6 +138,13 @@ impl Renderer {
                     texture(3, filterable),
                     sampler(4, wgpu::SamplerBindingType::Filtering),
                     buffer_entry(5, storage, frag),
+                    texture(6, filterable),
+                    texture(7, filterable),
+                    texture(8, filterable),
+                    texture(9, filterable),
+                    texture(10, filterable),
+                    sampler(11, wgpu::SamplerBindingType::Filtering),
+                    texture(12, filterable),
                 ],
             });
             let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -229,6 +242,53 @@ impl Renderer {
             address_mode_v: wgpu::AddressMode::ClampToEdge,
             ..Default::default()
         });
+        // Surface maps: trilinear, repeating, 4× anisotropic.
+        let surface_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("surface maps"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            anisotropy_clamp: 4,
+            ..Default::default()
+        });
+        let maps = &mesh.textures;
+        let upload = |img, format, label| textures::upload(device, &ctx.queue, img, format, label);
+        let no_thickness = TextureImage::solid(&[0]);
+        let surface_maps = [
+            upload(
+                &maps.albedo,
+                wgpu::TextureFormat::Rgba8UnormSrgb,
+                "albedo map",
+            ),
+            upload(&maps.normal, wgpu::TextureFormat::Rgba8Unorm, "normal map"),
+            upload(
+                &maps.roughness,
+                wgpu::TextureFormat::R8Unorm,
+                "roughness map",
+            ),
+            upload(&maps.mask, wgpu::TextureFormat::R8Unorm, "mask map"),
+            upload(
+                maps.thickness.as_ref().map_or(&no_thickness, |t| &t.0),
+                wgpu::TextureFormat::R8Unorm,
+                "thickness map",
+            ),
+        ];
+        let surface_modes = [
+            if maps.albedo_mode == AlbedoMode::Absolute {
+                1.0
+            } else {
+                0.0
+            },
+            if maps.roughness_mode == RoughnessMode::Absolute {
+                1.0
+            } else {
+                0.0
+            },
+            maps.thickness.as_ref().map_or(0.0, |t| t.1),
+            1.0,
+        ];
         let scene_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene uniforms"),
             size: std::mem::size_of::<SceneUniforms>() as u64,
@@ -266,6 +326,9 @@ impl Renderer {
             shadow_map,
             shadow_sampler,
             lut_sampler,
+            surface_sampler,
+            surface_maps,
+            surface_modes,
             sss: built.sss,
             composite_layout: built.composite_layout,
             composite_pipeline: built.composite_pipeline,
@@ -363,6 +426,16 @@ impl Renderer {
                         resource: wgpu::BindingResource::Sampler(&self.lut_sampler),
                     },
                     buf(5, &gpu.transmittance),
+                    tex(6, &self.surface_maps[0]),
+                    tex(7, &self.surface_maps[1]),
+                    tex(8, &self.surface_maps[2]),
+                    tex(9, &self.surface_maps[3]),
+                    tex(10, &self.surface_maps[4]),
+                    wgpu::BindGroupEntry {
+                        binding: 11,
+                        resource: wgpu::BindingResource::Sampler(&self.surface_sampler),
+                    },
+                    tex(12, &gpu.penumbra_lut),
                 ],
             });
         self.profile = Some(ProfileBinding { gpu, scene_bg });
@@ -545,6 +618,25 @@ impl Renderer {
                 0.0,
             ],
             preintegrated: sss::preintegrated::uniforms(s.method, &inputs.lut_layout),
+            preintegrated_normals: [
+                inputs.normal_blend[0],
+                inputs.normal_blend[1],
+                inputs.normal_blend[2],
+                if s.penumbra { 1.0 } else { 0.0 },
+            ],
+            surface: [
+                self.surface_modes[0],
+                self.surface_modes[1],
+                self.surface_modes[2],
+                s.detail_normal_strength,
+            ],
+            penumbra: [
+                1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
+                1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
+                // 5×5 PCF taps of one shadow texel each, in mm.
+                5.0 * 2.0 * rad / SHADOW_SIZE as f32 * 1000.0 * self.metres_per_unit,
+                0.0,
+            ],
             pattern: match s.pattern {
                 IrradiancePattern::Lit => [0.0; 4],
                 IrradiancePattern::Step => [1.0, 0.0, 0.0, 0.0],

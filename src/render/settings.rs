@@ -67,6 +67,10 @@ pub struct RenderSettings {
     /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
     pub lod: bool,
     pub specular: Specular,
+    /// Strength of the detail normal map (0 = smooth surface normals).
+    pub detail_normal_strength: f32,
+    /// `preintegrated`: scatter shadow edges through Penner's penumbra table.
+    pub penumbra: bool,
 }
 
 /// The specular model (its own buffer; never blurred).
@@ -130,6 +134,8 @@ impl Default for RenderSettings {
                 roughness1: 0.72,
                 lobe_mix: 0.15,
             },
+            detail_normal_strength: 1.0,
+            penumbra: true,
         }
     }
 }

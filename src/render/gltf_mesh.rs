@@ -1,0 +1,180 @@
+//! glTF 2.0 (.gltf with its buffers and images, or .glb) loading: every
+//! triangle primitive of the default scene, with its node transforms;
+//! TEXCOORD_0 is required, normals and tangents are used when present
+//! (generated otherwise); base colour, normal and metallic-roughness
+//! (green = roughness) textures come from the materials.
+
+use super::gpu_types::Vertex;
+use super::mesh::{Mesh, MeshError};
+use super::textures::{
+    from_dynamic, AlbedoMode, MeshTextures, RoughnessMode, TextureImage, TextureSlot,
+};
+use bytemuck::Zeroable;
+use glam::{Mat3, Mat4, Vec3};
+use std::path::Path;
+use std::sync::Arc;
+
+pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError> {
+    let origin = path.display().to_string();
+    let load_error = |message: String| MeshError::Load {
+        path: origin.clone(),
+        message,
+    };
+    let (doc, buffers, images) = gltf::import(path).map_err(|e| load_error(e.to_string()))?;
+    let scene = doc
+        .default_scene()
+        .or_else(|| doc.scenes().next())
+        .ok_or_else(|| load_error("the file has no scene".into()))?;
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let mut has_normals = true;
+    let mut textures = MeshTextures::default();
+    let mut material_seen = false;
+    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    while let Some((node, parent)) = stack.pop() {
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        stack.extend(node.children().map(|c| (c, world)));
+        let Some(mesh) = node.mesh() else { continue };
+        let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
+        for (k, prim) in mesh.primitives().enumerate() {
+            if prim.mode() != gltf::mesh::Mode::Triangles {
+                continue;
+            }
+            let part = format!("mesh '{}' primitive {k}", mesh.name().unwrap_or("unnamed"));
+            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let positions: Vec<[f32; 3]> = reader
+                .read_positions()
+                .ok_or_else(|| load_error(format!("{part} has no POSITION")))?
+                .collect();
+            let uvs: Vec<[f32; 2]> = reader
+                .read_tex_coords(0)
+                .ok_or_else(|| MeshError::NoUvs {
+                    path: origin.clone(),
+                    part: part.clone(),
+                })?
+                .into_f32()
+                .collect();
+            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
+            let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
+            has_normals &= normals.is_some();
+            if uvs.len() != positions.len() {
+                return Err(load_error(format!(
+                    "{part}: {} UVs for {} positions",
+                    uvs.len(),
+                    positions.len()
+                )));
+            }
+            let base = vertices.len() as u32;
+            for (i, p) in positions.iter().enumerate() {
+                let n = normals
+                    .as_ref()
+                    .and_then(|n| n.get(i))
+                    .map(|n| (normal_matrix * Vec3::from(*n)).normalize_or_zero())
+                    .unwrap_or(Vec3::ZERO);
+                let tangent = tangents
+                    .as_ref()
+                    .and_then(|t| t.get(i))
+                    .map(|t| {
+                        let d = (Mat3::from_mat4(world) * Vec3::new(t[0], t[1], t[2]))
+                            .normalize_or_zero();
+                        [d.x, d.y, d.z, if t[3] < 0.0 { -1.0 } else { 1.0 }]
+                    })
+                    .unwrap_or([0.0; 4]);
+                vertices.push(Vertex {
+                    position: world.transform_point3(Vec3::from(*p)).into(),
+                    normal: n.into(),
+                    uv: uvs[i],
+                    tangent,
+                    ..Vertex::zeroed()
+                });
+            }
+            match reader.read_indices() {
+                Some(ix) => indices.extend(ix.into_u32().map(|i| base + i)),
+                None => indices.extend(base..base + positions.len() as u32),
+            }
+            if let Some(bad) = indices[..].iter().find(|&&i| i as usize >= vertices.len()) {
+                return Err(load_error(format!("{part}: index {bad} is out of range")));
+            }
+            if !material_seen {
+                material_seen = true;
+                read_material(&prim.material(), &images, &origin, &mut textures)?;
+            }
+        }
+    }
+    let mut mesh = Mesh::from_triangles(vertices, indices, &origin, metres_per_unit, has_normals)?;
+    mesh.textures = Arc::new(textures);
+    Ok(mesh)
+}
+
+/// The first material's base colour, normal and roughness textures.
+fn read_material(
+    m: &gltf::Material,
+    images: &[gltf::image::Data],
+    origin: &str,
+    out: &mut MeshTextures,
+) -> Result<(), MeshError> {
+    let pbr = m.pbr_metallic_roughness();
+    let image = |tex: gltf::texture::Texture, slot, channel| {
+        images
+            .get(tex.source().index())
+            .map(|d| decode(d, slot, channel, origin))
+            .transpose()
+    };
+    if let Some(t) = pbr.base_color_texture() {
+        if let Some(img) = image(t.texture(), TextureSlot::Albedo, 0)? {
+            out.albedo = img;
+            out.albedo_mode = AlbedoMode::Absolute;
+        }
+    }
+    if let Some(t) = m.normal_texture() {
+        if let Some(img) = image(t.texture(), TextureSlot::Normal, 0)? {
+            out.normal = img;
+        }
+    }
+    if let Some(t) = pbr.metallic_roughness_texture() {
+        // glTF keeps roughness in the green channel.
+        if let Some(img) = image(t.texture(), TextureSlot::Roughness, 1)? {
+            out.roughness = img;
+            out.roughness_mode = RoughnessMode::Absolute;
+        }
+    }
+    Ok(())
+}
+
+/// An embedded or referenced image, 8-bit formats only.
+fn decode(
+    d: &gltf::image::Data,
+    slot: TextureSlot,
+    channel: usize,
+    origin: &str,
+) -> Result<TextureImage, MeshError> {
+    use gltf::image::Format;
+    let (w, h) = (d.width, d.height);
+    let fail = |message: String| {
+        MeshError::Texture(super::textures::TextureError::Load {
+            path: origin.into(),
+            slot: slot.name(),
+            message,
+        })
+    };
+    let img = match d.format {
+        Format::R8 => image::GrayImage::from_raw(w, h, d.pixels.clone()).map(Into::into),
+        Format::R8G8 => image::GrayAlphaImage::from_raw(w, h, d.pixels.clone()).map(Into::into),
+        Format::R8G8B8 => image::RgbImage::from_raw(w, h, d.pixels.clone()).map(Into::into),
+        Format::R8G8B8A8 => image::RgbaImage::from_raw(w, h, d.pixels.clone()).map(Into::into),
+        f => return Err(fail(format!("{f:?} texels are not supported (8-bit only)"))),
+    };
+    let img: image::DynamicImage =
+        img.ok_or_else(|| fail("texel data shorter than the image size".into()))?;
+    let img = if channel > 0 {
+        // Move the wanted channel to the front (red) for single-channel slots.
+        let mut rgba = img.to_rgba8();
+        for p in rgba.pixels_mut() {
+            p.0[0] = p.0[channel];
+        }
+        image::DynamicImage::ImageRgba8(rgba)
+    } else {
+        img
+    };
+    Ok(from_dynamic(img, slot, origin)?)
+}

@@ -1,0 +1,284 @@
+//! Surface textures: albedo, tangent-space normal, roughness, SSS mask and
+//! thickness. Each comes from the mesh file, the command line, or (for the
+//! default head) the deterministic bake in `procedural.rs`; a missing one
+//! is a 1×1 neutral texture, so the shader always samples all five.
+
+use std::path::Path;
+
+/// How the shader reads the albedo texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AlbedoMode {
+    /// Linear value × 2 multiplies the preset's skin albedo (the default
+    /// head's variation map: 0.5 leaves the preset's colour unchanged).
+    Modulate,
+    /// The texture is the albedo (sRGB), as a scan's colour map is.
+    Absolute,
+}
+
+/// How the shader reads the roughness texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RoughnessMode {
+    /// Value × 2 scales the settings' roughness (0.5 leaves it unchanged).
+    Scale,
+    /// The texture is the roughness of the first lobe.
+    Absolute,
+}
+
+/// One texture's texels, top-left origin, with `channels` bytes per texel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureImage {
+    pub width: u32,
+    pub height: u32,
+    /// 4 (RGBA) or 1 (a single channel).
+    pub channels: u32,
+    pub texels: Vec<u8>,
+}
+
+impl TextureImage {
+    /// A 1×1 texture of one value.
+    pub fn solid(value: &[u8]) -> Self {
+        Self {
+            width: 1,
+            height: 1,
+            channels: value.len() as u32,
+            texels: value.to_vec(),
+        }
+    }
+
+    /// The next mip level: 2×2 box filter (odd edges clamp).
+    pub fn half(&self) -> Self {
+        let (w, h, c) = (
+            (self.width / 2).max(1),
+            (self.height / 2).max(1),
+            self.channels as usize,
+        );
+        let at = |x: u32, y: u32, k: usize| {
+            let (x, y) = (x.min(self.width - 1), y.min(self.height - 1));
+            self.texels[(y * self.width + x) as usize * c + k] as u32
+        };
+        let mut texels = Vec::with_capacity((w * h) as usize * c);
+        for y in 0..h {
+            for x in 0..w {
+                for k in 0..c {
+                    let s = at(2 * x, 2 * y, k)
+                        + at(2 * x + 1, 2 * y, k)
+                        + at(2 * x, 2 * y + 1, k)
+                        + at(2 * x + 1, 2 * y + 1, k);
+                    texels.push(((s + 2) / 4) as u8);
+                }
+            }
+        }
+        Self {
+            width: w,
+            height: h,
+            channels: self.channels,
+            texels,
+        }
+    }
+
+    /// This image and its mip chain down to 1×1.
+    pub fn mip_chain(&self) -> Vec<TextureImage> {
+        let mut chain = vec![self.clone()];
+        while let Some(last) = chain.last().filter(|m| m.width > 1 || m.height > 1) {
+            let next = last.half();
+            chain.push(next);
+        }
+        chain
+    }
+}
+
+/// The five textures of a mesh and how to read them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshTextures {
+    pub albedo: TextureImage,
+    pub albedo_mode: AlbedoMode,
+    /// Tangent-space normal, OpenGL convention (green = +v, up in the image).
+    pub normal: TextureImage,
+    pub roughness: TextureImage,
+    pub roughness_mode: RoughnessMode,
+    /// SSS mask: 0 keeps a texel out of every SSS pass.
+    pub mask: TextureImage,
+    /// Thickness for transmission: value × `thickness_range_mm`; `None`
+    /// uses the per-vertex ray-cast bake.
+    pub thickness: Option<(TextureImage, f32)>,
+}
+
+impl Default for MeshTextures {
+    /// Neutral: the preset's albedo and roughness, a flat normal, all skin.
+    fn default() -> Self {
+        Self {
+            albedo: TextureImage::solid(&[188, 188, 188, 255]),
+            albedo_mode: AlbedoMode::Modulate,
+            normal: TextureImage::solid(&[128, 128, 255, 255]),
+            roughness: TextureImage::solid(&[128]),
+            roughness_mode: RoughnessMode::Scale,
+            mask: TextureImage::solid(&[255]),
+            thickness: None,
+        }
+    }
+}
+
+/// Which texture a file is for (names it in errors).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureSlot {
+    Albedo,
+    Normal,
+    Roughness,
+    Mask,
+    Thickness,
+}
+
+impl TextureSlot {
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureSlot::Albedo => "albedo",
+            TextureSlot::Normal => "normal",
+            TextureSlot::Roughness => "roughness",
+            TextureSlot::Mask => "mask",
+            TextureSlot::Thickness => "thickness",
+        }
+    }
+
+    fn channels(self) -> u32 {
+        match self {
+            TextureSlot::Albedo | TextureSlot::Normal => 4,
+            _ => 1,
+        }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    #[error("{path}: cannot read the {slot} texture: {message}")]
+    Load {
+        path: String,
+        slot: &'static str,
+        message: String,
+    },
+    #[error(
+        "{path}: the {slot} texture is {width}×{height}; textures must be 1–16384 texels a side"
+    )]
+    Size {
+        path: String,
+        slot: &'static str,
+        width: u32,
+        height: u32,
+    },
+}
+
+/// Converts a decoded image into the slot's layout (RGBA, or the first
+/// channel of a grey image / the luminance-free red channel otherwise).
+pub fn from_dynamic(
+    img: image::DynamicImage,
+    slot: TextureSlot,
+    origin: &str,
+) -> Result<TextureImage, TextureError> {
+    let (width, height) = (img.width(), img.height());
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(TextureError::Size {
+            path: origin.into(),
+            slot: slot.name(),
+            width,
+            height,
+        });
+    }
+    let texels = if slot.channels() == 4 {
+        img.to_rgba8().into_raw()
+    } else {
+        // Grey maps: the first channel (grey, or red of an RGB export).
+        img.to_rgba8().pixels().map(|p| p.0[0]).collect()
+    };
+    Ok(TextureImage {
+        width,
+        height,
+        channels: slot.channels(),
+        texels,
+    })
+}
+
+/// Loads an image file (PNG or JPEG) for `slot`.
+pub fn load(path: &Path, slot: TextureSlot) -> Result<TextureImage, TextureError> {
+    let origin = path.display().to_string();
+    let img = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| e.to_string())
+        .and_then(|r| r.decode().map_err(|e| e.to_string()))
+        .map_err(|message| TextureError::Load {
+            path: origin.clone(),
+            slot: slot.name(),
+            message,
+        })?;
+    from_dynamic(img, slot, &origin)
+}
+
+/// Uploads a texture with its mip chain.
+pub(super) fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    img: &TextureImage,
+    format: wgpu::TextureFormat,
+    label: &'static str,
+) -> wgpu::TextureView {
+    use wgpu::util::DeviceExt;
+    let chain = img.mip_chain();
+    let data: Vec<u8> = chain
+        .iter()
+        .flat_map(|m| m.texels.iter().copied())
+        .collect();
+    device
+        .create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: img.width,
+                    height: img.height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: chain.len() as u32,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &data,
+        )
+        .create_view(&Default::default())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mip_chain_averages_and_ends_at_one_texel() {
+        let img = TextureImage {
+            width: 4,
+            height: 2,
+            channels: 1,
+            texels: vec![0, 4, 8, 12, 4, 8, 12, 16],
+        };
+        let chain = img.mip_chain();
+        let dims: Vec<_> = chain.iter().map(|m| (m.width, m.height)).collect();
+        assert_eq!(dims, vec![(4, 2), (2, 1), (1, 1)]);
+        // (0+4+4+8)/4 = 4, (8+12+12+16)/4 = 12, then (4+12)/2 = 8 (clamped edge).
+        assert_eq!(chain[1].texels, vec![4, 12]);
+        assert_eq!(chain[2].texels, vec![8]);
+    }
+
+    #[test]
+    fn corrupt_image_names_the_file_and_slot() {
+        let dir = std::env::temp_dir().join("scatterlab-texture-test");
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("broken.png");
+        std::fs::write(&path, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+        let e = load(&path, TextureSlot::Normal).unwrap_err().to_string();
+        assert!(e.contains("broken.png") && e.contains("normal"), "{e}");
+        let e = load(&dir.join("missing.png"), TextureSlot::Mask)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("missing.png") && e.contains("mask"), "{e}");
+    }
+}
