@@ -6,9 +6,13 @@ struct CompositeUniforms {
 };
 
 @group(0) @binding(0) var<uniform> c: CompositeUniforms;
-@group(0) @binding(1) var diffuse_tex: texture_2d<f32>;
+// The method's output: written only on SSS pixels (alpha > 0 there).
+@group(0) @binding(1) var scattered_tex: texture_2d<f32>;
 @group(0) @binding(2) var specular_tex: texture_2d<f32>;
-@group(0) @binding(3) var albedo_depth_tex: texture_2d<f32>;
+// rgb: albedo^post, a: 1 on the mesh, 0 on the background.
+@group(0) @binding(3) var albedo_tex: texture_2d<f32>;
+// The scene's diffuse irradiance, used where no SSS pass wrote.
+@group(0) @binding(4) var diffuse_tex: texture_2d<f32>;
 
 fn aces(x: vec3<f32>) -> vec3<f32> {
     let a = 2.51;
@@ -22,9 +26,10 @@ fn aces(x: vec3<f32>) -> vec3<f32> {
 @fragment
 fn fs_composite(in: FullscreenOut) -> @location(0) vec4<f32> {
     let p = vec2<i32>(in.clip.xy);
-    let d = textureLoad(diffuse_tex, p, 0);
+    let scattered = textureLoad(scattered_tex, p, 0);
+    let d = select(textureLoad(diffuse_tex, p, 0), scattered, scattered.a > 1.0 / 255.0);
     let sp = textureLoad(specular_tex, p, 0);
-    let ad = textureLoad(albedo_depth_tex, p, 0);
+    let ad = textureLoad(albedo_tex, p, 0);
     if (ad.a <= 0.0) {
         // Background: a dim studio grey.
         return vec4<f32>(aces(vec3<f32>(0.05, 0.055, 0.06) * c.exposure.x), 1.0);

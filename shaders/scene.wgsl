@@ -2,7 +2,8 @@
 // methods read (seed 000 §4: specular is never blurred).
 //   target 0: diffuse irradiance × albedo^pre (rgb), SSS mask (a)
 //   target 1: specular radiance (rgb)
-//   target 2: albedo^post (rgb), linear view depth in world units (a)
+//   target 2: albedo^post (rgb), coverage 1 (a)
+//   target 3: linear view depth in world units
 // Twin of `render::gpu_types::SceneUniforms`.
 
 struct SceneUniforms {
@@ -63,7 +64,8 @@ fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
     return max(p.z - occluder, 0.0) * u.shadow.w * u.transmission.w;
 }
 
-// 5×5 PCF on the light's orthographic depth map.
+// PCF on the light's orthographic depth map: 3×3 bilinear comparison taps
+// one texel apart, a tent filter over a 4×4-texel footprint.
 fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
     let p = u.light_clip_from_world * vec4<f32>(world + n * u.shadow.z, 1.0);
     let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
@@ -72,13 +74,13 @@ fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
     }
     let depth = p.z - u.shadow.y;
     var lit = 0.0;
-    for (var y = -2; y <= 2; y = y + 1) {
-        for (var x = -2; x <= 2; x = x + 1) {
+    for (var y = -1; y <= 1; y = y + 1) {
+        for (var x = -1; x <= 1; x = x + 1) {
             let o = vec2<f32>(f32(x), f32(y)) * u.shadow.x;
             lit = lit + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, depth);
         }
     }
-    return lit / 25.0;
+    return lit / 9.0;
 }
 
 // Depth-only vertex shader for the shadow pass.
@@ -128,7 +130,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
 struct TargetsOut {
     @location(0) diffuse: vec4<f32>,
     @location(1) specular: vec4<f32>,
-    @location(2) albedo_depth: vec4<f32>,
+    @location(2) albedo: vec4<f32>,
+    @location(3) depth: f32,
 };
 
 const PI: f32 = 3.14159265;
@@ -263,7 +266,8 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         spec = kelemen(n, v, l, r0, u.params.z);
     }
     o.specular = vec4<f32>(u.light_radiance.rgb * spec * shadow, 1.0);
-    o.albedo_depth = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), i.view_depth);
+    o.albedo = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), 1.0);
+    o.depth = i.view_depth;
     return o;
 }
 

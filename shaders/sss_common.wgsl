@@ -5,11 +5,13 @@ struct SssUniforms {
     projection: vec4<f32>,  // x: pixels per world unit at depth 1 (height / (2 tan(fovy/2))), y: mm per world unit
     params: vec4<f32>,      // x: sample count, y: deterministic (1) or rotated (0), z: lut radius max (mm), w: lut size
     direction: vec4<f32>,   // xy: blur direction for separable passes, z: follow-surface strength
+    weight: vec4<f32>,      // rgb: output multiplier (a Gaussian's weight when accumulating; 1 otherwise)
 };
 
 @group(0) @binding(0) var<uniform> s: SssUniforms;
 @group(0) @binding(1) var diffuse_tex: texture_2d<f32>;
-@group(0) @binding(2) var albedo_depth_tex: texture_2d<f32>;
+// Linear view depth (world units), 0 on the background.
+@group(0) @binding(2) var depth_tex: texture_2d<f32>;
 
 fn load_diffuse(p: vec2<i32>) -> vec4<f32> {
     let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size.xy) - vec2<i32>(1));
@@ -18,7 +20,7 @@ fn load_diffuse(p: vec2<i32>) -> vec4<f32> {
 
 fn load_depth(p: vec2<i32>) -> f32 {
     let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size.xy) - vec2<i32>(1));
-    return textureLoad(albedo_depth_tex, c, 0).a;
+    return textureLoad(depth_tex, c, 0).r;
 }
 
 // Pixels per millimetre on a surface at view depth z (world units).

@@ -44,13 +44,5 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         }
         acc = acc + t.rgb * col;
     }
-    return vec4<f32>(acc, centre.a);
-}
-
-// Accumulation for the sum-of-Gaussians method (d'Eon 2007 / Jimenez 2009):
-// adds weight.rgb × the blurred irradiance into the target (additive blend).
-@fragment
-fn fs_accumulate(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(in.clip.xy);
-    return vec4<f32>(load_diffuse(p).rgb * s.direction.xyz, 0.0);
+    return vec4<f32>(acc * s.weight.rgb, centre.a);
 }

@@ -139,10 +139,22 @@ fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
     let mut r = plane_renderer();
     let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
     inputs.set_gaussians(&DEON_SKIN);
+    // d'Eon's seven taps per pass step σ at a time: the edge's erf is
+    // followed to about 0.13 (red); see GAUSSIAN_TAPS.
+    let (_, coarse, _) = r
+        .render_with_diffuse(&inputs, &settings(Method::Gaussians))
+        .unwrap();
+    let worst7 = worst_edge_deviation(&profile, &coarse);
+    eprintln!("gaussians (7 taps) worst deviation per channel: {worst7:?}");
+    assert!(
+        worst7[0] < 0.14 && worst7[1] < 0.08 && worst7[2] < 0.05,
+        "7 taps: worst deviation per channel {worst7:?}"
+    );
+    inputs.gaussian_taps = 13;
     let (_, diffuse, stats) = r
         .render_with_diffuse(&inputs, &settings(Method::Gaussians))
         .unwrap();
-    // Two 1D blurs per Gaussian (plus a clear and one accumulate each).
+    // Two 1D blurs per Gaussian; the second adds its weight × result.
     let blurs = stats
         .passes
         .iter()

@@ -26,6 +26,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub adapter_info: wgpu::AdapterInfo,
     pub timestamps: bool,
+    /// Format of the specular target (RG11B10 where renderable).
+    pub specular_format: wgpu::TextureFormat,
 }
 
 impl GpuContext {
@@ -47,11 +49,18 @@ impl GpuContext {
             .await
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if timestamps {
-            wgpu::Features::TIMESTAMP_QUERY
-        } else {
-            wgpu::Features::empty()
-        };
+        // Specular in 4 bytes a pixel where the adapter can render to
+        // RG11B10 (the 4K target budget); 8 bytes otherwise.
+        let rg11b10 = adapter
+            .features()
+            .contains(wgpu::Features::RG11B10UFLOAT_RENDERABLE);
+        let mut required_features = wgpu::Features::empty();
+        if timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        if rg11b10 {
+            required_features |= wgpu::Features::RG11B10UFLOAT_RENDERABLE;
+        }
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("scatterlab"),
@@ -67,6 +76,11 @@ impl GpuContext {
             queue,
             adapter_info: adapter.get_info(),
             timestamps,
+            specular_format: if rg11b10 {
+                wgpu::TextureFormat::Rg11b10Ufloat
+            } else {
+                wgpu::TextureFormat::Rgba16Float
+            },
         })
     }
 

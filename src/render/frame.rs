@@ -9,6 +9,8 @@ pub(super) struct FrameEncoder<'a> {
     pub device: &'a wgpu::Device,
     pub encoder: wgpu::CommandEncoder,
     pub timer: PassTimer,
+    /// The scene's depth-stencil view, whose stencil marks SSS pixels.
+    pub stencil: Option<&'a wgpu::TextureView>,
 }
 
 impl<'a> FrameEncoder<'a> {
@@ -19,6 +21,7 @@ impl<'a> FrameEncoder<'a> {
                 label: Some("frame"),
             }),
             timer,
+            stencil: None,
         }
     }
 
@@ -42,43 +45,46 @@ impl<'a> FrameEncoder<'a> {
             })
     }
 
-    /// One fullscreen triangle into `target`, timed and counted as
-    /// (pixels, samples). `load` keeps the target's contents (additive
-    /// passes); otherwise it is cleared first.
+    /// One fullscreen triangle into `target` (or into no colour target),
+    /// timed and counted as (pixels, samples). `load` keeps the target's
+    /// contents (additive passes); otherwise it is cleared first. With
+    /// `stencil`, the scene's stencil is attached with reference 1: the
+    /// pipeline decides whether it tests it (SSS passes) or writes it
+    /// (classification).
     #[allow(clippy::too_many_arguments)]
     pub fn fullscreen(
         &mut self,
-        target: &wgpu::TextureView,
+        target: Option<&wgpu::TextureView>,
         pipeline: &wgpu::RenderPipeline,
         bind_group: &wgpu::BindGroup,
         label: &'static str,
         (pixels, samples): (u64, u64),
         load: bool,
+        stencil: bool,
     ) {
-        let mut pass = self.begin(target, label, (pixels, samples), load);
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
-        pass.draw(0..3, 0..1);
-    }
-
-    /// A pass that only clears `target`.
-    pub fn clear(&mut self, target: &wgpu::TextureView, label: &'static str, pixels: u64) {
-        self.begin(target, label, (pixels, 0), false);
-    }
-
-    fn begin(
-        &mut self,
-        target: &wgpu::TextureView,
-        label: &'static str,
-        (pixels, samples): (u64, u64),
-        load: bool,
-    ) -> wgpu::RenderPass<'_> {
-        self.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let color = [target.map(|t| color_attachment(t, load))];
+        let depth_stencil_attachment =
+            self.stencil
+                .filter(|_| stencil)
+                .map(|view| wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: None,
+                    stencil_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                });
+        let mut pass = self.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
-            color_attachments: &[Some(color_attachment(target, load))],
+            color_attachments: if target.is_some() { &color } else { &[] },
+            depth_stencil_attachment,
             timestamp_writes: self.timer.render(label, pixels, samples),
             ..Default::default()
-        })
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_stencil_reference(1);
+        pass.draw(0..3, 0..1);
     }
 }
 

@@ -53,8 +53,10 @@ pub struct SssUniforms {
     pub projection: [f32; 4],
     pub params: [f32; 4],
     pub direction: [f32; 4],
+    /// rgb: output multiplier (a Gaussian's weight when accumulating).
+    pub weight: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SssUniforms>() == 64);
+const _: () = assert!(std::mem::size_of::<SssUniforms>() == 80);
 
 /// Twin of `Sample` in `shaders/sss_burley.wgsl`.
 #[repr(C)]

@@ -36,6 +36,8 @@ pub struct ProfileInputs {
     /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
     /// method; empty until [`ProfileInputs::set_gaussians`].
     pub gaussians: Vec<(f32, [f32; 3])>,
+    /// Taps of each 1D Gaussian pass (odd; [`GAUSSIAN_TAPS`] by default).
+    pub gaussian_taps: usize,
     pub lut: Vec<[f32; 4]>,
     pub lut_radius_mm: f32,
     pub taps: Vec<GpuTap>,
@@ -180,6 +182,7 @@ impl ProfileInputs {
             penumbra_layout,
             normal_blend,
             gaussians: Vec::new(),
+            gaussian_taps: GAUSSIAN_TAPS,
             lut,
             lut_radius_mm: r_max as f32,
             taps,
@@ -211,6 +214,7 @@ impl ProfileInputs {
         ]));
         bytes(bytemuck::cast_slice(&self.lut));
         bytes(bytemuck::cast_slice(&self.taps));
+        bytes(bytemuck::cast_slice(&[self.gaussian_taps as u64]));
         for (sigma, w) in &self.gaussians {
             bytes(bytemuck::bytes_of(sigma));
             bytes(bytemuck::cast_slice(w));
@@ -273,29 +277,91 @@ impl ProfileInputs {
     }
 }
 
-/// Taps per 1D Gaussian pass of the `gaussians` method.
-pub const GAUSSIAN_TAPS: usize = 13;
+/// Default taps per 1D Gaussian pass of the `gaussians` method: d'Eon
+/// 2007's seven. Finer kernels follow a lit edge more closely in screen
+/// space, where a Gaussian can span many pixels (worst deviation on
+/// tests/render_physics.rs's edge, R/G/B: 0.127/0.071/0.042 with 7 taps,
+/// 0.054/0.015/0.006 with 13) at about twice the pass time on lavapipe.
+pub const GAUSSIAN_TAPS: usize = 7;
 
-/// Taps of a normalised 1D Gaussian of standard deviation σ (mm): 13
-/// offsets over ±3σ, weights ∝ e^(−x²/2σ²) summing to one, centre first.
-pub fn gaussian_taps(sigma_mm: f32) -> Vec<GpuTap> {
-    let n = GAUSSIAN_TAPS;
-    let offsets: Vec<f32> = (0..n)
-        .map(|j| (j as f32 - 6.0) / 6.0 * 3.0 * sigma_mm)
-        .collect();
-    let w: Vec<f32> = offsets
-        .iter()
-        .map(|o| (-o * o / (2.0 * sigma_mm * sigma_mm)).exp())
-        .collect();
-    let sum: f32 = w.iter().sum();
-    let mut taps: Vec<GpuTap> = offsets
-        .iter()
-        .zip(&w)
-        .map(|(o, w)| GpuTap {
-            weight_offset: [w / sum, w / sum, w / sum, *o],
+/// A 1D kernel for a Gaussian of standard deviation σ (mm) with `n` (odd,
+/// ≥ 3) taps at offsets kh, h = 6σ/(n − 1), over ±3σ: each weight is the
+/// Gaussian's mass over [k − ½, k + ½]h, the outer taps taking the tails,
+/// so the weights sum to one. n = 7 is d'Eon 2007's kernel (GPU Gems 3
+/// ch. 14). Centre first.
+pub fn gaussian_taps(sigma_mm: f32, n: usize) -> Vec<GpuTap> {
+    let m = (n.max(3) / 2) as i32;
+    let h = 3.0 / m as f64;
+    let phi = |x: f64| 0.5 * (1.0 + libm::erf(x / std::f64::consts::SQRT_2));
+    let mass = |k: i32| {
+        let lo = if k == -m {
+            f64::NEG_INFINITY
+        } else {
+            (k as f64 - 0.5) * h
+        };
+        let hi = if k == m {
+            f64::INFINITY
+        } else {
+            (k as f64 + 0.5) * h
+        };
+        (phi(hi) - phi(lo)) as f32
+    };
+    std::iter::once(0)
+        .chain((-m..=m).filter(|k| *k != 0))
+        .map(|k| {
+            let w = mass(k);
+            GpuTap {
+                weight_offset: [w, w, w, (k as f64 * h) as f32 * sigma_mm],
+            }
         })
-        .collect();
-    let centre = taps.remove(6);
-    taps.insert(0, centre);
-    taps
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// GPU Gems 3 ch. 14 (d'Eon & Luebke 2007) prints the seven weights
+    /// 0.006, 0.061, 0.242, 0.382, 0.242, 0.061, 0.006 at offsets −3σ…3σ.
+    #[test]
+    fn seven_gaussian_taps_are_deons_published_kernel() {
+        let taps = gaussian_taps(2.0, 7);
+        let mut by_offset: Vec<(f32, f32)> = taps
+            .iter()
+            .map(|t| (t.weight_offset[3], t.weight_offset[0]))
+            .collect();
+        by_offset.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let published = [0.006, 0.061, 0.242, 0.382, 0.242, 0.061, 0.006];
+        for ((offset, w), (k, p)) in by_offset.iter().zip((-3..=3).zip(published)) {
+            assert!((offset - 2.0 * k as f32).abs() < 1e-6);
+            // Printed to three decimals and rounded to sum to one.
+            assert!((w - p).abs() < 1.5e-3, "offset {offset}: {w} vs {p}");
+        }
+        assert_eq!(taps[0].weight_offset[3], 0.0, "centre first");
+    }
+
+    /// Any tap count: weights sum to one, offsets span ±3σ, and the
+    /// kernel's variance approaches σ² as the taps get finer.
+    #[test]
+    fn gaussian_taps_sum_to_one_and_converge_to_the_variance() {
+        for n in [3, 7, 13, 31] {
+            let taps = gaussian_taps(1.5, n);
+            assert_eq!(taps.len(), n);
+            let sum: f32 = taps.iter().map(|t| t.weight_offset[0]).sum();
+            assert!((sum - 1.0).abs() < 1e-6, "{n}: {sum}");
+            let max = taps
+                .iter()
+                .map(|t| t.weight_offset[3].abs())
+                .fold(0.0, f32::max);
+            assert!((max - 4.5).abs() < 1e-5, "{n}: {max}");
+        }
+        let var = |n| {
+            gaussian_taps(1.0, n)
+                .iter()
+                .map(|t| t.weight_offset[0] * t.weight_offset[3].powi(2))
+                .sum::<f32>()
+        };
+        assert!((var(31) - 1.0).abs() < (var(7) - 1.0).abs());
+        assert!((var(31) - 1.0).abs() < 0.02, "{}", var(31));
+    }
 }

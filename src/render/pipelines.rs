@@ -2,9 +2,17 @@
 
 use super::gpu_types::Vertex;
 
+/// Diffuse irradiance + SSS mask, and the SSS ping/pong targets.
 pub(super) const HDR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-pub(super) const DEPTH_CHANNEL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// albedo^post (rgb) and coverage (a).
+pub(super) const ALBEDO: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// Linear view depth for the depth-aware SSS weights.
+pub(super) const LINEAR_DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The scene's depth buffer; its stencil marks the SSS pixels.
+pub(super) const DEPTH_STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 
 pub(super) const OUTPUT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
@@ -49,7 +57,10 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("scene", include_str!("../../shaders/scene.wgsl").to_owned()),
         (
             "classify",
-            include_str!("../../shaders/classify.wgsl").to_owned(),
+            format!(
+                "{FULLSCREEN}\n{}",
+                include_str!("../../shaders/classify.wgsl")
+            ),
         ),
         (
             "sss_burley",
@@ -79,6 +90,7 @@ pub(super) fn scene_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
+    specular: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
     let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("scene"),
@@ -109,61 +121,18 @@ pub(super) fn scene_pipeline(
             module,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
-            targets: &[target(HDR), target(HDR), target(DEPTH_CHANNEL)],
+            targets: &[target(HDR), target(specular), target(ALBEDO), target(LINEAR_DEPTH)],
         }),
-        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        // Back faces are culled: closed meshes shade each pixel about once
+        // (halves the pass on lavapipe). glTF's default is single-sided too.
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
         depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
+            format: DEPTH_STENCIL,
             depth_write_enabled: Some(true),
             depth_compare: Some(wgpu::CompareFunction::Less),
             stencil: Default::default(),
             bias: Default::default(),
         }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-pub(super) fn accumulate_pipeline(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::BindGroupLayout,
-) -> wgpu::RenderPipeline {
-    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("accumulate"),
-        bind_group_layouts: &[Some(layout)],
-        ..Default::default()
-    });
-    let add = wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::One,
-        dst_factor: wgpu::BlendFactor::One,
-        operation: wgpu::BlendOperation::Add,
-    };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("accumulate"),
-        layout: Some(&pl),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs_accumulate"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: HDR,
-                blend: Some(wgpu::BlendState {
-                    color: add,
-                    alpha: add,
-                }),
-                write_mask: wgpu::ColorWrites::COLOR,
-            })],
-        }),
-        primitive: Default::default(),
-        depth_stencil: None,
         multisample: Default::default(),
         multiview_mask: None,
         cache: None,
@@ -215,18 +184,95 @@ pub(super) fn shadow_pipeline(
     })
 }
 
+/// How a fullscreen pass uses the scene's stencil.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Stencil {
+    /// No depth-stencil attachment (composite).
+    None,
+    /// Writes 1 on every fragment that survives (classification).
+    Mark,
+    /// Shades only where the stencil is 1 (SSS passes).
+    Test,
+}
+
+/// What a fullscreen pass writes: a colour format, optionally added to
+/// the target's contents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Output {
+    /// No colour target (classification).
+    Nothing,
+    Replace(wgpu::TextureFormat),
+    Add(wgpu::TextureFormat),
+}
+
 pub(super) fn fullscreen_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     entry: &'static str,
     layout: &wgpu::BindGroupLayout,
-    format: wgpu::TextureFormat,
+    output: Output,
+    stencil: Stencil,
 ) -> wgpu::RenderPipeline {
     let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(entry),
         bind_group_layouts: &[Some(layout)],
         ..Default::default()
     });
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    let target = match output {
+        Output::Nothing => None,
+        Output::Replace(format) => Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        }),
+        Output::Add(format) => Some(wgpu::ColorTargetState {
+            format,
+            blend: Some(wgpu::BlendState {
+                color: add,
+                alpha: add,
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        }),
+    };
+    let face = |compare, pass_op| wgpu::StencilFaceState {
+        compare,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op,
+    };
+    let stencil_state = |compare, pass_op, write_mask| {
+        Some(wgpu::DepthStencilState {
+            format: DEPTH_STENCIL,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            stencil: wgpu::StencilState {
+                front: face(compare, pass_op),
+                back: face(compare, pass_op),
+                read_mask: 0xff,
+                write_mask,
+            },
+            bias: Default::default(),
+        })
+    };
+    let depth_stencil = match stencil {
+        Stencil::None => None,
+        Stencil::Mark => stencil_state(
+            wgpu::CompareFunction::Always,
+            wgpu::StencilOperation::Replace,
+            0xff,
+        ),
+        Stencil::Test => stencil_state(
+            wgpu::CompareFunction::Equal,
+            wgpu::StencilOperation::Keep,
+            0,
+        ),
+    };
+    let targets = [target];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(entry),
         layout: Some(&pl),
@@ -240,14 +286,14 @@ pub(super) fn fullscreen_pipeline(
             module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
+            targets: if output == Output::Nothing {
+                &[]
+            } else {
+                &targets
+            },
         }),
         primitive: Default::default(),
-        depth_stencil: None,
+        depth_stencil,
         multisample: Default::default(),
         multiview_mask: None,
         cache: None,

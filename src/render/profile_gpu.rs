@@ -26,6 +26,7 @@ pub(super) struct ProfileGpu {
     pub low_count: u32,
     pub reference_count: u32,
     pub tap_count: u32,
+    pub gaussian_tap_count: u32,
     /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
     pub filter_radius_mm: f32,
 }
@@ -94,7 +95,7 @@ impl ProfileGpu {
                 .gaussians
                 .iter()
                 .map(|(sigma, weight)| {
-                    let taps: Vec<GpuTap> = gaussian_taps(*sigma);
+                    let taps: Vec<GpuTap> = gaussian_taps(*sigma, inputs.gaussian_taps);
                     (
                         storage("gaussian taps", bytemuck::cast_slice(&taps)),
                         *weight,
@@ -105,6 +106,7 @@ impl ProfileGpu {
             low_count: inputs.low_samples.len() as u32,
             reference_count: inputs.reference_samples.len() as u32,
             tap_count: inputs.taps.len() as u32,
+            gaussian_tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
             filter_radius_mm: inputs.filter_radius_mm,
         }
     }

@@ -9,8 +9,8 @@ pub use super::inputs::{gaussian_taps, ProfileInputs};
 use super::mesh::Mesh;
 pub use super::pipelines::shader_sources;
 use super::pipelines::{
-    buffer_entry, fullscreen_pipeline, scene_pipeline, shadow_pipeline, texture_entry,
-    DEPTH_CHANNEL, HDR, OUTPUT,
+    buffer_entry, fullscreen_pipeline, scene_pipeline, shadow_pipeline, texture_entry, Output,
+    Stencil, ALBEDO, DEPTH_STENCIL, HDR, LINEAR_DEPTH, OUTPUT,
 };
 use super::profile_gpu::ProfileGpu;
 pub use super::readback::{f32_to_half, half_to_f32};
@@ -32,19 +32,23 @@ pub(super) enum HdrTarget {
     /// The scene's diffuse irradiance and SSS mask.
     Diffuse,
     Ping,
+    /// `separable`'s second pass; the sum of the Gaussians for `gaussians`.
     Pong,
-    /// Sum of the Gaussians (`gaussians`).
-    Accum,
 }
 
 pub(super) struct Targets {
     pub size: (u32, u32),
-    /// Diffuse, ping, pong, accumulation (indexed by [`HdrTarget`]).
-    hdr: [(wgpu::Texture, wgpu::TextureView); 4],
+    /// Diffuse, ping, pong (indexed by [`HdrTarget`]).
+    hdr: [(wgpu::Texture, wgpu::TextureView); 3],
     pub specular: wgpu::TextureView,
-    pub albedo_depth: wgpu::TextureView,
-    depth: wgpu::TextureView,
+    /// albedo^post and coverage.
+    pub albedo: wgpu::TextureView,
+    pub linear_depth: wgpu::TextureView,
+    /// Depth buffer; its stencil marks the SSS pixels.
+    depth_stencil: wgpu::TextureView,
     output: wgpu::Texture,
+    /// Bytes of GPU memory these targets take.
+    pub bytes: u64,
 }
 
 impl Targets {
@@ -89,7 +93,7 @@ pub struct Renderer {
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
     classify_layout: wgpu::BindGroupLayout,
-    classify_pipeline: wgpu::ComputePipeline,
+    classify_pipeline: wgpu::RenderPipeline,
     targets: Option<Targets>,
     profile: Option<ProfileBinding>,
     /// The light transform the shadow map was last drawn with: the map
@@ -159,48 +163,45 @@ impl Renderer {
                         texture_entry(1),
                         texture_entry(2),
                         texture_entry(3),
+                        texture_entry(4),
                     ],
                 });
             let classify_layout =
                 device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some("classify"),
                     entries: &[
-                        wgpu::BindGroupLayoutEntry {
-                            visibility: wgpu::ShaderStages::COMPUTE,
-                            ..texture(0, wgpu::TextureSampleType::Float { filterable: false })
-                        },
+                        texture_entry(0),
                         buffer_entry(
                             1,
                             wgpu::BufferBindingType::Storage { read_only: false },
-                            wgpu::ShaderStages::COMPUTE,
+                            frag,
                         ),
                     ],
                 });
-            let classify_pipeline =
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("classify"),
-                    layout: Some(
-                        &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                            label: Some("classify"),
-                            bind_group_layouts: &[Some(&classify_layout)],
-                            ..Default::default()
-                        }),
-                    ),
-                    module: &module("classify"),
-                    entry_point: Some("cs_classify"),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
+            let classify_pipeline = fullscreen_pipeline(
+                device,
+                &module("classify"),
+                "fs_classify",
+                &classify_layout,
+                Output::Nothing,
+                Stencil::Mark,
+            );
             let scene_module = module("scene");
             Pipelines {
-                scene_pipeline: scene_pipeline(device, &scene_module, &scene_layout),
+                scene_pipeline: scene_pipeline(
+                    device,
+                    &scene_module,
+                    &scene_layout,
+                    ctx.specular_format,
+                ),
                 shadow_pipeline: shadow_pipeline(device, &scene_module, &shadow_layout),
                 composite_pipeline: fullscreen_pipeline(
                     device,
                     &module("composite"),
                     "fs_composite",
                     &composite_layout,
-                    OUTPUT,
+                    Output::Replace(OUTPUT),
+                    Stencil::None,
                 ),
                 sss: SssPipelines::new(device, &module),
                 scene_layout,
@@ -250,7 +251,7 @@ impl Renderer {
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            anisotropy_clamp: 4,
+            anisotropy_clamp: 1,
             ..Default::default()
         });
         let maps = &mesh.textures;
@@ -370,32 +371,41 @@ impl Renderer {
             })
         };
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let mut bytes = 0u64;
+        let mut make = |label, format: wgpu::TextureFormat, usage| {
+            // Depth24PlusStencil8 has no copy size; count 4 bytes.
+            bytes += format.block_copy_size(None).unwrap_or(4) as u64 * w as u64 * h as u64;
+            make(label, format, usage)
+        };
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
-        let hdr = |label| {
+        let mut hdr = |label| {
             let t = make(label, HDR, rt | wgpu::TextureUsages::COPY_SRC);
             let v = view(&t);
             (t, v)
         };
+        let hdr = [hdr("diffuse"), hdr("sss ping"), hdr("sss pong")];
+        let specular = view(&make("specular", self.ctx.specular_format, rt));
+        let albedo = view(&make("albedo", ALBEDO, rt));
+        let linear_depth = view(&make("linear depth", LINEAR_DEPTH, rt));
+        let depth_stencil = view(&make(
+            "depth stencil",
+            DEPTH_STENCIL,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        ));
+        let output = make(
+            "output",
+            OUTPUT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
         self.targets = Some(Targets {
             size: (w, h),
-            hdr: [
-                hdr("diffuse"),
-                hdr("sss ping"),
-                hdr("sss pong"),
-                hdr("sss accumulation"),
-            ],
-            specular: view(&make("specular", HDR, rt)),
-            albedo_depth: view(&make("albedo+depth", DEPTH_CHANNEL, rt)),
-            depth: view(&make(
-                "depth",
-                wgpu::TextureFormat::Depth32Float,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )),
-            output: make(
-                "output",
-                OUTPUT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            ),
+            hdr,
+            specular,
+            albedo,
+            linear_depth,
+            depth_stencil,
+            output,
+            bytes,
         });
     }
 
@@ -463,15 +473,15 @@ impl Renderer {
             entries: &[tex(0, t.view(HdrTarget::Diffuse)), buf(1, &counts)],
         });
         let (w, h) = t.size;
-        {
-            let mut pass = f.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("classify"),
-                timestamp_writes: f.timer.compute("classify", w as u64 * h as u64, 0),
-            });
-            pass.set_pipeline(&self.classify_pipeline);
-            pass.set_bind_group(0, &bg, &[]);
-            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-        }
+        f.fullscreen(
+            None,
+            &self.classify_pipeline,
+            &bg,
+            "classify",
+            (w as u64 * h as u64, 0),
+            false,
+            true,
+        );
         f.encoder.copy_buffer_to_buffer(&counts, 0, &read, 0, 16);
         self.ctx.queue.submit([f.take().finish()]);
         read_u32x4(&self.ctx, &read)
@@ -633,8 +643,8 @@ impl Renderer {
             penumbra: [
                 1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
                 1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
-                // 5×5 PCF taps of one shadow texel each, in mm.
-                5.0 * 2.0 * rad / SHADOW_SIZE as f32 * 1000.0 * self.metres_per_unit,
+                // The PCF's 4-texel footprint, in mm.
+                4.0 * 2.0 * rad / SHADOW_SIZE as f32 * 1000.0 * self.metres_per_unit,
                 0.0,
             ],
             pattern: match s.pattern {
@@ -672,21 +682,24 @@ impl Renderer {
             pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
         };
-        let depth_attachment = |view| {
+        let depth_attachment = |view, stencil: bool| {
             Some(wgpu::RenderPassDepthStencilAttachment {
                 view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
                     store: wgpu::StoreOp::Store,
                 }),
-                stencil_ops: None,
+                stencil_ops: stencil.then_some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0),
+                    store: wgpu::StoreOp::Store,
+                }),
             })
         };
         if !shadow_cached {
             let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow"),
                 color_attachments: &[],
-                depth_stencil_attachment: depth_attachment(&self.shadow_map),
+                depth_stencil_attachment: depth_attachment(&self.shadow_map, false),
                 timestamp_writes: f
                     .timer
                     .render("shadow", (SHADOW_SIZE * SHADOW_SIZE) as u64, 0),
@@ -700,9 +713,10 @@ impl Renderer {
                 color_attachments: &[
                     Some(color_attachment(t.view(HdrTarget::Diffuse), false)),
                     Some(color_attachment(&t.specular, false)),
-                    Some(color_attachment(&t.albedo_depth, false)),
+                    Some(color_attachment(&t.albedo, false)),
+                    Some(color_attachment(&t.linear_depth, false)),
                 ],
-                depth_stencil_attachment: depth_attachment(&t.depth),
+                depth_stencil_attachment: depth_attachment(&t.depth_stencil, true),
                 timestamp_writes: f.timer.render("scene", w * h, 0),
                 ..Default::default()
             });
@@ -710,6 +724,7 @@ impl Renderer {
         }
         // Classify: count SSS pixels on the GPU; with none on screen, or a
         // profile that does not scatter (strength 0), no SSS pass runs.
+        f.stencil = Some(&t.depth_stencil);
         let sss_pixels = self.count_sss_pixels(&mut f, t)?;
         let method = if sss_pixels > 0 && inputs.scatters {
             s.method
@@ -752,6 +767,7 @@ impl Renderer {
                     LUT_SIZE as f32,
                 ],
                 direction: [0.0; 4],
+                weight: [1.0; 4],
             },
             counters: &counters,
             lod: s.lod,
@@ -773,15 +789,17 @@ impl Renderer {
                 buf(0, &cu),
                 tex(1, t.view(scattered.target)),
                 tex(2, &t.specular),
-                tex(3, &t.albedo_depth),
+                tex(3, &t.albedo),
+                tex(4, t.view(HdrTarget::Diffuse)),
             ],
         });
         f.fullscreen(
-            &output_view,
+            Some(&output_view),
             &self.composite_pipeline,
             &cbg,
             "composite",
             (w * h, 0),
+            false,
             false,
         );
         let FrameEncoder {
@@ -841,6 +859,7 @@ impl Renderer {
             lod_skipped_pixels,
             sss_gpu_ms,
             profile_uploaded: false,
+            target_bytes: t.bytes,
             width: s.width,
             height: s.height,
             adapter: self.adapter_name(),
@@ -859,6 +878,6 @@ struct Pipelines {
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
     classify_layout: wgpu::BindGroupLayout,
-    classify_pipeline: wgpu::ComputePipeline,
+    classify_pipeline: wgpu::RenderPipeline,
     sss: SssPipelines,
 }

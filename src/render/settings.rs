@@ -161,6 +161,8 @@ pub struct FrameStats {
     /// Whether this frame uploaded the profile's tables, patterns and
     /// kernels (false while the profile is unchanged).
     pub profile_uploaded: bool,
+    /// GPU memory of the frame's render targets (bytes).
+    pub target_bytes: u64,
     pub width: u32,
     pub height: u32,
     pub adapter: String,

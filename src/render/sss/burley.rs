@@ -41,7 +41,7 @@ pub(in crate::render) fn encode(
         entries: &[
             buf(0, &u),
             tex(1, t.view(HdrTarget::Diffuse)),
-            tex(2, &t.albedo_depth),
+            tex(2, &t.linear_depth),
             buf(3, samples),
             buf(4, &gpu.profile_lut),
             buf(5, io.counters),
@@ -49,12 +49,13 @@ pub(in crate::render) fn encode(
         ],
     });
     f.fullscreen(
-        t.view(HdrTarget::Ping),
+        Some(t.view(HdrTarget::Ping)),
         &p.burley,
         &bg,
         label,
         (io.sss_pixels, io.sss_pixels * n as u64),
         false,
+        true,
     );
     Scattered {
         target: HdrTarget::Ping,

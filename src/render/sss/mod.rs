@@ -10,9 +10,7 @@ pub(super) mod separable;
 
 use super::frame::FrameEncoder;
 use super::gpu_types::SssUniforms;
-use super::pipelines::{
-    accumulate_pipeline, buffer_entry, fullscreen_pipeline, texture_entry, HDR,
-};
+use super::pipelines::{buffer_entry, fullscreen_pipeline, texture_entry, Output, Stencil, HDR};
 use super::profile_gpu::ProfileGpu;
 use super::renderer::{HdrTarget, Targets};
 use super::settings::Method;
@@ -24,7 +22,8 @@ pub(super) struct SssPipelines {
     pub burley: wgpu::RenderPipeline,
     pub separable_layout: wgpu::BindGroupLayout,
     pub separable: wgpu::RenderPipeline,
-    pub accumulate: wgpu::RenderPipeline,
+    /// The separable pass adding weight × result into its target (`gaussians`).
+    pub separable_add: wgpu::RenderPipeline,
 }
 
 impl SssPipelines {
@@ -58,22 +57,29 @@ impl SssPipelines {
             ],
         });
         let separable_module = module("sss_separable");
+        // Every SSS pass tests the classification's stencil.
+        let pass = |module, entry, layout, output| {
+            fullscreen_pipeline(device, module, entry, layout, output, Stencil::Test)
+        };
         Self {
-            burley: fullscreen_pipeline(
-                device,
+            burley: pass(
                 &module("sss_burley"),
                 "fs_burley",
                 &burley_layout,
-                HDR,
+                Output::Replace(HDR),
             ),
-            separable: fullscreen_pipeline(
-                device,
+            separable: pass(
                 &separable_module,
                 "fs_separable",
                 &separable_layout,
-                HDR,
+                Output::Replace(HDR),
             ),
-            accumulate: accumulate_pipeline(device, &separable_module, &separable_layout),
+            separable_add: pass(
+                &separable_module,
+                "fs_separable",
+                &separable_layout,
+                Output::Add(HDR),
+            ),
             burley_layout,
             separable_layout,
         }
@@ -99,6 +105,7 @@ impl SssFrame<'_> {
         let mut u = self.uniforms;
         u.params[0] = count;
         u.direction = direction;
+        u.weight = [1.0; 4];
         u
     }
 }

@@ -11,64 +11,73 @@ use crate::render::renderer::HdrTarget;
 /// depth difference).
 const FOLLOW_SURFACE: f32 = 0.5;
 
-/// Blurs `src` along x into ping, then along y into `dst`, with `taps`.
+/// How the vertical pass writes its target.
+pub(in crate::render) enum Into {
+    /// Replace the target's contents.
+    Replace,
+    /// Add `weight` × result: clear the target first when `first`.
+    Add { weight: [f32; 3], first: bool },
+}
+
+/// Blurs the scene's diffuse along x into ping, then along y into pong,
+/// with `taps` (buffer, count).
 pub(in crate::render) fn blur_xy(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
     taps: (&wgpu::Buffer, u32),
-    (src, dst): (HdrTarget, HdrTarget),
+    into: Into,
     labels: [&'static str; 2],
 ) {
     let t = io.targets;
-    for (dir, from, to, label) in [
-        ([1.0, 0.0], src, HdrTarget::Ping, labels[0]),
-        ([0.0, 1.0], HdrTarget::Ping, dst, labels[1]),
-    ] {
-        let u = f.uniform(
-            "sss uniforms",
-            bytemuck::bytes_of(&io.uniforms(taps.1 as f32, [dir[0], dir[1], FOLLOW_SURFACE, 0.0])),
-        );
-        let bg = bind_group(
-            f.device,
-            p,
-            &u,
-            t.view(from),
-            &t.albedo_depth,
-            taps.0,
-            label,
-        );
-        f.fullscreen(
-            t.view(to),
+    let (weight, y_pipeline, y_load) = match into {
+        Into::Replace => ([1.0; 3], &p.separable, false),
+        Into::Add { weight, first } => (weight, &p.separable_add, !first),
+    };
+    let passes = [
+        (
+            [1.0, 0.0],
+            HdrTarget::Diffuse,
+            HdrTarget::Ping,
+            labels[0],
+            [1.0; 3],
             &p.separable,
+            false,
+        ),
+        (
+            [0.0, 1.0],
+            HdrTarget::Ping,
+            HdrTarget::Pong,
+            labels[1],
+            weight,
+            y_pipeline,
+            y_load,
+        ),
+    ];
+    for (dir, from, to, label, weight, pipeline, load) in passes {
+        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], FOLLOW_SURFACE, 0.0]);
+        u.weight = [weight[0], weight[1], weight[2], 1.0];
+        let u = f.uniform("sss uniforms", bytemuck::bytes_of(&u));
+        let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &p.separable_layout,
+            entries: &[
+                buf(0, &u),
+                tex(1, t.view(from)),
+                tex(2, &t.linear_depth),
+                buf(3, taps.0),
+            ],
+        });
+        f.fullscreen(
+            Some(t.view(to)),
+            pipeline,
             &bg,
             label,
             (io.sss_pixels, io.sss_pixels * taps.1 as u64),
-            false,
+            load,
+            true,
         );
     }
-}
-
-/// Bind group of one depth-aware 1D pass (or the accumulation).
-pub(in crate::render) fn bind_group(
-    device: &wgpu::Device,
-    p: &SssPipelines,
-    uniforms: &wgpu::Buffer,
-    src: &wgpu::TextureView,
-    albedo_depth: &wgpu::TextureView,
-    taps: &wgpu::Buffer,
-    label: &'static str,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout: &p.separable_layout,
-        entries: &[
-            buf(0, uniforms),
-            tex(1, src),
-            tex(2, albedo_depth),
-            buf(3, taps),
-        ],
-    })
 }
 
 pub(in crate::render) fn encode(
@@ -82,7 +91,7 @@ pub(in crate::render) fn encode(
         p,
         io,
         (&gpu.separable_taps, gpu.tap_count),
-        (HdrTarget::Diffuse, HdrTarget::Pong),
+        Into::Replace,
         ["sss separable x", "sss separable y"],
     );
     Scattered {
