@@ -803,7 +803,7 @@ fn render(
         };
         inputs.set_gaussians(&terms);
         crate::model::check_range("gaussian_taps", view.gaussian_taps as f64, 3.0, 63.0, "")?;
-        if view.gaussian_taps % 2 == 0 {
+        if view.gaussian_taps.is_multiple_of(2) {
             anyhow::bail!("gaussian_taps = {} must be odd", view.gaussian_taps);
         }
         inputs.gaussian_taps = view.gaussian_taps;
