@@ -31,7 +31,8 @@ struct SceneUniforms {
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
-// Penner's D(θ, κ): x = N·L from −1 to 1, y = curvature κ (1/mm), linear RGB.
+// Penner's D(θ, κ) − saturate(cos θ): x = N·L from −1 to 1 at texel
+// centres, y = curvature κ (1/mm), linear RGB.
 @group(0) @binding(3) var preintegrated_lut: texture_2d<f32>;
 @group(0) @binding(4) var lut_sampler: sampler;
 // Normalised thin-slab transmittance T(d)/total per channel, d = range·i/(size−1).
@@ -167,15 +168,24 @@ fn kelemen(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) ->
     return max(beckmann * f / dot(hu, hu), 0.0) * nl;
 }
 
-// Penner's scattered shadow for the unscattered PCF value `u` across a
-// penumbra whose width on the surface is the PCF footprint / (N·L).
+// Penner's scattered shadow for the unscattered PCF value `lit` across a
+// penumbra whose width on the surface is the PCF footprint / (N·L). The
+// table (model::lut::bake_shadow) convolves a penumbra that has shadow on
+// one side and light on the other right next to it, so its ends are not 0
+// and 1; PCF cannot tell a fully lit pixel beside a penumbra from one far
+// from any shadow, so the row is rescaled to run from 0 at its first
+// column to 1 at its last: deep shadow stays black, open light stays
+// white, and the colour fringe across the penumbra is kept.
 fn scattered_shadow(lit: f32, n_dot_l: f32) -> vec3<f32> {
     if (u.penumbra.z <= 0.0) {
         return vec3<f32>(lit);
     }
     let width = u.penumbra.z / max(n_dot_l, 0.05);
     let y = clamp((1.0 / width - u.penumbra.x) / (u.penumbra.y - u.penumbra.x), 0.0, 1.0);
-    return textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(lit, y), 0.0).rgb;
+    let lo = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(0.0, y), 0.0).rgb;
+    let hi = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(1.0, y), 0.0).rgb;
+    let v = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(lit, y), 0.0).rgb;
+    return clamp((v - lo) / max(hi - lo, vec3<f32>(1e-4)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 @fragment
@@ -219,7 +229,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
     var irradiance = u.light_radiance.rgb * nl / PI + hemi;
-    if (u.preintegrated.x > 0.5 && mask > 0.0) {
+    if (u.preintegrated.x > 0.5 && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
         // saturate(N·L), each channel with its own normal (the detail normal
         // bent back towards the smooth one as far as that channel scatters),
@@ -271,10 +281,11 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     return o;
 }
 
-// D(θ, κ) of each channel at its own N·L.
+// D(θ, κ) of each channel at its own N·L: the table holds
+// D − saturate(N·L) (FaceWorks' delta), added back here.
 fn preintegrated_d(nl_r: f32, nl_g: f32, nl_b: f32, curv: f32) -> vec3<f32> {
     let r = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_r + 0.5, curv), 0.0).r;
     let g = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_g + 0.5, curv), 0.0).g;
     let b = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_b + 0.5, curv), 0.0).b;
-    return vec3<f32>(r, g, b);
+    return vec3<f32>(r, g, b) + max(vec3<f32>(nl_r, nl_g, nl_b), vec3<f32>(0.0));
 }

@@ -76,11 +76,15 @@ fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, tolera
 #[test]
 fn golden_head_renders_match() {
     let mut r = renderer();
-    let inp = inputs();
+    let mut inp = inputs();
+    inp.set_gaussians(&scatterlab::model::gaussian::DEON_SKIN);
     for (method, name) in [
         (Method::None, "head_none"),
-        (Method::Burley, "head_burley"),
+        (Method::Preintegrated, "head_preintegrated"),
         (Method::Separable, "head_separable"),
+        (Method::Gaussians, "head_gaussians"),
+        (Method::Burley, "head_burley"),
+        (Method::Reference, "head_reference"),
     ] {
         let s = RenderSettings {
             width: 160,
@@ -435,4 +439,50 @@ fn profile_uploads_only_when_the_profile_changes() {
     assert_ne!(first, edited, "the edit did not reach the image");
     let (_, e) = r.render(&wide, &s).unwrap();
     assert!(!e.profile_uploaded);
+}
+
+/// SSS changes only masked pixels: against `none`, every method leaves each
+/// pixel whose mask is at most 1/255 (eyes, teeth, brows, background)
+/// bit-identical, and changes masked skin.
+#[test]
+fn sss_changes_only_masked_pixels() {
+    let mut r = renderer();
+    let mut inp = inputs();
+    inp.set_gaussians(&scatterlab::model::gaussian::DEON_SKIN);
+    let s = |method| RenderSettings {
+        width: 160,
+        height: 160,
+        method,
+        deterministic: true,
+        // Close enough that the eyes cover pixels.
+        camera_distance_m: 0.3,
+        ..Default::default()
+    };
+    let (base, mask, _) = r.render_with_diffuse(&inp, &s(Method::None)).unwrap();
+    let unmasked = mask.iter().filter(|p| p[3] <= 1.0 / 255.0).count();
+    assert!(
+        unmasked > 500,
+        "too few unmasked pixels ({unmasked}) to test"
+    );
+    for method in [
+        Method::Preintegrated,
+        Method::Separable,
+        Method::Gaussians,
+        Method::Burley,
+        Method::Reference,
+    ] {
+        let (img, _) = r.render(&inp, &s(method)).unwrap();
+        let mut changed_masked = 0;
+        for (i, (a, b)) in img.pixels().zip(base.pixels()).enumerate() {
+            if mask[i][3] <= 1.0 / 255.0 {
+                assert_eq!(a, b, "{method:?} changed unmasked pixel {i}");
+            } else if a != b {
+                changed_masked += 1;
+            }
+        }
+        assert!(
+            changed_masked > 1000,
+            "{method:?} changed only {changed_masked} skin pixels"
+        );
+    }
 }

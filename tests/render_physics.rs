@@ -171,3 +171,96 @@ fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
         "worst deviation per channel {worst:?}"
     );
 }
+
+/// Uniform light on a flat plane: scattering moves light around but must
+/// not create or lose it. Every method keeps the mean diffuse radiance of
+/// the plane within 1 % of `none` (the energy test), with d'Eon's
+/// six-Gaussian skin so that `gaussians` runs its own profile.
+#[test]
+fn every_method_keeps_mean_radiance_on_a_uniformly_lit_plane() {
+    use scatterlab::model::gaussian::{GaussianSum, DEON_SKIN};
+    let profile = GaussianSum::deon_skin();
+    let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    inputs.set_gaussians(&DEON_SKIN);
+    let mut r = plane_renderer();
+    let lit = |method| RenderSettings {
+        pattern: IrradiancePattern::Lit,
+        // Light and camera both on the plane's normal: N·L = 1 everywhere.
+        light_azimuth: 0.0,
+        light_elevation: 0.0,
+        deterministic: false,
+        ..settings(method)
+    };
+    let mean = |d: &[[f32; 4]]| {
+        let n = d.len() as f64;
+        [0, 1, 2].map(|c| d.iter().map(|p| p[c] as f64).sum::<f64>() / n)
+    };
+    let (_, flat, _) = r.render_with_diffuse(&inputs, &lit(Method::None)).unwrap();
+    let base = mean(&flat);
+    assert!(base.iter().all(|b| *b > 0.5), "plane not lit: {base:?}");
+    for method in [
+        Method::Preintegrated,
+        Method::Separable,
+        Method::Gaussians,
+        Method::Burley,
+        Method::Reference,
+    ] {
+        let (_, d, stats) = r.render_with_diffuse(&inputs, &lit(method)).unwrap();
+        assert_eq!(stats.sss_pixels, (WIDTH * 64) as u64, "{method:?}");
+        let m = mean(&d);
+        for c in 0..3 {
+            let rel = m[c] / base[c] - 1.0;
+            eprintln!(
+                "{method:?} channel {c}: mean {:.5} vs {:.5} ({rel:+.4})",
+                m[c], base[c]
+            );
+            assert!(rel.abs() < 0.01, "{method:?} channel {c}: {rel:+.4}");
+        }
+    }
+}
+
+/// With per-pixel rotation, `burley`'s error against `reference` across a
+/// lit edge falls as the disk gets more samples (Monte Carlo convergence
+/// of the same integral).
+#[test]
+fn burley_converges_to_reference_as_samples_grow() {
+    let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
+    let mut r = plane_renderer();
+    let step = |method| RenderSettings {
+        deterministic: false,
+        lod: false,
+        ..settings(method)
+    };
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    let (_, reference, _) = r
+        .render_with_diffuse(&inputs, &step(Method::Reference))
+        .unwrap();
+    let rms = |d: &[[f32; 4]]| {
+        let se: f64 = d
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| {
+                (0..3)
+                    .map(|c| (a[c] as f64 - b[c] as f64).powi(2))
+                    .sum::<f64>()
+            })
+            .sum();
+        (se / (3 * d.len()) as f64).sqrt()
+    };
+    let errors: Vec<(usize, f64)> = [7, 21, 63, 189]
+        .into_iter()
+        .map(|n| {
+            let inputs = ProfileInputs::new(&profile, n, 17).unwrap();
+            let (_, d, _) = r
+                .render_with_diffuse(&inputs, &step(Method::Burley))
+                .unwrap();
+            (n, rms(&d))
+        })
+        .collect();
+    eprintln!("burley RMS against reference by sample count: {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[1].1 < w[0].1, "no convergence: {errors:?}");
+    }
+    assert!(errors[3].1 < 0.5 * errors[0].1, "{errors:?}");
+    assert!(errors[3].1 < 0.01, "{errors:?}");
+}

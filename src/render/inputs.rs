@@ -23,7 +23,10 @@ pub struct ProfileInputs {
     /// Normalised thin-slab transmittance T(d)/total at d = range·i/63.
     pub transmittance: Vec<[f32; 4]>,
     pub transmittance_range_mm: f32,
-    /// Penner's D(θ, κ) table (row-major, 64×64) and its layout.
+    /// Penner's table as FaceWorks stores it, D(θ, κ) − saturate(cos θ)
+    /// (row-major, 64×64), and its layout. The shader adds saturate(N·L)
+    /// back, so clamping to the edge texels (N·L = ±0.984) costs nothing
+    /// at N·L = ±1.
     pub preintegrated_lut: Vec<[f32; 4]>,
     pub lut_layout: crate::model::lut::LutLayout,
     /// Penner's penumbra table (row-major) and its layout.
@@ -143,7 +146,12 @@ impl ProfileInputs {
         let preintegrated_lut = crate::model::lut::Lut::bake(profile, lut_layout)?
             .d
             .iter()
-            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+            .enumerate()
+            .map(|(k, v)| {
+                let lit = lut_layout.n_dot_l(k % lut_layout.width).max(0.0);
+                [0, 1, 2].map(|c| (v[c] - lit) as f32)
+            })
+            .map(|d| [d[0], d[1], d[2], 1.0])
             .collect();
         let penumbra_layout = crate::model::lut::ShadowLayout::default();
         let penumbra_lut = crate::model::lut::bake_shadow(profile, penumbra_layout)?

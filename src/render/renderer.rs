@@ -810,20 +810,28 @@ impl Renderer {
         timer.resolve(&mut encoder);
         let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(&t.output, 4)];
         if want_diffuse {
+            wanted.push((t.texture(HdrTarget::Diffuse), 8));
             wanted.push((t.texture(scattered.target), 8));
         }
         let mut bytes = ctx.checked("frame", || {
             readback(ctx, encoder, &wanted, s.width, s.height)
         })??;
         let diffuse = if want_diffuse {
-            bytes
-                .pop()
-                .unwrap_or_default()
-                .chunks_exact(8)
-                .map(|px| {
-                    [0, 1, 2, 3]
-                        .map(|k| half_to_f32(u16::from_le_bytes([px[2 * k], px[2 * k + 1]])))
-                })
+            let halves = |b: Vec<u8>| -> Vec<[f32; 4]> {
+                b.chunks_exact(8)
+                    .map(|px| {
+                        [0, 1, 2, 3]
+                            .map(|k| half_to_f32(u16::from_le_bytes([px[2 * k], px[2 * k + 1]])))
+                    })
+                    .collect()
+            };
+            let out = halves(bytes.pop().unwrap_or_default());
+            let unscattered = halves(bytes.pop().unwrap_or_default());
+            // What composite shows: the method's output on SSS pixels, the
+            // scene's diffuse elsewhere.
+            out.into_iter()
+                .zip(unscattered)
+                .map(|(o, d)| if o[3] > 1.0 / 255.0 { o } else { d })
                 .collect()
         } else {
             Vec::new()
