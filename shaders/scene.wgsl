@@ -12,8 +12,6 @@ struct SceneUniforms {
     camera_position: vec4<f32>,
     light_direction: vec4<f32>,   // xyz: towards the light (unit), w: unused
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
-    sky_radiance: vec4<f32>,      // rgb: ambient from above
-    ground_radiance: vec4<f32>,   // rgb: ambient from below
     skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
     params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness of lobe 0, z: F0, w: roughness of lobe 1
     light_clip_from_world: mat4x4<f32>,
@@ -26,7 +24,19 @@ struct SceneUniforms {
     surface: vec4<f32>,           // x: albedo map absolute (1) or x2 modulation (0); y: roughness map absolute (1) or x2 scale (0); z: thickness map range (mm), 0 = per vertex; w: detail-normal strength
     preintegrated_normals: vec4<f32>, // xyz: per-channel blend of the detail normal to the smooth one; w: 1 = penumbra table on
     penumbra: vec4<f32>,          // x, y: 1/width (1/mm) at the table's first/last row; z: PCF footprint (mm) facing the light
+    environment_sh: array<vec4<f32>, 9>, // rgb: irradiance/π of the environment, order-2 SH (render::environment)
 };
+
+// E(n)/π of the environment (Ramamoorthi & Hanrahan 2001): nine SH terms.
+fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
+    let c = u.environment_sh;
+    var e = c[0].rgb * 0.282095;
+    e = e + c[1].rgb * (0.488603 * n.y) + c[2].rgb * (0.488603 * n.z) + c[3].rgb * (0.488603 * n.x);
+    e = e + c[4].rgb * (1.092548 * n.x * n.y) + c[5].rgb * (1.092548 * n.y * n.z);
+    e = e + c[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0)) + c[7].rgb * (1.092548 * n.x * n.z);
+    e = e + c[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3<f32>(0.0));
+}
 
 @group(0) @binding(0) var<uniform> u: SceneUniforms;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
@@ -224,10 +234,10 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     if (u.surface.z > 0.0) {
         thickness = thickness_tex * u.surface.z;
     }
-    // Irradiance/π: directional light plus a sky/ground hemisphere.
+    // Irradiance/π: the directional light plus the SH environment.
     let shadow = shadow_factor(i.world, ng);
     let nl = max(dot(n, l), 0.0) * shadow;
-    let hemi = mix(u.ground_radiance.rgb, u.sky_radiance.rgb, 0.5 + 0.5 * n.y);
+    let hemi = environment_irradiance(n);
     var irradiance = u.light_radiance.rgb * nl / PI + hemi;
     if (u.preintegrated.x > 0.5 && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces

@@ -737,3 +737,57 @@ fn render_writes_image_and_stats() {
     std::fs::remove_file(&png).unwrap();
     std::fs::remove_file(&stats).unwrap();
 }
+
+/// `--environment` lights the head from an HDR map: a saturated blue sky
+/// raises the blue channel of the image over the default studio sky, and a
+/// corrupt map is refused with its path.
+#[test]
+fn render_lights_with_an_hdr_environment() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let hdr = dir.join("blue.hdr");
+    let (w, h) = (32usize, 16usize);
+    let texels: Vec<image::Rgb<f32>> = (0..w * h)
+        .map(|i| {
+            if i / w < h / 2 {
+                image::Rgb([0.0, 0.0, 4.0])
+            } else {
+                image::Rgb([0.0, 0.0, 0.0])
+            }
+        })
+        .collect();
+    image::codecs::hdr::HdrEncoder::new(std::fs::File::create(&hdr).unwrap())
+        .encode(&texels, w, h)
+        .unwrap();
+    let png = dir.join("env.png");
+    let blue = |extra: &[&str]| {
+        let mut args = vec![
+            "render", "--method", "none", "--width", "48", "--height", "48", "--out",
+        ];
+        args.push(png.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+        let img = image::open(&png).unwrap().to_rgba8();
+        img.pixels().map(|p| p[2] as f64).sum::<f64>() / (48.0 * 48.0)
+    };
+    let studio = blue(&[]);
+    let sky = blue(&["--environment", hdr.to_str().unwrap()]);
+    assert!(sky > studio + 10.0, "blue sky {sky} vs studio {studio}");
+    let bad = dir.join("bad.hdr");
+    std::fs::write(&bad, b"#?RADIANCE\ngarbage").unwrap();
+    let (code, _, err) = run(&[
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--environment",
+        bad.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("bad.hdr"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

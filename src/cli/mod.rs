@@ -170,6 +170,13 @@ pub struct ViewArgs {
     /// Thickness map (grey): white = --thickness-range-mm, for transmission.
     #[arg(long, value_name = "IMG")]
     pub thickness: Option<PathBuf>,
+    /// Environment light: an equirectangular map (Radiance .hdr, or PNG/JPEG
+    /// as sRGB), projected to spherical harmonics; default: a studio sky.
+    #[arg(long, value_name = "FILE.hdr")]
+    pub environment: Option<PathBuf>,
+    /// Multiplier of the environment's radiance.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub environment_intensity: f32,
     /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
     /// kernel, 13 follows edges more closely at about twice the cost).
     #[arg(long, default_value_t = 7)]
@@ -809,6 +816,20 @@ fn render(
         inputs.gaussian_taps = view.gaussian_taps;
     }
     let mesh = view.load_mesh()?;
+    crate::model::check_range(
+        "environment_intensity",
+        view.environment_intensity as f64,
+        0.0,
+        1e4,
+        "",
+    )?;
+    let environment = match &view.environment {
+        Some(path) => crate::render::environment::Environment::load(path)?,
+        None => Default::default(),
+    };
+    let environment_sh = environment
+        .irradiance_sh()
+        .map(|c| c.map(|v| v * view.environment_intensity));
     let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
     let settings = RenderSettings {
         width,
@@ -829,6 +850,7 @@ fn render(
             TexturingArg::PostScatter => TexturingMode::PostScatter,
             TexturingArg::PreAndPost => TexturingMode::PreAndPostScatter,
         },
+        environment_sh,
         ..RenderSettings::default()
     };
     crate::model::check_range("frames", view.frames as f64, 1.0, 1000.0, "")?;

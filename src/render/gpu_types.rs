@@ -12,8 +12,6 @@ pub struct SceneUniforms {
     pub camera_position: [f32; 4],
     pub light_direction: [f32; 4],
     pub light_radiance: [f32; 4],
-    pub sky_radiance: [f32; 4],
-    pub ground_radiance: [f32; 4],
     pub skin_albedo: [f32; 4],
     /// x: pre-scatter exponent, y: roughness of lobe 0, z: F0, w: roughness of lobe 1.
     pub params: [f32; 4],
@@ -42,8 +40,11 @@ pub struct SceneUniforms {
     /// Penumbra table: x, y: 1/width (1/mm) at its first and last rows;
     /// z: the PCF footprint (mm) on a surface facing the light.
     pub penumbra: [f32; 4],
+    /// The environment's irradiance / π as nine SH coefficients (rgb each),
+    /// in `environment::sh9`'s order.
+    pub environment_sh: [[f32; 4]; 9],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 16 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 23 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

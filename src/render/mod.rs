@@ -3,6 +3,7 @@
 
 pub mod compare;
 pub mod context;
+pub mod environment;
 mod frame;
 mod gltf_mesh;
 pub mod gpu_types;

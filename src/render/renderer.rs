@@ -587,8 +587,6 @@ impl Renderer {
             camera_position: eye.extend(1.0).into(),
             light_direction: light.extend(0.0).into(),
             light_radiance: [s.light_intensity; 4],
-            sky_radiance: [0.045, 0.05, 0.06, 0.0],
-            ground_radiance: [0.02, 0.018, 0.016, 0.0],
             skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
             params: match s.specular {
                 Specular::DualGgx {
@@ -640,6 +638,7 @@ impl Renderer {
                 self.surface_modes[2],
                 s.detail_normal_strength,
             ],
+            environment_sh: s.environment_sh.map(|c| [c[0], c[1], c[2], 0.0]),
             penumbra: [
                 1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
                 1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
