@@ -17,7 +17,16 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         return centre;
     }
     let z = load_depth(p);
-    let step = s.direction.xy * pixels_per_mm(z) * centre.a;
+    // Stochastic axis rotation (Jimenez 2015 §6; direction.w = 1): both
+    // passes turn their axes by the same per-pixel angle, trading the
+    // kernel's banding for noise; the taps then read the nearest texel.
+    var axis = s.direction.xy;
+    let rotate = s.direction.w > 0.5;
+    if (rotate) {
+        let a = 6.28318531 * hash(vec2<u32>(p));
+        axis = vec2<f32>(axis.x * cos(a) - axis.y * sin(a), axis.x * sin(a) + axis.y * cos(a));
+    }
+    let step = axis * pixels_per_mm(z) * centre.a;
     let n = u32(s.params.x);
     var acc = centre.rgb * taps[0].weight.rgb;
     for (var i = 1u; i < n; i = i + 1u) {
@@ -25,8 +34,12 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         // Linear interpolation along the blur axis between the two nearest
         // texels (what the demo's bilinear sampler does).
         let off = step * t.a;
-        let base = floor(off);
-        let f = dot(off - base, abs(s.direction.xy));
+        var base = floor(off);
+        var f = dot(off - base, abs(s.direction.xy));
+        if (rotate) {
+            base = round(off);
+            f = 0.0;
+        }
         let q0 = p + vec2<i32>(base);
         let q1 = q0 + vec2<i32>(abs(s.direction.xy));
         let c0 = load_diffuse(q0);

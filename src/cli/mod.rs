@@ -177,6 +177,9 @@ pub struct ViewArgs {
     /// Multiplier of the environment's radiance.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub environment_intensity: f32,
+    /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
+    #[arg(long)]
+    pub separable_rotation: bool,
     /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
     /// kernel, 13 follows edges more closely at about twice the cost).
     #[arg(long, default_value_t = 7)]
@@ -851,6 +854,7 @@ fn render(
             TexturingArg::PreAndPost => TexturingMode::PreAndPostScatter,
         },
         environment_sh,
+        separable_rotation: view.separable_rotation,
         ..RenderSettings::default()
     };
     crate::model::check_range("frames", view.frames as f64, 1.0, 1000.0, "")?;

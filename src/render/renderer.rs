@@ -770,6 +770,7 @@ impl Renderer {
             },
             counters: &counters,
             lod: s.lod,
+            rotate_separable: s.separable_rotation && !s.deterministic,
         };
         let scattered = sss::encode(method, &mut f, &self.sss, &io);
         f.encoder

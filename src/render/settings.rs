@@ -71,6 +71,9 @@ pub struct RenderSettings {
     pub detail_normal_strength: f32,
     /// `preintegrated`: scatter shadow edges through Penner's penumbra table.
     pub penumbra: bool,
+    /// `separable`: rotate both blur axes by a per-pixel random angle
+    /// (Jimenez 2015 §6); off under `deterministic`.
+    pub separable_rotation: bool,
     /// The environment's irradiance / π as order-2 SH
     /// ([`super::environment::Environment::irradiance_sh`]).
     pub environment_sh: [[f32; 3]; 9],
@@ -139,6 +142,7 @@ impl Default for RenderSettings {
             },
             detail_normal_strength: 1.0,
             penumbra: true,
+            separable_rotation: false,
             environment_sh: super::environment::Environment::default().irradiance_sh(),
         }
     }

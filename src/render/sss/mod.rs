@@ -98,6 +98,8 @@ pub(super) struct SssFrame<'t> {
     /// GPU counters: samples taken, pixels convolved, pixels skipped by the LOD.
     pub counters: &'t wgpu::Buffer,
     pub lod: bool,
+    /// `separable`: stochastic per-pixel axis rotation (Jimenez 2015 §6).
+    pub rotate_separable: bool,
 }
 
 impl SssFrame<'_> {

@@ -55,7 +55,8 @@ pub(in crate::render) fn blur_xy(
         ),
     ];
     for (dir, from, to, label, weight, pipeline, load) in passes {
-        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], FOLLOW_SURFACE, 0.0]);
+        let rotate = if io.rotate_separable { 1.0 } else { 0.0 };
+        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], FOLLOW_SURFACE, rotate]);
         u.weight = [weight[0], weight[1], weight[2], 1.0];
         let u = f.uniform("sss uniforms", bytemuck::bytes_of(&u));
         let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
