@@ -243,7 +243,8 @@ impl Renderer {
             address_mode_v: wgpu::AddressMode::ClampToEdge,
             ..Default::default()
         });
-        // Surface maps: trilinear, repeating, 4× anisotropic.
+        // Surface maps: trilinear and repeating. No anisotropy: on llvmpipe
+        // 4× anisotropic filtering cost ~25 ms of a 640×360 scene pass.
         let surface_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("surface maps"),
             address_mode_u: wgpu::AddressMode::Repeat,
