@@ -10,7 +10,7 @@ struct SceneUniforms {
     clip_from_world: mat4x4<f32>,
     view_from_world: mat4x4<f32>,
     camera_position: vec4<f32>,
-    light_direction: vec4<f32>,   // xyz: towards the light (unit), w: unused
+    light_direction: vec4<f32>,   // xyz: towards a directional light (unit); point light: xyz position (world), w = 1
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
     skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
     params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness of lobe 0, z: F0, w: roughness of lobe 1
@@ -25,7 +25,36 @@ struct SceneUniforms {
     preintegrated_normals: vec4<f32>, // xyz: per-channel blend of the detail normal to the smooth one; w: 1 = penumbra table on
     penumbra: vec4<f32>,          // x, y: 1/width (1/mm) at the table's first/last row; z: PCF footprint (mm) facing the light
     environment_sh: array<vec4<f32>, 9>, // rgb: irradiance/π of the environment, order-2 SH (render::environment)
+    light_range: vec4<f32>,       // point light: x, y: shadow near/far (world units), z: distance at which light_radiance is reached
 };
+
+// Direction towards the light from `world` (unit) and the radiance factor:
+// 1 for a directional light, inverse square (1 at light_range.z) for a point.
+fn light_at(world: vec3<f32>) -> vec4<f32> {
+    if (u.light_direction.w < 0.5) {
+        return vec4<f32>(u.light_direction.xyz, 1.0);
+    }
+    let d = u.light_direction.xyz - world;
+    let r2 = max(dot(d, d), 1e-8);
+    return vec4<f32>(d * inverseSqrt(r2), u.light_range.z * u.light_range.z / r2);
+}
+
+// Light clip space → (uv, depth) of the shadow map; a point light's map is
+// a perspective one (divide by w).
+fn light_space(p: vec4<f32>) -> vec3<f32> {
+    let q = p.xyz / select(1.0, p.w, u.light_direction.w > 0.5);
+    return vec3<f32>(q.x * 0.5 + 0.5, 0.5 - q.y * 0.5, q.z);
+}
+
+// Distance from the light along its axis (world units) of a shadow-map depth.
+fn light_linear_depth(z: f32) -> f32 {
+    if (u.light_direction.w < 0.5) {
+        return z * u.shadow.w;
+    }
+    let n = u.light_range.x;
+    let f = u.light_range.y;
+    return n * f / (f - z * (f - n));
+}
 
 // E(n)/π of the environment (Ramamoorthi & Hanrahan 2001): nine SH terms.
 fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
@@ -67,23 +96,23 @@ fn transmittance_at(d_mm: f32) -> vec3<f32> {
 // Thickness along the light from the shadow map (thick-object mode, Golubev
 // 2018): light-space depth of this point minus the first occluder's, in mm.
 fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
-    let p = u.light_clip_from_world * vec4<f32>(world, 1.0);
-    let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
+    let q = light_space(u.light_clip_from_world * vec4<f32>(world, 1.0));
     let size = vec2<f32>(textureDimensions(shadow_map));
-    let texel = clamp(vec2<i32>(uv * size), vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1));
+    let texel = clamp(vec2<i32>(q.xy * size), vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1));
     let occluder = textureLoad(shadow_map, texel, 0);
-    return max(p.z - occluder, 0.0) * u.shadow.w * u.transmission.w;
+    let depth = light_linear_depth(q.z) - light_linear_depth(occluder);
+    return max(depth, 0.0) * u.transmission.w;
 }
 
 // PCF on the light's orthographic depth map: 3×3 bilinear comparison taps
 // one texel apart, a tent filter over a 4×4-texel footprint.
 fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
-    let p = u.light_clip_from_world * vec4<f32>(world + n * u.shadow.z, 1.0);
-    let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
+    let q = light_space(u.light_clip_from_world * vec4<f32>(world + n * u.shadow.z, 1.0));
+    let uv = q.xy;
     if (uv.x <= 0.0 || uv.x >= 1.0 || uv.y <= 0.0 || uv.y >= 1.0) {
         return 1.0;
     }
-    let depth = p.z - u.shadow.y;
+    let depth = q.z - u.shadow.y;
     var lit = 0.0;
     for (var y = -1; y <= 1; y = y + 1) {
         for (var x = -1; x <= 1; x = x + 1) {
@@ -217,7 +246,9 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         n = normalize(t * d.x + b * d.y + ng * d.z);
     }
     let v = normalize(u.camera_position.xyz - i.world);
-    let l = u.light_direction.xyz;
+    let light = light_at(i.world);
+    let l = light.xyz;
+    let light_radiance = u.light_radiance.rgb * light.w;
     var albedo = select(u.skin_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
     var mask = clamp(mask_tex, 0.0, 1.0);
     if (i.material > 0.5 && i.material < 1.5) {
@@ -238,7 +269,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let shadow = shadow_factor(i.world, ng);
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = environment_irradiance(n);
-    var irradiance = u.light_radiance.rgb * nl / PI + hemi;
+    var irradiance = light_radiance * nl / PI + hemi;
     if (u.preintegrated.x > 0.5 && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
         // saturate(N·L), each channel with its own normal (the detail normal
@@ -254,7 +285,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         if (u.preintegrated_normals.w > 0.5) {
             s3 = scattered_shadow(shadow, max(dot(ng, l), 0.0));
         }
-        irradiance = u.light_radiance.rgb * lut_at * s3 / PI + hemi;
+        irradiance = light_radiance * lut_at * s3 / PI + hemi;
     }
     if (u.transmission.x > 0.5 && mask > 0.0) {
         // Light through the back face (Jimenez 2010; Golubev 2018): thin
@@ -267,7 +298,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
             d = max(d, shadow_thickness_mm(i.world));
             reach = back;
         }
-        irradiance = irradiance + u.light_radiance.rgb * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
+        irradiance = irradiance + light_radiance * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
     }
     // Test patterns (issue 5's plane scenes): flat irradiance of light_radiance/π.
     if (u.pattern.x > 0.5 && u.pattern.x < 1.5) {
@@ -285,7 +316,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     if (u.specular.y > 0.5) {
         spec = kelemen(n, v, l, r0, u.params.z);
     }
-    o.specular = vec4<f32>(u.light_radiance.rgb * spec * shadow, 1.0);
+    o.specular = vec4<f32>(light_radiance * spec * shadow, 1.0);
     o.albedo = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), 1.0);
     o.depth = i.view_depth;
     return o;

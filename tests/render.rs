@@ -486,3 +486,44 @@ fn sss_changes_only_masked_pixels() {
         );
     }
 }
+
+/// A point light far away is a directional light: at 50 m the image
+/// matches the directional one (the shadow map turns perspective, the
+/// inverse-square falloff flattens out); at 0.3 m the near side brightens.
+#[test]
+fn a_distant_point_light_matches_the_directional_one() {
+    let mut r = renderer();
+    let inp = inputs();
+    let s = RenderSettings {
+        width: 128,
+        height: 128,
+        method: Method::Burley,
+        deterministic: true,
+        ..Default::default()
+    };
+    let (directional, _) = r.render(&inp, &s).unwrap();
+    let far = RenderSettings {
+        point_light_distance_m: Some(50.0),
+        ..s.clone()
+    };
+    let (point, _) = r.render(&inp, &far).unwrap();
+    let rmse = {
+        let se: f64 = directional
+            .pixels()
+            .zip(point.pixels())
+            .map(|(a, b)| {
+                (0..3)
+                    .map(|c| ((a[c] as f64 - b[c] as f64) / 255.0).powi(2))
+                    .sum::<f64>()
+            })
+            .sum();
+        (se / (3.0 * 128.0 * 128.0)).sqrt()
+    };
+    assert!(rmse < 0.01, "far point light differs: RMSE {rmse}");
+    let near = RenderSettings {
+        point_light_distance_m: Some(0.3),
+        ..s
+    };
+    let (close, _) = r.render(&inp, &near).unwrap();
+    assert_ne!(close, directional, "a near point light changed nothing");
+}

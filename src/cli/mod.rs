@@ -177,6 +177,12 @@ pub struct ViewArgs {
     /// Multiplier of the environment's radiance.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub environment_intensity: f32,
+    /// A point light at this distance (m) from the head's centre, in the
+    /// --light-azimuth/--light-elevation direction, instead of a
+    /// directional light; it delivers the usual irradiance at that distance
+    /// and falls off with the inverse square (perspective shadow map).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub point_light: Option<f32>,
     /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
     #[arg(long)]
     pub separable_rotation: bool,
@@ -826,6 +832,9 @@ fn render(
         1e4,
         "",
     )?;
+    if let Some(d) = view.point_light {
+        crate::model::check_range("point_light", d as f64, 1e-3, 1e4, " m")?;
+    }
     let environment = match &view.environment {
         Some(path) => crate::render::environment::Environment::load(path)?,
         None => Default::default(),
@@ -855,6 +864,7 @@ fn render(
         },
         environment_sh,
         separable_rotation: view.separable_rotation,
+        point_light_distance_m: view.point_light,
         ..RenderSettings::default()
     };
     crate::model::check_range("frames", view.frames as f64, 1.0, 1000.0, "")?;

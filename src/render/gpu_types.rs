@@ -10,6 +10,8 @@ pub struct SceneUniforms {
     pub clip_from_world: [[f32; 4]; 4],
     pub view_from_world: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
+    /// xyz: towards a directional light; for a point light (w = 1) its
+    /// position in world units.
     pub light_direction: [f32; 4],
     pub light_radiance: [f32; 4],
     pub skin_albedo: [f32; 4],
@@ -43,8 +45,11 @@ pub struct SceneUniforms {
     /// The environment's irradiance / π as nine SH coefficients (rgb each),
     /// in `environment::sh9`'s order.
     pub environment_sh: [[f32; 4]; 9],
+    /// Point light: x, y: shadow near/far (world units); z: the distance
+    /// at which the light delivers `light_radiance`.
+    pub light_range: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 23 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 24 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

@@ -562,17 +562,46 @@ impl Renderer {
             s.light_azimuth.cos() * s.light_elevation.cos(),
         );
         let rad = self.mesh_radius;
-        let light_view = Mat4::look_at_rh(
-            self.mesh_centre + light * 2.0 * rad,
-            self.mesh_centre,
-            if light.y.abs() > 0.99 {
-                Vec3::Z
-            } else {
-                Vec3::Y
-            },
+        let up = if light.y.abs() > 0.99 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let light_clip = match self.point_light(s) {
+            // A perspective map from the light, just wide enough for the
+            // bounding sphere.
+            Some((pos, dist, near, far)) => {
+                let half = (rad / dist).clamp(1e-4, 0.99).asin() * 1.05;
+                Mat4::perspective_rh(2.0 * half, 1.0, near, far)
+                    * Mat4::look_at_rh(pos, self.mesh_centre, up)
+            }
+            None => {
+                let light_view =
+                    Mat4::look_at_rh(self.mesh_centre + light * 2.0 * rad, self.mesh_centre, up);
+                Mat4::orthographic_rh(-rad, rad, -rad, rad, 0.01 * rad, 4.0 * rad) * light_view
+            }
+        };
+        (eye, view, proj, light, light_clip)
+    }
+
+    /// A point light's position, distance from the centre and shadow
+    /// near/far planes (world units), or `None` for a directional light.
+    fn point_light(&self, s: &RenderSettings) -> Option<(Vec3, f32, f32, f32)> {
+        let metres = s.point_light_distance_m?;
+        let rad = self.mesh_radius;
+        // At least just outside the bounding sphere.
+        let dist = (metres / self.metres_per_unit).max(1.05 * rad);
+        let dir = Vec3::new(
+            s.light_azimuth.sin() * s.light_elevation.cos(),
+            s.light_elevation.sin(),
+            s.light_azimuth.cos() * s.light_elevation.cos(),
         );
-        let light_proj = Mat4::orthographic_rh(-rad, rad, -rad, rad, 0.01 * rad, 4.0 * rad);
-        (eye, view, proj, light, light_proj * light_view)
+        Some((
+            self.mesh_centre + dir * dist,
+            dist,
+            (dist - rad).max(0.01 * rad),
+            dist + rad,
+        ))
     }
 
     fn scene_uniforms(&self, inputs: &ProfileInputs, s: &RenderSettings) -> SceneUniforms {
@@ -586,7 +615,14 @@ impl Renderer {
             clip_from_world: (proj * view).to_cols_array_2d(),
             view_from_world: view.to_cols_array_2d(),
             camera_position: eye.extend(1.0).into(),
-            light_direction: light.extend(0.0).into(),
+            light_direction: match self.point_light(s) {
+                Some((pos, ..)) => pos.extend(1.0).into(),
+                None => light.extend(0.0).into(),
+            },
+            light_range: match self.point_light(s) {
+                Some((_, dist, near, far)) => [near, far, dist, 0.0],
+                None => [0.0; 4],
+            },
             light_radiance: [s.light_intensity; 4],
             skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
             params: match s.specular {

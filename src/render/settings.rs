@@ -52,10 +52,14 @@ pub struct RenderSettings {
     pub camera_pitch: f32,
     pub camera_distance_m: f32,
     pub fov_y: f32,
-    /// Direction towards the light: azimuth and elevation (radians).
+    /// Direction towards the light: azimuth and elevation (radians); a
+    /// point light sits in that direction from the mesh's centre.
     pub light_azimuth: f32,
     pub light_elevation: f32,
     pub light_intensity: f32,
+    /// Directional, or a point light at this distance (m) from the centre;
+    /// `light_intensity` is its irradiance at that distance.
+    pub point_light_distance_m: Option<f32>,
     pub skin_albedo: [f32; 3],
     pub exposure: f32,
     /// Turns off per-pixel random rotation (for tests).
@@ -125,6 +129,7 @@ impl Default for RenderSettings {
             light_azimuth: 1.25,
             light_elevation: 0.35,
             light_intensity: 3.2,
+            point_light_distance_m: None,
             skin_albedo: [0.56, 0.33, 0.25],
             exposure: 1.0,
             deterministic: false,
