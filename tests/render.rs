@@ -527,3 +527,29 @@ fn a_distant_point_light_matches_the_directional_one() {
     let (close, _) = r.render(&inp, &near).unwrap();
     assert_ne!(close, directional, "a near point light changed nothing");
 }
+
+/// The default head has two levels of detail: the hm08 cut and its
+/// Catmull-Clark subdivision (4× the triangles). A small view draws the
+/// coarse one, a close-up the smooth one, and the shadow map follows.
+#[test]
+fn mesh_level_of_detail_follows_the_projected_size() {
+    let mut r = renderer();
+    let inp = inputs();
+    let s = |width, height, distance| RenderSettings {
+        width,
+        height,
+        camera_distance_m: distance,
+        method: Method::None,
+        deterministic: true,
+        ..Default::default()
+    };
+    let (_, small) = r.render(&inp, &s(160, 160, 0.55)).unwrap();
+    let (_, close) = r.render(&inp, &s(160, 160, 0.1)).unwrap();
+    assert_eq!(close.triangles, 4 * small.triangles, "{small:?} {close:?}");
+    assert_eq!(
+        close.passes[0].name, "shadow",
+        "the LOD changed but the shadow map did not"
+    );
+    let (_, again) = r.render(&inp, &s(160, 160, 0.1)).unwrap();
+    assert_eq!(again.passes[0].name, "scene");
+}

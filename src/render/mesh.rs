@@ -7,8 +7,11 @@ use glam::{Vec2, Vec3};
 use std::path::Path;
 use std::sync::Arc;
 
-/// The default head (CC0 MakeHuman hm08, see assets/head/ATTRIBUTION.md).
+/// The default head (CC0 MakeHuman hm08, see assets/head/ATTRIBUTION.md),
+/// subdivided once.
 pub const DEFAULT_HEAD_OBJ: &str = include_str!("../../assets/head/head.obj");
+/// The same head before subdivision: its coarse level of detail.
+pub const DEFAULT_HEAD_BASE_OBJ: &str = include_str!("../../assets/head/head_base.obj");
 /// Metres per unit of the default head (decimetres).
 pub const DEFAULT_HEAD_METRES_PER_UNIT: f32 = 0.1;
 
@@ -26,6 +29,9 @@ pub struct Mesh {
     /// Albedo, normal, roughness, mask and thickness maps (shared: the
     /// default head's bake is made once per process).
     pub textures: Arc<MeshTextures>,
+    /// A coarser level of detail of the same surface and UV layout, drawn
+    /// when this mesh's triangles would be only a few pixels on screen.
+    pub coarse: Option<Box<Mesh>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -62,6 +68,15 @@ impl Mesh {
         mesh.textures = TEXTURES
             .get_or_init(|| Arc::new(super::procedural::bake(&mesh)))
             .clone();
+        let mut coarse = Self::from_obj_text(
+            DEFAULT_HEAD_BASE_OBJ,
+            "<embedded default head, coarse>",
+            DEFAULT_HEAD_METRES_PER_UNIT,
+        )?;
+        coarse.textures = mesh.textures.clone();
+        // One camera target for both levels.
+        coarse.focus = mesh.focus;
+        mesh.coarse = Some(Box::new(coarse));
         Ok(mesh)
     }
 
@@ -163,6 +178,7 @@ impl Mesh {
             metres_per_unit,
             focus: [0.0; 3],
             textures: Arc::new(MeshTextures::default()),
+            coarse: None,
         };
         if mesh.indices.is_empty() {
             return Err(MeshError::Empty {
@@ -236,7 +252,21 @@ impl Mesh {
             metres_per_unit,
             focus: [0.0; 3],
             textures: Arc::new(MeshTextures::default()),
+            coarse: None,
         }
+    }
+
+    /// Mean edge length (mesh units): the renderer's level-of-detail measure.
+    pub fn mean_edge(&self) -> f32 {
+        let mut sum = 0.0f64;
+        for tri in self.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let a = Vec3::from(self.vertices[tri[k] as usize].position);
+                let b = Vec3::from(self.vertices[tri[(k + 1) % 3] as usize].position);
+                sum += (b - a).length() as f64;
+            }
+        }
+        (sum / self.indices.len().max(1) as f64) as f32
     }
 
     /// Per-vertex tangents from the UV layout (Lengyel 2001): T along +u,

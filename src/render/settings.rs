@@ -176,6 +176,8 @@ pub struct FrameStats {
     pub profile_uploaded: bool,
     /// GPU memory of the frame's render targets (bytes).
     pub target_bytes: u64,
+    /// Triangles drawn (of the level of detail the frame chose).
+    pub triangles: u64,
     pub width: u32,
     pub height: u32,
     pub adapter: String,
