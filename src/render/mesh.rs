@@ -50,6 +50,12 @@ pub enum MeshError {
     Scale { path: String, value: f32 },
     #[error("{path}: {part} has no texture coordinates (UVs); textures and tangents need them")]
     NoUvs { path: String, part: String },
+    #[error("{path}: vertex {vertex} has a non-finite UV {uv:?}")]
+    NonFiniteUv {
+        path: String,
+        vertex: usize,
+        uv: [f32; 2],
+    },
     #[error("{path}: every triangle's UVs have zero area; the mesh is not unwrapped")]
     ZeroAreaUvs { path: String },
     #[error(transparent)]
@@ -198,6 +204,18 @@ impl Mesh {
                 position: v.position,
             });
         }
+        if let Some((vertex, v)) = mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.uv.iter().all(|x| x.is_finite()))
+        {
+            return Err(MeshError::NonFiniteUv {
+                path: origin.into(),
+                vertex: vertex + 1,
+                uv: v.uv,
+            });
+        }
         let uv_area: f64 = mesh
             .indices
             .chunks_exact(3)
@@ -211,7 +229,12 @@ impl Mesh {
                 path: origin.into(),
             });
         }
-        if !has_normals {
+        // A file's normals are kept unless any is missing or degenerate.
+        let usable = |n: &[f32; 3]| {
+            let n = Vec3::from(*n);
+            n.is_finite() && n.length_squared() > 1e-12
+        };
+        if !has_normals || !mesh.vertices.iter().all(|v| usable(&v.normal)) {
             mesh.compute_smooth_normals();
         }
         if mesh.vertices.iter().any(|v| v.tangent == [0.0; 4]) {
@@ -611,6 +634,14 @@ mod tests {
             .to_string();
         assert!(
             e.contains("bare.obj") && e.contains("no texture coordinates"),
+            "{e}"
+        );
+        let nan = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt nan 1\nf 1/1 2/2 3/3\n";
+        let e = Mesh::from_obj_text(nan, "nan_uv.obj", 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("nan_uv.obj") && e.contains("non-finite UV"),
             "{e}"
         );
         let flat = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n";
