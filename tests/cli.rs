@@ -433,7 +433,11 @@ fn render_refuses_bad_meshes_and_scales() {
     std::fs::write(&corrupt_png, b"\x89PNG\r\n\x1a\ntruncated").unwrap();
     let out = dir.join("out.png");
     let o = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 12] = [
+        (
+            &["--model", "gaussians", "--volume-albedo", "0.5,0.5,0.5"],
+            "--volume-albedo does not apply",
+        ),
         (
             &["--mesh", no_uv.to_str().unwrap()],
             "no texture coordinates",

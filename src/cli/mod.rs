@@ -786,7 +786,10 @@ fn render(
         1000.0,
         " m",
     )?;
-    let (spec, p) = built(model)?;
+    // The shared model flags name the volume albedo `--albedo`; here that
+    // flag is `--volume-albedo` (`--albedo` is the albedo map).
+    let (spec, p) = built(model)
+        .map_err(|e| anyhow::anyhow!(format!("{e:#}").replace("--albedo", "--volume-albedo")))?;
     let mut inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
     // The separable method: a Jimenez 2012 look keeps the demo's kernel;
     // any other profile uses the importance-sampled pre-integrated kernel
