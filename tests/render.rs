@@ -553,3 +553,29 @@ fn mesh_level_of_detail_follows_the_projected_size() {
     let (_, again) = r.render(&inp, &s(160, 160, 0.1)).unwrap();
     assert_eq!(again.passes[0].name, "scene");
 }
+
+/// A map wider than the adapter can hold is refused by name, not a panic.
+#[test]
+fn oversized_maps_are_refused_by_slot() {
+    use scatterlab::render::textures::{MeshTextures, TextureImage};
+    let ctx = GpuContext::new_headless().unwrap();
+    let max = ctx.device.limits().max_texture_dimension_2d;
+    let mut plane = Mesh::plane(60.0, 0.001);
+    plane.textures = std::sync::Arc::new(MeshTextures {
+        mask: TextureImage {
+            width: max + 1,
+            height: 1,
+            channels: 1,
+            texels: vec![255; max as usize + 1],
+        },
+        ..Default::default()
+    });
+    let e = match Renderer::new(ctx, &plane) {
+        Ok(_) => panic!("a {}-texel-wide mask was accepted", max + 1),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("mask map") && e.contains(&max.to_string()),
+        "{e}"
+    );
+}

@@ -257,25 +257,40 @@ impl Renderer {
         let maps = &mesh.textures;
         let upload = |img, format, label| textures::upload(device, &ctx.queue, img, format, label);
         let no_thickness = TextureImage::solid(&[0]);
-        let surface_maps = [
-            upload(
-                &maps.albedo,
-                wgpu::TextureFormat::Rgba8UnormSrgb,
-                "albedo map",
-            ),
-            upload(&maps.normal, wgpu::TextureFormat::Rgba8Unorm, "normal map"),
-            upload(
-                &maps.roughness,
-                wgpu::TextureFormat::R8Unorm,
-                "roughness map",
-            ),
-            upload(&maps.mask, wgpu::TextureFormat::R8Unorm, "mask map"),
-            upload(
-                maps.thickness.as_ref().map_or(&no_thickness, |t| &t.0),
-                wgpu::TextureFormat::R8Unorm,
+        // Refuse maps the adapter cannot hold, naming the slot, before any
+        // upload (an oversized texture is a device error otherwise).
+        let max = device.limits().max_texture_dimension_2d;
+        let (srgb, rgba, grey) = (
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureFormat::R8Unorm,
+        );
+        let slots = [
+            ("albedo map", &maps.albedo, srgb),
+            ("normal map", &maps.normal, rgba),
+            ("roughness map", &maps.roughness, grey),
+            ("mask map", &maps.mask, grey),
+            (
                 "thickness map",
+                maps.thickness.as_ref().map_or(&no_thickness, |t| &t.0),
+                grey,
             ),
         ];
+        if let Some((slot, img, _)) = slots
+            .iter()
+            .find(|(_, i, _)| i.width > max || i.height > max)
+        {
+            return Err(GpuError::Validation {
+                stage: "surface maps",
+                message: format!(
+                    "the {slot} is {}×{}; this adapter holds at most {max}×{max}",
+                    img.width, img.height
+                ),
+            });
+        }
+        let surface_maps = ctx.checked("surface maps", || {
+            slots.map(|(label, img, format)| upload(img, format, label))
+        })?;
         let surface_modes = [
             if maps.albedo_mode == AlbedoMode::Absolute {
                 1.0
