@@ -124,19 +124,7 @@ impl ProfileInputs {
                 [n(0), n(1), n(2), 0.0]
             })
             .collect();
-        let kernel = SeparableKernel::importance_sampled(profile, taps)?;
-        let taps = kernel
-            .taps
-            .iter()
-            .map(|t| GpuTap {
-                weight_offset: [
-                    t.weight[0] as f32,
-                    t.weight[1] as f32,
-                    t.weight[2] as f32,
-                    t.offset_mm as f32,
-                ],
-            })
-            .collect();
+        let taps = gpu_taps(&SeparableKernel::importance_sampled(profile, taps)?);
         let lut_layout = crate::model::lut::LutLayout {
             width: 64,
             height: 64,
@@ -248,18 +236,7 @@ impl ProfileInputs {
     /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
     /// of a Jimenez 2012 profile instead of the pre-integrated one).
     pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel) {
-        self.taps = kernel
-            .taps
-            .iter()
-            .map(|t| GpuTap {
-                weight_offset: [
-                    t.weight[0] as f32,
-                    t.weight[1] as f32,
-                    t.weight[2] as f32,
-                    t.offset_mm as f32,
-                ],
-            })
-            .collect();
+        self.taps = gpu_taps(kernel);
     }
 
     /// Sets the Gaussians of the `gaussians` method from (variance mm²,
@@ -283,6 +260,22 @@ impl ProfileInputs {
             })
             .collect();
     }
+}
+
+/// A separable kernel's taps as the GPU reads them: rgb weight, offset (mm).
+fn gpu_taps(kernel: &SeparableKernel) -> Vec<GpuTap> {
+    kernel
+        .taps
+        .iter()
+        .map(|t| GpuTap {
+            weight_offset: [
+                t.weight[0] as f32,
+                t.weight[1] as f32,
+                t.weight[2] as f32,
+                t.offset_mm as f32,
+            ],
+        })
+        .collect()
 }
 
 /// Default taps per 1D Gaussian pass of the `gaussians` method: d'Eon

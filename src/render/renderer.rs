@@ -463,17 +463,7 @@ impl Renderer {
     /// submits, and reads the SSS pixel count back.
     fn count_sss_pixels(&self, f: &mut FrameEncoder, t: &Targets) -> Result<u64, GpuError> {
         let device = &self.ctx.device;
-        let counts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sss counts"),
-            contents: bytemuck::cast_slice(&[0u32; 4]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        });
-        let read = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sss counts readback"),
-            size: 16,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let (counts, read) = counter_buffers(device, "sss counts");
         let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("classify"),
             layout: &self.classify_layout,
@@ -553,20 +543,10 @@ impl Renderer {
     fn camera_and_light(&self, s: &RenderSettings) -> (Vec3, Mat4, Mat4, Vec3, Mat4) {
         let aspect = s.width as f32 / s.height as f32;
         let dist = s.camera_distance_m / self.metres_per_unit;
-        let eye = self.mesh_centre
-            + dist
-                * Vec3::new(
-                    s.camera_yaw.sin() * s.camera_pitch.cos(),
-                    s.camera_pitch.sin(),
-                    s.camera_yaw.cos() * s.camera_pitch.cos(),
-                );
+        let eye = self.mesh_centre + dist * orbit_direction(s.camera_yaw, s.camera_pitch);
         let view = Mat4::look_at_rh(eye, self.mesh_centre, Vec3::Y);
         let proj = Mat4::perspective_rh(s.fov_y, aspect, 0.05 * dist, 10.0 * dist);
-        let light = Vec3::new(
-            s.light_azimuth.sin() * s.light_elevation.cos(),
-            s.light_elevation.sin(),
-            s.light_azimuth.cos() * s.light_elevation.cos(),
-        );
+        let light = orbit_direction(s.light_azimuth, s.light_elevation);
         let rad = self.mesh_radius;
         let up = if light.y.abs() > 0.99 {
             Vec3::Z
@@ -608,11 +588,7 @@ impl Renderer {
         let rad = self.mesh_radius;
         // At least just outside the bounding sphere.
         let dist = (metres / self.metres_per_unit).max(1.05 * rad);
-        let dir = Vec3::new(
-            s.light_azimuth.sin() * s.light_elevation.cos(),
-            s.light_elevation.sin(),
-            s.light_azimuth.cos() * s.light_elevation.cos(),
-        );
+        let dir = orbit_direction(s.light_azimuth, s.light_elevation);
         Some((
             self.mesh_centre + dir * dist,
             dist,
@@ -787,17 +763,7 @@ impl Renderer {
             Method::None
         };
         // Samples taken, pixels convolved, pixels skipped by the LOD.
-        let counters = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sss counters"),
-            contents: bytemuck::cast_slice(&[0u32; 4]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        });
-        let counters_read = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sss counters readback"),
-            size: 16,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let (counters, counters_read) = counter_buffers(device, "sss counters");
         let io = SssFrame {
             targets: t,
             profile: &profile.gpu,
@@ -939,6 +905,31 @@ impl Renderer {
 /// cost lavapipe ~25 ms more scene pass at 640×360 (measured) for
 /// silhouettes no one can see; closer shots get the smooth mesh.
 const LOD_EDGE_PX: f32 = 10.0;
+
+/// Four zeroed u32 GPU counters and the buffer they are read back through.
+fn counter_buffers(device: &wgpu::Device, label: &'static str) -> (wgpu::Buffer, wgpu::Buffer) {
+    let counters = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&[0u32; 4]),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 16,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    (counters, read)
+}
+
+/// Unit vector for an azimuth about +y (0 = +z) and an elevation (radians).
+fn orbit_direction(azimuth: f32, elevation: f32) -> Vec3 {
+    Vec3::new(
+        azimuth.sin() * elevation.cos(),
+        elevation.sin(),
+        azimuth.cos() * elevation.cos(),
+    )
+}
 
 /// One level of detail on the GPU.
 struct MeshLod {

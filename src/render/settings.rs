@@ -115,6 +115,12 @@ pub enum IrradiancePattern {
     Checkerboard { period_mm: f32 },
 }
 
+/// The default sky's SH, integrated once per process (a 128 × 256 grid).
+fn default_environment_sh() -> [[f32; 3]; 9] {
+    static SH: std::sync::OnceLock<[[f32; 3]; 9]> = std::sync::OnceLock::new();
+    *SH.get_or_init(|| super::environment::Environment::default().irradiance_sh())
+}
+
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
@@ -148,7 +154,7 @@ impl Default for RenderSettings {
             detail_normal_strength: 1.0,
             penumbra: true,
             separable_rotation: false,
-            environment_sh: super::environment::Environment::default().irradiance_sh(),
+            environment_sh: default_environment_sh(),
         }
     }
 }
