@@ -9,9 +9,12 @@
 //! sampling, lookup tables, fits, unit conversions) tested against
 //! independent references; `settings` holds the serde types of a look and
 //! its RON presets; `cli` drives them without a window. The renderer
-//! (`render`, wgpu) and the editor (`app`, egui) build on these.
+//! (`render`, wgpu) and the editor (`app`, egui) build on these; `export`
+//! writes engine assets and images.
 
+pub mod app;
 pub mod cli;
+pub mod export;
 pub mod fsutil;
 pub mod model;
 pub mod render;

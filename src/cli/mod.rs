@@ -31,6 +31,12 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 #[allow(clippy::large_enum_variant)] // parsed once per process
 pub enum Command {
+    /// Open the editor (the default with no subcommand), optionally on a preset.
+    Edit {
+        /// The preset (.ron) to open; default: the last one, else the embedded skin.
+        #[arg(long, value_name = "FILE.ron")]
+        preset: Option<PathBuf>,
+    },
     /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
     Profile {
         #[command(flatten)]
@@ -109,6 +115,19 @@ pub enum Command {
         /// (against `reference` when no --compare is given).
         #[arg(long)]
         diff: bool,
+    },
+    /// Write a preset for an engine or tool. Files are written atomically;
+    /// formats with comments or metadata record the scatterlab version and
+    /// the preset. Some formats write a companion file beside --out
+    /// (unreal: .py; lut-*: _shadow; profile-*: _transmittance).
+    Export {
+        /// The preset (.ron).
+        #[arg(long, value_name = "FILE.ron")]
+        preset: PathBuf,
+        #[arg(long, value_enum)]
+        format: crate::export::Format,
+        #[arg(long, value_name = "PATH")]
+        out: PathBuf,
     },
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert {
@@ -412,10 +431,10 @@ pub enum EncodingArg {
 /// Runs a parsed command; `None` prints the default profile.
 pub fn run(cli: Cli) -> Result<()> {
     let Some(command) = cli.command else {
-        println!("(the interactive editor is not built yet; `scatterlab --help` lists the scripting commands)");
-        return profile(&ModelArgs::default(), None, false);
+        return crate::app::run(None);
     };
     match command {
+        Command::Edit { preset } => crate::app::run(preset),
         Command::Profile { model, radii, json } => profile(&model, radii, json),
         Command::Sample(SampleCommand::Burley {
             shape,
@@ -492,6 +511,17 @@ pub fn run(cli: Cli) -> Result<()> {
             world_scale,
             json,
         } => convert(&model, to, world_scale, json),
+        Command::Export {
+            preset,
+            format,
+            out,
+        } => {
+            let p = crate::settings::Preset::load(&preset)?;
+            for path in crate::export::export(&p, Some(&preset), format, &out)? {
+                println!("{}", path.display());
+            }
+            Ok(())
+        }
     }
 }
 
@@ -790,43 +820,17 @@ fn render(
     // flag is `--volume-albedo` (`--albedo` is the albedo map).
     let (spec, p) = built(model)
         .map_err(|e| anyhow::anyhow!(format!("{e:#}").replace("--albedo", "--volume-albedo")))?;
-    let mut inputs = ProfileInputs::new(p.as_ref(), samples, taps)?;
-    // The separable method: a Jimenez 2012 look keeps the demo's kernel;
-    // any other profile uses the importance-sampled pre-integrated kernel
-    // (Jimenez 2015 §4, §7).
-    if let ProfileSpec::Jimenez2012(j) = &spec {
-        inputs.set_separable_kernel(
-            &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
-        );
+    crate::model::check_range("gaussian_taps", view.gaussian_taps as f64, 3.0, 63.0, "")?;
+    if view.gaussian_taps.is_multiple_of(2) {
+        anyhow::bail!("gaussian_taps = {} must be odd", view.gaussian_taps);
     }
-    if method == MethodArg::Gaussians {
-        // A Gaussian-sum preset is used as it is; any other profile is fitted with six.
-        let terms: Vec<(f64, crate::model::Rgb)> = match &spec {
-            ProfileSpec::Gaussians(g) => g
-                .gaussians
-                .iter()
-                .map(|t| (t.variance_mm2, t.weights))
-                .collect(),
-            _ => {
-                let f = crate::model::fit::fit_gaussians(p.as_ref(), 6)?;
-                let m = f.model;
-                (0..m.channel_terms(0).len())
-                    .map(|k| {
-                        (
-                            m.channel_terms(0)[k].variance_mm2,
-                            [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
-                        )
-                    })
-                    .collect()
-            }
-        };
-        inputs.set_gaussians(&terms);
-        crate::model::check_range("gaussian_taps", view.gaussian_taps as f64, 3.0, 63.0, "")?;
-        if view.gaussian_taps.is_multiple_of(2) {
-            anyhow::bail!("gaussian_taps = {} must be odd", view.gaussian_taps);
-        }
-        inputs.gaussian_taps = view.gaussian_taps;
-    }
+    let inputs = ProfileInputs::for_look(
+        &spec,
+        p.as_ref(),
+        to_method(method),
+        (samples, taps),
+        view.gaussian_taps,
+    )?;
     let mesh = view.load_mesh()?;
     crate::model::check_range(
         "environment_intensity",

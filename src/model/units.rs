@@ -143,9 +143,9 @@ impl UnrealProfile {
 
     /// Copy-paste text for the details panel (struct export syntax).
     pub fn to_struct_text(&self) -> String {
-        let c = |v: Rgb| format!("(R={:.6},G={:.6},B={:.6},A=1.000000)", v[0], v[1], v[2]);
+        let c = |v: Rgb| format!("(R={:.9},G={:.9},B={:.9},A=1.000000)", v[0], v[1], v[2]);
         format!(
-            "(SurfaceAlbedo={},MeanFreePathColor={},MeanFreePathDistance={:.6},WorldUnitScale={:.6},bEnableBurley=True,bEnableMeanFreePath=True)",
+            "(SurfaceAlbedo={},MeanFreePathColor={},MeanFreePathDistance={:.9},WorldUnitScale={:.6},bEnableBurley=True,bEnableMeanFreePath=True)",
             c(self.surface_albedo),
             c(self.mean_free_path_color),
             self.mean_free_path_distance_cm,

@@ -49,6 +49,50 @@ pub struct ProfileInputs {
 pub(super) const LUT_SIZE: usize = 256;
 
 impl ProfileInputs {
+    /// Everything `method` needs for the look `spec` (built as `profile`):
+    /// a Jimenez 2012 look keeps the demo's kernel for `separable`, any
+    /// other profile uses the importance-sampled pre-integrated kernel
+    /// (Jimenez 2015 §4, §7); `gaussians` uses a Gaussian-sum look as it is
+    /// and fits six Gaussians to any other.
+    pub fn for_look(
+        spec: &crate::settings::ProfileSpec,
+        profile: &dyn RadialProfile,
+        method: super::Method,
+        (samples, taps): (usize, usize),
+        gaussian_taps: usize,
+    ) -> Result<Self, ModelError> {
+        use crate::settings::ProfileSpec;
+        let mut inputs = Self::new(profile, samples, taps)?;
+        if let ProfileSpec::Jimenez2012(j) = spec {
+            inputs.set_separable_kernel(
+                &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
+            );
+        }
+        if method == super::Method::Gaussians {
+            let terms: Vec<(f64, crate::model::Rgb)> = match spec {
+                ProfileSpec::Gaussians(g) => g
+                    .gaussians
+                    .iter()
+                    .map(|t| (t.variance_mm2, t.weights))
+                    .collect(),
+                _ => {
+                    let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
+                    (0..m.channel_terms(0).len())
+                        .map(|k| {
+                            (
+                                m.channel_terms(0)[k].variance_mm2,
+                                [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
+                            )
+                        })
+                        .collect()
+                }
+            };
+            inputs.set_gaussians(&terms);
+            inputs.gaussian_taps = gaussian_taps;
+        }
+        Ok(inputs)
+    }
+
     /// Burley disk samples, the r·R_N(r) table and separable taps for `profile`.
     pub fn new(
         profile: &dyn RadialProfile,

@@ -543,8 +543,13 @@ impl Renderer {
     fn camera_and_light(&self, s: &RenderSettings) -> (Vec3, Mat4, Mat4, Vec3, Mat4) {
         let aspect = s.width as f32 / s.height as f32;
         let dist = s.camera_distance_m / self.metres_per_unit;
-        let eye = self.mesh_centre + dist * orbit_direction(s.camera_yaw, s.camera_pitch);
-        let view = Mat4::look_at_rh(eye, self.mesh_centre, Vec3::Y);
+        let dir = orbit_direction(s.camera_yaw, s.camera_pitch);
+        let right = Vec3::Y.cross(dir).normalize_or_zero();
+        let up = dir.cross(right);
+        let target = self.mesh_centre
+            + (right * s.camera_pan_m[0] + up * s.camera_pan_m[1]) / self.metres_per_unit;
+        let eye = target + dist * dir;
+        let view = Mat4::look_at_rh(eye, target, Vec3::Y);
         let proj = Mat4::perspective_rh(s.fov_y, aspect, 0.05 * dist, 10.0 * dist);
         let light = orbit_direction(s.light_azimuth, s.light_elevation);
         let rad = self.mesh_radius;
@@ -623,8 +628,8 @@ impl Renderer {
                     roughness0,
                     roughness1,
                     ..
-                } => [pre, roughness0, 0.028, roughness1],
-                Specular::Kelemen { roughness } => [pre, roughness, 0.028, roughness],
+                } => [pre, roughness0, s.specular_f0, roughness1],
+                Specular::Kelemen { roughness } => [pre, roughness, s.specular_f0, roughness],
             },
             specular: match s.specular {
                 Specular::DualGgx { lobe_mix, .. } => [lobe_mix, 0.0, 0.0, 0.0],

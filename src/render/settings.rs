@@ -52,6 +52,9 @@ pub struct RenderSettings {
     pub camera_pitch: f32,
     pub camera_distance_m: f32,
     pub fov_y: f32,
+    /// Camera target offset from the mesh's centre along the view's right
+    /// and up axes (m).
+    pub camera_pan_m: [f32; 2],
     /// Direction towards the light: azimuth and elevation (radians); a
     /// point light sits in that direction from the mesh's centre.
     pub light_azimuth: f32,
@@ -71,6 +74,8 @@ pub struct RenderSettings {
     /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
     pub lod: bool,
     pub specular: Specular,
+    /// Specular reflectance at normal incidence (from the IOR).
+    pub specular_f0: f32,
     /// Strength of the detail normal map (0 = smooth surface normals).
     pub detail_normal_strength: f32,
     /// `preintegrated`: scatter shadow edges through Penner's penumbra table.
@@ -132,6 +137,7 @@ impl Default for RenderSettings {
             camera_pitch: 0.05,
             camera_distance_m: 0.55,
             fov_y: 30f32.to_radians(),
+            camera_pan_m: [0.0; 2],
             light_azimuth: 1.25,
             light_elevation: 0.35,
             light_intensity: 3.2,
@@ -151,6 +157,8 @@ impl Default for RenderSettings {
                 roughness1: 0.72,
                 lobe_mix: 0.15,
             },
+            // IOR 1.4: ((1.4 − 1)/(1.4 + 1))².
+            specular_f0: 0.028,
             detail_normal_strength: 1.0,
             penumbra: true,
             separable_rotation: false,

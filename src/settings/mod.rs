@@ -2,8 +2,11 @@
 //! RON. Every struct is `#[serde(default)]` so older files still load, and
 //! validation errors name the field (and the loader adds the file).
 
+pub mod library;
 pub mod preset;
 pub mod profile;
+pub mod rendering;
 
 pub use preset::{Preset, PresetError};
 pub use profile::ProfileSpec;
+pub use rendering::RenderingSpec;

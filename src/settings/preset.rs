@@ -2,12 +2,14 @@
 //! number and names the field and the file in errors; saving is atomic.
 
 use super::profile::ProfileSpec;
+use super::rendering::RenderingSpec;
 use crate::model::{ModelError, RadialProfile};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The preset format this build writes. Older versions still load.
-pub const FORMAT_VERSION: u32 = 1;
+/// 1: profile only. 2: adds `rendering`.
+pub const FORMAT_VERSION: u32 = 2;
 
 /// The embedded default look (also `presets/skin_default.ron`).
 pub const DEFAULT_PRESET_RON: &str = include_str!("../../presets/skin_default.ron");
@@ -22,6 +24,9 @@ pub struct Preset {
     /// Where the numbers come from (paper, table, engine default).
     pub source: String,
     pub profile: ProfileSpec,
+    /// Method, quality and engine-side material settings (format 2; files
+    /// without it take the defaults).
+    pub rendering: RenderingSpec,
 }
 
 impl Default for Preset {
@@ -32,6 +37,7 @@ impl Default for Preset {
             description: String::new(),
             source: String::new(),
             profile: ProfileSpec::default(),
+            rendering: RenderingSpec::default(),
         }
     }
 }
@@ -97,6 +103,7 @@ impl Preset {
 
     /// Checks every parameter by building the model.
     pub fn validate(&self) -> Result<(), ModelError> {
+        self.rendering.validate()?;
         self.profile.build().map(|_| ())
     }
 

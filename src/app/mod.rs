@@ -1,0 +1,1055 @@
+//! The editor: egui on eframe. Parameters on the left, the live head in
+//! the middle (render thread, `viewport.rs`), plots on the right; presets,
+//! undo, compare and export from the menu bar.
+
+pub mod analysis;
+mod params_ui;
+mod plots;
+pub mod state;
+pub mod viewport;
+
+use crate::export::Format;
+use crate::settings::{library, Preset};
+use analysis::{Analysis, AnalysisKey, Background, Curves};
+use state::{CompareB, CompareMode, Document, UiState};
+use std::path::{Path, PathBuf};
+
+const STORAGE_KEY: &str = "scatterlab_ui";
+
+/// What a file dialog is for.
+#[derive(Debug, Clone, PartialEq)]
+enum DialogKind {
+    Open,
+    SaveAs,
+    Export(Format),
+    CompareB,
+    Mesh,
+}
+
+#[derive(Debug, Clone)]
+struct FileDialog {
+    kind: DialogKind,
+    path: String,
+}
+
+/// An action waiting for the unsaved-changes prompt.
+#[derive(Debug, Clone)]
+enum Pending {
+    Open(PathBuf),
+    New(Box<Preset>),
+    Quit,
+}
+
+/// A finished export, reported by its thread.
+type ExportResult = Result<Vec<PathBuf>, String>;
+
+pub struct EditorApp {
+    pub doc: Document,
+    pub ui_state: UiState,
+    analysis: Background<AnalysisKey, Result<Analysis, String>>,
+    pub latest: Option<Analysis>,
+    /// Curves of the current look (computed in the frame of the edit).
+    pub curves: Option<Result<Curves, String>>,
+    curves_for: Option<crate::settings::ProfileSpec>,
+    viewport: Option<viewport::Viewport>,
+    texture: Option<egui::TextureHandle>,
+    frame_info: String,
+    status: String,
+    dialog: Option<FileDialog>,
+    pending: Option<Pending>,
+    exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
+    show_b: bool,
+    mesh: Option<PathBuf>,
+    allow_close: bool,
+    /// The table preview and transmittance strip, with the analysis they show.
+    preview_textures: Option<(
+        AnalysisKey,
+        Option<egui::TextureHandle>,
+        egui::TextureHandle,
+    )>,
+    /// UI time of the last frame outside the viewport (ms).
+    pub ui_ms: f64,
+}
+
+impl EditorApp {
+    /// The editor on `preset` (or the embedded default skin). `viewport`
+    /// false leaves out the render thread (UI tests of the panels).
+    pub fn new(
+        ctx: Option<&egui::Context>,
+        ui_state: UiState,
+        preset: Option<(Preset, Option<PathBuf>)>,
+        viewport: bool,
+    ) -> Self {
+        let (preset, path) = preset.unwrap_or_else(|| (Preset::default_skin(), None));
+        // Background threads wake the UI when they finish (tests step by hand).
+        let waker = |ctx: Option<&egui::Context>| {
+            let ctx = ctx.cloned();
+            move || {
+                if let Some(c) = &ctx {
+                    c.request_repaint();
+                }
+            }
+        };
+        let (c1, c2) = (waker(ctx), waker(ctx));
+        let mut app = Self {
+            doc: Document::new(preset, path),
+            ui_state,
+            analysis: Background::start("scatterlab-analysis", analysis::analyse, c1),
+            latest: None,
+            curves: None,
+            curves_for: None,
+            viewport: viewport.then(|| viewport::Viewport::start(c2)),
+            texture: None,
+            frame_info: String::new(),
+            status:
+                "Ready. Drag a preset (.ron) or mesh (.obj/.gltf/.glb) onto the window to open it."
+                    .into(),
+            dialog: None,
+            pending: None,
+            exports: Vec::new(),
+            show_b: false,
+            mesh: None,
+            allow_close: false,
+            preview_textures: None,
+            ui_ms: 0.0,
+        };
+        app.refresh_curves();
+        app
+    }
+
+    /// What the main plot draws now, per channel (for tests).
+    pub fn plot_series(&self) -> Option<[Vec<[f64; 2]>; 3]> {
+        match &self.curves {
+            Some(Ok(c)) => Some(plots::series(
+                c,
+                self.ui_state.plot_quantity,
+                self.ui_state.log_y,
+            )),
+            _ => None,
+        }
+    }
+
+    /// Whether the viewport has shown a rendered frame.
+    pub fn has_viewport_frame(&self) -> bool {
+        self.texture.is_some()
+    }
+
+    /// Whether the unsaved-changes prompt is waiting for an answer.
+    pub fn prompt_open(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// The status bar's message.
+    pub fn status(&self) -> &str {
+        &self.status
+    }
+
+    /// Whether the background analysis (fits, taps, tables) is current.
+    pub fn analysis_done(&self) -> bool {
+        !self.analysis.busy()
+            && self
+                .latest
+                .as_ref()
+                .is_some_and(|a| a.key == self.analysis_key())
+    }
+
+    /// Recomputes the plotted curves if the profile changed (fast models
+    /// here, layered stacks come from the analysis thread).
+    fn refresh_curves(&mut self) {
+        let spec = &self.doc.preset.profile;
+        if self.curves_for.as_ref() == Some(spec) {
+            return;
+        }
+        self.curves_for = Some(spec.clone());
+        self.curves = if analysis::is_slow(spec) {
+            self.latest
+                .as_ref()
+                .filter(|a| a.key.profile == *spec)
+                .map(|a| Ok(a.curves.clone()))
+        } else {
+            Some(
+                spec.build()
+                    .map(|p| Curves::of(p.as_ref(), None))
+                    .map_err(|e| e.to_string()),
+            )
+        };
+    }
+
+    fn analysis_key(&self) -> AnalysisKey {
+        AnalysisKey {
+            profile: self.doc.preset.profile.clone(),
+            taps: self.doc.preset.rendering.taps,
+            overlay: self.ui_state.overlay,
+            thickness_max_mm: self.doc.preset.rendering.thickness_remap_mm.1.max(1.0),
+        }
+    }
+
+    /// Opens `path` now (the caller has dealt with unsaved changes).
+    pub fn open_now(&mut self, path: &Path) {
+        match Preset::load(path) {
+            Ok(p) => {
+                self.doc = Document::new(p, Some(path.to_owned()));
+                self.ui_state.add_recent(path);
+                self.status = format!("Opened {}", path.display());
+            }
+            Err(e) => self.status = format!("Error: {e}"),
+        }
+    }
+
+    /// Saves to the document's file (or asks where).
+    pub fn save(&mut self) {
+        match self.doc.path.clone() {
+            Some(p) => self.save_as(&p),
+            None => self.open_dialog(DialogKind::SaveAs),
+        }
+    }
+
+    pub fn save_as(&mut self, path: &Path) {
+        match self.doc.save_as(path) {
+            Ok(()) => {
+                self.ui_state.add_recent(path);
+                self.status = format!("Saved {}", path.display());
+            }
+            Err(e) => self.status = format!("Error: {e}"),
+        }
+    }
+
+    /// Runs `action` now, or asks first if there are unsaved changes.
+    fn guarded(&mut self, action: Pending) {
+        if self.doc.is_dirty() {
+            self.pending = Some(action);
+        } else {
+            self.run_pending(action);
+        }
+    }
+
+    fn run_pending(&mut self, action: Pending) {
+        match action {
+            Pending::Open(p) => self.open_now(&p),
+            Pending::New(p) => {
+                self.status = format!("New look from \"{}\"", p.name);
+                self.doc = Document::new(*p, None);
+            }
+            Pending::Quit => self.allow_close = true,
+        }
+    }
+
+    fn open_dialog(&mut self, kind: DialogKind) {
+        let dir = self
+            .doc
+            .path
+            .as_ref()
+            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        let name = match &kind {
+            DialogKind::SaveAs => format!("{}.ron", file_stem(&self.doc.preset.name)),
+            DialogKind::Export(f) => {
+                format!("{}.{}", file_stem(&self.doc.preset.name), f.extension())
+            }
+            _ => String::new(),
+        };
+        self.dialog = Some(FileDialog {
+            kind,
+            path: dir.join(name).display().to_string(),
+        });
+    }
+
+    /// Starts an export on its own thread (table bakes take seconds).
+    pub fn export(&mut self, format: Format, out: PathBuf) {
+        let preset = self.doc.preset.clone();
+        let source = self.doc.path.clone();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let r = crate::export::export(&preset, source.as_deref(), format, &out)
+                .map_err(|e| e.to_string());
+            let _ = tx.send(r);
+        });
+        self.exports.push(rx);
+        self.status = format!("Exporting {} …", format.id());
+    }
+
+    fn handle_drops(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        for path in dropped {
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or("")
+                .to_ascii_lowercase();
+            match ext.as_str() {
+                "ron" => self.guarded(Pending::Open(path)),
+                "obj" | "gltf" | "glb" => {
+                    self.status = format!("Loading mesh {} …", path.display());
+                    self.mesh = Some(path);
+                }
+                _ => {
+                    self.status = format!(
+                        "Error: {}: not a preset (.ron) or mesh (.obj, .gltf, .glb)",
+                        path.display()
+                    )
+                }
+            }
+        }
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let cmd_shift = Modifiers::COMMAND | Modifiers::SHIFT;
+        let (redo, undo, redo_y, save_as, save, open, toggle) = ctx.input_mut(|i| {
+            (
+                i.consume_shortcut(&KeyboardShortcut::new(cmd_shift, Key::Z)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Z)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Y)),
+                i.consume_shortcut(&KeyboardShortcut::new(cmd_shift, Key::S)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::S)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::O)),
+                i.key_pressed(Key::Space),
+            )
+        });
+        if redo || redo_y {
+            self.doc.redo();
+        } else if undo {
+            self.doc.undo();
+        }
+        if save_as {
+            self.open_dialog(DialogKind::SaveAs);
+        } else if save {
+            self.save();
+        }
+        if open {
+            self.open_dialog(DialogKind::Open);
+        }
+        // Space toggles A/B while comparing (unless typing in a field).
+        if toggle
+            && ctx.memory(|m| m.focused().is_none())
+            && self.ui_state.compare != CompareMode::Off
+        {
+            self.show_b = !self.show_b;
+        }
+    }
+
+    /// The whole editor for one frame.
+    pub fn show(&mut self, ui: &mut egui::Ui) {
+        let t0 = std::time::Instant::now();
+        let ctx = ui.ctx().clone();
+        self.handle_drops(&ctx);
+        self.shortcuts(&ctx);
+        self.poll_workers();
+
+        egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
+        egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        egui::Panel::left("params")
+            .resizable(true)
+            .default_size(360.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.params_panel(ui));
+            });
+        // Edits above change the preset; the plots below use it this frame.
+        self.refresh_curves();
+        self.analysis.request(self.analysis_key());
+        egui::Panel::right("plots")
+            .resizable(true)
+            .default_size(420.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
+            });
+        let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
+        egui::CentralPanel::default().show(ui, |ui| self.viewport_panel(ui));
+        self.dialogs(&ctx);
+        // One undo step per gesture: commit once no button is held.
+        if !ctx.input(|i| i.pointer.any_down()) {
+            self.doc.commit();
+        }
+        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.doc.title()));
+        self.ui_ms = ui_ms;
+    }
+
+    fn poll_workers(&mut self) {
+        if let Some((key, result)) = self.analysis.poll() {
+            match result {
+                Ok(a) => {
+                    if analysis::is_slow(&key.profile) && key.profile == self.doc.preset.profile {
+                        self.curves = Some(Ok(a.curves.clone()));
+                    }
+                    self.latest = Some(a);
+                }
+                Err(e) => {
+                    if key.profile == self.doc.preset.profile {
+                        self.curves = Some(Err(e));
+                    }
+                }
+            }
+        }
+        let mut done = Vec::new();
+        self.exports.retain(|rx| match rx.try_recv() {
+            Ok(r) => {
+                done.push(r);
+                false
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => true,
+            Err(_) => false,
+        });
+        for r in done {
+            self.status = match r {
+                Ok(paths) => format!(
+                    "Exported {}",
+                    paths
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                Err(e) => format!("Error: {e}"),
+            };
+        }
+    }
+
+    fn menu_bar(&mut self, ui: &mut egui::Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                ui.menu_button("New from preset", |ui| {
+                    for (file, _) in library::PRESETS {
+                        if let Ok(p) = library::load(file) {
+                            if ui.button(&p.name).on_hover_text(&p.source).clicked() {
+                                self.guarded(Pending::New(Box::new(p)));
+                                ui.close();
+                            }
+                        }
+                    }
+                });
+                if ui.button("Open…  (Ctrl+O)").clicked() {
+                    self.open_dialog(DialogKind::Open);
+                    ui.close();
+                }
+                ui.menu_button("Open recent", |ui| {
+                    if self.ui_state.recent.is_empty() {
+                        ui.label("(none)");
+                    }
+                    for p in self.ui_state.recent.clone() {
+                        if ui.button(p.display().to_string()).clicked() {
+                            self.guarded(Pending::Open(p));
+                            ui.close();
+                        }
+                    }
+                });
+                if ui.button("Save  (Ctrl+S)").clicked() {
+                    self.save();
+                    ui.close();
+                }
+                if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
+                    self.open_dialog(DialogKind::SaveAs);
+                    ui.close();
+                }
+                ui.separator();
+                if ui
+                    .button("Load mesh…")
+                    .on_hover_text("An OBJ or glTF with UVs, in metres.")
+                    .clicked()
+                {
+                    self.open_dialog(DialogKind::Mesh);
+                    ui.close();
+                }
+                if ui.button("Default head").clicked() {
+                    self.mesh = None;
+                    ui.close();
+                }
+                ui.separator();
+                if ui.button("Quit").clicked() {
+                    self.guarded(Pending::Quit);
+                    ui.close();
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                if ui
+                    .add_enabled(self.doc.can_undo(), egui::Button::new("Undo  (Ctrl+Z)"))
+                    .clicked()
+                {
+                    self.doc.undo();
+                }
+                if ui
+                    .add_enabled(
+                        self.doc.can_redo(),
+                        egui::Button::new("Redo  (Ctrl+Shift+Z)"),
+                    )
+                    .clicked()
+                {
+                    self.doc.redo();
+                }
+            });
+            ui.menu_button("Export", |ui| {
+                for f in Format::ALL {
+                    let tip = match f {
+                        Format::Unity => "HDRP DiffusionProfileSettings .asset",
+                        Format::Unreal => "SubsurfaceProfile struct text + Python",
+                        Format::Blender => "Principled BSDF Python snippet",
+                        Format::LutPng | Format::LutExr => {
+                            "pre-integrated and shadow tables (takes a few seconds)"
+                        }
+                        Format::ProfilePng | Format::ProfileExr => {
+                            "1D r·R(r) texture and transmittance strip"
+                        }
+                        Format::SamplesJson => "Burley sample pattern",
+                        Format::Ron => "scatterlab preset",
+                        _ => "separable kernel and Burley samples as arrays",
+                    };
+                    if ui.button(f.id()).on_hover_text(tip).clicked() {
+                        self.open_dialog(DialogKind::Export(f));
+                        ui.close();
+                    }
+                }
+            });
+            ui.separator();
+            let dirty = if self.doc.is_dirty() { " *" } else { "" };
+            ui.label(format!("{}{}", self.doc.preset.name, dirty))
+                .on_hover_text("* = unsaved changes");
+        });
+    }
+
+    fn status_bar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            if !self.exports.is_empty() || self.analysis.busy() {
+                ui.spinner();
+            }
+            let color = if self.status.starts_with("Error") {
+                ui.visuals().error_fg_color
+            } else {
+                ui.visuals().text_color()
+            };
+            ui.colored_label(color, &self.status);
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.label(&self.frame_info);
+            });
+        });
+    }
+
+    fn params_panel(&mut self, ui: &mut egui::Ui) {
+        let p = &mut self.doc.preset;
+        ui.heading("Look");
+        ui.horizontal(|ui| {
+            ui.label("Name");
+            ui.text_edit_singleline(&mut p.name);
+        });
+        ui.separator();
+        params_ui::model_picker(ui, &mut p.profile);
+        params_ui::model_params(ui, &mut p.profile);
+        if let Err(e) = p.profile.build() {
+            ui.colored_label(ui.visuals().error_fg_color, e.to_string());
+        }
+        ui.separator();
+        egui::CollapsingHeader::new("Rendering")
+            .default_open(true)
+            .show(ui, |ui| params_ui::rendering(ui, &mut p.rendering));
+        ui.separator();
+        egui::CollapsingHeader::new("Engines (live)")
+            .default_open(true)
+            .show(ui, |ui| self.engine_readouts(ui));
+    }
+
+    fn engine_readouts(&mut self, ui: &mut egui::Ui) {
+        use crate::model::units::{UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
+        let p = &self.doc.preset;
+        let burley = match &p.profile {
+            crate::settings::ProfileSpec::Burley(b) => {
+                b.build().map(|b| (b, 0.0)).map_err(|e| e.to_string())
+            }
+            _ => match self.latest.as_ref().filter(|a| a.key.profile == p.profile) {
+                Some(a) => a.burley_fit.clone().unwrap_or_else(|| Err("no fit".into())),
+                None => {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label("fitting Burley …");
+                    });
+                    return;
+                }
+            },
+        };
+        let (b, err) = match burley {
+            Ok(x) => x,
+            Err(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+                return;
+            }
+        };
+        if err > 0.0 {
+            ui.label(format!(
+                "Through a Burley fit (relative L2 error of r·R(r): {:.2} %)",
+                100.0 * err
+            ));
+        }
+        let f3 = |v: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+        if let Ok(u) = UnityProfile::from_burley(&b, p.rendering.world_scale_m_per_unit) {
+            ui.label("Unity HDRP")
+                .on_hover_text("DiffusionProfileSettings fields");
+            ui.monospace(format!(
+                "scatteringDistance  {}\nmultiplier          {:.4}\nworldScale          {:.4} m/unit\nalbedo (material)   {}",
+                f3(u.scattering_distance_color),
+                u.scattering_distance_multiplier,
+                u.world_scale_m_per_unit,
+                f3(b.albedo())
+            ));
+        }
+        if let Ok(u) = UnrealProfile::from_burley(&b, UNREAL_DEFAULT_WORLD_UNIT_SCALE) {
+            ui.label("Unreal")
+                .on_hover_text("SubsurfaceProfile (Burley, mean free path)");
+            ui.monospace(format!(
+                "SurfaceAlbedo         {}\nMeanFreePathColor     {}\nMeanFreePathDistance  {:.4} cm\nWorldUnitScale        {:.2}",
+                f3(u.surface_albedo),
+                f3(u.mean_free_path_color),
+                u.mean_free_path_distance_cm,
+                u.world_unit_scale
+            ));
+        }
+    }
+
+    fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+        let compare_b_label = match &self.ui_state.compare_b {
+            CompareB::Method(m) => format!("method {}", m.label()),
+            CompareB::Preset(p) => format!("preset {}", p.display()),
+        };
+        ui.horizontal(|ui| {
+            ui.label("Compare").on_hover_text(
+                "A is the current look; B another method or preset. Space toggles A/B.",
+            );
+            for (m, name) in [
+                (CompareMode::Off, "off"),
+                (CompareMode::Split, "split"),
+                (CompareMode::SideBySide, "side by side"),
+                (CompareMode::Difference, "difference"),
+            ] {
+                ui.selectable_value(&mut self.ui_state.compare, m, name);
+            }
+            if self.ui_state.compare != CompareMode::Off {
+                ui.menu_button(format!("B: {compare_b_label}"), |ui| {
+                    for m in crate::settings::rendering::MethodId::ALL {
+                        if ui.button(m.label()).clicked() {
+                            self.ui_state.compare_b = CompareB::Method(m);
+                            ui.close();
+                        }
+                    }
+                    if ui.button("a preset file…").clicked() {
+                        self.open_dialog(DialogKind::CompareB);
+                        ui.close();
+                    }
+                });
+                if self.ui_state.compare == CompareMode::Split {
+                    ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"));
+                }
+                let label = if self.show_b {
+                    "showing B"
+                } else {
+                    "showing A"
+                };
+                ui.toggle_value(&mut self.show_b, label)
+                    .on_hover_text("Space");
+            }
+        });
+        ui.horizontal(|ui| {
+            let v = &mut self.ui_state.view;
+            ui.label("Environment");
+            ui.selectable_value(
+                &mut v.environment,
+                state::EnvironmentChoice::Studio,
+                "studio sky",
+            );
+            ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black");
+            ui.add(
+                egui::DragValue::new(&mut v.light_intensity)
+                    .range(0.0..=50.0)
+                    .speed(0.05)
+                    .prefix("light "),
+            )
+            .on_hover_text("Irradiance of the key light (linear).");
+            ui.add(
+                egui::DragValue::new(&mut v.exposure)
+                    .range(0.01..=20.0)
+                    .speed(0.01)
+                    .prefix("exposure "),
+            );
+            if ui.button("Reset view").clicked() {
+                *v = state::ViewState::default();
+            }
+        });
+        let avail = ui.available_size();
+        let (rect, response) = ui.allocate_exact_size(avail, egui::Sense::click_and_drag());
+        // Orbit (left drag), light (right drag or shift+drag), pan (middle drag), zoom (wheel).
+        let v = &mut self.ui_state.view;
+        let d = response.drag_delta();
+        let shift = ui.input(|i| i.modifiers.shift);
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || (shift && response.dragged_by(egui::PointerButton::Primary))
+        {
+            v.light_azimuth -= d.x * 0.01;
+            v.light_elevation = (v.light_elevation - d.y * 0.01).clamp(-1.5, 1.5);
+        } else if response.dragged_by(egui::PointerButton::Primary) {
+            v.camera_yaw -= d.x * 0.01;
+            v.camera_pitch = (v.camera_pitch + d.y * 0.01).clamp(-1.4, 1.4);
+        } else if response.dragged_by(egui::PointerButton::Middle) {
+            let k = v.camera_distance_m / rect.height().max(1.0) * 0.55;
+            v.pan_m[0] -= d.x * k;
+            v.pan_m[1] += d.y * k;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                v.camera_distance_m =
+                    (v.camera_distance_m * (-scroll * 0.002).exp()).clamp(0.08, 5.0);
+            }
+        }
+        response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
+        let ppp = ui.ctx().pixels_per_point();
+        let size = (
+            ((rect.width() * ppp) as u32).clamp(16, 4096),
+            ((rect.height() * ppp) as u32).clamp(16, 4096),
+        );
+        let b = if self.ui_state.compare == CompareMode::Off {
+            None
+        } else {
+            match viewport::b_look(&self.doc.preset, &self.ui_state.compare_b) {
+                Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
+                Err(e) => {
+                    self.status = format!("Error: compare B: {e}");
+                    None
+                }
+            }
+        };
+        let req = viewport::Request {
+            a: viewport::Look::of(&self.doc.preset),
+            b,
+            show_b: self.show_b && self.ui_state.compare != CompareMode::Off,
+            view: self.ui_state.view,
+            size,
+            mesh: self.mesh.clone(),
+        };
+        let valid = self.doc.preset.validate().is_ok();
+        if let Some(vp) = self.viewport.as_mut() {
+            if valid {
+                vp.request(req);
+            }
+            for reply in vp.poll() {
+                match reply {
+                    viewport::Reply::Frame {
+                        image,
+                        stats,
+                        wall_ms,
+                        note,
+                    } => {
+                        let ci = egui::ColorImage::from_rgba_unmultiplied(
+                            [image.width() as usize, image.height() as usize],
+                            image.as_raw(),
+                        );
+                        match &mut self.texture {
+                            Some(t) => t.set(ci, egui::TextureOptions::LINEAR),
+                            None => {
+                                self.texture = Some(ui.ctx().load_texture(
+                                    "viewport",
+                                    ci,
+                                    egui::TextureOptions::LINEAR,
+                                ))
+                            }
+                        }
+                        self.frame_info = format!(
+                            "{} · {}×{} · {:.0} ms{}{} · {}",
+                            stats.method,
+                            stats.width,
+                            stats.height,
+                            wall_ms,
+                            stats
+                                .sss_gpu_ms
+                                .map(|m| format!(" (SSS {m:.1} ms)"))
+                                .unwrap_or_default(),
+                            note.map(|n| format!(" · {n}")).unwrap_or_default(),
+                            stats.adapter
+                        );
+                    }
+                    viewport::Reply::Error(e) => {
+                        self.status = format!("Error: viewport: {e}");
+                        vp.invalidate();
+                    }
+                    viewport::Reply::MeshLoaded(p) => {
+                        self.status = match &p {
+                            Some(p) => format!("Mesh {}", p.display()),
+                            None => "Default head".into(),
+                        };
+                        if p.is_none() {
+                            self.mesh = None;
+                        }
+                    }
+                }
+            }
+        }
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
+        if let Some(t) = &self.texture {
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            painter.image(t.id(), rect, uv, egui::Color32::WHITE);
+        }
+        let busy = self
+            .viewport
+            .as_ref()
+            .and_then(|v| v.busy_since)
+            .map(|t| t.elapsed().as_secs_f32());
+        let label = match (self.viewport.is_none(), busy) {
+            (true, _) => Some("viewport off".to_string()),
+            (_, Some(s)) if s > 0.3 || self.texture.is_none() => {
+                Some(format!("rendering … {s:.1} s"))
+            }
+            _ => None,
+        };
+        if self.ui_state.compare != CompareMode::Off {
+            let tag = if self.show_b { "B" } else { "A" };
+            let text = match self.ui_state.compare {
+                CompareMode::Split if !self.show_b => "A | B".into(),
+                CompareMode::SideBySide if !self.show_b => "A    B".into(),
+                CompareMode::Difference if !self.show_b => "|A − B|".into(),
+                _ => tag.to_string(),
+            };
+            painter.text(
+                rect.left_top() + egui::vec2(8.0, 8.0),
+                egui::Align2::LEFT_TOP,
+                text,
+                egui::FontId::proportional(18.0),
+                egui::Color32::WHITE,
+            );
+        }
+        if let Some(l) = label {
+            painter.text(
+                rect.center_bottom() - egui::vec2(0.0, 12.0),
+                egui::Align2::CENTER_BOTTOM,
+                l,
+                egui::FontId::proportional(14.0),
+                egui::Color32::LIGHT_GRAY,
+            );
+        }
+        if busy.is_some() {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context) {
+        if let Some(pending) = self.pending.clone() {
+            let modal =
+                egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
+                    ui.heading("Unsaved changes");
+                    ui.label(format!(
+                        "\"{}\" has changes that are not saved.",
+                        self.doc.preset.name
+                    ));
+                    let mut choice = None;
+                    ui.horizontal(|ui| {
+                        if ui.button("Save").clicked() {
+                            choice = Some(0);
+                        }
+                        if ui.button("Discard changes").clicked() {
+                            choice = Some(1);
+                        }
+                        if ui.button("Cancel").clicked() {
+                            choice = Some(2);
+                        }
+                    });
+                    choice
+                });
+            match modal.inner {
+                Some(0) => {
+                    self.save();
+                    self.pending = None;
+                    if !self.doc.is_dirty() {
+                        self.run_pending(pending);
+                    }
+                }
+                Some(1) => {
+                    self.pending = None;
+                    self.run_pending(pending);
+                }
+                Some(_) => self.pending = None,
+                None => {}
+            }
+        }
+        let Some(mut dialog) = self.dialog.clone() else {
+            return;
+        };
+        let title = match &dialog.kind {
+            DialogKind::Open => "Open preset".to_string(),
+            DialogKind::SaveAs => "Save preset as".into(),
+            DialogKind::Export(f) => format!("Export {}", f.id()),
+            DialogKind::CompareB => "Preset to compare against (B)".into(),
+            DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
+        };
+        let mut close = false;
+        let mut accept = false;
+        egui::Modal::new(egui::Id::unique("scatterlab_file_dialog")).show(ctx, |ui| {
+            ui.heading(&title);
+            let r = ui.add(egui::TextEdit::singleline(&mut dialog.path).desired_width(520.0));
+            if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+                accept = true;
+            }
+            // The folder's matching files, to click.
+            let p = PathBuf::from(&dialog.path);
+            let dir = if p.is_dir() {
+                p.clone()
+            } else {
+                p.parent().map(Path::to_path_buf).unwrap_or_default()
+            };
+            let exts: &[&str] = match dialog.kind {
+                DialogKind::Mesh => &["obj", "gltf", "glb"],
+                DialogKind::Export(f) => &[f.extension()],
+                _ => &["ron"],
+            };
+            egui::ScrollArea::vertical()
+                .max_height(240.0)
+                .show(ui, |ui| {
+                    if let Some(parent) = dir.parent() {
+                        if ui.button("[up] ..").clicked() {
+                            dialog.path = parent.display().to_string();
+                        }
+                    }
+                    let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
+                        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+                        .unwrap_or_default();
+                    entries.sort();
+                    for e in entries {
+                        let name = e
+                            .file_name()
+                            .map(|n| n.to_string_lossy().into_owned())
+                            .unwrap_or_default();
+                        if name.starts_with('.') {
+                            continue;
+                        }
+                        let is_dir = e.is_dir();
+                        let matches = e
+                            .extension()
+                            .and_then(|x| x.to_str())
+                            .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()));
+                        if is_dir {
+                            if ui.button(format!("{name}/")).clicked() {
+                                dialog.path = e.display().to_string();
+                            }
+                        } else if matches && ui.button(&name).clicked() {
+                            dialog.path = e.display().to_string();
+                        }
+                    }
+                });
+            ui.horizontal(|ui| {
+                if ui.button("OK").clicked() {
+                    accept = true;
+                }
+                if ui.button("Cancel").clicked() {
+                    close = true;
+                }
+            });
+        });
+        if accept {
+            let path = PathBuf::from(dialog.path.trim());
+            close = true;
+            match dialog.kind {
+                DialogKind::Open => self.guarded(Pending::Open(path)),
+                DialogKind::SaveAs => self.save_as(&path),
+                DialogKind::Export(f) => self.export(f, path),
+                DialogKind::CompareB => match Preset::load(&path) {
+                    Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
+                    Err(e) => {
+                        self.status = format!("Error: {e}");
+                        close = false;
+                    }
+                },
+                DialogKind::Mesh => self.mesh = Some(path),
+            }
+        }
+        self.dialog = if close { None } else { Some(dialog) };
+    }
+}
+
+/// A file name from a look's name.
+fn file_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let s = s.trim_matches('_').to_string();
+    if s.is_empty() {
+        "look".into()
+    } else {
+        s
+    }
+}
+
+/// eframe's wrapper: persistence and the close prompt.
+struct EframeApp(EditorApp);
+
+impl eframe::App for EframeApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let app = &mut self.0;
+        if ui.ctx().input(|i| i.viewport().close_requested())
+            && app.doc.is_dirty()
+            && !app.allow_close
+        {
+            ui.ctx()
+                .send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            app.pending = Some(Pending::Quit);
+        }
+        if app.allow_close {
+            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+        app.show(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        let mut s = self.0.ui_state.clone();
+        s.last_preset = self.0.doc.path.clone();
+        eframe::set_value(storage, STORAGE_KEY, &s);
+    }
+}
+
+/// Opens the editor window on `preset` (else the last preset, else the
+/// embedded default skin).
+pub fn run(preset: Option<PathBuf>) -> anyhow::Result<()> {
+    let initial = match &preset {
+        Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
+        None => None,
+    };
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("scatterlab")
+            .with_app_id("scatterlab")
+            .with_inner_size([1500.0, 900.0])
+            .with_min_inner_size([900.0, 560.0])
+            .with_drag_and_drop(true),
+        persist_window: true,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "scatterlab",
+        options,
+        Box::new(move |cc| {
+            let ui_state: UiState = cc
+                .storage
+                .and_then(|s| eframe::get_value(s, STORAGE_KEY))
+                .unwrap_or_default();
+            let initial = initial.or_else(|| {
+                let p = ui_state.last_preset.clone()?;
+                Preset::load(&p).ok().map(|preset| (preset, Some(p)))
+            });
+            Ok(Box::new(EframeApp(EditorApp::new(
+                Some(&cc.egui_ctx),
+                ui_state,
+                initial,
+                true,
+            ))))
+        }),
+    )
+    .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))
+}

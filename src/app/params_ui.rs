@@ -1,0 +1,668 @@
+//! The parameter panel: model choice and every model's parameters, the
+//! rendering settings, each field with its unit and a tooltip that says
+//! what it does physically.
+
+use crate::model::{measured, Rgb, CHANNEL_NAMES};
+use crate::settings::profile::*;
+use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
+use crate::settings::{ProfileSpec, RenderingSpec};
+use egui::{DragValue, Ui};
+
+/// A number with its unit; returns whether it changed.
+pub fn scalar(
+    ui: &mut Ui,
+    label: &str,
+    unit: &str,
+    tip: &str,
+    v: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    speed: f64,
+) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        ui.add(
+            DragValue::new(v)
+                .range(range)
+                .speed(speed)
+                .max_decimals(5)
+                .suffix(unit),
+        )
+        .on_hover_text(tip)
+        .changed()
+    })
+    .inner
+}
+
+/// Three numbers (R, G, B) with a unit and a swatch when they are a colour.
+#[allow(clippy::too_many_arguments)]
+pub fn rgb(
+    ui: &mut Ui,
+    label: &str,
+    unit: &str,
+    tip: &str,
+    v: &mut Rgb,
+    range: std::ops::RangeInclusive<f64>,
+    speed: f64,
+    swatch: bool,
+) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        let mut changed = false;
+        for (c, x) in v.iter_mut().enumerate() {
+            changed |= ui
+                .add(
+                    DragValue::new(x)
+                        .range(range.clone())
+                        .speed(speed)
+                        .max_decimals(5)
+                        .prefix(format!("{}: ", CHANNEL_NAMES[c].to_uppercase()))
+                        .suffix(unit),
+                )
+                .on_hover_text(tip)
+                .changed();
+        }
+        if swatch {
+            let max = v.iter().cloned().fold(1.0, f64::max);
+            let c = v.map(|x| super::analysis::linear_to_srgb8(x / max));
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), egui::Sense::hover());
+            ui.painter()
+                .rect_filled(rect, 2.0, egui::Color32::from_rgb(c[0], c[1], c[2]));
+        }
+        changed
+    })
+    .inner
+}
+
+fn count(ui: &mut Ui, label: &str, tip: &str, v: &mut usize, range: (usize, usize), step: usize) {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        let mut x = *v as u32;
+        if ui
+            .add(
+                DragValue::new(&mut x)
+                    .range(range.0 as u32..=range.1 as u32)
+                    .speed(0.2),
+            )
+            .on_hover_text(tip)
+            .changed()
+        {
+            // Keep odd counts odd (kernels need a centre tap).
+            let mut n = x as usize;
+            if step == 2 && n.is_multiple_of(2) {
+                n = if n > *v {
+                    n + 1
+                } else {
+                    n.saturating_sub(1).max(range.0)
+                };
+            }
+            *v = n;
+        }
+    });
+}
+
+/// The model picker; switching model starts from that model's defaults.
+pub fn model_picker(ui: &mut Ui, spec: &mut ProfileSpec) {
+    let models: [(&str, ProfileSpec, &str); 7] = [
+        (
+            "Burley (normalized diffusion)",
+            ProfileSpec::Burley(Default::default()),
+            "Christensen & Burley 2015; Unity HDRP and Unreal's Burley profile.",
+        ),
+        (
+            "Jimenez 2012 (strength/falloff)",
+            ProfileSpec::Jimenez2012(Default::default()),
+            "The separable SSS demo's kernel; Unreal's separable profile.",
+        ),
+        (
+            "Artist two-Gaussian (Jimenez 2015)",
+            ProfileSpec::Artist(Default::default()),
+            "Near and far Gaussians, weight and global scale.",
+        ),
+        (
+            "Sum of Gaussians (d'Eon 2007)",
+            ProfileSpec::Gaussians(Default::default()),
+            "Weighted 2D Gaussians, one table row each.",
+        ),
+        (
+            "Dipole (σa, σs', η)",
+            ProfileSpec::Dipole(Default::default()),
+            "Jensen 2001 diffusion dipole from optical properties.",
+        ),
+        (
+            "Measured material",
+            ProfileSpec::Measured(Default::default()),
+            "Dipole of a material measured by Jensen 2001 or Narasimhan 2006.",
+        ),
+        (
+            "Multipole layer stack",
+            ProfileSpec::Multipole(Default::default()),
+            "Donner & Jensen 2005 slabs; stacks bake in the background.",
+        ),
+    ];
+    let current = models
+        .iter()
+        .find(|(_, m, _)| m.model_name() == spec.model_name())
+        .map(|(n, _, _)| *n)
+        .unwrap_or("?");
+    egui::ComboBox::from_label("Model")
+        .selected_text(current)
+        .show_ui(ui, |ui| {
+            for (name, default, tip) in models {
+                let selected = default.model_name() == spec.model_name();
+                if ui.selectable_label(selected, name).on_hover_text(tip).clicked() && !selected {
+                    *spec = default;
+                }
+            }
+        })
+        .response
+        .on_hover_text("The diffusion profile model. Switching starts from the model's defaults (undo restores).");
+}
+
+/// The parameters of the current model.
+pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
+    match spec {
+        ProfileSpec::Burley(b) => burley(ui, b),
+        ProfileSpec::Jimenez2012(j) => {
+            rgb(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", &mut j.strength, 0.0..=1.0, 0.005, false);
+            rgb(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", &mut j.falloff, 0.001..=1.0, 0.005, false);
+        }
+        ProfileSpec::Artist(a) => {
+            rgb(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", &mut a.sigma_near, 0.0..=10.0, 0.002, false);
+            rgb(
+                ui,
+                "σf (far)",
+                "",
+                "Width of the far Gaussian per channel, relative to s: the long red tail.",
+                &mut a.sigma_far,
+                0.0..=10.0,
+                0.005,
+                false,
+            );
+            scalar(
+                ui,
+                "w (near weight)",
+                "",
+                "Share of the energy in the near Gaussian; 1 − w goes to the far one.",
+                &mut a.weight,
+                0.0..=1.0,
+                0.005,
+            );
+            scalar(
+                ui,
+                "s (scale)",
+                " mm",
+                "Global width of both Gaussians in millimetres: how far light travels.",
+                &mut a.scale_mm,
+                0.01..=100.0,
+                0.05,
+            );
+        }
+        ProfileSpec::Gaussians(g) => gaussians(ui, g),
+        ProfileSpec::Dipole(d) => {
+            ui.horizontal(|ui| {
+                egui::ComboBox::from_label("Fill from measured")
+                    .selected_text("…")
+                    .show_ui(ui, |ui| {
+                        for m in measured::all() {
+                            if ui.button(&m.name).clicked() {
+                                d.sigma_a_per_mm = m.sigma_a_per_mm;
+                                d.sigma_s_prime_per_mm = m.sigma_s_prime_per_mm;
+                            }
+                        }
+                    })
+                    .response
+                    .on_hover_text(
+                        "Copy σa and σs' of a measured material (Jensen 2001, Narasimhan 2006).",
+                    );
+            });
+            rgb(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", &mut d.sigma_a_per_mm, 0.0..=100.0, 0.001, false);
+            rgb(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", &mut d.sigma_s_prime_per_mm, 0.0..=1000.0, 0.005, false);
+            scalar(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", &mut d.eta, 1.0..=2.0, 0.005);
+        }
+        ProfileSpec::Measured(m) => {
+            egui::ComboBox::from_label("Material")
+                .selected_text(m.name.clone())
+                .show_ui(ui, |ui| {
+                    for mat in measured::all() {
+                        let tip = format!(
+                            "σs' = {:?} /mm, σa = {:?} /mm",
+                            mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
+                        );
+                        ui.selectable_value(&mut m.name, mat.name.clone(), &mat.name)
+                            .on_hover_text(tip);
+                    }
+                })
+                .response
+                .on_hover_text("Measured σs' and σa (Jensen et al. 2001; Narasimhan et al. 2006), through the dipole.");
+            scalar(
+                ui,
+                "η",
+                "",
+                "Relative index of refraction of the surface.",
+                &mut m.eta,
+                1.0..=2.0,
+                0.005,
+            );
+            if let Ok(mat) = measured::find(&m.name) {
+                ui.label(format!(
+                    "σs' = {:.3?} /mm\nσa = {:.4?} /mm",
+                    mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
+                ));
+            }
+        }
+        ProfileSpec::Multipole(m) => multipole(ui, m),
+    }
+}
+
+fn burley(ui: &mut Ui, b: &mut BurleySpec) {
+    rgb(ui, "Albedo", "", "Total diffuse reflectance A per channel (Burley's volume albedo): how much light comes back out; it also sets the profile's shape through s(A).", &mut b.albedo, 0.0..=1.0, 0.003, true);
+    let mut is_sd = matches!(b.shape, BurleyShape::ScatteringDistance { .. });
+    ui.horizontal(|ui| {
+        ui.label("Shape from");
+        let sd = ui
+            .radio_value(&mut is_sd, true, "scattering distance")
+            .on_hover_text("Unity's parameter: d per channel, the profile's length scale.");
+        let mfp = ui
+            .radio_value(&mut is_sd, false, "mean free path")
+            .on_hover_text("A mean free path through one of Christensen & Burley's scaling fits.");
+        if sd.changed() || mfp.changed() {
+            let p = b.build().ok();
+            b.shape = match (is_sd, p) {
+                (true, Some(p)) => BurleyShape::ScatteringDistance {
+                    mm: p.scattering_distance_mm(),
+                    multiplier: 1.0,
+                },
+                (true, None) => BurleySpec::default().shape,
+                (false, _) => BurleyShape::MeanFreePath {
+                    mm: [1.0, 0.5, 0.25],
+                    fit: ScalingFitId::DiffuseMeanFreePath,
+                },
+            };
+        }
+    });
+    match &mut b.shape {
+        BurleyShape::ScatteringDistance { mm, multiplier } => {
+            rgb(ui, "Scattering distance", " mm", "d per channel: how far light travels under the skin before it comes back out (Unity's 'Scattering Distance').", mm, 0.0..=100.0, 0.005, true);
+            scalar(
+                ui,
+                "Multiplier",
+                "×",
+                "Scales all three distances together (Unity's 'Multiplier').",
+                multiplier,
+                1e-3..=100.0,
+                0.005,
+            );
+        }
+        BurleyShape::MeanFreePath { mm, fit } => {
+            rgb(
+                ui,
+                "Mean free path",
+                " mm",
+                "Per channel, the (diffuse) mean free path ℓ; d = ℓ / s(A).",
+                mm,
+                0.0..=100.0,
+                0.005,
+                true,
+            );
+            egui::ComboBox::from_label("Scaling fit")
+                .selected_text(format!("{fit:?}"))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(fit, ScalingFitId::Perpendicular, "Perpendicular (eq. 5)");
+                    ui.selectable_value(
+                        fit,
+                        ScalingFitId::DiffuseSurface,
+                        "Diffuse surface (eq. 6)",
+                    );
+                    ui.selectable_value(
+                        fit,
+                        ScalingFitId::DiffuseMeanFreePath,
+                        "Diffuse mean free path (eq. 8)",
+                    );
+                })
+                .response
+                .on_hover_text(
+                    "Christensen & Burley 2015's fit s(A) for the light's entry geometry.",
+                );
+        }
+    }
+}
+
+fn gaussians(ui: &mut Ui, g: &mut GaussiansSpec) {
+    let mut remove = None;
+    egui::Grid::new("gaussians").striped(true).show(ui, |ui| {
+        ui.label("#");
+        ui.label("variance")
+            .on_hover_text("v of exp(−r²/2v)/(2πv), mm²: the Gaussian's width squared.");
+        ui.label("weight R");
+        ui.label("G");
+        ui.label("B");
+        ui.label("");
+        ui.end_row();
+        for (i, t) in g.gaussians.iter_mut().enumerate() {
+            ui.label(format!("{}", i + 1));
+            ui.add(
+                DragValue::new(&mut t.variance_mm2)
+                    .range(1e-6..=1e4)
+                    .speed(0.002)
+                    .max_decimals(5)
+                    .suffix(" mm²"),
+            )
+            .on_hover_text("Variance of this Gaussian (mm²).");
+            for c in 0..3 {
+                ui.add(
+                    DragValue::new(&mut t.weights[c])
+                        .range(0.0..=1.0)
+                        .speed(0.002)
+                        .max_decimals(4),
+                )
+                .on_hover_text("Share of the channel's reflectance in this Gaussian.");
+            }
+            if ui
+                .small_button("x")
+                .on_hover_text("Remove this Gaussian")
+                .clicked()
+            {
+                remove = Some(i);
+            }
+            ui.end_row();
+        }
+    });
+    if let Some(i) = remove {
+        if g.gaussians.len() > 1 {
+            g.gaussians.remove(i);
+        }
+    }
+    if ui
+        .button("+ Add Gaussian")
+        .on_hover_text("Append a Gaussian (variance 1 mm², weight 0)")
+        .clicked()
+    {
+        g.gaussians.push(GaussianTerm {
+            variance_mm2: 1.0,
+            weights: [0.0; 3],
+        });
+    }
+}
+
+fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
+    scalar(
+        ui,
+        "η above",
+        "",
+        "Index of the medium light arrives from (air = 1).",
+        &mut m.eta_above,
+        1.0..=2.0,
+        0.005,
+    );
+    scalar(
+        ui,
+        "η below",
+        "",
+        "Index of the medium under a finite last layer.",
+        &mut m.eta_below,
+        1.0..=2.0,
+        0.005,
+    );
+    let mut d = m.dipoles as usize;
+    count(
+        ui,
+        "Dipole pairs",
+        "Mirrored dipole pairs n per slab (2n + 1 dipoles): more is more accurate and slower.",
+        &mut d,
+        (0, 50),
+        1,
+    );
+    m.dipoles = d as u32;
+    let n = m.layers.len();
+    let mut remove = None;
+    for (i, l) in m.layers.iter_mut().enumerate() {
+        egui::CollapsingHeader::new(format!(
+            "Layer {} {}",
+            i + 1,
+            if i == 0 { "(top)" } else { "" }
+        ))
+        .default_open(true)
+        .show(ui, |ui| {
+            rgb(
+                ui,
+                "σa",
+                " /mm",
+                "Absorption coefficient of this layer.",
+                &mut l.sigma_a_per_mm,
+                0.0..=100.0,
+                0.001,
+                false,
+            );
+            rgb(
+                ui,
+                "σs'",
+                " /mm",
+                "Reduced scattering coefficient of this layer.",
+                &mut l.sigma_s_prime_per_mm,
+                0.0..=1000.0,
+                0.005,
+                false,
+            );
+            scalar(
+                ui,
+                "η",
+                "",
+                "Index of refraction of this layer.",
+                &mut l.eta,
+                1.0..=2.0,
+                0.005,
+            );
+            let last = i + 1 == n;
+            let mut infinite = l.thickness_mm.is_none();
+            if last {
+                ui.checkbox(&mut infinite, "semi-infinite")
+                    .on_hover_text("The last layer may extend without bound (a base).");
+            } else {
+                infinite = false;
+            }
+            if infinite {
+                l.thickness_mm = None;
+            } else {
+                let mut t = l.thickness_mm.unwrap_or(1.0);
+                scalar(
+                    ui,
+                    "Thickness",
+                    " mm",
+                    "Depth of this layer.",
+                    &mut t,
+                    1e-4..=1000.0,
+                    0.01,
+                );
+                l.thickness_mm = Some(t);
+            }
+            if n > 1 && ui.small_button("Remove layer").clicked() {
+                remove = Some(i);
+            }
+        });
+    }
+    if let Some(i) = remove {
+        m.layers.remove(i);
+        if let Some(last) = m.layers.last_mut() {
+            let _ = last;
+        }
+    }
+    if ui
+        .button("+ Add layer on top")
+        .on_hover_text("A 0.1 mm layer above the stack (an oil or epidermis film)")
+        .clicked()
+    {
+        m.layers.insert(
+            0,
+            LayerSpec {
+                thickness_mm: Some(0.1),
+                ..Default::default()
+            },
+        );
+    }
+    // Only the last layer may be semi-infinite.
+    let len = m.layers.len();
+    for l in m.layers.iter_mut().take(len.saturating_sub(1)) {
+        l.thickness_mm.get_or_insert(1.0);
+    }
+}
+
+/// Rendering and engine-side material settings.
+pub fn rendering(ui: &mut Ui, r: &mut RenderingSpec) {
+    egui::ComboBox::from_label("Method")
+        .selected_text(r.method.label())
+        .show_ui(ui, |ui| {
+            for m in MethodId::ALL {
+                ui.selectable_value(&mut r.method, m, m.label());
+            }
+        })
+        .response
+        .on_hover_text("The real-time SSS method the viewport renders with.");
+    count(
+        ui,
+        "Burley samples",
+        "Disk samples per pixel of the burley method (Golubev 2018): more is smoother and slower.",
+        &mut r.samples,
+        crate::settings::rendering::SAMPLES_RANGE,
+        1,
+    );
+    count(
+        ui,
+        "Separable taps",
+        "Taps of each 1D pass of the separable method (odd).",
+        &mut r.taps,
+        crate::settings::rendering::TAPS_RANGE,
+        2,
+    );
+    ui.checkbox(&mut r.lod, "Level of detail").on_hover_text(
+        "Skip scattering where the disk is under a pixel, and use fewer samples under four pixels.",
+    );
+    egui::ComboBox::from_label("Texturing")
+        .selected_text(match r.texturing {
+            TexturingId::PreAndPostScatter => "pre- and post-scatter",
+            TexturingId::PostScatter => "post-scatter",
+        })
+        .show_ui(ui, |ui| {
+            ui.selectable_value(
+                &mut r.texturing,
+                TexturingId::PreAndPostScatter,
+                "pre- and post-scatter",
+            )
+            .on_hover_text("√albedo before and after the blur: softer texture detail.");
+            ui.selectable_value(&mut r.texturing, TexturingId::PostScatter, "post-scatter")
+                .on_hover_text("Albedo after the blur only: keeps scanned texture sharp.");
+        })
+        .response
+        .on_hover_text("When the albedo texture is applied relative to the scattering.");
+    egui::ComboBox::from_label("Transmission")
+        .selected_text(match r.transmission {
+            TransmissionId::Off => "off",
+            TransmissionId::ThinObject => "thin object",
+            TransmissionId::ThickObject => "thick object",
+        })
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut r.transmission, TransmissionId::Off, "off");
+            ui.selectable_value(
+                &mut r.transmission,
+                TransmissionId::ThinObject,
+                "thin object",
+            )
+            .on_hover_text("Baked thickness, shadowed like the front face (ears, nostrils).");
+            ui.selectable_value(
+                &mut r.transmission,
+                TransmissionId::ThickObject,
+                "thick object",
+            )
+            .on_hover_text("Thickness from the shadow map, unshadowed.");
+        })
+        .response
+        .on_hover_text("Light passing through thin parts from behind.");
+    ui.horizontal(|ui| {
+        let tip = "Thickness that black and white texels of a thickness map stand for (mm).";
+        ui.label("Thickness remap").on_hover_text(tip);
+        let (lo, hi) = &mut r.thickness_remap_mm;
+        ui.add(
+            DragValue::new(lo)
+                .range(0.0..=1e4)
+                .speed(0.05)
+                .suffix(" mm"),
+        )
+        .on_hover_text(tip);
+        ui.label("to");
+        ui.add(
+            DragValue::new(hi)
+                .range(0.0..=1e4)
+                .speed(0.05)
+                .suffix(" mm"),
+        )
+        .on_hover_text(tip);
+        if *hi < *lo {
+            *hi = *lo;
+        }
+    });
+    rgb(
+        ui,
+        "Transmission tint",
+        "",
+        "Multiplies light transmitted through thin parts.",
+        &mut r.transmission_tint,
+        0.0..=16.0,
+        0.005,
+        true,
+    );
+    scalar(
+        ui,
+        "IOR",
+        "",
+        "Index of refraction of the surface: sets the specular reflectance F0 = ((n−1)/(n+1))².",
+        &mut r.ior,
+        1.0..=2.0,
+        0.005,
+    );
+    scalar(
+        ui,
+        "World scale",
+        " m/unit",
+        "Metres per scene unit of the meshes this look is used on (Unity's worldScale).",
+        &mut r.world_scale_m_per_unit,
+        1e-3..=1e3,
+        0.001,
+    );
+    ui.label("Dual-lobe specular").on_hover_text("Unreal's two GGX lobes mixed by lobe mix; Unity's smoothness multipliers are derived on export.");
+    let s = &mut r.specular;
+    scalar(
+        ui,
+        "  Roughness",
+        "",
+        "Perceptual roughness the lobe multipliers apply to.",
+        &mut s.roughness,
+        0.0..=1.0,
+        0.005,
+    );
+    scalar(
+        ui,
+        "  Lobe 0 ×",
+        "",
+        "Roughness multiplier of the sharper lobe (Unreal Roughness0).",
+        &mut s.lobe0_roughness_multiplier,
+        0.0..=2.0,
+        0.005,
+    );
+    scalar(
+        ui,
+        "  Lobe 1 ×",
+        "",
+        "Roughness multiplier of the broader lobe (Unreal Roughness1).",
+        &mut s.lobe1_roughness_multiplier,
+        0.0..=2.0,
+        0.005,
+    );
+    scalar(
+        ui,
+        "  Lobe mix",
+        "",
+        "Weight of lobe 1 (Unreal LobeMix).",
+        &mut s.lobe_mix,
+        0.0..=1.0,
+        0.005,
+    );
+}

@@ -1,0 +1,252 @@
+//! R(r) / r·R(r) per channel with the 0.997-energy radii, the fitted
+//! overlay and its error, the separable taps as stems, and previews of the
+//! pre-integrated table and the transmittance strip.
+
+use super::analysis::Curves;
+use super::state::{OverlayModel, PlotQuantity};
+use super::EditorApp;
+use egui::Color32;
+use egui_plot::{Legend, Line, Plot, PlotPoints, Points, VLine};
+
+const CHANNEL_COLORS: [Color32; 3] = [
+    Color32::from_rgb(230, 70, 60),
+    Color32::from_rgb(80, 190, 80),
+    Color32::from_rgb(70, 120, 230),
+];
+
+/// The plotted value of channel `c` at point `i` (log axes plot log10).
+fn value(curves: &Curves, q: PlotQuantity, i: usize, c: usize, log: bool) -> Option<f64> {
+    let v = match q {
+        PlotQuantity::R => curves.r[i][c],
+        PlotQuantity::RTimesR => curves.r_times_r[i][c],
+    };
+    if log {
+        (v > 0.0 && v.is_finite()).then(|| v.log10())
+    } else {
+        v.is_finite().then_some(v)
+    }
+}
+
+/// The series the main plot draws, per channel: (radius mm, value) points
+/// (exposed for tests: what the plot shows).
+pub fn series(curves: &Curves, q: PlotQuantity, log: bool) -> [Vec<[f64; 2]>; 3] {
+    [0, 1, 2].map(|c| {
+        (0..curves.radius_mm.len())
+            .filter_map(|i| value(curves, q, i, c, log).map(|v| [curves.radius_mm[i], v]))
+            .collect()
+    })
+}
+
+pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
+    let s = &mut app.ui_state;
+    ui.heading("Profile");
+    ui.horizontal(|ui| {
+        ui.selectable_value(&mut s.plot_quantity, PlotQuantity::RTimesR, "r·R(r)")
+            .on_hover_text("Radial energy density (1/mm): where the light comes out.");
+        ui.selectable_value(&mut s.plot_quantity, PlotQuantity::R, "R(r)")
+            .on_hover_text("Diffuse reflectance per area (1/mm²).");
+        ui.checkbox(&mut s.log_y, "log")
+            .on_hover_text("Logarithmic value axis (log10).");
+        ui.checkbox(&mut s.show_taps, "taps").on_hover_text(
+            "The separable kernel's taps as stems (weight per channel at its offset).",
+        );
+    });
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_label("Overlay")
+            .selected_text(match s.overlay {
+                OverlayModel::None => "none",
+                OverlayModel::Burley => "Burley fit",
+                OverlayModel::Jimenez => "Jimenez 2012 fit",
+                OverlayModel::Artist => "artist fit",
+                OverlayModel::Gaussians4 => "4 Gaussians fit",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.overlay, OverlayModel::None, "none");
+                ui.selectable_value(&mut s.overlay, OverlayModel::Burley, "Burley fit");
+                ui.selectable_value(&mut s.overlay, OverlayModel::Jimenez, "Jimenez 2012 fit");
+                ui.selectable_value(&mut s.overlay, OverlayModel::Artist, "artist fit");
+                ui.selectable_value(&mut s.overlay, OverlayModel::Gaussians4, "4 Gaussians fit");
+            })
+            .response
+            .on_hover_text(
+                "A model fitted to the current profile (least squares on r·R(r)), drawn dashed.",
+            );
+    });
+    let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
+    let unit = match q {
+        PlotQuantity::R => "1/mm²",
+        PlotQuantity::RTimesR => "1/mm",
+    };
+    let overlay = app
+        .latest
+        .as_ref()
+        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == s.overlay)
+        .and_then(|a| a.overlay.clone());
+    let mut apply = None;
+    match &overlay {
+        Some(Ok(o)) => {
+            ui.horizontal(|ui| {
+                ui.label(format!(
+                    "{}: relative L2 error of r·R(r) R {:.2} %, G {:.2} %, B {:.2} %",
+                    o.label,
+                    100.0 * o.error[0],
+                    100.0 * o.error[1],
+                    100.0 * o.error[2]
+                ));
+                if ui
+                    .button("Use fit")
+                    .on_hover_text("Replace the look's model with the fitted one (undoable).")
+                    .clicked()
+                {
+                    apply = Some(o.spec.clone());
+                }
+            });
+        }
+        Some(Err(e)) => {
+            ui.colored_label(ui.visuals().error_fg_color, format!("fit: {e}"));
+        }
+        None if s.overlay != OverlayModel::None => {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("fitting …");
+            });
+        }
+        None => {}
+    }
+    match &app.curves {
+        Some(Ok(curves)) => {
+            let lines = series(curves, q, log);
+            let taps = app
+                .latest
+                .as_ref()
+                .filter(|a| a.key.profile == app.doc.preset.profile)
+                .map(|a| a.taps.clone())
+                .unwrap_or_default();
+            let r997 = curves.radius_997_mm;
+            Plot::new("profile_plot")
+                .height(280.0)
+                .legend(Legend::default())
+                .x_axis_label("radius (mm)")
+                .y_axis_label(if log {
+                    format!("log10 value ({unit})")
+                } else {
+                    unit.to_string()
+                })
+                .show(ui, |plot| {
+                    for c in 0..3 {
+                        let name = ["R", "G", "B"][c];
+                        plot.line(
+                            Line::new(name, PlotPoints::from(lines[c].clone()))
+                                .color(CHANNEL_COLORS[c])
+                                .width(2.0),
+                        );
+                        plot.vline(
+                            VLine::new("99.7 % energy radius", r997[c])
+                                .color(CHANNEL_COLORS[c].gamma_multiply(0.6))
+                                .style(egui_plot::LineStyle::dotted_dense()),
+                        );
+                    }
+                    if let Some(Ok(o)) = &overlay {
+                        let ol = series(&o.curves, q, log);
+                        for c in 0..3 {
+                            plot.line(
+                                Line::new(o.label.clone(), PlotPoints::from(ol[c].clone()))
+                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.7))
+                                    .style(egui_plot::LineStyle::dashed_loose()),
+                            );
+                        }
+                    }
+                    if show_taps && !log && !taps.is_empty() {
+                        // Scale the weights into the plot's range.
+                        let peak = lines.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
+                        let wmax = taps.iter().flat_map(|t| t.weight).fold(1e-12, f64::max);
+                        for c in 0..3 {
+                            let pts: Vec<[f64; 2]> = taps
+                                .iter()
+                                .filter(|t| t.offset_mm >= 0.0)
+                                .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
+                                .collect();
+                            plot.points(
+                                Points::new("separable taps (scaled)", PlotPoints::from(pts))
+                                    .stems(0.0)
+                                    .radius(3.0)
+                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.5)),
+                            );
+                        }
+                    }
+                });
+            ui.label(format!(
+                "Total reflectance {:.3} / {:.3} / {:.3} · 99.7 % radius {:.2} / {:.2} / {:.2} mm",
+                curves.total[0], curves.total[1], curves.total[2], r997[0], r997[1], r997[2]
+            ));
+        }
+        Some(Err(e)) => {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        None => {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("computing the layered profile …");
+            });
+        }
+    }
+    if let Some(spec) = apply {
+        let mut p = app.doc.preset.clone();
+        p.profile = spec;
+        app.doc.replace(p);
+    }
+    ui.separator();
+    let Some(a) = app
+        .latest
+        .clone()
+        .filter(|a| a.key.profile == app.doc.preset.profile)
+    else {
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label("baking tables …");
+        });
+        return;
+    };
+    ui.label("Pre-integrated table D(N·L, 1/r)")
+        .on_hover_text("Penner 2011: x = N·L from −1 to 1, y = curvature 1/r from 1/100 to 1/1 mm⁻¹ (top to bottom). Linear D shown in sRGB.");
+    // Uploaded once per analysis result, not per frame.
+    if app.preview_textures.as_ref().map(|t| &t.0) != Some(&a.key) {
+        let n = a.lut_size;
+        let rgba: Vec<u8> = a
+            .lut_preview
+            .iter()
+            .flat_map(|p| [p[0], p[1], p[2], 255])
+            .collect();
+        let lut = (a.lut_preview.len() == n * n).then(|| {
+            let img = egui::ColorImage::from_rgba_unmultiplied([n, n], &rgba);
+            ui.ctx()
+                .load_texture("lut_preview", img, egui::TextureOptions::NEAREST)
+        });
+        let strip: Vec<u8> = a
+            .transmittance
+            .iter()
+            .flat_map(|t| {
+                let c = t.map(super::analysis::linear_to_srgb8);
+                [c[0], c[1], c[2], 255]
+            })
+            .collect();
+        let img = egui::ColorImage::from_rgba_unmultiplied([a.transmittance.len(), 1], &strip);
+        let strip = ui
+            .ctx()
+            .load_texture("transmittance", img, egui::TextureOptions::LINEAR);
+        app.preview_textures = Some((a.key.clone(), lut, strip));
+    }
+    let Some((_, lut, strip)) = &app.preview_textures else {
+        return;
+    };
+    if let Some(lut) = lut {
+        ui.image((lut.id(), egui::vec2(192.0, 192.0)));
+    }
+    ui.small(format!("background bake {:.0} ms", a.seconds * 1e3));
+    ui.label(format!(
+        "Transmittance T(d), d = 0 … {:.1} mm",
+        a.key.thickness_max_mm
+    ))
+    .on_hover_text("Light through a slab of thickness d (left thin, right thick), shown in sRGB.");
+    ui.image((strip.id(), egui::vec2(384.0, 24.0)));
+}

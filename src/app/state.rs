@@ -1,0 +1,304 @@
+//! The document being edited (a preset and its file), its undo history,
+//! and the UI state remembered between runs. No egui here.
+
+use crate::settings::Preset;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Undo steps kept.
+pub const HISTORY_LIMIT: usize = 200;
+/// Recent files listed.
+pub const RECENT_LIMIT: usize = 10;
+
+/// A preset, where it lives, and what was last saved there.
+#[derive(Debug, Clone)]
+pub struct Document {
+    pub preset: Preset,
+    pub path: Option<PathBuf>,
+    /// The preset as last loaded or saved (the unsaved-changes check).
+    saved: Preset,
+    /// The state the next undo step returns to (edits since are one step).
+    committed: Preset,
+    undo: Vec<Preset>,
+    redo: Vec<Preset>,
+}
+
+impl Document {
+    pub fn new(preset: Preset, path: Option<PathBuf>) -> Self {
+        Self {
+            saved: preset.clone(),
+            committed: preset.clone(),
+            preset,
+            path,
+            undo: Vec::new(),
+            redo: Vec::new(),
+        }
+    }
+
+    pub fn is_dirty(&self) -> bool {
+        self.preset != self.saved
+    }
+
+    /// Ends an edit: if the preset changed since the last commit, the old
+    /// state becomes an undo step. Called once per frame while no pointer
+    /// button is held, so a slider drag is one step.
+    pub fn commit(&mut self) {
+        if self.preset != self.committed {
+            let before = std::mem::replace(&mut self.committed, self.preset.clone());
+            self.undo.push(before);
+            if self.undo.len() > HISTORY_LIMIT {
+                self.undo.remove(0);
+            }
+            self.redo.clear();
+        }
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty() || self.preset != self.committed
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    pub fn undo(&mut self) {
+        self.commit();
+        if let Some(prev) = self.undo.pop() {
+            self.redo.push(std::mem::replace(&mut self.preset, prev));
+            self.committed = self.preset.clone();
+        }
+    }
+
+    pub fn redo(&mut self) {
+        if let Some(next) = self.redo.pop() {
+            self.undo.push(std::mem::replace(&mut self.preset, next));
+            self.committed = self.preset.clone();
+        }
+    }
+
+    /// Replaces the preset as one undoable edit (applying a fit, picking a
+    /// material from a list).
+    pub fn replace(&mut self, preset: Preset) {
+        self.commit();
+        self.preset = preset;
+        self.commit();
+    }
+
+    /// Saves to `path` (atomically) and remembers it as the document's file.
+    pub fn save_as(&mut self, path: &Path) -> Result<(), crate::settings::PresetError> {
+        self.preset.save(path)?;
+        self.path = Some(path.to_owned());
+        self.saved = self.preset.clone();
+        Ok(())
+    }
+
+    pub fn title(&self) -> String {
+        let file = self
+            .path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "untitled".into());
+        format!(
+            "{}{} — {} — scatterlab",
+            if self.is_dirty() { "* " } else { "" },
+            file,
+            self.preset.name
+        )
+    }
+}
+
+/// Which environment lights the head.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum EnvironmentChoice {
+    /// The procedural studio sky.
+    #[default]
+    Studio,
+    /// No environment: the key light alone.
+    Black,
+}
+
+/// How the viewport shows A and B.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum CompareMode {
+    #[default]
+    Off,
+    Split,
+    SideBySide,
+    Difference,
+}
+
+/// What B is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum CompareB {
+    /// The same profile with another method.
+    Method(crate::settings::rendering::MethodId),
+    /// Another preset file with its own method.
+    Preset(PathBuf),
+}
+
+impl Default for CompareB {
+    fn default() -> Self {
+        CompareB::Method(crate::settings::rendering::MethodId::Separable)
+    }
+}
+
+/// Camera and light, as the viewport's mouse controls change them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ViewState {
+    pub camera_yaw: f32,
+    pub camera_pitch: f32,
+    pub camera_distance_m: f32,
+    /// Camera target offset in the view plane (m).
+    pub pan_m: [f32; 2],
+    pub light_azimuth: f32,
+    pub light_elevation: f32,
+    pub light_intensity: f32,
+    pub environment: EnvironmentChoice,
+    pub environment_intensity: f32,
+    pub exposure: f32,
+}
+
+impl Default for ViewState {
+    fn default() -> Self {
+        let r = crate::render::RenderSettings::default();
+        Self {
+            camera_yaw: r.camera_yaw,
+            camera_pitch: r.camera_pitch,
+            camera_distance_m: r.camera_distance_m,
+            pan_m: [0.0; 2],
+            light_azimuth: r.light_azimuth,
+            light_elevation: r.light_elevation,
+            light_intensity: r.light_intensity,
+            environment: EnvironmentChoice::Studio,
+            environment_intensity: 1.0,
+            exposure: r.exposure,
+        }
+    }
+}
+
+/// What the plots show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum PlotQuantity {
+    /// r·R(r), the radial energy density (mm⁻¹).
+    #[default]
+    RTimesR,
+    /// R(r) (mm⁻²).
+    R,
+}
+
+/// The model fitted to the current profile for the overlay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum OverlayModel {
+    None,
+    Burley,
+    #[default]
+    Jimenez,
+    Artist,
+    Gaussians4,
+}
+
+/// UI state remembered between runs (eframe storage, RON).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct UiState {
+    pub view: ViewState,
+    pub compare: CompareMode,
+    pub compare_b: CompareB,
+    pub split: f32,
+    pub plot_quantity: PlotQuantity,
+    pub log_y: bool,
+    pub overlay: OverlayModel,
+    pub show_taps: bool,
+    pub recent: Vec<PathBuf>,
+    /// The preset open when the editor was closed.
+    pub last_preset: Option<PathBuf>,
+}
+
+impl Default for UiState {
+    fn default() -> Self {
+        Self {
+            view: ViewState::default(),
+            compare: CompareMode::Off,
+            compare_b: CompareB::default(),
+            split: 0.5,
+            plot_quantity: PlotQuantity::RTimesR,
+            log_y: false,
+            overlay: OverlayModel::Jimenez,
+            show_taps: true,
+            recent: Vec::new(),
+            last_preset: None,
+        }
+    }
+}
+
+impl UiState {
+    pub fn add_recent(&mut self, path: &Path) {
+        let path = path.to_owned();
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(RECENT_LIMIT);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_name(name: &str) -> Preset {
+        Preset {
+            name: name.into(),
+            ..Preset::default_skin()
+        }
+    }
+
+    #[test]
+    fn edits_between_commits_are_one_undo_step() {
+        let mut d = Document::new(with_name("a"), None);
+        d.preset.name = "ab".into();
+        d.preset.name = "abc".into();
+        d.commit();
+        d.preset.name = "abcd".into();
+        d.commit();
+        assert!(d.is_dirty());
+        d.undo();
+        assert_eq!(d.preset.name, "abc");
+        d.undo();
+        assert_eq!(d.preset.name, "a");
+        assert!(!d.is_dirty());
+        assert!(!d.can_undo());
+        d.redo();
+        d.redo();
+        assert_eq!(d.preset.name, "abcd");
+        // A new edit clears redo.
+        d.undo();
+        d.preset.name = "x".into();
+        d.commit();
+        assert!(!d.can_redo());
+    }
+
+    /// Undo without an explicit commit still undoes the pending edit.
+    #[test]
+    fn undo_commits_a_pending_edit_first() {
+        let mut d = Document::new(with_name("a"), None);
+        d.preset.name = "b".into();
+        assert!(d.can_undo());
+        d.undo();
+        assert_eq!(d.preset.name, "a");
+        d.redo();
+        assert_eq!(d.preset.name, "b");
+    }
+
+    #[test]
+    fn recent_files_are_unique_and_bounded() {
+        let mut u = UiState::default();
+        for i in 0..15 {
+            u.add_recent(Path::new(&format!("/p/{i}.ron")));
+        }
+        u.add_recent(Path::new("/p/3.ron"));
+        assert_eq!(u.recent.len(), RECENT_LIMIT);
+        assert_eq!(u.recent[0], Path::new("/p/3.ron"));
+        assert_eq!(u.recent.iter().filter(|p| p.ends_with("3.ron")).count(), 1);
+    }
+}

@@ -1,0 +1,348 @@
+//! The live head: a render thread that owns the wgpu renderer and renders
+//! only when the request changes; the UI shows its latest frame.
+//!
+//! The renderer runs on its own device on its own thread (not in
+//! egui_wgpu's paint callback): a frame with SSS takes 30–150 ms on
+//! lavapipe, and the UI thread must never wait for it. Requests are
+//! coalesced: the thread renders the newest request and drops the rest.
+
+use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
+use crate::render::{
+    FrameStats, GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer, Specular,
+    TexturingMode, Transmission,
+};
+use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
+use crate::settings::{Preset, ProfileSpec, RenderingSpec};
+use std::path::PathBuf;
+use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
+use std::time::Instant;
+
+/// d'Eon's 7-tap Gaussian kernel (the renderer's default).
+const GAUSSIAN_TAPS: usize = crate::render::inputs::GAUSSIAN_TAPS;
+
+pub fn method(id: MethodId) -> Method {
+    match id {
+        MethodId::None => Method::None,
+        MethodId::Burley => Method::Burley,
+        MethodId::Separable => Method::Separable,
+        MethodId::Gaussians => Method::Gaussians,
+        MethodId::Preintegrated => Method::Preintegrated,
+        MethodId::Reference => Method::Reference,
+    }
+}
+
+/// One side of a comparison: a look and the method it is rendered with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Look {
+    pub profile: ProfileSpec,
+    pub rendering: RenderingSpec,
+}
+
+impl Look {
+    pub fn of(p: &Preset) -> Self {
+        Self {
+            profile: p.profile.clone(),
+            rendering: p.rendering.clone(),
+        }
+    }
+}
+
+/// Everything a viewport frame depends on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request {
+    pub a: Look,
+    /// B and how to show it (`None`: A alone).
+    pub b: Option<(Look, CompareMode, f32)>,
+    /// Show B alone (the A/B toggle key).
+    pub show_b: bool,
+    pub view: ViewState,
+    pub size: (u32, u32),
+    pub mesh: Option<PathBuf>,
+}
+
+/// What the thread sends back.
+pub enum Reply {
+    Frame {
+        image: image::RgbaImage,
+        stats: Box<FrameStats>,
+        /// Wall time of the request on the render thread (ms).
+        wall_ms: f64,
+        /// Note for the status bar (difference scale).
+        note: Option<String>,
+    },
+    Error(String),
+    /// The mesh in the request was loaded (path, triangles).
+    MeshLoaded(Option<PathBuf>),
+}
+
+pub struct Viewport {
+    tx: Sender<Request>,
+    rx: Receiver<Reply>,
+    last_sent: Option<Request>,
+    pub busy_since: Option<Instant>,
+}
+
+impl Viewport {
+    /// Starts the render thread; `wake` is called after each reply.
+    pub fn start(wake: impl Fn() + Send + 'static) -> Self {
+        let (tx, req_rx) = channel::<Request>();
+        let (reply_tx, rx) = channel::<Reply>();
+        let spawned = std::thread::Builder::new()
+            .name("scatterlab-render".into())
+            .spawn(move || worker(req_rx, reply_tx, wake));
+        if let Err(e) = spawned {
+            // The UI still works without the viewport.
+            eprintln!("error: cannot start the render thread: {e}");
+        }
+        Self {
+            tx,
+            rx,
+            last_sent: None,
+            busy_since: None,
+        }
+    }
+
+    /// Sends `req` unless it equals the last one sent (nothing changed:
+    /// nothing is rendered).
+    pub fn request(&mut self, req: Request) {
+        if self.last_sent.as_ref() == Some(&req) {
+            return;
+        }
+        if self.tx.send(req.clone()).is_ok() {
+            self.busy_since.get_or_insert_with(Instant::now);
+        }
+        self.last_sent = Some(req);
+    }
+
+    /// Replies that arrived since the last call.
+    pub fn poll(&mut self) -> Vec<Reply> {
+        let replies: Vec<Reply> = self.rx.try_iter().collect();
+        if replies.iter().any(|r| !matches!(r, Reply::MeshLoaded(_))) {
+            self.busy_since = None;
+        }
+        replies
+    }
+
+    /// Forget the last request so the next one renders again (after an error).
+    pub fn invalidate(&mut self) {
+        self.last_sent = None;
+    }
+}
+
+/// Renderer settings for a look and view.
+pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> RenderSettings {
+    let r = &look.rendering;
+    let base = RenderSettings::default();
+    let env = match view.environment {
+        EnvironmentChoice::Studio => base.environment_sh,
+        EnvironmentChoice::Black => [[0.0; 3]; 9],
+    }
+    .map(|c| c.map(|v| v * view.environment_intensity));
+    let sp = &r.specular;
+    RenderSettings {
+        width: w,
+        height: h,
+        method: method(r.method),
+        texturing: match r.texturing {
+            TexturingId::PreAndPostScatter => TexturingMode::PreAndPostScatter,
+            TexturingId::PostScatter => TexturingMode::PostScatter,
+        },
+        camera_yaw: view.camera_yaw,
+        camera_pitch: view.camera_pitch,
+        camera_distance_m: view.camera_distance_m,
+        camera_pan_m: view.pan_m,
+        light_azimuth: view.light_azimuth,
+        light_elevation: view.light_elevation,
+        light_intensity: view.light_intensity,
+        exposure: view.exposure,
+        transmission: match r.transmission {
+            TransmissionId::Off => Transmission::Off,
+            TransmissionId::ThinObject => Transmission::ThinObject,
+            TransmissionId::ThickObject => Transmission::ThickObject,
+        },
+        transmission_tint: r.transmission_tint.map(|v| v as f32),
+        lod: r.lod,
+        specular: Specular::DualGgx {
+            roughness0: (sp.roughness * sp.lobe0_roughness_multiplier).min(1.0) as f32,
+            roughness1: (sp.roughness * sp.lobe1_roughness_multiplier).min(1.0) as f32,
+            lobe_mix: sp.lobe_mix as f32,
+        },
+        specular_f0: r.f0() as f32,
+        environment_sh: env,
+        ..base
+    }
+}
+
+/// The renderer and what it was last given, on the render thread.
+struct Worker {
+    renderer: Option<Renderer>,
+    mesh_path: Option<PathBuf>,
+    /// Inputs per (look, method) of the last frame (A and B).
+    cache: Vec<((ProfileSpec, usize, usize, Method), ProfileInputs)>,
+}
+
+impl Worker {
+    fn inputs(&mut self, look: &Look, m: Method) -> Result<ProfileInputs, String> {
+        let key = (
+            look.profile.clone(),
+            look.rendering.samples,
+            look.rendering.taps,
+            m,
+        );
+        if let Some((_, i)) = self.cache.iter().find(|(k, _)| *k == key) {
+            return Ok(i.clone());
+        }
+        let profile = look.profile.build().map_err(|e| e.to_string())?;
+        let inputs = ProfileInputs::for_look(
+            &look.profile,
+            profile.as_ref(),
+            m,
+            (look.rendering.samples, look.rendering.taps),
+            GAUSSIAN_TAPS,
+        )
+        .map_err(|e| e.to_string())?;
+        self.cache.insert(0, (key, inputs.clone()));
+        self.cache.truncate(4);
+        Ok(inputs)
+    }
+
+    fn ensure_renderer(&mut self, mesh: &Option<PathBuf>) -> Result<bool, String> {
+        if self.renderer.is_some() && self.mesh_path == *mesh {
+            return Ok(false);
+        }
+        let mesh_data = match mesh {
+            Some(p) => Mesh::load(p, 1.0).map_err(|e| e.to_string())?,
+            None => Mesh::default_head().map_err(|e| e.to_string())?,
+        };
+        let ctx = GpuContext::new_headless().map_err(|e| e.to_string())?;
+        self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
+        self.mesh_path = mesh.clone();
+        Ok(true)
+    }
+
+    fn frame(
+        &mut self,
+        req: &Request,
+    ) -> Result<(image::RgbaImage, FrameStats, Option<String>), String> {
+        let (w, h) = req.size;
+        let a_look = if req.show_b {
+            req.b.as_ref().map(|b| &b.0).unwrap_or(&req.a)
+        } else {
+            &req.a
+        };
+        let a_settings = render_settings(a_look, &req.view, (w, h));
+        let a_inputs = self.inputs(a_look, a_settings.method)?;
+        let b = match (&req.b, req.show_b) {
+            (Some((look, mode, split)), false) if *mode != CompareMode::Off => {
+                let size = if *mode == CompareMode::SideBySide {
+                    ((w / 2).max(16), h)
+                } else {
+                    (w, h)
+                };
+                let s = render_settings(look, &req.view, size);
+                Some((self.inputs(look, s.method)?, s, *mode, *split))
+            }
+            _ => None,
+        };
+        let renderer = self.renderer.as_mut().ok_or("no renderer")?;
+        let Some((b_inputs, b_settings, mode, split)) = b else {
+            let (img, stats) = renderer
+                .render(&a_inputs, &a_settings)
+                .map_err(|e| e.to_string())?;
+            return Ok((img, stats, None));
+        };
+        let a_settings = RenderSettings {
+            width: b_settings.width,
+            ..a_settings
+        };
+        let (a_img, stats) = renderer
+            .render(&a_inputs, &a_settings)
+            .map_err(|e| e.to_string())?;
+        let (b_img, _) = renderer
+            .render(&b_inputs, &b_settings)
+            .map_err(|e| e.to_string())?;
+        use crate::render::compare;
+        Ok(match mode {
+            CompareMode::Split => (compare::split_view(&a_img, &b_img, split), stats, None),
+            CompareMode::Difference => {
+                let (d, scale) = compare::difference_view(&a_img, &b_img, None);
+                (
+                    d,
+                    stats,
+                    Some(format!("|A − B| heat map: white = {scale:.3}")),
+                )
+            }
+            _ => {
+                let mut out = image::RgbaImage::new(a_img.width() * 2, a_img.height());
+                image::imageops::replace(&mut out, &a_img, 0, 0);
+                image::imageops::replace(&mut out, &b_img, a_img.width() as i64, 0);
+                (out, stats, None)
+            }
+        })
+    }
+}
+
+fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
+    let mut w = Worker {
+        renderer: None,
+        mesh_path: None,
+        cache: Vec::new(),
+    };
+    while let Ok(mut req) = rx.recv() {
+        // Coalesce: render only the newest request.
+        loop {
+            match rx.try_recv() {
+                Ok(newer) => req = newer,
+                Err(TryRecvError::Empty) => break,
+                Err(TryRecvError::Disconnected) => return,
+            }
+        }
+        let t0 = Instant::now();
+        match w.ensure_renderer(&req.mesh) {
+            Err(e) => {
+                // Fall back to the head so the viewport keeps working.
+                let _ = tx.send(Reply::Error(e));
+                if req.mesh.is_some() {
+                    req.mesh = None;
+                    let _ = w.ensure_renderer(&None);
+                    let _ = tx.send(Reply::MeshLoaded(None));
+                }
+                if w.renderer.is_none() {
+                    wake();
+                    continue;
+                }
+            }
+            Ok(true) => {
+                let _ = tx.send(Reply::MeshLoaded(req.mesh.clone()));
+            }
+            Ok(false) => {}
+        }
+        let reply = match w.frame(&req) {
+            Ok((image, stats, note)) => Reply::Frame {
+                image,
+                stats: Box::new(stats),
+                wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+                note,
+            },
+            Err(e) => Reply::Error(e),
+        };
+        if tx.send(reply).is_err() {
+            return;
+        }
+        wake();
+    }
+}
+
+/// The B side of a comparison.
+pub fn b_look(a: &Preset, b: &CompareB) -> Result<Look, String> {
+    match b {
+        CompareB::Method(m) => {
+            let mut look = Look::of(a);
+            look.rendering.method = *m;
+            Ok(look)
+        }
+        CompareB::Preset(path) => Preset::load(path)
+            .map(|p| Look::of(&p))
+            .map_err(|e| e.to_string()),
+    }
+}

@@ -1,0 +1,228 @@
+//! Exports of a look to the engines and tools artists ship on. One file
+//! per target family; every file is written atomically (temporary file,
+//! then rename) and, where the format has comments or metadata, records the
+//! scatterlab version and the source preset.
+
+mod engines;
+mod images;
+mod shaders;
+
+use crate::model::burley::Burley;
+use crate::model::fit::fit_burley;
+use crate::model::ModelError;
+use crate::settings::{Preset, ProfileSpec};
+use std::path::{Path, PathBuf};
+
+pub use engines::{blender_python, unity_asset, unreal_python, unreal_struct};
+pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
+pub use shaders::{kernel_source, samples_json, ShaderLanguage};
+
+/// Every export target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// The scatterlab preset (RON).
+    Ron,
+    /// Unity HDRP DiffusionProfileSettings `.asset` (YAML).
+    Unity,
+    /// Unreal SubsurfaceProfile struct text, plus a `.py` snippet beside it.
+    Unreal,
+    /// Separable kernel and Burley sample pattern as HLSL arrays.
+    Hlsl,
+    /// The same as GLSL arrays.
+    Glsl,
+    /// The same as WGSL arrays.
+    Wgsl,
+    /// Burley sample pattern: radius (mm), angle, per-channel weight.
+    SamplesJson,
+    /// Pre-integrated table (PNG) and the shadow table beside it.
+    LutPng,
+    /// The same tables as float OpenEXR.
+    LutExr,
+    /// r·R(r) as a 1D float texture, and the transmittance strip beside it.
+    ProfileExr,
+    /// The same as 16-bit PNG, normalised (scale in a text chunk).
+    ProfilePng,
+    /// Blender Principled BSDF: subsurface radius and scale as a Python snippet.
+    Blender,
+}
+
+impl Format {
+    pub const ALL: [Format; 12] = [
+        Format::Ron,
+        Format::Unity,
+        Format::Unreal,
+        Format::Hlsl,
+        Format::Glsl,
+        Format::Wgsl,
+        Format::SamplesJson,
+        Format::LutPng,
+        Format::LutExr,
+        Format::ProfileExr,
+        Format::ProfilePng,
+        Format::Blender,
+    ];
+
+    /// The command-line name (`--format`).
+    pub fn id(self) -> &'static str {
+        match self {
+            Format::Ron => "ron",
+            Format::Unity => "unity",
+            Format::Unreal => "unreal",
+            Format::Hlsl => "hlsl",
+            Format::Glsl => "glsl",
+            Format::Wgsl => "wgsl",
+            Format::SamplesJson => "samples-json",
+            Format::LutPng => "lut-png",
+            Format::LutExr => "lut-exr",
+            Format::ProfileExr => "profile-exr",
+            Format::ProfilePng => "profile-png",
+            Format::Blender => "blender",
+        }
+    }
+
+    /// The file extension an exported file gets by default.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Ron => "ron",
+            Format::Unity => "asset",
+            Format::Unreal => "txt",
+            Format::Hlsl => "hlsl",
+            Format::Glsl => "glsl",
+            Format::Wgsl => "wgsl",
+            Format::SamplesJson => "json",
+            Format::LutPng | Format::ProfilePng => "png",
+            Format::LutExr | Format::ProfileExr => "exr",
+            Format::Blender => "py",
+        }
+    }
+
+    /// Whether the export needs the slow table bakes (run off the UI thread).
+    pub fn is_slow(self) -> bool {
+        matches!(self, Format::LutPng | Format::LutExr)
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error("{path}: cannot write: {error}")]
+    Write {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Encode { path: PathBuf, message: String },
+    #[error("{0}")]
+    Model(#[from] ModelError),
+}
+
+/// What the header comment of an export says about where it came from.
+#[derive(Debug, Clone)]
+pub struct Provenance {
+    /// The preset's file (or "unsaved").
+    pub source: String,
+    pub preset_name: String,
+}
+
+impl Provenance {
+    pub fn new(preset: &Preset, source: Option<&Path>) -> Self {
+        Self {
+            source: source
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|| "unsaved preset".into()),
+            preset_name: preset.name.clone(),
+        }
+    }
+
+    /// One line for a comment: version and source.
+    pub fn line(&self) -> String {
+        format!(
+            "written by scatterlab {} from \"{}\" ({})",
+            env!("CARGO_PKG_VERSION"),
+            self.preset_name,
+            self.source
+        )
+    }
+}
+
+/// The look's Burley parameters: exact for a Burley profile, otherwise a
+/// least-squares fit, with the fit's relative L2 error of r·R(r).
+pub fn burley_of(profile: &ProfileSpec) -> Result<(Burley, f64), ModelError> {
+    match profile {
+        ProfileSpec::Burley(b) => Ok((b.build()?, 0.0)),
+        other => {
+            let p = other.build()?;
+            let f = fit_burley(p.as_ref())?;
+            let e = f.max_error();
+            Ok((f.model, e))
+        }
+    }
+}
+
+/// Path of a companion file: `out` with `suffix` added to its stem and `ext`.
+pub fn companion(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "export".into());
+    out.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
+    crate::fsutil::write_atomic(path, bytes).map_err(|error| ExportError::Write {
+        path: path.to_owned(),
+        error,
+    })
+}
+
+/// Writes `preset` in `format` to `out` (and any companion files); returns
+/// every path written. `source` is the preset's file, for the header.
+pub fn export(
+    preset: &Preset,
+    source: Option<&Path>,
+    format: Format,
+    out: &Path,
+) -> Result<Vec<PathBuf>, ExportError> {
+    preset.validate()?;
+    let prov = Provenance::new(preset, source);
+    let mut written = vec![out.to_owned()];
+    match format {
+        Format::Ron => {
+            let text = format!("// Exported: {}.\n{}", prov.line(), preset.to_ron());
+            write(out, text.as_bytes())?;
+        }
+        Format::Unity => write(out, unity_asset(preset, &prov)?.as_bytes())?,
+        Format::Unreal => {
+            let (text, py) = (unreal_struct(preset)?, unreal_python(preset, &prov)?);
+            write(out, text.as_bytes())?;
+            let py_path = companion(out, "", "py");
+            let py_path = if py_path == out {
+                companion(out, "_unreal", "py")
+            } else {
+                py_path
+            };
+            write(&py_path, py.as_bytes())?;
+            written.push(py_path);
+        }
+        Format::Hlsl | Format::Glsl | Format::Wgsl => {
+            let lang = match format {
+                Format::Hlsl => ShaderLanguage::Hlsl,
+                Format::Glsl => ShaderLanguage::Glsl,
+                _ => ShaderLanguage::Wgsl,
+            };
+            write(out, kernel_source(preset, lang, &prov)?.as_bytes())?;
+        }
+        Format::SamplesJson => write(out, samples_json(preset, &prov)?.as_bytes())?,
+        Format::LutPng | Format::LutExr => {
+            let shadow = companion(out, "_shadow", format.extension());
+            images::write_luts(preset, &prov, format == Format::LutExr, out, &shadow)?;
+            written.push(shadow);
+        }
+        Format::ProfileExr | Format::ProfilePng => {
+            let strip = companion(out, "_transmittance", format.extension());
+            images::write_profile(preset, &prov, format == Format::ProfileExr, out, &strip)?;
+            written.push(strip);
+        }
+        Format::Blender => write(out, blender_python(preset, &prov)?.as_bytes())?,
+    }
+    Ok(written)
+}

@@ -1,0 +1,241 @@
+//! The rendering part of a look: which real-time method, its quality, and
+//! the material settings that engines keep next to the profile (texturing
+//! and transmission modes, thickness remap, tint, IOR, world scale and the
+//! dual-lobe specular). Unity's DiffusionProfileSettings holds the same
+//! fields, which is why the Unity export reads them from here.
+
+use crate::model::{check_range, check_rgb, ModelError, Rgb};
+use serde::{Deserialize, Serialize};
+
+/// Screen-space SSS method (the renderer's `Method`, as a preset names it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum MethodId {
+    None,
+    #[default]
+    Burley,
+    Separable,
+    Gaussians,
+    Preintegrated,
+    Reference,
+}
+
+impl MethodId {
+    pub const ALL: [MethodId; 6] = [
+        MethodId::None,
+        MethodId::Burley,
+        MethodId::Separable,
+        MethodId::Gaussians,
+        MethodId::Preintegrated,
+        MethodId::Reference,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            MethodId::None => "none (no scattering)",
+            MethodId::Burley => "burley (Golubev 2018 disk)",
+            MethodId::Separable => "separable (Jimenez 2015)",
+            MethodId::Gaussians => "gaussians (d'Eon 2007)",
+            MethodId::Preintegrated => "preintegrated (Penner 2011)",
+            MethodId::Reference => "reference (exact, slow)",
+        }
+    }
+}
+
+/// Where the albedo is applied (Unity's `texturingMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum TexturingId {
+    /// √albedo before and after scattering (Unity 0): softer texture.
+    #[default]
+    PreAndPostScatter,
+    /// Albedo after scattering only (Unity 1): keeps scanned detail sharp.
+    PostScatter,
+}
+
+/// Light through thin parts (Unity's `transmissionMode` plus off).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum TransmissionId {
+    Off,
+    /// Baked thickness, shadowed with the front face (Unity 1, "Thin Object").
+    #[default]
+    ThinObject,
+    /// max(baked, shadow-map) thickness (Unity 0, "Thick Object").
+    ThickObject,
+}
+
+/// Unreal's dual-lobe GGX specular: two roughnesses, each a multiplier of
+/// the material roughness, mixed by `lobe_mix`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DualLobeSpec {
+    /// The material's roughness the multipliers apply to (perceptual, 0–1).
+    pub roughness: f64,
+    /// Multiplier of the first (sharper) lobe's roughness.
+    pub lobe0_roughness_multiplier: f64,
+    /// Multiplier of the second (broader) lobe's roughness.
+    pub lobe1_roughness_multiplier: f64,
+    /// Weight of the second lobe, 0–1.
+    pub lobe_mix: f64,
+}
+
+impl Default for DualLobeSpec {
+    fn default() -> Self {
+        // Unreal's FSubsurfaceProfileStruct defaults (Roughness0 0.75,
+        // Roughness1 1.30, LobeMix 0.15) on a skin roughness of 0.55.
+        Self {
+            roughness: 0.55,
+            lobe0_roughness_multiplier: 0.75,
+            lobe1_roughness_multiplier: 1.30,
+            lobe_mix: 0.15,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderingSpec {
+    pub method: MethodId,
+    /// Burley disk samples per pixel.
+    pub samples: usize,
+    /// Separable kernel taps (odd).
+    pub taps: usize,
+    /// Burley's level of detail (skip sub-pixel disks).
+    pub lod: bool,
+    pub texturing: TexturingId,
+    pub transmission: TransmissionId,
+    /// Thickness a black and a white texel of a thickness map stand for (mm).
+    pub thickness_remap_mm: (f64, f64),
+    /// Linear RGB multiplier of transmitted light.
+    pub transmission_tint: Rgb,
+    /// Index of refraction of the surface (specular F0).
+    pub ior: f64,
+    /// Metres per scene unit of the meshes this look is used on.
+    pub world_scale_m_per_unit: f64,
+    pub specular: DualLobeSpec,
+}
+
+impl Default for RenderingSpec {
+    fn default() -> Self {
+        Self {
+            method: MethodId::Burley,
+            samples: 21,
+            taps: 17,
+            lod: true,
+            texturing: TexturingId::PreAndPostScatter,
+            transmission: TransmissionId::ThinObject,
+            // Unity's default thickness remap.
+            thickness_remap_mm: (0.0, 5.0),
+            transmission_tint: [1.0; 3],
+            ior: 1.4,
+            world_scale_m_per_unit: 1.0,
+            specular: DualLobeSpec::default(),
+        }
+    }
+}
+
+/// Burley sample counts the editor and presets accept.
+pub const SAMPLES_RANGE: (usize, usize) = (1, 1024);
+/// Separable tap counts (odd).
+pub const TAPS_RANGE: (usize, usize) = (3, 129);
+
+impl RenderingSpec {
+    /// Checks every field; errors name it under `rendering.`.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let n = |field: &str, v: usize, (lo, hi): (usize, usize)| {
+            check_range(
+                &format!("rendering.{field}"),
+                v as f64,
+                lo as f64,
+                hi as f64,
+                "",
+            )
+        };
+        n("samples", self.samples, SAMPLES_RANGE)?;
+        n("taps", self.taps, TAPS_RANGE)?;
+        if self.taps.is_multiple_of(2) {
+            return Err(ModelError::invalid(
+                "rendering.taps",
+                format!("{} is even; the kernel needs a centre tap", self.taps),
+            ));
+        }
+        let (lo, hi) = self.thickness_remap_mm;
+        check_range("rendering.thickness_remap_mm.0", lo, 0.0, 1e4, " mm")?;
+        check_range("rendering.thickness_remap_mm.1", hi, lo, 1e4, " mm")?;
+        check_rgb(
+            "rendering.transmission_tint",
+            self.transmission_tint,
+            0.0,
+            16.0,
+            "",
+        )?;
+        check_range("rendering.ior", self.ior, 1.0, 2.0, "")?;
+        check_range(
+            "rendering.world_scale_m_per_unit",
+            self.world_scale_m_per_unit,
+            1e-3,
+            1e3,
+            " m/unit",
+        )?;
+        let s = &self.specular;
+        check_range("rendering.specular.roughness", s.roughness, 0.0, 1.0, "")?;
+        check_range(
+            "rendering.specular.lobe0_roughness_multiplier",
+            s.lobe0_roughness_multiplier,
+            0.0,
+            2.0,
+            "",
+        )?;
+        check_range(
+            "rendering.specular.lobe1_roughness_multiplier",
+            s.lobe1_roughness_multiplier,
+            0.0,
+            2.0,
+            "",
+        )?;
+        check_range("rendering.specular.lobe_mix", s.lobe_mix, 0.0, 1.0, "")?;
+        Ok(())
+    }
+
+    /// Specular reflectance at normal incidence from the IOR (Fresnel).
+    pub fn f0(&self) -> f64 {
+        let k = (self.ior - 1.0) / (self.ior + 1.0);
+        k * k
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_validate_and_bad_fields_are_named() {
+        RenderingSpec::default().validate().unwrap();
+        let mut r = RenderingSpec {
+            taps: 16,
+            ..Default::default()
+        };
+        assert!(r
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("rendering.taps"));
+        r.taps = 17;
+        r.ior = f64::NAN;
+        assert!(r
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("rendering.ior"));
+        r.ior = 1.4;
+        r.thickness_remap_mm = (3.0, 1.0);
+        let e = r.validate().unwrap_err().to_string();
+        assert!(e.contains("thickness_remap_mm.1"), "{e}");
+    }
+
+    /// Skin's IOR 1.4 gives F0 = (0.4/2.4)² = 0.02778 (Fresnel at normal
+    /// incidence), the 0.028 the renderer used before the IOR was a field.
+    #[test]
+    fn f0_from_ior() {
+        let r = RenderingSpec::default();
+        assert!((r.f0() - 0.027_777_8).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,193 @@
+#![allow(clippy::unwrap_used)]
+//! The editor driven through its accessibility tree (egui_kittest): edit a
+//! parameter and see the plot data change in the same frame, undo it, save
+//! and reload a preset through the file dialog and the unsaved-changes
+//! prompt; the panels' snapshot with a tolerance; the live viewport.
+
+use egui::{Key, Modifiers};
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, SnapshotOptions};
+use scatterlab::app::state::UiState;
+use scatterlab::app::EditorApp;
+use scatterlab::settings::profile::BurleyShape;
+use scatterlab::settings::{Preset, ProfileSpec};
+use std::time::{Duration, Instant};
+
+fn harness(viewport: bool) -> Harness<'static, EditorApp> {
+    let app = EditorApp::new(None, UiState::default(), None, viewport);
+    Harness::builder()
+        .with_size([1500.0, 900.0])
+        .with_max_steps(20)
+        .build_ui_state(|ui, app: &mut EditorApp| app.show(ui), app)
+}
+
+/// Steps until `done` or the timeout (background threads finish).
+fn step_until(h: &mut Harness<'_, EditorApp>, what: &str, done: impl Fn(&EditorApp) -> bool) {
+    let t0 = Instant::now();
+    while !done(h.state()) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(180),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.step();
+}
+
+/// The file dialog's path field (the other text input is the look's name).
+fn path_field<'h>(h: &'h Harness<'_, EditorApp>) -> egui_kittest::Node<'h> {
+    let name = h.state().doc.preset.name.clone();
+    h.get_all_by_role(egui::accesskit::Role::TextInput)
+        .find(|n| n.value().as_deref() != Some(name.as_str()))
+        .expect("no file dialog path field")
+}
+
+fn scattering_distance_r(app: &EditorApp) -> f64 {
+    match &app.doc.preset.profile {
+        ProfileSpec::Burley(b) => match &b.shape {
+            BurleyShape::ScatteringDistance { mm, .. } => mm[0],
+            other => panic!("{other:?}"),
+        },
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn edit_undo_save_and_reload() {
+    let mut h = harness(false);
+    h.step();
+    step_until(&mut h, "the first analysis", EditorApp::analysis_done);
+    let before = h.state().plot_series().unwrap();
+    let d0 = scattering_distance_r(h.state());
+    // The red scattering distance (prefix "R:", unit mm) through AccessKit.
+    h.get_by_label("R: mm").set_value_accesskit(2.5);
+    h.step();
+    // The plot data changed in the frame of the edit.
+    assert_eq!(scattering_distance_r(h.state()), 2.5);
+    let after = h.state().plot_series().unwrap();
+    assert_ne!(before[0], after[0], "red curve unchanged after the edit");
+    // The plot's range follows the widest 0.997-energy radius, now red's.
+    let last_x = |s: &[Vec<[f64; 2]>; 3]| s[1].last().unwrap()[0];
+    assert!(
+        last_x(&after) > last_x(&before),
+        "plot range did not follow the red radius"
+    );
+    assert!(h.state().doc.is_dirty());
+
+    // Undo restores the value and the curves.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.step();
+    assert_eq!(scattering_distance_r(h.state()), d0);
+    assert_eq!(h.state().plot_series().unwrap(), before);
+    // Redo.
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    h.step();
+    assert_eq!(scattering_distance_r(h.state()), 2.5);
+
+    // Save as, through the dialog.
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("edited.ron");
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
+    h.step();
+    path_field(&h).set_text_value_accesskit(&path.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.step();
+    h.step();
+    assert!(!h.state().doc.is_dirty(), "{}", h.state().status());
+    let saved = Preset::load(&path).unwrap();
+    assert_eq!(saved, h.state().doc.preset);
+
+    // Edit again, then open the saved file: the prompt asks first.
+    h.get_by_label("R: mm").set_value_accesskit(0.3);
+    h.step();
+    h.step();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.step();
+    path_field(&h).set_text_value_accesskit(&path.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    // The prompt fades in over a few frames.
+    h.run_steps(10);
+    assert!(
+        h.query_by_label("Unsaved changes").is_some(),
+        "no unsaved-changes prompt: pending {} dirty {} status {}",
+        h.state().prompt_open(),
+        h.state().doc.is_dirty(),
+        h.state().status()
+    );
+    h.get_by_label("Discard changes").click_accesskit();
+    h.step();
+    h.step();
+    assert_eq!(h.state().doc.preset, saved);
+    assert_eq!(scattering_distance_r(h.state()), 2.5);
+    assert!(!h.state().doc.is_dirty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Switching to a measured material and applying the Burley fit: the
+/// workflow of the issue, from the panels.
+#[test]
+fn pick_a_measured_material_and_fit_burley() {
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().ui_state.overlay = scatterlab::app::state::OverlayModel::Burley;
+    h.state_mut().doc.preset.profile =
+        ProfileSpec::Measured(scatterlab::settings::profile::MeasuredSpec {
+            name: "Ketchup".into(),
+            eta: 1.3,
+        });
+    h.step();
+    step_until(&mut h, "the Burley fit", EditorApp::analysis_done);
+    assert!(h
+        .query_by_label_contains("Burley fit: relative L2 error")
+        .is_some());
+    h.get_by_label("Use fit").click_accesskit();
+    h.step();
+    assert!(matches!(
+        h.state().doc.preset.profile,
+        ProfileSpec::Burley(_)
+    ));
+    // One undo goes back to the measured material.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.step();
+    assert!(matches!(
+        h.state().doc.preset.profile,
+        ProfileSpec::Measured(_)
+    ));
+}
+
+/// The panels as pixels, against a committed snapshot (lavapipe in CI),
+/// with a tolerance for antialiasing differences.
+#[test]
+fn panels_snapshot() {
+    let mut h = harness(false);
+    h.step();
+    step_until(&mut h, "the first analysis", EditorApp::analysis_done);
+    h.run_steps(3);
+    h.snapshot_options(
+        "editor_panels",
+        &SnapshotOptions::new()
+            .threshold(2.0)
+            .max_failed_pixels(2000),
+    );
+}
+
+/// The viewport renders the head on the render thread, off the UI thread.
+#[test]
+fn viewport_renders_the_head() {
+    let mut h = harness(true);
+    h.step();
+    step_until(
+        &mut h,
+        "the first viewport frame",
+        EditorApp::has_viewport_frame,
+    );
+    assert!(
+        !h.state().status().starts_with("Error"),
+        "{}",
+        h.state().status()
+    );
+}
