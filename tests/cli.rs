@@ -795,3 +795,64 @@ fn render_lights_with_an_hdr_environment() {
     assert!(err.contains("bad.hdr"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `export` writes the file atomically and prints every path it wrote;
+/// bad input exits non-zero with one line naming the problem.
+#[test]
+fn export_writes_files_and_refuses_bad_input() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-cli-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let preset = concat!(env!("CARGO_MANIFEST_DIR"), "/presets/skin_default.ron");
+    let out = dir.join("skin.asset");
+    let (code, stdout, err) = run(&[
+        "export",
+        "--preset",
+        preset,
+        "--format",
+        "unity",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(stdout.trim(), out.display().to_string());
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("guid: b2686e09ec7aef44bad2843e4416f057")
+            && text.contains("skin_default.ron")
+    );
+    // Unreal writes the struct and a Python companion.
+    let out = dir.join("skin.txt");
+    let (code, stdout, err) = run(&[
+        "export",
+        "--preset",
+        preset,
+        "--format",
+        "unreal",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(stdout.lines().count(), 2, "{stdout}");
+    assert!(dir.join("skin.py").exists());
+    // An unknown format and a broken preset: one line, non-zero.
+    let (code, _, err) = run(&[
+        "export", "--preset", preset, "--format", "fbx", "--out", "x",
+    ]);
+    assert_ne!(code, 0);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let bad = dir.join("bad.ron");
+    std::fs::write(&bad, "(profile: Burley((albedo: (0.5, NaN, 0.5))))").unwrap();
+    let (code, _, err) = run(&[
+        "export",
+        "--preset",
+        bad.to_str().unwrap(),
+        "--format",
+        "ron",
+        "--out",
+        dir.join("o.ron").to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("bad.ron") && err.contains("albedo.g"), "{err}");
+    assert!(!dir.join("o.ron").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

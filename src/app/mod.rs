@@ -69,6 +69,10 @@ pub struct EditorApp {
     )>,
     /// UI time of the last frame outside the viewport (ms).
     pub ui_ms: f64,
+    /// When the editor was created, and whether the first UI frame and the
+    /// first viewport frame were reported (SCATTERLAB_TIMINGS=1 prints them).
+    started: std::time::Instant,
+    reported: (bool, bool),
 }
 
 impl EditorApp {
@@ -112,6 +116,8 @@ impl EditorApp {
             allow_close: false,
             preview_textures: None,
             ui_ms: 0.0,
+            started: std::time::Instant::now(),
+            reported: (false, false),
         };
         app.refresh_curves();
         app
@@ -370,6 +376,28 @@ impl EditorApp {
         }
         ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.doc.title()));
         self.ui_ms = ui_ms;
+        self.report_timings();
+    }
+
+    /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1
+    /// (the budgets: first frame < 3 s, UI < 8 ms a frame).
+    fn report_timings(&mut self) {
+        if std::env::var_os("SCATTERLAB_TIMINGS").is_none() {
+            return;
+        }
+        let t = self.started.elapsed().as_secs_f64();
+        if !self.reported.0 {
+            self.reported.0 = true;
+            eprintln!(
+                "timing: first UI frame {t:.2} s after start-up (UI {:.2} ms)",
+                self.ui_ms
+            );
+        }
+        if !self.reported.1 && self.texture.is_some() {
+            self.reported.1 = true;
+            eprintln!("timing: first viewport frame {t:.2} s after start-up");
+        }
+        eprintln!("timing: UI {:.2} ms", self.ui_ms);
     }
 
     fn poll_workers(&mut self) {
@@ -525,7 +553,8 @@ impl EditorApp {
             };
             ui.colored_label(color, &self.status);
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.label(&self.frame_info);
+                ui.label(format!("{} · UI {:.1} ms", self.frame_info, self.ui_ms))
+                    .on_hover_text("Viewport: method, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
             });
         });
     }
@@ -1017,6 +1046,7 @@ impl eframe::App for EframeApp {
 /// Opens the editor window on `preset` (else the last preset, else the
 /// embedded default skin).
 pub fn run(preset: Option<PathBuf>) -> anyhow::Result<()> {
+    let started = std::time::Instant::now();
     let initial = match &preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
         None => None,
@@ -1043,12 +1073,9 @@ pub fn run(preset: Option<PathBuf>) -> anyhow::Result<()> {
                 let p = ui_state.last_preset.clone()?;
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))
             });
-            Ok(Box::new(EframeApp(EditorApp::new(
-                Some(&cc.egui_ctx),
-                ui_state,
-                initial,
-                true,
-            ))))
+            let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
+            app.started = started;
+            Ok(Box::new(EframeApp(app)))
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))

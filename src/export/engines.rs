@@ -275,3 +275,26 @@ bsdf.inputs["IOR"].default_value = IOR
         ior = preset.rendering.ior,
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Unreal's defaults (roughness 0.55 × 0.75 and × 1.30): perceptual
+    /// smoothness 1 − 0.4125 = 0.5875 and 1 − 0.715 = 0.285 over the base
+    /// 0.45 give primary 1.30556 and secondary 0.63333 (hand computation).
+    #[test]
+    fn unity_smoothness_multipliers_from_roughness_multipliers() {
+        let p = Preset::default_skin();
+        let (secondary, primary) = unity_smoothness_multipliers(&p);
+        assert!((primary - 0.5875 / 0.45).abs() < 1e-12, "{primary}");
+        assert!((secondary - 0.285 / 0.45).abs() < 1e-12, "{secondary}");
+    }
+
+    #[test]
+    fn yaml_names_are_quoted_when_needed() {
+        assert_eq!(yaml_name("Skin"), "Skin");
+        assert_eq!(yaml_name("Skin: it's"), "'Skin: it''s'");
+        assert_eq!(yaml_name("  "), "Diffusion Profile");
+    }
+}

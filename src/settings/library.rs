@@ -5,7 +5,7 @@ use super::{Preset, PresetError};
 use std::path::Path;
 
 /// (file name, RON text) of every shipped preset.
-pub const PRESETS: [(&str, &str); 16] = [
+pub const PRESETS: [(&str, &str); 17] = [
     (
         "apple_jensen2001.ron",
         include_str!("../../presets/apple_jensen2001.ron"),
@@ -58,6 +58,10 @@ pub const PRESETS: [(&str, &str); 16] = [
     (
         "skin_unity_hdrp_default.ron",
         include_str!("../../presets/skin_unity_hdrp_default.ron"),
+    ),
+    (
+        "skin_unreal_default.ron",
+        include_str!("../../presets/skin_unreal_default.ron"),
     ),
     ("wax.ron", include_str!("../../presets/wax.ron")),
     (
