@@ -73,6 +73,7 @@ pub struct EditorApp {
     /// first viewport frame were reported (SCATTERLAB_TIMINGS=1 prints them).
     started: std::time::Instant,
     reported: (bool, bool),
+    last_title: String,
 }
 
 impl EditorApp {
@@ -118,6 +119,7 @@ impl EditorApp {
             ui_ms: 0.0,
             started: std::time::Instant::now(),
             reported: (false, false),
+            last_title: String::new(),
         };
         app.refresh_curves();
         app
@@ -370,11 +372,16 @@ impl EditorApp {
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
         egui::CentralPanel::default().show(ui, |ui| self.viewport_panel(ui));
         self.dialogs(&ctx);
-        // One undo step per gesture: commit once no button is held.
-        if !ctx.input(|i| i.pointer.any_down()) {
+        // One undo step per gesture: commit once no button is held and no
+        // field is being typed into.
+        if !ctx.input(|i| i.pointer.any_down()) && ctx.memory(|m| m.focused().is_none()) {
             self.doc.commit();
         }
-        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.doc.title()));
+        let title = self.doc.title();
+        if title != self.last_title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.last_title = title;
+        }
         self.ui_ms = ui_ms;
         self.report_timings();
     }
@@ -564,12 +571,19 @@ impl EditorApp {
         ui.heading("Look");
         ui.horizontal(|ui| {
             ui.label("Name");
-            ui.text_edit_singleline(&mut p.name);
+            ui.text_edit_singleline(&mut p.name).on_hover_text(
+                "The look's name, used in exports (Unity m_Name, Unreal asset name).",
+            );
         });
         ui.separator();
         params_ui::model_picker(ui, &mut p.profile);
         params_ui::model_params(ui, &mut p.profile);
-        if let Err(e) = p.profile.build() {
+        // The model's error, from the last build (never rebuilt per frame:
+        // layered stacks take seconds).
+        if let Some(Err(e)) = &self.curves {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        if let Err(e) = p.rendering.validate() {
             ui.colored_label(ui.visuals().error_fg_color, e.to_string());
         }
         ui.separator();
@@ -757,7 +771,8 @@ impl EditorApp {
             size,
             mesh: self.mesh.clone(),
         };
-        let valid = self.doc.preset.validate().is_ok();
+        let valid =
+            self.doc.preset.rendering.validate().is_ok() && !matches!(self.curves, Some(Err(_)));
         if let Some(vp) = self.viewport.as_mut() {
             if valid {
                 vp.request(req);
@@ -803,12 +818,14 @@ impl EditorApp {
                         vp.invalidate();
                     }
                     viewport::Reply::MeshLoaded(p) => {
-                        self.status = match &p {
-                            Some(p) => format!("Mesh {}", p.display()),
-                            None => "Default head".into(),
-                        };
-                        if p.is_none() {
-                            self.mesh = None;
+                        match &p {
+                            Some(p) => self.status = format!("Mesh {}", p.display()),
+                            // The first load of the default head is not news.
+                            None if self.mesh.is_some() || self.status.starts_with("Loading") => {
+                                self.status = "Default head".into();
+                                self.mesh = None;
+                            }
+                            None => {}
                         }
                     }
                 }
