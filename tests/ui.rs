@@ -191,3 +191,44 @@ fn viewport_renders_the_head() {
         h.state().status()
     );
 }
+
+/// Compare from the toolbar (difference view against separable), Space
+/// toggles to B alone, and Export → unity writes the asset through the
+/// file dialog.
+#[test]
+fn compare_toggle_and_export_from_the_ui() {
+    let mut h = harness(true);
+    h.step();
+    step_until(&mut h, "the first viewport frame", |a| {
+        a.frame_info().starts_with("burley")
+    });
+    h.get_by_label("difference").click_accesskit();
+    h.step();
+    step_until(&mut h, "the difference view", |a| {
+        a.frame_info().contains("heat map")
+    });
+    h.key_press(Key::Space);
+    h.step();
+    step_until(&mut h, "B alone", |a| {
+        a.frame_info().starts_with("separable")
+    });
+
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("look.asset");
+    h.get_by_label("Export").click_accesskit();
+    h.run_steps(3);
+    h.get_by_label("unity").click_accesskit();
+    h.run_steps(5);
+    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.step();
+    step_until(&mut h, "the export", |a| a.status().starts_with("Exported"));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("guid: b2686e09ec7aef44bad2843e4416f057"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -137,6 +137,11 @@ impl EditorApp {
         }
     }
 
+    /// The status bar's viewport readout (method, size, time, adapter).
+    pub fn frame_info(&self) -> &str {
+        &self.frame_info
+    }
+
     /// Whether the viewport has shown a rendered frame.
     pub fn has_viewport_frame(&self) -> bool {
         self.texture.is_some()
