@@ -232,3 +232,21 @@ fn compare_toggle_and_export_from_the_ui() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Comparing against a preset file overlays its curves (dotted) on the plot.
+#[test]
+fn compared_preset_is_overlaid_on_the_plot() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    let mut h = harness(false);
+    h.step();
+    let marble =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/marble_jensen2001.ron");
+    h.state_mut().ui_state.compare = CompareMode::Split;
+    h.state_mut().ui_state.compare_b = CompareB::Preset(marble);
+    h.run_steps(3);
+    assert!(
+        h.query_by_label_contains("B: Marble (Jensen 2001)")
+            .is_some(),
+        "no legend entry for the compared preset"
+    );
+}

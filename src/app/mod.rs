@@ -61,6 +61,8 @@ pub struct EditorApp {
     show_b: bool,
     mesh: Option<PathBuf>,
     allow_close: bool,
+    /// Curves of a compared preset (B), keyed by its file and the plot range.
+    b_curves: Option<((PathBuf, Option<u64>), Result<(String, Curves), String>)>,
     /// The table preview and transmittance strip, with the analysis they show.
     preview_textures: Option<(
         AnalysisKey,
@@ -116,6 +118,7 @@ impl EditorApp {
             mesh: None,
             allow_close: false,
             preview_textures: None,
+            b_curves: None,
             ui_ms: 0.0,
             started: std::time::Instant::now(),
             reported: (false, false),

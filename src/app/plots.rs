@@ -3,7 +3,7 @@
 //! pre-integrated table and the transmittance strip.
 
 use super::analysis::Curves;
-use super::state::{OverlayModel, PlotQuantity};
+use super::state::{CompareB, CompareMode, OverlayModel, PlotQuantity};
 use super::EditorApp;
 use egui::Color32;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points, VLine};
@@ -113,6 +113,35 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         }
         None => {}
     }
+    // B of a preset comparison, on the same radii (dotted).
+    let b_series = match (&app.ui_state.compare, &app.ui_state.compare_b, &app.curves) {
+        (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
+        (_, CompareB::Preset(path), Some(Ok(curves))) => {
+            let r_max = curves.radius_mm.last().copied();
+            let key = (path.clone(), r_max.map(f64::to_bits));
+            if app.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
+                let loaded = crate::settings::Preset::load(path)
+                    .map_err(|e| e.to_string())
+                    .and_then(|p| {
+                        if super::analysis::is_slow(&p.profile) {
+                            return Err("layered stacks are not overlaid".into());
+                        }
+                        let m = p.profile.build().map_err(|e| e.to_string())?;
+                        Ok((p.name, Curves::of(m.as_ref(), r_max)))
+                    });
+                app.b_curves = Some((key, loaded));
+            }
+            match app.b_curves.as_ref().map(|b| &b.1) {
+                Some(Ok((name, c))) => Some((format!("B: {name}"), series(c, q, log))),
+                Some(Err(e)) => {
+                    ui.colored_label(ui.visuals().warn_fg_color, format!("B overlay: {e}"));
+                    None
+                }
+                None => None,
+            }
+        }
+        _ => None,
+    };
     match &app.curves {
         Some(Ok(curves)) => {
             let lines = series(curves, q, log);
@@ -153,6 +182,15 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
                                 Line::new(o.label.clone(), PlotPoints::from(ol[c].clone()))
                                     .color(CHANNEL_COLORS[c].gamma_multiply(0.7))
                                     .style(egui_plot::LineStyle::dashed_loose()),
+                            );
+                        }
+                    }
+                    if let Some((label, b)) = &b_series {
+                        for c in 0..3 {
+                            plot.line(
+                                Line::new(label.clone(), PlotPoints::from(b[c].clone()))
+                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.5))
+                                    .style(egui_plot::LineStyle::dotted_loose()),
                             );
                         }
                     }
