@@ -40,6 +40,9 @@ enum Pending {
     Quit,
 }
 
+/// A compared preset's file and the plot range its curves were taken on.
+type BCurvesKey = (PathBuf, Option<u64>);
+
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
 
@@ -62,7 +65,7 @@ pub struct EditorApp {
     mesh: Option<PathBuf>,
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
-    b_curves: Option<((PathBuf, Option<u64>), Result<(String, Curves), String>)>,
+    b_curves: Option<(BCurvesKey, Result<(String, Curves), String>)>,
     /// The table preview and transmittance strip, with the analysis they show.
     preview_textures: Option<(
         AnalysisKey,
