@@ -42,6 +42,8 @@ enum Pending {
 
 /// A compared preset's file and the plot range its curves were taken on.
 type BCurvesKey = (PathBuf, Option<u64>);
+/// Its name and curves, or why it cannot be overlaid.
+type BCurves = Result<(String, Curves), String>;
 
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
@@ -65,7 +67,7 @@ pub struct EditorApp {
     mesh: Option<PathBuf>,
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
-    b_curves: Option<(BCurvesKey, Result<(String, Curves), String>)>,
+    b_curves: Option<(BCurvesKey, BCurves)>,
     /// The table preview and transmittance strip, with the analysis they show.
     preview_textures: Option<(
         AnalysisKey,
