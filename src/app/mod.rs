@@ -1047,11 +1047,18 @@ fn file_stem(name: &str) -> String {
 }
 
 /// eframe's wrapper: persistence and the close prompt.
-struct EframeApp(EditorApp);
+struct EframeApp {
+    app: EditorApp,
+    /// Close once the viewport has shown a frame (smoke test).
+    exit_after_first_frame: bool,
+}
 
 impl eframe::App for EframeApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        let app = &mut self.0;
+        let app = &mut self.app;
+        if self.exit_after_first_frame && app.has_viewport_frame() {
+            app.allow_close = true;
+        }
         if ui.ctx().input(|i| i.viewport().close_requested())
             && app.doc.is_dirty()
             && !app.allow_close
@@ -1067,15 +1074,15 @@ impl eframe::App for EframeApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        let mut s = self.0.ui_state.clone();
-        s.last_preset = self.0.doc.path.clone();
+        let mut s = self.app.ui_state.clone();
+        s.last_preset = self.app.doc.path.clone();
         eframe::set_value(storage, STORAGE_KEY, &s);
     }
 }
 
 /// Opens the editor window on `preset` (else the last preset, else the
 /// embedded default skin).
-pub fn run(preset: Option<PathBuf>) -> anyhow::Result<()> {
+pub fn run(preset: Option<PathBuf>, exit_after_first_frame: bool) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let initial = match &preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
@@ -1105,7 +1112,10 @@ pub fn run(preset: Option<PathBuf>) -> anyhow::Result<()> {
             });
             let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
             app.started = started;
-            Ok(Box::new(EframeApp(app)))
+            Ok(Box::new(EframeApp {
+                app,
+                exit_after_first_frame,
+            }))
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))

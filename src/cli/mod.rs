@@ -36,6 +36,10 @@ pub enum Command {
         /// The preset (.ron) to open; default: the last one, else the embedded skin.
         #[arg(long, value_name = "FILE.ron")]
         preset: Option<PathBuf>,
+        /// Close the window once the head has been shown (start-up smoke
+        /// test; with SCATTERLAB_TIMINGS=1 it prints the start-up times).
+        #[arg(long, hide = true)]
+        exit_after_first_frame: bool,
     },
     /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
     Profile {
@@ -431,10 +435,13 @@ pub enum EncodingArg {
 /// Runs a parsed command; `None` prints the default profile.
 pub fn run(cli: Cli) -> Result<()> {
     let Some(command) = cli.command else {
-        return crate::app::run(None);
+        return crate::app::run(None, false);
     };
     match command {
-        Command::Edit { preset } => crate::app::run(preset),
+        Command::Edit {
+            preset,
+            exit_after_first_frame,
+        } => crate::app::run(preset, exit_after_first_frame),
         Command::Profile { model, radii, json } => profile(&model, radii, json),
         Command::Sample(SampleCommand::Burley {
             shape,
