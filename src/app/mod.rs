@@ -826,10 +826,9 @@ impl EditorApp {
                             stats.adapter
                         );
                     }
-                    viewport::Reply::Error(e) => {
-                        self.status = format!("Error: viewport: {e}");
-                        vp.invalidate();
-                    }
+                    // The same request is not sent again (it would fail
+                    // again); the next change renders.
+                    viewport::Reply::Error(e) => self.status = format!("Error: viewport: {e}"),
                     viewport::Reply::MeshLoaded(p) => {
                         match &p {
                             Some(p) => self.status = format!("Mesh {}", p.display()),

@@ -122,11 +122,6 @@ impl Viewport {
         }
         replies
     }
-
-    /// Forget the last request so the next one renders again (after an error).
-    pub fn invalidate(&mut self) {
-        self.last_sent = None;
-    }
 }
 
 /// Renderer settings for a look and view.
