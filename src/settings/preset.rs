@@ -90,6 +90,10 @@ impl Preset {
             path: origin.to_owned(),
             error,
         })?;
+        // Older files are upgraded on load (missing sections took their
+        // defaults), so saving writes the current format.
+        let mut preset = preset;
+        preset.format_version = FORMAT_VERSION;
         Ok(preset)
     }
 
@@ -154,6 +158,17 @@ mod tests {
         let p = Preset::from_ron("(name: \"old\")", Path::new("old.ron")).unwrap();
         assert_eq!(p.profile, ProfileSpec::default());
         assert_eq!(p.format_version, FORMAT_VERSION);
+    }
+
+    /// A format-1 file (no `rendering`) loads with the default rendering
+    /// settings and is written back as the current format.
+    #[test]
+    fn format_1_files_load_and_upgrade() {
+        let v1 = "(format_version: 1, name: \"v1\", profile: Jimenez2012((strength: (0.48, 0.41, 0.28), falloff: (1.0, 0.37, 0.3))))";
+        let p = Preset::from_ron(v1, Path::new("v1.ron")).unwrap();
+        assert_eq!(p.rendering, RenderingSpec::default());
+        assert_eq!(p.format_version, FORMAT_VERSION);
+        assert!(p.to_ron().contains(&format!("format_version: {FORMAT_VERSION}")));
     }
 
     #[test]
