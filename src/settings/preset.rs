@@ -168,7 +168,9 @@ mod tests {
         let p = Preset::from_ron(v1, Path::new("v1.ron")).unwrap();
         assert_eq!(p.rendering, RenderingSpec::default());
         assert_eq!(p.format_version, FORMAT_VERSION);
-        assert!(p.to_ron().contains(&format!("format_version: {FORMAT_VERSION}")));
+        assert!(p
+            .to_ron()
+            .contains(&format!("format_version: {FORMAT_VERSION}")));
     }
 
     #[test]
