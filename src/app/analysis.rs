@@ -210,6 +210,19 @@ pub fn analyse(key: &AnalysisKey) -> Result<Analysis, String> {
     })
 }
 
+/// Blocks for a message, then drains the queue and returns the newest one
+/// (older requests are superseded); `None` once the sender is gone.
+pub(super) fn recv_newest<T>(rx: &Receiver<T>) -> Option<T> {
+    let mut newest = rx.recv().ok()?;
+    loop {
+        match rx.try_recv() {
+            Ok(newer) => newest = newer,
+            Err(TryRecvError::Empty) => return Some(newest),
+            Err(TryRecvError::Disconnected) => return None,
+        }
+    }
+}
+
 /// A background thread computing `f(key)` for the newest key sent.
 pub struct Background<K, V> {
     tx: Sender<K>,
@@ -229,14 +242,7 @@ impl<K: Clone + PartialEq + Send + 'static, V: Send + 'static> Background<K, V> 
         let _ = std::thread::Builder::new()
             .name(name.into())
             .spawn(move || {
-                while let Ok(mut k) = krx.recv() {
-                    loop {
-                        match krx.try_recv() {
-                            Ok(newer) => k = newer,
-                            Err(TryRecvError::Empty) => break,
-                            Err(TryRecvError::Disconnected) => return,
-                        }
-                    }
+                while let Some(k) = recv_newest(&krx) {
                     let v = f(&k);
                     if vtx.send((k, v)).is_err() {
                         return;

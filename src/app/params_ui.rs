@@ -482,9 +482,6 @@ fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
     }
     if let Some(i) = remove {
         m.layers.remove(i);
-        if let Some(last) = m.layers.last_mut() {
-            let _ = last;
-        }
     }
     if ui
         .button("+ Add layer on top")

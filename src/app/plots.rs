@@ -234,9 +234,10 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         app.doc.replace(p);
     }
     ui.separator();
+    // Borrowed, not cloned per frame: only `preview_textures` changes below.
     let Some(a) = app
         .latest
-        .clone()
+        .as_ref()
         .filter(|a| a.key.profile == app.doc.preset.profile)
     else {
         ui.horizontal(|ui| {

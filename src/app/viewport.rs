@@ -14,7 +14,7 @@ use crate::render::{
 use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
 use std::path::PathBuf;
-use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
+use std::sync::mpsc::{channel, Receiver, Sender};
 use std::time::Instant;
 
 /// d'Eon's 7-tap Gaussian kernel (the renderer's default).
@@ -283,15 +283,8 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         mesh_path: None,
         cache: Vec::new(),
     };
-    while let Ok(mut req) = rx.recv() {
-        // Coalesce: render only the newest request.
-        loop {
-            match rx.try_recv() {
-                Ok(newer) => req = newer,
-                Err(TryRecvError::Empty) => break,
-                Err(TryRecvError::Disconnected) => return,
-            }
-        }
+    // Coalesce: render only the newest request.
+    while let Some(mut req) = super::analysis::recv_newest(&rx) {
         let t0 = Instant::now();
         match w.ensure_renderer(&req.mesh) {
             Err(e) => {
