@@ -11,12 +11,15 @@ struct Sample {
 };
 
 @group(0) @binding(3) var<storage, read> samples: array<Sample>;
-// r·R_N(r) per channel at r = r_max·t², t = i/(size−1).
+// r·R_N(r) per channel at r = r_max·t², t = i/(size−1); then, at
+// [size, 2·size), the CDF at the same radii.
 @group(0) @binding(4) var<storage, read> profile_lut: array<vec4<f32>>;
 // [0]: samples taken, [1]: pixels convolved, [2]: pixels skipped by the LOD.
 @group(0) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
 // x: samples of the low-LOD pattern stored after the main one; y: filter
-// radius (mm, the widest channel's 0.997 radius); z: LOD on (1) or off (0).
+// radius (mm, the widest channel's 0.997 radius); z: LOD on (1) or off (0);
+// w: sampling flags, bit 0 R2 rotation, bit 1 centre weight, bit 2 bilinear
+// (render/settings.rs BurleySampling::shader_flags).
 @group(0) @binding(6) var<uniform> lod: vec4<f32>;
 
 fn profile_rr(r_mm: f32) -> vec3<f32> {
@@ -25,6 +28,43 @@ fn profile_rr(r_mm: f32) -> vec3<f32> {
     let i = min(u32(t), u32(n) - 2u);
     let f = t - f32(i);
     return mix(profile_lut[i].rgb, profile_lut[i + 1u].rgb, f);
+}
+
+// The CDF per channel (the table's second half).
+fn profile_cdf(r_mm: f32) -> vec3<f32> {
+    let n = s.params.w;
+    let t = sqrt(clamp(r_mm / s.params.z, 0.0, 1.0)) * (n - 1.0);
+    let i = min(u32(t), u32(n) - 2u);
+    let f = t - f32(i);
+    let o = u32(n);
+    return mix(profile_lut[o + i].rgb, profile_lut[o + i + 1u].rgb, f);
+}
+
+// The SSS pixels' diffuse at a fractional position (pixel centres at
+// +0.5), bilinear over the four nearest texels that are SSS; .a is the
+// bilinear weight those texels cover (0 when none is).
+fn sss_bilinear(pos: vec2<f32>) -> vec4<f32> {
+    let f = pos - vec2<f32>(0.5);
+    let i = vec2<i32>(floor(f));
+    let t = f - floor(f);
+    var col = vec3<f32>(0.0);
+    var covered = 0.0;
+    for (var k = 0; k < 4; k = k + 1) {
+        let o = vec2<i32>(k & 1, k >> 1u);
+        let bw = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
+        let c = load_diffuse(i + o);
+        if (c.a > 1.0 / 255.0) {
+            col = col + bw * c.rgb;
+            covered = covered + bw;
+        }
+    }
+    return vec4<f32>(col / max(covered, 1e-6), covered);
+}
+
+// The R2 sequence (Roberts 2018) over the pixel grid: plastic-number
+// steps along x and y give neighbouring pixels well-spread values.
+fn r2(p: vec2<i32>) -> f32 {
+    return fract(0.5 + f32(p.x) * 0.7548776662 + f32(p.y) * 0.5698402910);
 }
 
 @fragment
@@ -52,29 +92,53 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
         }
     }
     atomicAdd(&counters[1], 1u);
-    atomicAdd(&counters[0], n);
+    let flags = u32(lod.w);
     var rotation = 0.0;
     if (s.params.y < 0.5) {
-        rotation = 6.28318531 * hash(vec2<u32>(p));
+        if ((flags & 1u) != 0u) {
+            rotation = 6.28318531 * r2(p);
+        } else {
+            rotation = 6.28318531 * hash(vec2<u32>(p));
+        }
+    }
+    // Centre weight: the pixel's own footprint (a disk of one pixel's
+    // area) holds CDF(r_px) of the energy, taken from the centre exactly;
+    // samples inside it would land on the centre pixel and are skipped.
+    var r_centre = 0.0;
+    var w_centre = vec3<f32>(0.0);
+    if ((flags & 2u) != 0u) {
+        r_centre = 0.5641896 / ppm;
+        w_centre = profile_cdf(r_centre);
     }
     var sum = vec3<f32>(0.0);
     var wsum = vec3<f32>(0.0);
+    var taken = 0u;
     for (var i = 0u; i < n; i = i + 1u) {
         let smp = samples[first + i];
+        if (smp.radius_mm < r_centre) {
+            continue;
+        }
+        taken = taken + 1u;
         let a = smp.angle + rotation;
         let off = vec2<f32>(cos(a), sin(a)) * smp.radius_mm * ppm;
         let q = p + vec2<i32>(round(off));
-        let c = load_diffuse(q);
+        var c = load_diffuse(q);
+        var coverage = select(0.0, 1.0, c.a > 1.0 / 255.0);
+        if ((flags & 4u) != 0u) {
+            // Bilinear at the exact offset instead of the nearest pixel.
+            c = sss_bilinear(vec2<f32>(p) + vec2<f32>(0.5) + off);
+            coverage = c.a;
+        }
         let dz_mm = (load_depth(q) - z) * s.projection.y;
         let rho = sqrt(smp.radius_mm * smp.radius_mm + dz_mm * dz_mm);
-        // R(ρ)/pdf(r): r·R(ρ)/ρ divided by the planar density.
-        var w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf;
-        if (c.a <= 1.0 / 255.0) {
-            w = vec3<f32>(0.0);
-        }
+        // R(ρ)/pdf(r): r·R(ρ)/ρ divided by the planar density, times the
+        // share of the fetch that lands on SSS pixels.
+        let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * coverage;
         sum = sum + w * c.rgb;
         wsum = wsum + w;
     }
-    let blurred = select(centre.rgb, sum / wsum, wsum > vec3<f32>(0.0));
+    atomicAdd(&counters[0], taken);
+    let ring = select(centre.rgb, sum / wsum, wsum > vec3<f32>(0.0));
+    let blurred = mix(ring, centre.rgb, w_centre);
     return vec4<f32>(blurred, centre.a);
 }

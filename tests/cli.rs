@@ -688,6 +688,8 @@ fn render_writes_image_and_stats() {
         "80",
         "--deterministic",
         "--no-lod",
+        "--burley-sampling",
+        "golubev",
         "--out",
         png.to_str().unwrap(),
         "--stats",

@@ -4,7 +4,9 @@
 #![allow(clippy::unwrap_used)]
 
 use image::RgbaImage;
-use scatterlab::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
+use scatterlab::render::{
+    BurleySampling, GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer,
+};
 use scatterlab::settings::Preset;
 use std::path::PathBuf;
 
@@ -262,7 +264,11 @@ fn sss_work_is_counted_and_skipped() {
     let mut plane = Mesh::plane(60.0, 0.001);
     let mut r = Renderer::new(ctx, &plane).unwrap();
     let profile = Preset::default_skin().build_profile().unwrap();
-    let inp = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
+    // Golubev's pattern takes every sample; the improved one skips those
+    // inside the centre pixel's footprint (checked below).
+    let mut inp = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
+    inp.set_burley(profile.as_ref(), 21, BurleySampling::GOLUBEV)
+        .unwrap();
     let s = RenderSettings {
         width: 128,
         height: 96,
@@ -284,6 +290,15 @@ fn sss_work_is_counted_and_skipped() {
     // The plane is uniformly lit skin, so every covered pixel differs from the background.
     assert_eq!(stats.sss_pixels, covered);
     assert_eq!(stats.sss_samples, covered * 21);
+    let improved = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
+    let (_, st) = r.render(&improved, &s).unwrap();
+    assert_eq!(st.sss_pixels, covered);
+    assert!(
+        st.sss_samples > 0 && st.sss_samples < covered * 21,
+        "{} of {}",
+        st.sss_samples,
+        covered * 21
+    );
     // No skin on screen: the same plane as eye material (mask 0).
     for v in &mut plane.vertices {
         v.material = 1.0;
@@ -320,7 +335,12 @@ fn sss_work_is_counted_and_skipped() {
 #[test]
 fn burley_lod_cuts_samples_on_far_shots() {
     let mut r = renderer();
-    let inp = inputs();
+    // Golubev's pattern: every pixel takes all its samples, so the counts
+    // measure the LOD alone (the centre weight skips samples too).
+    let mut inp = inputs();
+    let p = Preset::default_skin().build_profile().unwrap();
+    inp.set_burley(p.as_ref(), 21, BurleySampling::GOLUBEV)
+        .unwrap();
     let shot = |distance: f32, lod: bool| RenderSettings {
         width: 128,
         height: 128,

@@ -133,6 +133,37 @@ pub enum Command {
         #[arg(long, value_name = "PATH")]
         out: PathBuf,
     },
+    /// Run-time against error of every SSS method and count on fixed
+    /// scenes, against `reference`; writes results.csv, skip.csv, one chart
+    /// per scene and accuracy.md into --out.
+    Bench {
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Smaller frames and one timed frame per configuration (a few
+        /// minutes on 2 cores; what CI runs).
+        #[arg(long)]
+        quick: bool,
+        /// The look to measure (default: the embedded skin preset).
+        #[arg(long, value_name = "FILE.ron")]
+        preset: Option<PathBuf>,
+    },
+    /// Sweep every model across its documented parameter range against
+    /// independent references: worst relative errors of R, the CDF and the
+    /// inverse CDF, kernel normalisation, and the count of NaN/Inf.
+    Stress {
+        /// Random parameter sets per model (the costly layered stacks get
+        /// 1/16 of them, slabs 1/2); edges are drawn one time in five.
+        #[arg(long, default_value_t = 400)]
+        cases: usize,
+        #[arg(long, default_value_t = 2026)]
+        seed: u64,
+        /// Only this model (burley, gaussians, jimenez2012, artist, dipole,
+        /// measured, multipole-slab, multipole-stack).
+        #[arg(long)]
+        model: Option<String>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert {
         #[command(flatten)]
@@ -209,6 +240,11 @@ pub struct ViewArgs {
     /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
     #[arg(long)]
     pub separable_rotation: bool,
+    /// `burley` sampling: `improved` (MIS across the channels, R2
+    /// rotations, an exact centre weight) or `golubev` (Golubev 2018 as
+    /// published); `bench` measures both.
+    #[arg(long, value_enum, default_value = "improved")]
+    pub burley_sampling: SamplingArg,
     /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
     /// kernel, 13 follows edges more closely at about twice the cost).
     #[arg(long, default_value_t = 7)]
@@ -269,6 +305,12 @@ impl ViewArgs {
         }
         Ok(mesh)
     }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplingArg {
+    Improved,
+    Golubev,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -518,6 +560,15 @@ pub fn run(cli: Cli) -> Result<()> {
             world_scale,
             json,
         } => convert(&model, to, world_scale, json),
+        Command::Bench { out, quick, preset } => {
+            crate::bench::run_cli(&out, quick, preset.as_deref())
+        }
+        Command::Stress {
+            cases,
+            seed,
+            model,
+            json,
+        } => stress(cases, seed, model.as_deref(), json),
         Command::Export {
             preset,
             format,
@@ -831,13 +882,16 @@ fn render(
     if view.gaussian_taps.is_multiple_of(2) {
         anyhow::bail!("gaussian_taps = {} must be odd", view.gaussian_taps);
     }
-    let inputs = ProfileInputs::for_look(
+    let mut inputs = ProfileInputs::for_look(
         &spec,
         p.as_ref(),
         to_method(method),
         (samples, taps),
         view.gaussian_taps,
     )?;
+    if view.burley_sampling == SamplingArg::Golubev {
+        inputs.set_burley(p.as_ref(), samples, crate::render::BurleySampling::GOLUBEV)?;
+    }
     let mesh = view.load_mesh()?;
     crate::model::check_range(
         "environment_intensity",
@@ -1093,4 +1147,41 @@ pub fn burley_from(spec: &ProfileSpec) -> Option<Burley> {
         ProfileSpec::Burley(b) => b.build().ok(),
         _ => None,
     }
+}
+
+fn stress(cases: usize, seed: u64, model: Option<&str>, json: bool) -> Result<()> {
+    crate::model::check_range("cases", cases as f64, 2.0, 1e6, "")?;
+    let names = crate::model::stress::model_names();
+    if let Some(m) = model.filter(|m| !names.contains(m)) {
+        bail!("--model {m}: unknown; known: {}", names.join(", "));
+    }
+    let report = crate::model::stress::run(cases, seed, model);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!(
+            "{:<16} {:>6} {:>10} {:>9} {:>10} {:>10} {:>10} {:>10}",
+            "model", "cases", "values", "NaN/Inf", "R rel", "CDF rel", "inv rel", "kernel"
+        );
+        for m in &report.models {
+            println!(
+                "{:<16} {:>6} {:>10} {:>9} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e}",
+                m.model,
+                m.cases,
+                m.evaluations,
+                m.non_finite,
+                m.worst_r_rel,
+                m.worst_cdf_rel,
+                m.worst_inverse_rel,
+                m.worst_kernel_norm
+            );
+        }
+        for m in report.models.iter().filter(|m| m.non_finite > 0) {
+            println!("{}: first NaN/Inf: {}", m.model, m.non_finite_at);
+        }
+    }
+    if report.total_non_finite() > 0 {
+        bail!("{} NaN or Inf values", report.total_non_finite());
+    }
+    Ok(())
 }

@@ -137,7 +137,11 @@ pub struct ChannelCoefficients {
 /// z·(1 + σd)·e^(−σd)/d³ for one point source at signed height z.
 #[inline]
 pub(crate) fn source_term(z: f64, sigma: f64, r: f64) -> f64 {
-    let d = (r * r + z * z).sqrt();
+    // hypot: r² overflows for r > 1e154 and made R(1e300) NaN (stress).
+    let d = r.hypot(z);
+    if d == f64::INFINITY {
+        return 0.0; // (1 + σd)·e^(−σd) would be ∞·0
+    }
     z * (1.0 + sigma * d) * (-sigma * d).exp() / (d * d * d)
 }
 
@@ -145,8 +149,27 @@ pub(crate) fn source_term(z: f64, sigma: f64, r: f64) -> f64 {
 /// source beyond radius ρ (×½ α′ gives reflectance units).
 #[inline]
 pub(crate) fn source_tail(z: f64, sigma: f64, rho: f64) -> f64 {
-    let d = (rho * rho + z * z).sqrt();
+    let d = rho.hypot(z);
     z * (-sigma * d).exp() / d
+}
+
+/// source_tail(z, σ, 0) − source_tail(z, σ, ρ): the energy of one source
+/// within radius ρ, without the cancellation of the difference (which
+/// left the dipole's CDF at ξ = 10⁻¹² only 6·10⁻⁴ accurate; found by
+/// `scatterlab stress`). With δ = d − |z| = ρ²/(d + |z|):
+/// sign(z)·e^(−σ|z|)·(1 − e^(−ln(1 + δ/|z|) − σδ)).
+#[inline]
+pub(crate) fn source_head(z: f64, sigma: f64, rho: f64) -> f64 {
+    let a = z.abs();
+    if a == 0.0 {
+        return 0.0;
+    }
+    let d = rho.hypot(z);
+    let delta = rho * rho / (d + a);
+    let delta = if delta.is_finite() { delta } else { d - a };
+    // σ = 0 (no absorption) with δ = ∞ would give 0·∞.
+    let x = (delta / a).ln_1p() + if sigma > 0.0 { sigma * delta } else { 0.0 };
+    z.signum() * (-sigma * a).exp() * -(-x).exp_m1()
 }
 
 /// The semi-infinite dipole.
@@ -225,8 +248,17 @@ impl RadialProfile for Dipole {
     }
 
     fn cdf(&self, radius_mm: f64) -> Rgb {
-        let t = self.tail(radius_mm);
-        rgb_map(|c| (1.0 - t[c]).clamp(0.0, 1.0))
+        rgb_map(|c| {
+            let s = self.coef[c].sigma_tr;
+            let (zr, zv) = (self.z_r[c], self.z_v[c]);
+            let num = source_head(zr, s, radius_mm) + source_head(zv, s, radius_mm);
+            let den = (-s * zr).exp() + (-s * zv).exp();
+            if den > 0.0 {
+                (num / den).clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        })
     }
 
     /// Mikkelsen 2009 eq. 40: ε(ρ) = [z_r e^(−σ d_r)/d_r + z_v e^(−σ d_v)/d_v] / [e^(−σ z_r) + e^(−σ z_v)].

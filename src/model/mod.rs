@@ -61,6 +61,7 @@ pub mod multipole;
 pub mod quad;
 pub mod sampling;
 pub mod separable;
+pub mod stress;
 pub mod tabulated;
 pub mod units;
 
@@ -200,6 +201,11 @@ pub trait RadialProfile: Send + Sync + std::fmt::Debug {
     /// r·R(r) per channel, mm⁻¹; finite at r = 0 (the limit).
     fn r_reflectance(&self, radius_mm: f64) -> Rgb {
         let r = radius_mm;
+        // The limit at r = ∞ is 0 for any profile with finite energy; the
+        // product would be ∞·0 = NaN (found by `scatterlab stress`).
+        if r == f64::INFINITY {
+            return [0.0; 3];
+        }
         let v = self.reflectance(r);
         rgb_map(|c| r * v[c])
     }

@@ -18,7 +18,7 @@
 //! Kubelka–Munk-like series of §2.7.2 (summed as 1/(1 − R₂⁺R₁⁻)). The
 //! stack's R(r) comes back through the FFTLog Hankel transform.
 
-use super::dipole::{boundary_a, source_tail, source_term, Medium, ETA_RANGE};
+use super::dipole::{boundary_a, source_head, source_tail, source_term, Medium, ETA_RANGE};
 use super::hankel;
 use super::tabulated::TabulatedProfile;
 use super::{check_range, rgb_map, ModelError, RadialProfile, Rgb};
@@ -95,6 +95,17 @@ impl SlabChannel {
     }
 
     /// Reflected energy beyond radius ρ (ρ = 0 gives the total).
+    /// Energy within ρ, per source without cancellation (see `source_head`).
+    fn reflectance_within(&self, rho: f64) -> f64 {
+        let s: f64 = self
+            .sources()
+            .map(|(zr, zv)| {
+                source_head(zv, self.sigma_tr, rho) - source_head(zr, self.sigma_tr, rho)
+            })
+            .sum();
+        0.5 * self.alpha * s
+    }
+
     fn reflectance_beyond(&self, rho: f64) -> f64 {
         let s: f64 = self
             .sources()
@@ -246,8 +257,14 @@ impl RadialProfile for MultipoleSlab {
         rgb_map(|c| self.channels[c].reflectance_beyond(0.0).max(0.0))
     }
     fn cdf(&self, radius_mm: f64) -> Rgb {
-        let t = self.tail(radius_mm);
-        rgb_map(|c| 1.0 - t[c])
+        rgb_map(|c| {
+            let total = self.channels[c].reflectance_beyond(0.0);
+            if total > 0.0 {
+                (self.channels[c].reflectance_within(radius_mm) / total).clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        })
     }
     fn tail(&self, radius_mm: f64) -> Rgb {
         rgb_map(|c| {

@@ -31,7 +31,19 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
     let mut textures = MeshTextures::default();
     let mut material_seen = false;
     let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    // glTF nodes form a forest; a hostile file can make a node its own
+    // descendant, which would loop forever.
+    let mut visited = vec![false; doc.nodes().len()];
     while let Some((node, parent)) = stack.pop() {
+        match visited.get_mut(node.index()) {
+            Some(seen) if !*seen => *seen = true,
+            _ => {
+                return Err(load_error(format!(
+                    "node {} is reached twice: the node hierarchy is not a tree",
+                    node.index()
+                )))
+            }
+        }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         stack.extend(node.children().map(|c| (c, world)));
         let Some(mesh) = node.mesh() else { continue };
@@ -177,4 +189,20 @@ fn decode(
         img
     };
     Ok(from_dynamic(img, slot, origin)?)
+}
+
+#[cfg(test)]
+mod tests {
+    /// A node that is its own grandchild is refused, not walked forever.
+    #[test]
+    fn cyclic_node_hierarchy_is_refused() {
+        let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+            "nodes":[{"children":[1]},{"children":[0]}]}"#;
+        let path =
+            std::env::temp_dir().join(format!("scatterlab-cycle-{}.gltf", std::process::id()));
+        std::fs::write(&path, json).unwrap();
+        let e = super::load(&path, 1.0).map(|_| ()).unwrap_err().to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(e.contains("scatterlab-cycle-"), "{e}");
+    }
 }

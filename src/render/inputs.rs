@@ -3,6 +3,7 @@
 //! counts change.
 
 use super::gpu_types::{GpuSample, GpuTap};
+use super::settings::BurleySampling;
 use crate::model::sampling::{AngleSequence, SamplePattern};
 use crate::model::separable::SeparableKernel;
 use crate::model::{ModelError, RadialProfile};
@@ -44,6 +45,8 @@ pub struct ProfileInputs {
     pub lut: Vec<[f32; 4]>,
     pub lut_radius_mm: f32,
     pub taps: Vec<GpuTap>,
+    /// How `burley` samples (the pattern here, the rest in the shader).
+    pub burley_sampling: BurleySampling,
 }
 
 pub(super) const LUT_SIZE: usize = 256;
@@ -69,25 +72,7 @@ impl ProfileInputs {
             );
         }
         if method == super::Method::Gaussians {
-            let terms: Vec<(f64, crate::model::Rgb)> = match spec {
-                ProfileSpec::Gaussians(g) => g
-                    .gaussians
-                    .iter()
-                    .map(|t| (t.variance_mm2, t.weights))
-                    .collect(),
-                _ => {
-                    let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
-                    (0..m.channel_terms(0).len())
-                        .map(|k| {
-                            (
-                                m.channel_terms(0)[k].variance_mm2,
-                                [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
-                            )
-                        })
-                        .collect()
-                }
-            };
-            inputs.set_gaussians(&terms);
+            inputs.set_gaussians(&gaussian_terms(spec, profile)?);
             inputs.gaussian_taps = gaussian_taps;
         }
         Ok(inputs)
@@ -99,9 +84,10 @@ impl ProfileInputs {
         samples: usize,
         taps: usize,
     ) -> Result<Self, ModelError> {
-        let pattern = SamplePattern::new(profile, samples, AngleSequence::GoldenAngle)?;
+        let sampling = BurleySampling::default();
+        let (gpu_samples, low_samples) = burley_patterns(profile, samples, sampling)?;
         let total = profile.total_reflectance();
-        let dom = pattern.sampled_channel;
+        let dom = SamplePattern::new(profile, 1, AngleSequence::GoldenAngle)?.sampled_channel;
         // w = R(ρ)/pdf with the planar area density pdf = R_dom(r)/A_dom.
         let gpu_sample = |radius: f64, angle: f64| {
             let rr = profile.r_reflectance(radius)[dom];
@@ -117,21 +103,6 @@ impl ProfileInputs {
                 pad: 0.0,
             }
         };
-        let gpu_samples = pattern
-            .samples
-            .iter()
-            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
-            .collect();
-        let low = SamplePattern::new(
-            profile,
-            (samples / 3).clamp(5, samples.max(5)),
-            AngleSequence::GoldenAngle,
-        )?;
-        let low_samples = low
-            .samples
-            .iter()
-            .map(|s| gpu_sample(s.radius_mm, s.angle_rad))
-            .collect();
         let filter_radius_mm = profile
             .radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION)
             .into_iter()
@@ -167,6 +138,12 @@ impl ProfileInputs {
                 };
                 [n(0), n(1), n(2), 0.0]
             })
+            // Then the CDF at the same radii (Burley's centre weight).
+            .chain((0..LUT_SIZE).map(|i| {
+                let t = i as f64 / (LUT_SIZE - 1) as f64;
+                let c = profile.cdf(r_max * t * t);
+                [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
+            }))
             .collect();
         let taps = gpu_taps(&SeparableKernel::importance_sampled(profile, taps)?);
         let lut_layout = crate::model::lut::LutLayout {
@@ -226,8 +203,87 @@ impl ProfileInputs {
             lut,
             lut_radius_mm: r_max as f32,
             taps,
+            burley_sampling: sampling,
         })
     }
+
+    /// Rebuilds the `burley` patterns for another count or sampling strategy.
+    pub fn set_burley(
+        &mut self,
+        profile: &dyn RadialProfile,
+        samples: usize,
+        sampling: BurleySampling,
+    ) -> Result<(), ModelError> {
+        (self.samples, self.low_samples) = burley_patterns(profile, samples, sampling)?;
+        self.burley_sampling = sampling;
+        Ok(())
+    }
+}
+
+/// The Gaussians `gaussians` blurs with for the look `spec`: a Gaussian-sum
+/// look's own terms, else six Gaussians fitted to `profile`; each term is
+/// (variance mm², RGB weight).
+pub fn gaussian_terms(
+    spec: &crate::settings::ProfileSpec,
+    profile: &dyn RadialProfile,
+) -> Result<Vec<(f64, crate::model::Rgb)>, ModelError> {
+    use crate::settings::ProfileSpec;
+    Ok(match spec {
+        ProfileSpec::Gaussians(g) => g
+            .gaussians
+            .iter()
+            .map(|t| (t.variance_mm2, t.weights))
+            .collect(),
+        _ => {
+            let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
+            (0..m.channel_terms(0).len())
+                .map(|k| {
+                    (
+                        m.channel_terms(0)[k].variance_mm2,
+                        [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
+                    )
+                })
+                .collect()
+        }
+    })
+}
+
+/// The full and the short (LOD) `burley` pattern: Golubev 2018's quantiles
+/// of the widest channel, in antithetic pairs, or MIS across the channels.
+fn burley_patterns(
+    profile: &dyn RadialProfile,
+    samples: usize,
+    sampling: BurleySampling,
+) -> Result<(Vec<GpuSample>, Vec<GpuSample>), ModelError> {
+    let pattern = |n| {
+        if sampling.antithetic {
+            SamplePattern::new_antithetic(profile, n, AngleSequence::GoldenAngle)
+        } else if sampling.mis {
+            SamplePattern::new_mis(profile, n, AngleSequence::GoldenAngle)
+        } else {
+            SamplePattern::new(profile, n, AngleSequence::GoldenAngle)
+        }
+    };
+    // The shader weighs a sample by R(ρ)/q(r): inv_pdf = 1/q.
+    let gpu = |p: SamplePattern| -> Vec<GpuSample> {
+        p.samples
+            .iter()
+            .map(|s| GpuSample {
+                radius_mm: s.radius_mm as f32,
+                angle: s.angle_rad as f32,
+                inv_pdf: if s.density_per_mm2 > 0.0 {
+                    (1.0 / s.density_per_mm2) as f32
+                } else {
+                    0.0
+                },
+                pad: 0.0,
+            })
+            .collect()
+    };
+    Ok((
+        gpu(pattern(samples)?),
+        gpu(pattern((samples / 3).clamp(5, samples.max(5)))?),
+    ))
 }
 
 impl ProfileInputs {
@@ -255,6 +311,8 @@ impl ProfileInputs {
         bytes(bytemuck::cast_slice(&self.lut));
         bytes(bytemuck::cast_slice(&self.taps));
         bytes(bytemuck::cast_slice(&[self.gaussian_taps as u64]));
+        let b = self.burley_sampling;
+        bytes(&[b.shader_flags() as u8, b.mis as u8, b.antithetic as u8]);
         for (sigma, w) in &self.gaussians {
             bytes(bytemuck::bytes_of(sigma));
             bytes(bytemuck::cast_slice(w));

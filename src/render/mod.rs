@@ -1,28 +1,47 @@
 //! wgpu renderer (never egui): offscreen HDR targets, the SSS methods and
 //! readback, so the same code serves the viewport, `render` and the tests.
 
+//!
+//! Without the `gpu` feature (the fuzz targets) only the CPU side is built:
+//! meshes, surface maps, environments, settings and profile inputs.
+
 pub mod compare;
+#[cfg(feature = "gpu")]
 pub mod context;
 pub mod environment;
+#[cfg(feature = "gpu")]
 mod frame;
 mod gltf_mesh;
 pub mod gpu_types;
 pub mod inputs;
 pub mod mesh;
+#[cfg(feature = "gpu")]
 pub mod pipelines;
 pub mod procedural;
+#[cfg(feature = "gpu")]
 mod profile_gpu;
+#[cfg(feature = "gpu")]
 pub mod readback;
+#[cfg(feature = "gpu")]
 pub mod renderer;
 pub mod settings;
+#[cfg(feature = "gpu")]
 mod sss;
 pub mod textures;
+#[cfg(feature = "gpu")]
 pub mod timing;
 
+#[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
+pub use inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 pub use mesh::Mesh;
-pub use renderer::{
-    FrameStats, IrradiancePattern, Method, ProfileInputs, RenderSettings, Renderer, Specular,
-    TexturingMode, Transmission,
+#[cfg(feature = "gpu")]
+pub use renderer::Renderer;
+#[cfg(feature = "gpu")]
+pub use settings::FrameStats;
+pub use settings::{
+    BurleySampling, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode,
+    Transmission,
 };
+#[cfg(feature = "gpu")]
 pub use timing::PassStats;

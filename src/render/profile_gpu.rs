@@ -29,6 +29,8 @@ pub(super) struct ProfileGpu {
     pub gaussian_tap_count: u32,
     /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
     pub filter_radius_mm: f32,
+    /// [`super::BurleySampling::shader_flags`].
+    pub burley_flags: u32,
 }
 
 impl ProfileGpu {
@@ -108,6 +110,7 @@ impl ProfileGpu {
             tap_count: inputs.taps.len() as u32,
             gaussian_tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
             filter_radius_mm: inputs.filter_radius_mm,
+            burley_flags: inputs.burley_sampling.shader_flags(),
         }
     }
 }

@@ -5,7 +5,7 @@ use super::context::{GpuContext, GpuError};
 use super::frame::{buf, color_attachment, tex, FrameEncoder};
 use super::gpu_types::{CompositeUniforms, SceneUniforms, SssUniforms};
 use super::inputs::LUT_SIZE;
-pub use super::inputs::{gaussian_taps, ProfileInputs};
+pub use super::inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 use super::mesh::Mesh;
 pub use super::pipelines::shader_sources;
 use super::pipelines::{
@@ -16,7 +16,8 @@ use super::profile_gpu::ProfileGpu;
 pub use super::readback::{f32_to_half, half_to_f32};
 use super::readback::{read_u32x4, readback};
 pub use super::settings::{
-    FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode, Transmission,
+    BurleySampling, FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode,
+    Transmission,
 };
 use super::sss::{self, SssFrame, SssPipelines};
 use super::textures::{self, AlbedoMode, RoughnessMode, TextureImage};

@@ -33,6 +33,83 @@ impl Method {
     }
 }
 
+/// How `burley` places and weighs its samples. [`BurleySampling::GOLUBEV`]
+/// is Golubev 2018 as published (radii at the widest channel's quantiles
+/// (i + ½)/N, golden-angle angles, a white-noise per-pixel rotation); the
+/// other flags are the improvements `bench` measures against it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BurleySampling {
+    /// Point-symmetric pairs of samples (antithetic variates): the linear
+    /// part of the irradiance cancels in each pair. Takes precedence over
+    /// `mis` (the pattern is the widest channel's).
+    pub antithetic: bool,
+    /// Radii from every channel's CDF in turn, weighted by the mixture
+    /// density (multiple importance sampling, balance heuristic).
+    pub mis: bool,
+    /// Per-pixel rotation from the R2 low-discrepancy sequence (Roberts
+    /// 2018) instead of a hash: neighbouring pixels get well-spread angles,
+    /// so the noise is blue rather than white.
+    pub r2_rotation: bool,
+    /// Fetch each sample bilinearly at its exact offset (SSS texels only)
+    /// instead of the nearest pixel: four loads instead of one.
+    pub bilinear: bool,
+    /// The centre pixel carries the energy inside its own footprint,
+    /// CDF(r_px), exactly; the samples estimate the rest (as Unreal does).
+    pub centre_weight: bool,
+}
+
+impl BurleySampling {
+    /// Golubev 2018 as published: the baseline.
+    pub const GOLUBEV: Self = Self {
+        antithetic: false,
+        mis: false,
+        r2_rotation: false,
+        bilinear: false,
+        centre_weight: false,
+    };
+    /// What `burley` uses: the improvements that measured better than the
+    /// baseline on the head (`docs/accuracy.md`).
+    pub const IMPROVED: Self = Self {
+        antithetic: true,
+        mis: false,
+        r2_rotation: true,
+        bilinear: false,
+        centre_weight: false,
+    };
+
+    /// Bit 0: R2 rotation, bit 1: centre weight, bit 2: bilinear (the
+    /// shader's `lod.w`).
+    pub fn shader_flags(self) -> u32 {
+        self.r2_rotation as u32 | (self.centre_weight as u32) << 1 | (self.bilinear as u32) << 2
+    }
+
+    /// A short name: `golubev`, `improved`, or the flags that are on.
+    pub fn id(self) -> String {
+        match self {
+            Self::GOLUBEV => "golubev".into(),
+            Self::IMPROVED => "improved".into(),
+            s => [
+                (s.antithetic, "antithetic"),
+                (s.mis, "mis"),
+                (s.r2_rotation, "r2"),
+                (s.bilinear, "bilinear"),
+                (s.centre_weight, "centre"),
+            ]
+            .iter()
+            .filter(|f| f.0)
+            .map(|f| f.1)
+            .collect::<Vec<_>>()
+            .join("+"),
+        }
+    }
+}
+
+impl Default for BurleySampling {
+    fn default() -> Self {
+        Self::IMPROVED
+    }
+}
+
 /// Where the albedo is applied (d'Eon 2007; seed 000 §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexturingMode {
@@ -168,6 +245,7 @@ impl Default for RenderSettings {
 }
 
 /// What a frame did: the proof that skipped work was skipped.
+#[cfg(feature = "gpu")]
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrameStats {
     pub method: &'static str,

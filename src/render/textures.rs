@@ -212,6 +212,7 @@ pub fn load(path: &Path, slot: TextureSlot) -> Result<TextureImage, TextureError
 }
 
 /// Uploads a texture with its mip chain.
+#[cfg(feature = "gpu")]
 pub(super) fn upload(
     device: &wgpu::Device,
     queue: &wgpu::Queue,

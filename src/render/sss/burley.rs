@@ -31,7 +31,12 @@ pub(in crate::render) fn encode(
             gpu.low_count as f32,
             gpu.filter_radius_mm,
             if use_lod { 1.0 } else { 0.0 },
-            0.0,
+            // The reference keeps its plain stratified grid.
+            if reference {
+                0.0
+            } else {
+                gpu.burley_flags as f32
+            },
         ]),
     );
     let t = io.targets;

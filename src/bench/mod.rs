@@ -1,0 +1,320 @@
+//! `scatterlab bench`: run time against error for every SSS method and
+//! count on fixed scenes, each against the `reference` method, plus the
+//! proof that unused work is skipped.
+//!
+//! Times are GPU timestamps of the SSS passes (wall-clock of the frame
+//! where the adapter has no timestamp queries), always reported as a ratio
+//! to the `none` frame measured in the same run. On lavapipe the "GPU" is
+//! the CPU, so the ratios, not the milliseconds, are what carries over.
+
+pub mod chart;
+pub mod metrics;
+pub mod report;
+pub mod scenes;
+pub mod skip;
+
+use crate::model::fit::fit_jimenez;
+use crate::model::jimenez::Jimenez2012;
+use crate::model::separable::SeparableKernel;
+use crate::model::{RadialProfile, Rgb};
+use crate::render::{
+    gaussian_terms, FrameStats, GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer,
+};
+use crate::settings::{Preset, ProfileSpec};
+use anyhow::{Context, Result};
+use image::RgbaImage;
+use scenes::{Config, Kernel, Scene, Stage};
+use std::path::Path;
+use std::time::Instant;
+
+/// One row of `results.csv`.
+#[derive(Debug, Clone)]
+pub struct Row {
+    pub scene: &'static str,
+    pub config: Config,
+    pub width: u32,
+    pub height: u32,
+    pub sss_pixels: u64,
+    /// Profile samples (burley, reference) or taps × pixels × passes.
+    pub samples: u64,
+    /// GPU time of the SSS passes (ms); 0 when none ran.
+    pub sss_ms: f64,
+    /// GPU time of the whole frame (ms), shadow map excluded (cached).
+    pub frame_ms: f64,
+    /// The `none` frame of the same scene in the same run (ms).
+    pub none_frame_ms: f64,
+    pub rel_rmse: f64,
+    /// Mean FLIP over SSS pixels and over the whole image.
+    pub flip_sss: f64,
+    pub flip_image: f64,
+    /// "gpu-timestamps" or "wall-clock".
+    pub timing: &'static str,
+}
+
+impl Row {
+    pub fn sss_ratio(&self) -> f64 {
+        self.sss_ms / self.none_frame_ms
+    }
+    pub fn frame_ratio(&self) -> f64 {
+        self.frame_ms / self.none_frame_ms
+    }
+}
+
+/// Frame sizes and repeats of a run.
+#[derive(Debug, Clone, Copy)]
+pub struct Options {
+    pub size: (u32, u32),
+    /// Timed frames per configuration after one warm-up (the minimum is kept).
+    pub repeats: u32,
+}
+
+impl Options {
+    pub fn new(quick: bool) -> Self {
+        if quick {
+            Self {
+                size: (320, 180),
+                repeats: 1,
+            }
+        } else {
+            Self {
+                size: (640, 360),
+                repeats: 3,
+            }
+        }
+    }
+}
+
+/// The profile and everything derived from it once per run.
+pub struct Prepared {
+    pub profile: Box<dyn RadialProfile>,
+    pub base: ProfileInputs,
+    pub jimenez: Jimenez2012,
+    pub kernels_2015: Vec<(usize, SeparableKernel)>,
+    pub gaussians: Vec<(f64, Rgb)>,
+}
+
+impl Prepared {
+    pub fn new(preset: &Preset) -> Result<Self> {
+        let spec = &preset.profile;
+        let profile = preset.build_profile()?;
+        let p = profile.as_ref();
+        let jimenez = match spec {
+            ProfileSpec::Jimenez2012(j) => Jimenez2012::new(j.strength, j.falloff)?,
+            _ => fit_jimenez(p)?.model,
+        };
+        let kernels_2015 = scenes::SEPARABLE_TAPS
+            .iter()
+            .map(|&t| Ok((t, SeparableKernel::importance_sampled(p, t)?)))
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            base: ProfileInputs::new(p, 21, 17)?,
+            gaussians: gaussian_terms(spec, p)?,
+            jimenez,
+            kernels_2015,
+            profile,
+        })
+    }
+
+    /// The inputs of one configuration.
+    pub fn inputs(&self, config: Config) -> Result<ProfileInputs> {
+        let mut i = self.base.clone();
+        match config {
+            Config::Burley { samples, sampling } => {
+                i.set_burley(self.profile.as_ref(), samples, sampling)?
+            }
+            Config::Separable { taps, kernel } => match kernel {
+                Kernel::Jimenez2012 => i.set_separable_kernel(&self.jimenez.kernel(taps)?),
+                Kernel::Preintegrated2015 => {
+                    let k = self.kernels_2015.iter().find(|k| k.0 == taps);
+                    let k = k.context("a separable tap count outside the bench's list")?;
+                    i.set_separable_kernel(&k.1)
+                }
+            },
+            Config::Gaussians => i.set_gaussians(&self.gaussians),
+            Config::None | Config::Preintegrated | Config::Reference => {}
+        }
+        Ok(i)
+    }
+}
+
+/// A frame's image, scattered irradiance and best times.
+pub struct Measured {
+    pub image: RgbaImage,
+    pub diffuse: Vec<[f32; 4]>,
+    /// The warm-up frame's stats (pixels and samples).
+    pub stats: FrameStats,
+    /// The fastest timed frame's stats (per-pass times).
+    pub fastest: FrameStats,
+    pub sss_ms: f64,
+    pub frame_ms: f64,
+    pub timing: &'static str,
+}
+
+fn frame_gpu_ms(stats: &FrameStats) -> Option<f64> {
+    stats.passes.iter().map(|p| p.gpu_ms).sum()
+}
+
+/// Renders one warm-up frame (read back with its irradiance) and
+/// `repeats` timed frames, keeping the fastest time.
+pub fn measure(
+    renderer: &mut Renderer,
+    inputs: &ProfileInputs,
+    settings: &RenderSettings,
+    repeats: u32,
+) -> Result<Measured> {
+    let (image, diffuse, stats) = renderer.render_with_diffuse(inputs, settings)?;
+    let (mut sss_ms, mut frame_ms) = (f64::INFINITY, f64::INFINITY);
+    let mut timing = "gpu-timestamps";
+    let mut fastest = stats.clone();
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let (_, s) = renderer.render(inputs, settings)?;
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        let f = frame_gpu_ms(&s).unwrap_or_else(|| {
+            timing = "wall-clock";
+            wall
+        });
+        if f < frame_ms {
+            frame_ms = f;
+            fastest = s.clone();
+        }
+        sss_ms = sss_ms.min(s.sss_gpu_ms.unwrap_or(0.0));
+    }
+    Ok(Measured {
+        image,
+        diffuse,
+        stats,
+        fastest,
+        sss_ms,
+        frame_ms,
+        timing,
+    })
+}
+
+/// A renderer for a scene's stage, on its own headless device.
+pub fn renderer_for(stage: Stage) -> Result<Renderer> {
+    let mesh = match stage {
+        Stage::Head => Mesh::default_head()?,
+        Stage::Plane => Mesh::plane(200.0, 0.001),
+    };
+    Ok(Renderer::new(GpuContext::new_headless()?, &mesh)?)
+}
+
+/// Every configuration on one scene.
+pub fn bench_scene(
+    renderer: &mut Renderer,
+    prepared: &Prepared,
+    scene: &Scene,
+    options: Options,
+) -> Result<Vec<Row>> {
+    let settings = |c: Config| RenderSettings {
+        method: c.method(),
+        ..scene.settings.clone()
+    };
+    let run = |r: &mut Renderer, c: Config| -> Result<Measured> {
+        measure(r, &prepared.inputs(c)?, &settings(c), options.repeats)
+            .with_context(|| format!("{}: {}", scene.id, c.label()))
+    };
+    let reference = run(renderer, Config::Reference)?;
+    let mask = metrics::sss_mask(&reference.diffuse);
+    let row = |c: Config, m: &Measured| {
+        let flip = metrics::flip_map(&reference.image, &m.image);
+        Row {
+            scene: scene.id,
+            config: c,
+            width: scene.settings.width,
+            height: scene.settings.height,
+            sss_pixels: m.stats.sss_pixels,
+            samples: m.stats.sss_samples,
+            sss_ms: m.sss_ms,
+            frame_ms: m.frame_ms,
+            none_frame_ms: 0.0,
+            rel_rmse: metrics::relative_rmse(&m.diffuse, &reference.diffuse, &mask),
+            flip_sss: metrics::masked_mean(&flip, &mask),
+            flip_image: metrics::masked_mean(&flip, &vec![true; flip.len()]),
+            timing: m.timing,
+        }
+    };
+    let mut rows = vec![row(Config::Reference, &reference)];
+    for c in scenes::configs() {
+        rows.push(row(c, &run(renderer, c)?));
+    }
+    // `none` again at the end: the smaller of the two brackets drift.
+    let none_again = run(renderer, Config::None)?.frame_ms;
+    let none_frame_ms = rows
+        .iter()
+        .filter(|r| r.config == Config::None)
+        .map(|r| r.frame_ms)
+        .fold(none_again, f64::min);
+    for r in &mut rows {
+        r.none_frame_ms = none_frame_ms;
+    }
+    Ok(rows)
+}
+
+/// `scatterlab bench --out DIR [--quick] [--preset FILE]`.
+pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
+    let options = Options::new(quick);
+    let preset = match preset {
+        Some(p) => Preset::load(p)?,
+        None => Preset::default_skin(),
+    };
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let start = Instant::now();
+    let prepared = Prepared::new(&preset)?;
+    eprintln!(
+        "prepared the profile's patterns, kernels and fits in {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+    let scenes = scenes::scenes(options.size);
+    let mut head: Option<Renderer> = None;
+    let mut plane: Option<Renderer> = None;
+    let mut rows = Vec::new();
+    for (k, scene) in scenes.iter().enumerate() {
+        let t = Instant::now();
+        let slot = match scene.stage {
+            Stage::Head => &mut head,
+            Stage::Plane => &mut plane,
+        };
+        let renderer = match slot {
+            Some(r) => r,
+            None => slot.insert(renderer_for(scene.stage)?),
+        };
+        rows.extend(bench_scene(renderer, &prepared, scene, options)?);
+        eprintln!(
+            "[{}/{}] {}: {:.1} s",
+            k + 1,
+            scenes.len(),
+            scene.id,
+            t.elapsed().as_secs_f64()
+        );
+    }
+    report::write_csv(&out.join("results.csv"), &rows)?;
+    for scene in &scenes {
+        chart::write(&out.join(format!("{}.png", scene.id)), scene, &rows)?;
+    }
+    let skip_rows = skip::run(&prepared, options, head.as_mut())?;
+    skip::write_csv(&out.join("skip.csv"), &skip_rows)?;
+    let adapter = head
+        .as_ref()
+        .or(plane.as_ref())
+        .map(|r| r.adapter_name())
+        .unwrap_or_default();
+    let md = report::markdown(&report::Context {
+        scenes: &scenes,
+        rows: &rows,
+        skip: &skip_rows,
+        options,
+        adapter: &adapter,
+        quick,
+    });
+    crate::fsutil::write_atomic(&out.join("accuracy.md"), md.as_bytes())
+        .with_context(|| format!("writing {}", out.join("accuracy.md").display()))?;
+    eprintln!(
+        "bench: {} rows in {:.1} s → {}",
+        rows.len(),
+        start.elapsed().as_secs_f64(),
+        out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,271 @@
+//! `results.csv` and the generated `accuracy.md`.
+
+use super::scenes::{Config, Scene};
+use super::skip::SkipRow;
+use super::{Options, Row};
+use crate::render::BurleySampling;
+use anyhow::{Context as _, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+
+pub const CSV_HEADER: &str = "scene,method,variant,count,width,height,sss_pixels,samples,\
+sss_ms,frame_ms,none_frame_ms,sss_time_ratio,frame_time_ratio,rel_rmse,flip_sss,flip_image,timing";
+
+pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.6},{:.6},{:.6},{}",
+            r.scene,
+            r.config.method().id(),
+            r.config.variant(),
+            r.config.count(),
+            r.width,
+            r.height,
+            r.sss_pixels,
+            r.samples,
+            r.sss_ms,
+            r.frame_ms,
+            r.none_frame_ms,
+            r.sss_ratio(),
+            r.frame_ratio(),
+            r.rel_rmse,
+            r.flip_sss,
+            r.flip_image,
+            r.timing
+        );
+    }
+    crate::fsutil::write_atomic(path, s.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Rows of one scene that no other row beats on both frame time and
+/// relative RMSE (the reference is the yardstick, not a candidate).
+pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
+    let cand: Vec<&Row> = rows
+        .iter()
+        .copied()
+        .filter(|r| r.config != Config::Reference)
+        .collect();
+    let mut front: Vec<&Row> = cand
+        .iter()
+        .copied()
+        .filter(|a| {
+            !cand.iter().any(|b| {
+                b.frame_ratio() <= a.frame_ratio()
+                    && b.rel_rmse <= a.rel_rmse
+                    && (b.frame_ratio() < a.frame_ratio() || b.rel_rmse < a.rel_rmse)
+            })
+        })
+        .collect();
+    front.sort_by(|a, b| a.frame_ratio().total_cmp(&b.frame_ratio()));
+    front
+}
+
+/// The cheapest row (by frame time) with relative RMSE at most `limit`.
+pub fn cheapest_within<'a>(rows: &[&'a Row], limit: f64) -> Option<&'a Row> {
+    rows.iter()
+        .copied()
+        .filter(|r| r.config != Config::Reference && r.rel_rmse <= limit)
+        .min_by(|a, b| a.frame_ratio().total_cmp(&b.frame_ratio()))
+}
+
+pub fn find<'a>(rows: &'a [Row], scene: &str, config: Config) -> Option<&'a Row> {
+    rows.iter().find(|r| r.scene == scene && r.config == config)
+}
+
+pub struct Context<'a> {
+    pub scenes: &'a [Scene],
+    pub rows: &'a [Row],
+    pub skip: &'a [SkipRow],
+    pub options: Options,
+    pub adapter: &'a str,
+    pub quick: bool,
+}
+
+fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
+    let front = pareto_front(rows);
+    let _ = writeln!(
+        s,
+        "| Method | SSS px | samples / SSS px | SSS passes ÷ none frame | frame ÷ none frame | rel. RMSE | FLIP (SSS px) | front |\n| --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    for r in rows {
+        let per_px = if r.sss_pixels > 0 {
+            r.samples as f64 / r.sss_pixels as f64
+        } else {
+            0.0
+        };
+        let on = front.iter().any(|f| std::ptr::eq(*f, *r));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.1} | {:.3} | {:.2} | {:.4} | {:.4} | {} |",
+            r.config.label(),
+            r.sss_pixels,
+            per_px,
+            r.sss_ratio(),
+            r.frame_ratio(),
+            r.rel_rmse,
+            r.flip_sss,
+            if on { "●" } else { "" }
+        );
+    }
+    let _ = writeln!(s, "\n![{}]({}.png)\n", scene.id, scene.id);
+}
+
+fn sampling_target(s: &mut String, c: &Context) {
+    let b = |n, sampling| Config::Burley {
+        samples: n,
+        sampling,
+    };
+    let _ = writeln!(
+        s,
+        "## Beating the published sampling\n\nBaseline: Golubev 2018 as published (`golubev`). Target: `burley` (`improved`) at 21 samples no worse than `golubev` at 55 on the head scenes.\n\n| Scene | golubev 21 | golubev 55 | improved 21 | antithetic 21 | mis 21 | r2 21 | bilinear 21 | centre 21 | improved 55 | met (RMSE) | met (FLIP) |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    let single = |f: fn(&mut BurleySampling)| {
+        let mut x = BurleySampling::GOLUBEV;
+        f(&mut x);
+        x
+    };
+    let variants = [
+        b(21, BurleySampling::GOLUBEV),
+        b(55, BurleySampling::GOLUBEV),
+        b(21, BurleySampling::IMPROVED),
+        b(21, single(|x| x.antithetic = true)),
+        b(21, single(|x| x.mis = true)),
+        b(21, single(|x| x.r2_rotation = true)),
+        b(21, single(|x| x.bilinear = true)),
+        b(21, single(|x| x.centre_weight = true)),
+        b(55, BurleySampling::IMPROVED),
+    ];
+    for scene in c.scenes.iter().filter(|s| s.head_shot) {
+        let got: Vec<Option<&Row>> = variants
+            .iter()
+            .map(|v| find(c.rows, scene.id, *v))
+            .collect();
+        let cell = |r: &Option<&Row>| match r {
+            Some(r) => format!("{:.4} / {:.4}", r.rel_rmse, r.flip_sss),
+            None => "—".into(),
+        };
+        let met = |f: fn(&Row) -> f64| match (got[2], got[1]) {
+            (Some(a), Some(b)) => {
+                if f(a) <= f(b) {
+                    "yes"
+                } else {
+                    "no"
+                }
+            }
+            _ => "—",
+        };
+        let cells: Vec<String> = got.iter().map(cell).collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            scene.id,
+            cells.join(" | "),
+            met(|r| r.rel_rmse),
+            met(|r| r.flip_sss)
+        );
+    }
+    let _ = writeln!(s, "\nCells: relative RMSE / mean FLIP over SSS pixels.\n");
+}
+
+fn picks(s: &mut String, c: &Context) {
+    let _ = writeln!(
+        s,
+        "## Cheapest configuration within an error budget\n\n| Scene | rel. RMSE ≤ 0.02 | ≤ 0.05 | ≤ 0.10 |\n| --- | --- | --- | --- |"
+    );
+    for scene in c.scenes {
+        let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();
+        let cell = |limit| match cheapest_within(&rows, limit) {
+            Some(r) => format!("{} ({:.2}×)", r.config.label(), r.frame_ratio()),
+            None => "—".into(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            scene.id,
+            cell(0.02),
+            cell(0.05),
+            cell(0.10)
+        );
+    }
+    let _ = writeln!(s);
+}
+
+/// The generated report: tables per scene, the sampling target, the
+/// budget picks and the skip study.
+pub fn markdown(c: &Context) -> String {
+    let mut s = String::new();
+    let timing = c.rows.first().map(|r| r.timing).unwrap_or("gpu-timestamps");
+    let _ = writeln!(
+        s,
+        "# Bench results ({})\n\nGenerated by `scatterlab bench{}`. Adapter: {}. Frames {}×{}, one warm-up and {} timed frame(s) per configuration (fastest kept). Times: {}; given as ratios to the `none` frame of the same scene and run (on a CPU adapter such as lavapipe the GPU time is CPU time). Error against `reference` (2,304 samples per pixel): relative RMSE of the scattered irradiance (linear HDR) over SSS pixels, and mean FLIP over SSS pixels of the tonemapped images. ● marks the Pareto front of frame time against RMSE.\n",
+        if c.quick { "quick" } else { "full" },
+        if c.quick { " --quick" } else { "" },
+        c.adapter,
+        c.options.size.0,
+        c.options.size.1,
+        c.options.repeats,
+        timing
+    );
+    for scene in c.scenes {
+        let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();
+        let _ = writeln!(s, "## {}\n\n{}.\n", scene.id, scene.description);
+        scene_table(&mut s, scene, &rows);
+    }
+    sampling_target(&mut s, c);
+    picks(&mut s, c);
+    super::skip::markdown(&mut s, c.skip);
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(config: Config, frame_ms: f64, rel_rmse: f64) -> Row {
+        Row {
+            scene: "s",
+            config,
+            width: 1,
+            height: 1,
+            sss_pixels: 1,
+            samples: 1,
+            sss_ms: 0.0,
+            frame_ms,
+            none_frame_ms: 1.0,
+            rel_rmse,
+            flip_sss: 0.0,
+            flip_image: 0.0,
+            timing: "gpu-timestamps",
+        }
+    }
+
+    #[test]
+    fn pareto_front_by_hand() {
+        let b = |n| Config::Burley {
+            samples: n,
+            sampling: BurleySampling::GOLUBEV,
+        };
+        let rows = [
+            row(Config::None, 1.0, 0.5),
+            row(b(7), 2.0, 0.2),
+            row(b(13), 3.0, 0.3), // dominated by b(7)
+            row(b(21), 4.0, 0.1),
+            row(Config::Reference, 30.0, 0.0), // never a candidate
+        ];
+        let refs: Vec<&Row> = rows.iter().collect();
+        let front: Vec<usize> = pareto_front(&refs)
+            .iter()
+            .map(|r| r.config.count())
+            .collect();
+        assert_eq!(front, vec![0, 7, 21]);
+        assert_eq!(
+            cheapest_within(&refs, 0.25).map(|r| r.config.count()),
+            Some(7)
+        );
+        assert!(cheapest_within(&refs, 0.05).is_none());
+    }
+}

@@ -1,0 +1,238 @@
+//! The fixed scenes and the method configurations `bench` measures.
+
+use crate::render::{BurleySampling, IrradiancePattern, Method, RenderSettings, Transmission};
+
+/// What a scene renders.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// The default head.
+    Head,
+    /// A 200 mm square plane, 1 mm per unit, facing the camera.
+    Plane,
+}
+
+/// One fixed scene.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub id: &'static str,
+    pub description: &'static str,
+    pub stage: Stage,
+    /// Whether the sampling target (21 vs 55 samples) is judged on it.
+    pub head_shot: bool,
+    pub settings: RenderSettings,
+}
+
+/// Field of view of the plane scenes and the width of plane they show.
+const PLANE_SPAN_MM: f32 = 40.0;
+
+/// Settings of a plane scene: the camera square on, `PLANE_SPAN_MM` across.
+pub fn plane_settings(size: (u32, u32), pattern: IrradiancePattern) -> RenderSettings {
+    let fov_y = 30f32.to_radians();
+    let aspect = size.0 as f32 / size.1 as f32;
+    let half_height_mm = 0.5 * PLANE_SPAN_MM / aspect;
+    RenderSettings {
+        width: size.0,
+        height: size.1,
+        camera_yaw: 0.0,
+        camera_pitch: 0.0,
+        camera_distance_m: half_height_mm / (0.5 * fov_y).tan() / 1000.0,
+        fov_y,
+        pattern,
+        light_intensity: std::f32::consts::PI,
+        transmission: Transmission::Off,
+        ..RenderSettings::default()
+    }
+}
+
+fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> RenderSettings {
+    RenderSettings {
+        width: size.0,
+        height: size.1,
+        camera_yaw: yaw_deg.to_radians(),
+        camera_distance_m: distance_m,
+        light_azimuth: light.0.to_radians(),
+        light_elevation: light.1.to_radians(),
+        ..RenderSettings::default()
+    }
+}
+
+/// The six scenes of issue 5 at `size` pixels.
+pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
+    vec![
+        Scene {
+            id: "head_front",
+            description: "default head, front-left key light with the nose's hard shadow (camera yaw 20°, light azimuth 50°, elevation 25°, 0.55 m)",
+            stage: Stage::Head,
+            head_shot: true,
+            settings: head(size, 20.0, 0.55, (50.0, 25.0)),
+        },
+        Scene {
+            id: "head_backlit_ear",
+            description: "the head back-lit through the ear, thin-object transmission (camera yaw 65°, light azimuth 200°, elevation 10°)",
+            stage: Stage::Head,
+            head_shot: true,
+            settings: RenderSettings {
+                transmission: Transmission::ThinObject,
+                ..head(size, 65.0, 0.55, (200.0, 10.0))
+            },
+        },
+        Scene {
+            id: "head_closeup",
+            description: "close-up of nose and cheek, side light (0.32 m, yaw 25°, light azimuth 75°, elevation 20°)",
+            stage: Stage::Head,
+            head_shot: true,
+            settings: head(size, 25.0, 0.32, (75.0, 20.0)),
+        },
+        Scene {
+            id: "head_far",
+            description: "far shot (3 m): the head is a few dozen pixels tall and Burley's LOD takes the short pattern or none",
+            stage: Stage::Head,
+            head_shot: false,
+            settings: head(size, 20.0, 3.0, (50.0, 25.0)),
+        },
+        Scene {
+            id: "plane_edge",
+            description: "flat plane with a straight shadow edge (unit irradiance on x > 0), 40 mm across",
+            stage: Stage::Plane,
+            head_shot: false,
+            settings: plane_settings(size, IrradiancePattern::Step),
+        },
+        Scene {
+            id: "plane_checker",
+            description: "flat plane under a 4 mm checkerboard of irradiance, 40 mm across",
+            stage: Stage::Plane,
+            head_shot: false,
+            settings: plane_settings(size, IrradiancePattern::Checkerboard { period_mm: 4.0 }),
+        },
+    ]
+}
+
+/// Which separable kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kernel {
+    /// Jimenez 2012's kernel with strength and falloff fitted to the profile.
+    Jimenez2012,
+    /// Jimenez 2015's importance-sampled pre-integrated kernel of the profile.
+    Preintegrated2015,
+}
+
+/// One method at one count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Config {
+    None,
+    Preintegrated,
+    Gaussians,
+    Reference,
+    Burley {
+        samples: usize,
+        sampling: BurleySampling,
+    },
+    Separable {
+        taps: usize,
+        kernel: Kernel,
+    },
+}
+
+pub const BURLEY_SAMPLES: [usize; 7] = [7, 13, 21, 34, 55, 89, 144];
+pub const SEPARABLE_TAPS: [usize; 5] = [7, 11, 17, 25, 33];
+/// The single improvements, measured alone at these counts.
+pub const ABLATION_SAMPLES: [usize; 2] = [21, 55];
+
+impl Config {
+    pub fn method(self) -> Method {
+        match self {
+            Config::None => Method::None,
+            Config::Preintegrated => Method::Preintegrated,
+            Config::Gaussians => Method::Gaussians,
+            Config::Reference => Method::Reference,
+            Config::Burley { .. } => Method::Burley,
+            Config::Separable { .. } => Method::Separable,
+        }
+    }
+
+    /// The CSV's `variant` column.
+    pub fn variant(self) -> String {
+        match self {
+            Config::Burley { sampling, .. } => sampling.id(),
+            Config::Separable { kernel, .. } => match kernel {
+                Kernel::Jimenez2012 => "2012".into(),
+                Kernel::Preintegrated2015 => "2015".into(),
+            },
+            Config::Gaussians => "6x2-passes".into(),
+            _ => String::new(),
+        }
+    }
+
+    /// Samples per pixel (burley), taps (separable), else 0.
+    pub fn count(self) -> usize {
+        match self {
+            Config::Burley { samples, .. } => samples,
+            Config::Separable { taps, .. } => taps,
+            _ => 0,
+        }
+    }
+
+    /// `method/variant/count`, for labels.
+    pub fn label(self) -> String {
+        let v = self.variant();
+        match (v.is_empty(), self.count()) {
+            (true, _) => self.method().id().to_string(),
+            (false, 0) => format!("{} {v}", self.method().id()),
+            (false, n) => format!("{} {v} {n}", self.method().id()),
+        }
+    }
+}
+
+/// Every configuration measured on every scene (the reference is rendered
+/// first and separately).
+pub fn configs() -> Vec<Config> {
+    let mut c = vec![Config::None, Config::Preintegrated, Config::Gaussians];
+    for kernel in [Kernel::Jimenez2012, Kernel::Preintegrated2015] {
+        c.extend(SEPARABLE_TAPS.map(|taps| Config::Separable { taps, kernel }));
+    }
+    for sampling in [BurleySampling::IMPROVED, BurleySampling::GOLUBEV] {
+        c.extend(BURLEY_SAMPLES.map(|samples| Config::Burley { samples, sampling }));
+    }
+    let single = [
+        BurleySampling {
+            antithetic: true,
+            ..BurleySampling::GOLUBEV
+        },
+        BurleySampling {
+            mis: true,
+            ..BurleySampling::GOLUBEV
+        },
+        BurleySampling {
+            r2_rotation: true,
+            ..BurleySampling::GOLUBEV
+        },
+        BurleySampling {
+            bilinear: true,
+            ..BurleySampling::GOLUBEV
+        },
+        BurleySampling {
+            centre_weight: true,
+            ..BurleySampling::GOLUBEV
+        },
+    ];
+    for sampling in single {
+        c.extend(ABLATION_SAMPLES.map(|samples| Config::Burley { samples, sampling }));
+    }
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_config_has_a_distinct_label() {
+        let c = configs();
+        let mut labels: Vec<String> = c.iter().map(|c| c.label()).collect();
+        labels.sort();
+        labels.dedup();
+        assert_eq!(labels.len(), c.len(), "{labels:?}");
+        // 3 + 2 kernels × 5 taps + 2 samplings × 7 counts + 5 flags × 2 counts.
+        assert_eq!(c.len(), 3 + 10 + 14 + 10);
+    }
+}

@@ -1,0 +1,166 @@
+#![allow(clippy::unwrap_used)]
+//! `scatterlab bench --quick` end to end (what CI runs): every scene ×
+//! method × count has its row in results.csv with finite figures, each
+//! scene has its chart, and the skip study shows the work that must not
+//! happen did not: no SSS pass at 0 % coverage or strength 0, all pixels at
+//! 100 %, fewer samples with the LOD on the far shot.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+const SCENES: [&str; 6] = [
+    "head_front",
+    "head_backlit_ear",
+    "head_closeup",
+    "head_far",
+    "plane_edge",
+    "plane_checker",
+];
+
+fn csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            let cells: Vec<&str> = l.splitn(header.len(), ',').collect();
+            assert_eq!(cells.len(), header.len(), "{l}");
+            header
+                .iter()
+                .zip(cells)
+                .map(|(h, c)| (h.to_string(), c.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+fn num(row: &HashMap<String, String>, key: &str) -> f64 {
+    let v: f64 = row[key]
+        .parse()
+        .unwrap_or_else(|_| panic!("{key} = {}", row[key]));
+    assert!(v.is_finite(), "{key} = {v} in {row:?}");
+    v
+}
+
+/// The rows the issue asks for, as (method, variant, count).
+fn expected_configs() -> Vec<(String, String, u32)> {
+    let mut c: Vec<(String, String, u32)> = vec![
+        ("reference".into(), String::new(), 0),
+        ("none".into(), String::new(), 0),
+        ("preintegrated".into(), String::new(), 0),
+        ("gaussians".into(), "6x2-passes".into(), 0),
+    ];
+    for v in ["2012", "2015"] {
+        for t in [7, 11, 17, 25, 33] {
+            c.push(("separable".into(), v.into(), t));
+        }
+    }
+    for v in ["improved", "golubev"] {
+        for n in [7, 13, 21, 34, 55, 89, 144] {
+            c.push(("burley".into(), v.into(), n));
+        }
+    }
+    for v in ["antithetic", "mis", "r2", "bilinear", "centre"] {
+        for n in [21, 55] {
+            c.push(("burley".into(), v.into(), n));
+        }
+    }
+    c
+}
+
+#[test]
+fn quick_bench_writes_every_row_chart_and_skip_figure() {
+    let out = std::env::temp_dir().join(format!("scatterlab-bench-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(["bench", "--quick", "--out", out.to_str().unwrap()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+
+    let rows = csv(&out.join("results.csv"));
+    let expected = expected_configs();
+    assert_eq!(rows.len(), SCENES.len() * expected.len());
+    for scene in SCENES {
+        for (m, v, n) in &expected {
+            let hits: Vec<_> = rows
+                .iter()
+                .filter(|r| {
+                    r["scene"] == scene
+                        && r["method"] == *m
+                        && r["variant"] == *v
+                        && r["count"] == n.to_string()
+                })
+                .collect();
+            assert_eq!(hits.len(), 1, "{scene} {m} {v} {n}");
+            let r = hits[0];
+            for key in ["sss_ms", "frame_ms", "rel_rmse", "flip_sss", "flip_image"] {
+                assert!(num(r, key) >= 0.0, "{key} in {r:?}");
+            }
+            assert!(num(r, "none_frame_ms") > 0.0, "{r:?}");
+            assert!(num(r, "sss_time_ratio") >= 0.0 && num(r, "frame_time_ratio") > 0.0);
+            if m == "reference" {
+                assert_eq!(num(r, "rel_rmse"), 0.0);
+            }
+        }
+        // Scattering matters on every scene: `none` is off the reference,
+        // and 144 Burley samples are closer to it than none.
+        let get = |m: &str, v: &str, n: u32| {
+            rows.iter()
+                .find(|r| {
+                    r["scene"] == scene
+                        && r["method"] == m
+                        && r["variant"] == v
+                        && r["count"] == n.to_string()
+                })
+                .unwrap()
+        };
+        let none = num(get("none", "", 0), "rel_rmse");
+        let b144 = num(get("burley", "improved", 144), "rel_rmse");
+        assert!(
+            none > 0.0 && b144 < none,
+            "{scene}: none {none}, burley 144 {b144}"
+        );
+        let chart = image::open(out.join(format!("{scene}.png"))).unwrap();
+        assert_eq!((chart.width(), chart.height()), (1400, 620));
+    }
+
+    let skip = csv(&out.join("skip.csv"));
+    let case = |study: &str, case: &str, method: &str| {
+        skip.iter()
+            .find(|r| r["study"] == study && r["case"] == case && r["method"] == method)
+            .unwrap_or_else(|| panic!("{study} / {case} / {method}"))
+    };
+    let zero = case("coverage", "0%", "burley");
+    assert_eq!(num(zero, "sss_pixels"), 0.0);
+    assert_eq!(num(zero, "sss_passes"), 0.0);
+    let full = case("coverage", "100%", "burley");
+    assert_eq!(num(full, "sss_pixels"), num(full, "pixels"));
+    let ten = num(case("coverage", "10%", "burley"), "sss_pixels") / num(full, "pixels");
+    let half = num(case("coverage", "50%", "burley"), "sss_pixels") / num(full, "pixels");
+    assert!(
+        (ten - 0.1).abs() < 0.02 && (half - 0.5).abs() < 0.02,
+        "{ten} {half}"
+    );
+    assert!(num(full, "sss_samples") > num(case("coverage", "50%", "burley"), "sss_samples"));
+    let s0 = case("strength", "jimenez strength 0", "burley");
+    assert_eq!(num(s0, "sss_passes"), 0.0);
+    assert!(num(s0, "sss_pixels") > 0.0);
+    let on = case("lod", "far shot, LOD on", "burley");
+    let off = case("lod", "far shot, LOD off", "burley");
+    assert!(
+        num(on, "sss_samples") < num(off, "sss_samples"),
+        "{on:?} {off:?}"
+    );
+    assert!(num(on, "lod_skipped_pixels") + num(on, "sss_samples") > 0.0);
+
+    let md = std::fs::read_to_string(out.join("accuracy.md")).unwrap();
+    for needle in [
+        "## head_front",
+        "## Beating the published sampling",
+        "## Skipped work",
+    ] {
+        assert!(md.contains(needle), "accuracy.md lacks {needle}");
+    }
+    std::fs::remove_dir_all(&out).unwrap();
+}
