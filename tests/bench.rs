@@ -146,8 +146,8 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
     let s0 = case("strength", "jimenez strength 0", "burley");
     assert_eq!(num(s0, "sss_passes"), 0.0);
     assert!(num(s0, "sss_pixels") > 0.0);
-    let on = case("lod", "far shot, LOD on", "burley");
-    let off = case("lod", "far shot, LOD off", "burley");
+    let on = case("lod", "far shot LOD on", "burley");
+    let off = case("lod", "far shot LOD off", "burley");
     assert!(
         num(on, "sss_samples") < num(off, "sss_samples"),
         "{on:?} {off:?}"

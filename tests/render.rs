@@ -164,8 +164,20 @@ fn burley_conserves_energy_and_blurs() {
 fn profile_lut_holds_the_normalised_profile() {
     let p = Preset::default_skin().build_profile().unwrap();
     let inp = ProfileInputs::new(p.as_ref(), 21, 17).unwrap();
-    // ∫2π r·R_N(r) dr over the LUT's radius range ≈ 0.999 (it ends at the 0.999 radius).
-    let n = inp.lut.len();
+    // ∫2π r·R_N(r) dr over the LUT's radius range ≈ 0.999 (it ends at the
+    // 0.999 radius). The table holds r·R_N at r_max·t², then the CDF there.
+    assert_eq!(inp.lut.len() % 2, 0);
+    let n = inp.lut.len() / 2;
+    for i in [0, n / 3, n - 1] {
+        let t = i as f64 / (n - 1) as f64;
+        let want = p.cdf(inp.lut_radius_mm as f64 * t * t);
+        for c in 0..3 {
+            assert!(
+                (inp.lut[n + i][c] as f64 - want[c]).abs() < 1e-6,
+                "CDF row {i}"
+            );
+        }
+    }
     for c in 0..3 {
         let mut acc = 0.0;
         for i in 0..n - 1 {
@@ -290,9 +302,19 @@ fn sss_work_is_counted_and_skipped() {
     // The plane is uniformly lit skin, so every covered pixel differs from the background.
     assert_eq!(stats.sss_pixels, covered);
     assert_eq!(stats.sss_samples, covered * 21);
+    // The default (antithetic pairs, R2 rotations) takes every sample too.
     let improved = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
     let (_, st) = r.render(&improved, &s).unwrap();
     assert_eq!(st.sss_pixels, covered);
+    assert_eq!(st.sss_samples, covered * 21);
+    // The centre weight skips the samples inside the centre pixel.
+    let mut centre = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
+    let sampling = BurleySampling {
+        centre_weight: true,
+        ..BurleySampling::GOLUBEV
+    };
+    centre.set_burley(profile.as_ref(), 21, sampling).unwrap();
+    let (_, st) = r.render(&centre, &s).unwrap();
     assert!(
         st.sss_samples > 0 && st.sss_samples < covered * 21,
         "{} of {}",

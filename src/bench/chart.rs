@@ -51,6 +51,20 @@ fn series(c: Config) -> (&'static str, RGBColor) {
     }
 }
 
+/// An axis label with three significant digits and no float noise.
+fn significant(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
@@ -71,8 +85,9 @@ fn panel(
     y: fn(&Row) -> f64,
     front: bool,
 ) -> Result<()> {
-    let x_range = log_range(rows.iter().map(|r| r.frame_ratio()));
-    let y_range = log_range(rows.iter().map(|r| y(r)));
+    let plotted = || rows.iter().filter(|r| r.config != Config::Reference);
+    let x_range = log_range(plotted().map(|r| r.frame_ratio()));
+    let y_range = log_range(plotted().map(|r| y(r)));
     let mut chart = ChartBuilder::on(area)
         .margin(12)
         .x_label_area_size(44)
@@ -85,6 +100,9 @@ fn panel(
         .y_desc(y_desc)
         .label_style((FONT, 15))
         .axis_desc_style((FONT, 17))
+        .x_label_formatter(&|v| significant(*v))
+        .y_label_formatter(&|v| significant(*v))
+        .max_light_lines(4)
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     let points: Vec<&Row> = rows
@@ -107,26 +125,22 @@ fn panel(
     for r in &points {
         let (name, colour) = series(r.config);
         let first = !names.contains(&name);
+        // The count sits beside its dot (pixel offsets from the point).
+        let count = match r.config.count() {
+            0 => String::new(),
+            n => n.to_string(),
+        };
         let dot = chart
-            .draw_series(std::iter::once(Circle::new(
-                (r.frame_ratio(), y(r)),
-                5,
-                colour.filled(),
-            )))
+            .draw_series(std::iter::once(
+                EmptyElement::at((r.frame_ratio(), y(r)))
+                    + Circle::new((0, 0), 5, colour.filled())
+                    + Text::new(count, (7, -14), (FONT, 13).into_font().color(&colour)),
+            ))
             .map_err(|e| anyhow!("{e}"))?;
         if first {
             names.push(name);
             dot.label(name)
                 .legend(move |(x, y)| Circle::new((x + 9, y), 5, colour.filled()));
-        }
-        if r.config.count() > 0 {
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    r.config.count().to_string(),
-                    (r.frame_ratio(), y(r)),
-                    (FONT, 13).into_font().color(&colour),
-                )))
-                .map_err(|e| anyhow!("{e}"))?;
         }
     }
     chart

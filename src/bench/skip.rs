@@ -223,9 +223,9 @@ fn head_studies(prepared: &Prepared, options: Options, r: &mut Renderer) -> Resu
         };
         let m = measure(r, &inputs, &s, options.repeats)?;
         let case = if lod {
-            "far shot, LOD on"
+            "far shot LOD on"
         } else {
-            "far shot, LOD off"
+            "far shot LOD off"
         };
         rows.push(row("lod", case.into(), &m, none.frame_ms));
     }
@@ -257,6 +257,8 @@ pub fn write_csv(path: &Path, rows: &[SkipRow]) -> Result<()> {
     let mut s = String::from(CSV_HEADER);
     s.push('\n');
     for r in rows {
+        // Plain CSV: no field but the last (passes) may hold a comma.
+        anyhow::ensure!(!r.case.contains(','), "skip case `{}` has a comma", r.case);
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{}",

@@ -150,6 +150,9 @@ pub(crate) fn source_term(z: f64, sigma: f64, r: f64) -> f64 {
 #[inline]
 pub(crate) fn source_tail(z: f64, sigma: f64, rho: f64) -> f64 {
     let d = rho.hypot(z);
+    if d == f64::INFINITY {
+        return 0.0; // σ·d would be 0·∞ when σ = 0
+    }
     z * (-sigma * d).exp() / d
 }
 
