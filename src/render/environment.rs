@@ -37,11 +37,16 @@ impl Default for Environment {
     }
 }
 
+/// Largest accepted texel value: the sun in a real HDR capture is ~10⁵–10⁶;
+/// RGBE can encode ~10³⁸, which overflowed the SH projection to ∞ (found by
+/// fuzzing).
+pub const MAX_RADIANCE: f32 = 1e9;
+
 #[derive(Debug, thiserror::Error)]
 pub enum EnvironmentError {
     #[error("{path}: cannot read the environment map: {message}")]
     Load { path: String, message: String },
-    #[error("{path}: the environment map has a non-finite or negative texel at ({x}, {y})")]
+    #[error("{path}: the environment map has a non-finite, negative or absurd (> {MAX_RADIANCE:e}) texel at ({x}, {y})")]
     BadTexel { path: String, x: usize, y: usize },
 }
 
@@ -75,7 +80,10 @@ impl Environment {
         };
         let mut texels = Vec::with_capacity(width * height);
         for (i, p) in rgb.pixels().enumerate() {
-            if p.0.iter().any(|c| !c.is_finite() || *c < 0.0) {
+            if p.0
+                .iter()
+                .any(|c| !c.is_finite() || *c < 0.0 || *c > MAX_RADIANCE)
+            {
                 return Err(EnvironmentError::BadTexel {
                     path: origin,
                     x: i % width,
@@ -191,6 +199,28 @@ fn equirect_to_direction(u: f32, v: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A Radiance file whose RGBE texels decode to ~10³⁸ (the fuzzer's
+    /// find: its SH projection overflowed to ∞) is refused by name.
+    #[test]
+    fn absurd_radiance_is_refused() {
+        let hex = "233f52414449414e43450a462f4f726762895022470d0a1a0a0000950a0a2d592032202b5820340a808080ffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffffff80808180808081";
+        let bytes: Vec<u8> = (0..hex.len() / 2)
+            .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
+            .collect();
+        let path =
+            std::env::temp_dir().join(format!("scatterlab-absurd-{}.hdr", std::process::id()));
+        std::fs::write(&path, bytes).unwrap();
+        let e = Environment::load(&path)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(
+            e.contains("scatterlab-absurd-") && e.contains("absurd"),
+            "{e}"
+        );
+    }
 
     fn eval(c: &[[f32; 3]; 9], n: Vec3) -> Vec3 {
         sh9(n).iter().zip(c).map(|(y, c)| Vec3::from(*c) * *y).sum()

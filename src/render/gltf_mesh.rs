@@ -20,6 +20,7 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
         path: origin.clone(),
         message,
     };
+    check_glb_header(path).map_err(load_error)?;
     let (doc, buffers, images) = gltf::import(path).map_err(|e| load_error(e.to_string()))?;
     let scene = doc
         .default_scene()
@@ -118,6 +119,27 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
     Ok(mesh)
 }
 
+/// A binary glTF's 12-byte header: its length must cover the header and
+/// not exceed the file. (gltf 1.4 subtracts the header size from the
+/// declared length unchecked and panics on a smaller one; found by fuzzing.)
+fn check_glb_header(path: &Path) -> Result<(), String> {
+    use std::io::Read;
+    let mut file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let file_len = file.metadata().map_err(|e| e.to_string())?.len();
+    let mut head = [0u8; 12];
+    let n = file.read(&mut head).map_err(|e| e.to_string())?;
+    if n < 12 || &head[0..4] != b"glTF" {
+        return Ok(()); // JSON glTF, or too short to be binary: the parser reports it
+    }
+    let declared = u32::from_le_bytes([head[8], head[9], head[10], head[11]]) as u64;
+    if declared < 12 || declared > file_len {
+        return Err(format!(
+            "binary glTF header declares {declared} bytes; the file has {file_len}"
+        ));
+    }
+    Ok(())
+}
+
 /// The first material's base colour, normal and roughness textures.
 fn read_material(
     m: &gltf::Material,
@@ -193,6 +215,24 @@ fn decode(
 
 #[cfg(test)]
 mod tests {
+    /// A GLB header declaring fewer bytes than the header itself is refused
+    /// by name (the gltf crate would panic on it).
+    #[test]
+    fn short_glb_header_is_refused() {
+        let path = std::env::temp_dir().join(format!("scatterlab-glb-{}.glb", std::process::id()));
+        let mut bytes = b"glTF".to_vec();
+        bytes.extend(2u32.to_le_bytes());
+        bytes.extend(4u32.to_le_bytes());
+        bytes.extend([0u8; 20]);
+        std::fs::write(&path, &bytes).unwrap();
+        let e = super::load(&path, 1.0).map(|_| ()).unwrap_err().to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(
+            e.contains("scatterlab-glb-") && e.contains("declares 4 bytes"),
+            "{e}"
+        );
+    }
+
     /// A node that is its own grandchild is refused, not walked forever.
     #[test]
     fn cyclic_node_hierarchy_is_refused() {

@@ -34,6 +34,42 @@ pub struct Mesh {
     pub coarse: Option<Box<Mesh>>,
 }
 
+/// OBJ face indices count back from the elements read so far when
+/// negative; tobj 4.0 turns one that reaches before the first element into
+/// an overflowing multiplication (a panic in debug builds, a wrapped index
+/// in release; found by fuzzing). Refuse those before tobj sees them.
+fn check_relative_indices(text: &str) -> Result<(), String> {
+    let mut counts = [0i64; 3]; // v, vt, vn
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") | Some("l") | Some("p") => {
+                for corner in words {
+                    for (k, part) in corner.split('/').take(3).enumerate() {
+                        let Ok(i) = part.parse::<i64>() else { continue };
+                        if i < 0 && -i > counts[k] {
+                            return Err(format!(
+                                "line {}: index {i} reaches before the first {}",
+                                n + 1,
+                                ["vertex", "texture coordinate", "normal"][k]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Largest accepted |coordinate| (mesh units): room for any real scan in
+/// millimetres, far from f32's overflow when squared (3.4·10³⁸).
+pub const MAX_COORDINATE: f32 = 1e9;
+
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
     #[error("{path}: cannot load mesh: {message}")]
@@ -42,6 +78,12 @@ pub enum MeshError {
     Empty { path: String },
     #[error("{path}: vertex {vertex} has a non-finite position {position:?}")]
     NonFinite {
+        path: String,
+        vertex: usize,
+        position: [f32; 3],
+    },
+    #[error("{path}: vertex {vertex} lies at {position:?}, beyond ±{MAX_COORDINATE:e} units")]
+    TooFar {
         path: String,
         vertex: usize,
         position: [f32; 3],
@@ -120,6 +162,10 @@ impl Mesh {
                 value: metres_per_unit,
             });
         }
+        check_relative_indices(text).map_err(|message| MeshError::Load {
+            path: origin.into(),
+            message,
+        })?;
         let mut reader = std::io::BufReader::new(text.as_bytes());
         let opts = tobj::LoadOptions {
             triangulate: true,
@@ -199,6 +245,20 @@ impl Mesh {
             .find(|(_, v)| !v.position.iter().all(|x| x.is_finite()))
         {
             return Err(MeshError::NonFinite {
+                path: origin.into(),
+                vertex: vertex + 1,
+                position: v.position,
+            });
+        }
+        // So would a finite one whose squared extent overflows f32 (the
+        // thickness bake then marched forever; found by fuzzing).
+        if let Some((vertex, v)) = mesh
+            .vertices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| v.position.iter().any(|x| x.abs() > MAX_COORDINATE))
+        {
+            return Err(MeshError::TooFar {
                 path: origin.into(),
                 vertex: vertex + 1,
                 position: v.position,
@@ -456,7 +516,11 @@ impl Mesh {
                 let mut best = f32::INFINITY;
                 let mut t = 0.0;
                 let mut seen = usize::MAX;
-                while t < 2.0 * (hi - lo).length() && t < best {
+                // Half-cell steps across the grid's diagonal (√3·n cells),
+                // bounded whatever the extent's arithmetic does.
+                let mut steps = 0;
+                while t < 2.0 * (hi - lo).length() && t < best && steps < 8 * n {
+                    steps += 1;
                     if let Some(c) = idx(origin + dir * t) {
                         if c != seen {
                             seen = c;
@@ -524,6 +588,32 @@ fn ray_triangle(o: Vec3, dir: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<f32> {
 
 #[cfg(test)]
 mod tests {
+    /// A negative (relative) face index before the first normal (the
+    /// fuzzer's find: tobj overflowed on it) is refused by line.
+    #[test]
+    fn relative_indices_before_the_start_are_refused() {
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//-41 2//1 3//1\n";
+        let e = Mesh::from_obj_text(obj, "rel.obj", 0.01)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("rel.obj") && e.contains("line 5"), "{e}");
+        let ok = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf -3/-3 -2/-2 -1/-1\n";
+        assert!(Mesh::from_obj_text(ok, "ok.obj", 0.01).is_ok());
+    }
+
+    /// A vertex at 4.4·10²¹ units (the fuzzer's find: the squared extent
+    /// overflowed and the thickness bake never ended) is refused by name.
+    #[test]
+    fn far_vertices_are_refused() {
+        let obj = "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 4444444444444444444440\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
+        let e = Mesh::from_obj_text(obj, "far.obj", 0.01)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("far.obj") && e.contains("vertex 3"), "{e}");
+    }
+
     use super::*;
 
     #[test]
