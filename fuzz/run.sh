@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
-# Builds the fuzz targets and runs each for a bounded time.
-#   fuzz/run.sh [SECONDS_PER_TARGET]   (default 40)
+# Builds the fuzz targets and runs each for a bounded number of inputs.
+#   fuzz/run.sh [SCALE]   (default 1: about 40 s per target on 2 cores)
+# Runs are deterministic (fixed seed, fixed input counts), so CI replays
+# exactly the run that passed here; to search further, run a target for
+# longer, e.g. `fuzz/target/<host>/release/mesh_gltf fuzz/corpus/mesh_gltf
+# -max_total_time=600`, and copy any crash into fuzz/regressions/.
 # The targets are ordinary cargo-fuzz targets (`cargo fuzz run preset`
 # works where cargo-fuzz is installed); this script builds them with the
 # instrumentation flags cargo-fuzz passes (libFuzzer's coverage counters,
@@ -12,7 +16,7 @@
 # leaves its input in fuzz/artifacts/.
 set -euo pipefail
 cd "$(dirname "$0")"
-seconds="${1:-40}"
+scale="${1:-1}"
 triple="$(rustc -vV | sed -n 's/^host: //p')"
 export RUSTC_BOOTSTRAP=1
 export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 \
@@ -20,6 +24,8 @@ export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4
 -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing \
 -Cllvm-args=-simplifycfg-branch-fold-threshold=0 -Cdebug-assertions -Coverflow-checks"
 targets=(preset mesh_obj mesh_gltf image)
+# Inputs per target at scale 1 (each about 40 s here).
+declare -A runs=([preset]=60000 [mesh_obj]=1000000 [mesh_gltf]=250000 [image]=150000)
 echo "building the fuzz targets"
 if ! cargo build --release --target "$triple" --bins >build.log 2>&1; then
     tail -n 40 build.log >&2
@@ -32,11 +38,13 @@ for t in "${targets[@]}"; do
     mkdir -p "$corpus"
     cp -n seeds/"$t"/* "$corpus"/ 2>/dev/null || true
     status=0
-    "target/$triple/release/$t" "$corpus" -max_total_time="$seconds" \
+    n=$((runs[$t] * scale))
+    start=$SECONDS
+    "target/$triple/release/$t" "$corpus" -seed=1 -runs="$n" -max_total_time=300 \
         -rss_limit_mb=2048 -timeout=10 -artifact_prefix="artifacts/$t-" \
         -print_final_stats=1 >"run-$t.log" 2>&1 || status=$?
-    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "run-$t.log")
-    echo "fuzzed $t for ${seconds}s: ${runs:-?} inputs, exit $status"
+    done_n=$(sed -n 's/^stat::number_of_executed_units: *//p' "run-$t.log")
+    echo "fuzzed $t: ${done_n:-?} inputs in $((SECONDS - start)) s, exit $status"
     if [ "$status" -ne 0 ]; then
         grep -E "panicked|ERROR|SUMMARY|Test unit written" "run-$t.log" >&2 || tail -n 30 "run-$t.log" >&2
         echo "fuzz target $t found a crash (input in fuzz/artifacts/)" >&2

@@ -171,11 +171,8 @@ fn profile_lut_holds_the_normalised_profile() {
     for i in [0, n / 3, n - 1] {
         let t = i as f64 / (n - 1) as f64;
         let want = p.cdf(inp.lut_radius_mm as f64 * t * t);
-        for c in 0..3 {
-            assert!(
-                (inp.lut[n + i][c] as f64 - want[c]).abs() < 1e-6,
-                "CDF row {i}"
-            );
+        for (got, want) in inp.lut[n + i].iter().zip(want) {
+            assert!((*got as f64 - want).abs() < 1e-6, "CDF row {i}");
         }
     }
     for c in 0..3 {

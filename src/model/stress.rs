@@ -460,14 +460,14 @@ fn medium(rng: &mut Rng) -> Medium {
     loop {
         let m = Medium {
             sigma_a_per_mm: [0, 1, 2].map(|_| {
-                if rng.next_u64() % 8 == 0 {
+                if rng.next_u64().is_multiple_of(8) {
                     0.0
                 } else {
                     rng.edged(1e-6, 1e3, true)
                 }
             }),
             sigma_s_prime_per_mm: [0, 1, 2].map(|_| {
-                if rng.next_u64() % 8 == 0 {
+                if rng.next_u64().is_multiple_of(8) {
                     0.0
                 } else {
                     rng.edged(1e-6, 1e4, true)

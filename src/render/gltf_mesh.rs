@@ -54,6 +54,7 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
                 continue;
             }
             let part = format!("mesh '{}' primitive {k}", mesh.name().unwrap_or("unnamed"));
+            check_accessors(&prim).map_err(|e| load_error(format!("{part}: {e}")))?;
             let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
             let positions: Vec<[f32; 3]> = reader
                 .read_positions()
@@ -119,23 +120,107 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
     Ok(mesh)
 }
 
-/// A binary glTF's 12-byte header: its length must cover the header and
-/// not exceed the file. (gltf 1.4 subtracts the header size from the
-/// declared length unchecked and panics on a smaller one; found by fuzzing.)
-fn check_glb_header(path: &Path) -> Result<(), String> {
-    use std::io::Read;
-    let mut file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let file_len = file.metadata().map_err(|e| e.to_string())?.len();
-    let mut head = [0u8; 12];
-    let n = file.read(&mut head).map_err(|e| e.to_string())?;
-    if n < 12 || &head[0..4] != b"glTF" {
-        return Ok(()); // JSON glTF, or too short to be binary: the parser reports it
+/// The accessors a primitive's reader will read must hold the types the
+/// spec requires (POSITION, NORMAL: float VEC3; TANGENT: float VEC4;
+/// TEXCOORD_0: VEC2; indices: unsigned SCALAR) with a stride at least the
+/// element size: the gltf crate only debug-asserts these, so a hostile file
+/// panicked debug builds (found by fuzzing) and reads garbage in release.
+fn check_accessors(prim: &gltf::Primitive) -> Result<(), String> {
+    use gltf::accessor::{DataType, Dimensions};
+    use gltf::mesh::Semantic;
+    let check = |what: &str, a: &gltf::Accessor, dims: Dimensions, types: &[DataType]| {
+        if a.dimensions() != dims || !types.contains(&a.data_type()) {
+            return Err(format!(
+                "{what} accessor {} is {:?} {:?}; it must be {dims:?} of {types:?}",
+                a.index(),
+                a.dimensions(),
+                a.data_type()
+            ));
+        }
+        let stride = a.view().and_then(|v| v.stride()).unwrap_or(a.size());
+        if stride < a.size() {
+            return Err(format!(
+                "{what} accessor {} has a stride of {stride} bytes for {}-byte elements",
+                a.index(),
+                a.size()
+            ));
+        }
+        Ok(())
+    };
+    let float = [DataType::F32];
+    for (semantic, a) in prim.attributes() {
+        match semantic {
+            Semantic::Positions => check("POSITION", &a, Dimensions::Vec3, &float)?,
+            Semantic::Normals => check("NORMAL", &a, Dimensions::Vec3, &float)?,
+            Semantic::Tangents => check("TANGENT", &a, Dimensions::Vec4, &float)?,
+            Semantic::TexCoords(0) => check(
+                "TEXCOORD_0",
+                &a,
+                Dimensions::Vec2,
+                &[DataType::F32, DataType::U8, DataType::U16],
+            )?,
+            _ => {}
+        }
     }
-    let declared = u32::from_le_bytes([head[8], head[9], head[10], head[11]]) as u64;
-    if declared < 12 || declared > file_len {
-        return Err(format!(
-            "binary glTF header declares {declared} bytes; the file has {file_len}"
-        ));
+    if let Some(a) = prim.indices() {
+        check(
+            "indices",
+            &a,
+            Dimensions::Scalar,
+            &[DataType::U8, DataType::U16, DataType::U32],
+        )?;
+    }
+    Ok(())
+}
+
+/// Checks what the gltf crate (1.4) would panic on instead of reporting,
+/// both found by fuzzing: a binary header declaring fewer than its own 12
+/// bytes (an unchecked subtraction), and a primitive whose POSITION names
+/// an accessor that does not exist (indexed unchecked during validation).
+fn check_glb_header(path: &Path) -> Result<(), String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let json: &[u8] = if bytes.len() >= 12 && &bytes[0..4] == b"glTF" {
+        let word = |at: usize| {
+            bytes
+                .get(at..at + 4)
+                .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) as usize)
+        };
+        let declared = word(8).unwrap_or(0);
+        if declared < 12 || declared > bytes.len() {
+            return Err(format!(
+                "binary glTF header declares {declared} bytes; the file has {}",
+                bytes.len()
+            ));
+        }
+        match word(12) {
+            Some(len) => bytes.get(20..20 + len).unwrap_or(&[]),
+            None => &[],
+        }
+    } else {
+        &bytes
+    };
+    // gltf skips unknown keys without checking their UTF-8, so read the
+    // JSON as leniently (the fuzzer's second find hid behind such a key).
+    let text = String::from_utf8_lossy(json);
+    let Ok(root) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Ok(()); // not JSON: the parser reports it
+    };
+    let accessors = root["accessors"].as_array().map_or(0, |a| a.len());
+    let meshes = root["meshes"].as_array().map(Vec::as_slice).unwrap_or(&[]);
+    for (m, mesh) in meshes.iter().enumerate() {
+        let prims = mesh["primitives"]
+            .as_array()
+            .map(Vec::as_slice)
+            .unwrap_or(&[]);
+        for (k, prim) in prims.iter().enumerate() {
+            if let Some(i) = prim["attributes"]["POSITION"].as_u64() {
+                if i as usize >= accessors {
+                    return Err(format!(
+                        "mesh {m} primitive {k}: POSITION names accessor {i}, but there are {accessors}"
+                    ));
+                }
+            }
+        }
     }
     Ok(())
 }
@@ -229,6 +314,21 @@ mod tests {
         std::fs::remove_file(&path).unwrap();
         assert!(
             e.contains("scatterlab-glb-") && e.contains("declares 4 bytes"),
+            "{e}"
+        );
+    }
+
+    /// A POSITION accessor that does not exist is refused by name (the
+    /// gltf crate's validation would index out of bounds).
+    #[test]
+    fn missing_position_accessor_is_refused() {
+        let json = r#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":3}}]}],"accessors":[]}"#;
+        let path = std::env::temp_dir().join(format!("scatterlab-acc-{}.gltf", std::process::id()));
+        std::fs::write(&path, json).unwrap();
+        let e = super::load(&path, 1.0).map(|_| ()).unwrap_err().to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(
+            e.contains("scatterlab-acc-") && e.contains("accessor 3"),
             "{e}"
         );
     }
