@@ -162,5 +162,27 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
     ] {
         assert!(md.contains(needle), "accuracy.md lacks {needle}");
     }
+    // --replot redraws the charts and the report from the CSVs alone.
+    std::fs::remove_file(out.join("head_far.png")).unwrap();
+    std::fs::remove_file(out.join("accuracy.md")).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args([
+            "bench",
+            "--replot",
+            "--quick",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert!(image::open(out.join("head_far.png")).is_ok());
+    assert_eq!(
+        std::fs::read_to_string(out.join("accuracy.md"))
+            .unwrap()
+            .lines()
+            .count(),
+        md.lines().count()
+    );
     std::fs::remove_dir_all(&out).unwrap();
 }

@@ -252,6 +252,32 @@ pub fn bench_scene(
     Ok(rows)
 }
 
+/// Redraws the charts and the report of an earlier run from its
+/// `results.csv` and `skip.csv` (`bench --replot DIR`), without rendering.
+pub fn replot(dir: &Path, quick: bool) -> Result<()> {
+    let options = Options::new(quick);
+    let rows = report::read_csv(&dir.join("results.csv"))?;
+    let skip_rows = skip::read_csv(&dir.join("skip.csv"))?;
+    let first = rows.first().context("results.csv has no rows")?;
+    let scenes = scenes::scenes((first.width, first.height));
+    for scene in &scenes {
+        chart::write(&dir.join(format!("{}.png", scene.id)), scene, &rows)?;
+    }
+    let md = report::markdown(&report::Context {
+        scenes: &scenes,
+        rows: &rows,
+        skip: &skip_rows,
+        options: Options {
+            size: (first.width, first.height),
+            ..options
+        },
+        adapter: "(as recorded in the run)",
+        quick,
+    });
+    crate::fsutil::write_atomic(&dir.join("accuracy.md"), md.as_bytes())
+        .with_context(|| format!("writing {}", dir.join("accuracy.md").display()))
+}
+
 /// `scatterlab bench --out DIR [--quick] [--preset FILE]`.
 pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
     let options = Options::new(quick);

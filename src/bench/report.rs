@@ -41,6 +41,74 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
         .with_context(|| format!("writing {}", path.display()))
 }
 
+/// Reads a `results.csv` written by [`write_csv`] back (for `--replot`).
+pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    anyhow::ensure!(
+        lines.next() == Some(CSV_HEADER),
+        "{}: not a bench results.csv (header differs)",
+        path.display()
+    );
+    let scenes = super::scenes::scenes((1, 1));
+    let mut configs = super::scenes::configs();
+    configs.push(Config::Reference);
+    lines
+        .enumerate()
+        .map(|(i, line)| {
+            let f: Vec<&str> = line.split(',').collect();
+            let at = || format!("{} line {}", path.display(), i + 2);
+            anyhow::ensure!(f.len() == 17, "{}: {} fields, expected 17", at(), f.len());
+            let scene = scenes
+                .iter()
+                .find(|s| s.id == f[0])
+                .map(|s| s.id)
+                .with_context(|| format!("{}: unknown scene {}", at(), f[0]))?;
+            let config = *configs
+                .iter()
+                .find(|c| {
+                    c.method().id() == f[1] && c.variant() == f[2] && c.count().to_string() == f[3]
+                })
+                .with_context(|| {
+                    format!("{}: unknown configuration {} {} {}", at(), f[1], f[2], f[3])
+                })?;
+            let num = |k: usize| -> Result<f64> {
+                f[k].parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .with_context(|| {
+                        format!(
+                            "{}: field {} = {:?} is not a finite number",
+                            at(),
+                            k + 1,
+                            f[k]
+                        )
+                    })
+            };
+            Ok(Row {
+                scene,
+                config,
+                width: num(4)? as u32,
+                height: num(5)? as u32,
+                sss_pixels: num(6)? as u64,
+                samples: num(7)? as u64,
+                sss_ms: num(8)?,
+                frame_ms: num(9)?,
+                none_frame_ms: num(10)?,
+                rel_rmse: num(13)?,
+                flip_sss: num(14)?,
+                flip_image: num(15)?,
+                timing: if f[16] == "wall-clock" {
+                    "wall-clock"
+                } else {
+                    "gpu-timestamps"
+                },
+            })
+        })
+        .collect()
+}
+
 /// Rows of one scene that no other row beats on both frame time and
 /// relative RMSE (the reference is the yardstick, not a candidate).
 pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
@@ -64,11 +132,24 @@ pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
     front
 }
 
-/// The cheapest row (by frame time) with relative RMSE at most `limit`.
+/// Whether an artist can pick this configuration (the single-flag Burley
+/// variants are measurements, not options).
+pub fn shipped(c: Config) -> bool {
+    match c {
+        Config::Reference => false,
+        Config::Burley { sampling, .. } => {
+            sampling == BurleySampling::IMPROVED || sampling == BurleySampling::GOLUBEV
+        }
+        _ => true,
+    }
+}
+
+/// The cheapest shipped configuration (by frame time) with relative RMSE
+/// at most `limit`.
 pub fn cheapest_within<'a>(rows: &[&'a Row], limit: f64) -> Option<&'a Row> {
     rows.iter()
         .copied()
-        .filter(|r| r.config != Config::Reference && r.rel_rmse <= limit)
+        .filter(|r| shipped(r.config) && r.rel_rmse <= limit)
         .min_by(|a, b| a.frame_ratio().total_cmp(&b.frame_ratio()))
 }
 
@@ -179,7 +260,7 @@ pub const BUDGETS: [f64; 3] = [0.5, 0.25, 0.1];
 fn picks(s: &mut String, c: &Context) {
     let _ = writeln!(
         s,
-        "## Cheapest configuration within an error budget\n\nBudgets are fractions of the `none` frame's relative RMSE (no scattering at all): ≤ 0.5× captures half of the scattering, ≤ 0.1× nine tenths. Cells: the configuration with the smallest frame time ÷ `none` frame that meets the budget.\n\n| Scene | `none` RMSE | ≤ 0.5× | ≤ 0.25× | ≤ 0.1× |\n| --- | --- | --- | --- | --- |"
+        "## Cheapest configuration within an error budget\n\nBudgets are fractions of the `none` frame's relative RMSE (no scattering at all): ≤ 0.5× captures half of the scattering, ≤ 0.1× nine tenths. Cells: the configuration an artist can pick (no single-flag Burley variants) with the smallest frame time ÷ `none` frame that meets the budget.\n\n| Scene | `none` RMSE | ≤ 0.5× | ≤ 0.25× | ≤ 0.1× |\n| --- | --- | --- | --- | --- |"
     );
     for scene in c.scenes {
         let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();

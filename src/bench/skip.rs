@@ -282,6 +282,69 @@ pub fn write_csv(path: &Path, rows: &[SkipRow]) -> Result<()> {
         .with_context(|| format!("writing {}", path.display()))
 }
 
+/// Reads a `skip.csv` written by [`write_csv`] back (for `--replot`).
+pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    anyhow::ensure!(
+        lines.next() == Some(CSV_HEADER),
+        "{}: not a bench skip.csv (header differs)",
+        path.display()
+    );
+    const STUDIES: [&str; 4] = ["coverage", "strength", "transmission", "lod"];
+    const METHODS: [&str; 6] = [
+        "none",
+        "burley",
+        "separable",
+        "gaussians",
+        "preintegrated",
+        "reference",
+    ];
+    lines
+        .enumerate()
+        .map(|(i, line)| {
+            let f: Vec<&str> = line.splitn(14, ',').collect();
+            let at = || format!("{} line {}", path.display(), i + 2);
+            anyhow::ensure!(f.len() == 14, "{}: {} fields, expected 14", at(), f.len());
+            let pick = |list: &[&'static str], v: &str| {
+                list.iter()
+                    .copied()
+                    .find(|x| *x == v)
+                    .with_context(|| format!("{}: unknown {v}", at()))
+            };
+            let num = |k: usize| -> Result<f64> {
+                f[k].parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .with_context(|| {
+                        format!(
+                            "{}: field {} = {:?} is not a finite number",
+                            at(),
+                            k + 1,
+                            f[k]
+                        )
+                    })
+            };
+            Ok(SkipRow {
+                study: pick(&STUDIES, f[0])?,
+                case: f[1].to_string(),
+                method: pick(&METHODS, f[2])?,
+                pixels: num(3)? as u64,
+                sss_pixels: num(4)? as u64,
+                sss_samples: num(5)? as u64,
+                lod_skipped_pixels: num(6)? as u64,
+                sss_passes: num(7)? as usize,
+                scene_ms: num(8)?,
+                sss_ms: num(9)?,
+                frame_ms: num(10)?,
+                none_frame_ms: num(11)?,
+                passes: f[13].to_string(),
+            })
+        })
+        .collect()
+}
+
 pub fn markdown(s: &mut String, rows: &[SkipRow]) {
     let _ = writeln!(
         s,

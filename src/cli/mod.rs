@@ -146,6 +146,10 @@ pub enum Command {
         /// The look to measure (default: the embedded skin preset).
         #[arg(long, value_name = "FILE.ron")]
         preset: Option<PathBuf>,
+        /// Only redraw the charts and accuracy.md from --out's results.csv
+        /// and skip.csv (no rendering).
+        #[arg(long)]
+        replot: bool,
     },
     /// Sweep every model across its documented parameter range against
     /// independent references: worst relative errors of R, the CDF and the
@@ -560,8 +564,17 @@ pub fn run(cli: Cli) -> Result<()> {
             world_scale,
             json,
         } => convert(&model, to, world_scale, json),
-        Command::Bench { out, quick, preset } => {
-            crate::bench::run_cli(&out, quick, preset.as_deref())
+        Command::Bench {
+            out,
+            quick,
+            preset,
+            replot,
+        } => {
+            if replot {
+                crate::bench::replot(&out, quick)
+            } else {
+                crate::bench::run_cli(&out, quick, preset.as_deref())
+            }
         }
         Command::Stress {
             cases,
