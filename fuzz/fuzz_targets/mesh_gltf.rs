@@ -6,7 +6,9 @@ use libfuzzer_sys::fuzz_target;
 use scatterlab::render::Mesh;
 
 fuzz_target!(|data: &[u8]| {
-    let path = std::env::temp_dir().join(format!("scatterlab-fuzz-{}.glb", std::process::id()));
+    // A fixed name (no process id): the same inputs then take the same
+    // paths, so a seeded run replays identically on another machine.
+    let path = std::env::temp_dir().join("scatterlab-fuzz-mesh.glb");
     if std::fs::write(&path, data).is_err() {
         return;
     }

@@ -145,6 +145,32 @@ fn check_accessors(prim: &gltf::Primitive) -> Result<(), String> {
                 a.size()
             ));
         }
+        // gltf computes offset + stride·(count − 1) + size unchecked: a
+        // count of 0 underflowed (found by fuzzing in CI), a huge one
+        // overflows. Sparse accessors do the same with their own count.
+        let span = |count: usize| {
+            count
+                .checked_sub(1)?
+                .checked_mul(stride)?
+                .checked_add(a.size())?
+                .checked_add(a.offset())
+        };
+        if span(a.count()).is_none() {
+            return Err(format!(
+                "{what} accessor {} has an impossible count {}",
+                a.index(),
+                a.count()
+            ));
+        }
+        if let Some(sparse) = a.sparse() {
+            if span(sparse.count()).is_none() {
+                return Err(format!(
+                    "{what} accessor {} has an impossible sparse count {}",
+                    a.index(),
+                    sparse.count()
+                ));
+            }
+        }
         Ok(())
     };
     let float = [DataType::F32];
