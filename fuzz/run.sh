@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Builds the fuzz targets and runs each for a bounded number of inputs.
 #   fuzz/run.sh [SCALE]   (default 1: about 40 s per target on 2 cores)
-# Runs are deterministic (fixed seed, fixed input counts), so CI replays
-# exactly the run that passed here; to search further, run a target for
-# longer, e.g. `fuzz/target/<host>/release/mesh_gltf fuzz/corpus/mesh_gltf
+# Runs are seeded and bounded by input count, but not bit-for-bit
+# reproducible (hash-map order in the parsers varies per process), so CI
+# explores a little differently from a local run; what it finds is real and
+# goes to fuzz/regressions/. To search further, run a target for longer, e.g. `fuzz/target/<host>/release/mesh_gltf fuzz/corpus/mesh_gltf
 # -max_total_time=600`, and copy any crash into fuzz/regressions/.
 # The targets are ordinary cargo-fuzz targets (`cargo fuzz run preset`
 # works where cargo-fuzz is installed); this script builds them with the

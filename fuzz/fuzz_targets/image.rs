@@ -8,9 +8,9 @@ use scatterlab::render::environment::Environment;
 use scatterlab::render::textures::{load, TextureSlot};
 
 fuzz_target!(|data: &[u8]| {
-    // A fixed name (no process id): the same inputs then take the same
-    // paths, so a seeded run replays identically on another machine.
-    let path = std::env::temp_dir().join("scatterlab-fuzz-image.img");
+    // One file per process, so parallel fuzzers (-jobs) do not race.
+    let path =
+        std::env::temp_dir().join(format!("scatterlab-fuzz-image-{}.img", std::process::id()));
     if std::fs::write(&path, data).is_err() {
         return;
     }

@@ -6,9 +6,9 @@ use libfuzzer_sys::fuzz_target;
 use scatterlab::render::Mesh;
 
 fuzz_target!(|data: &[u8]| {
-    // A fixed name (no process id): the same inputs then take the same
-    // paths, so a seeded run replays identically on another machine.
-    let path = std::env::temp_dir().join("scatterlab-fuzz-mesh.glb");
+    // One file per process, so parallel fuzzers (-jobs) do not race.
+    let path =
+        std::env::temp_dir().join(format!("scatterlab-fuzz-mesh-{}.glb", std::process::id()));
     if std::fs::write(&path, data).is_err() {
         return;
     }
@@ -17,7 +17,10 @@ fuzz_target!(|data: &[u8]| {
             for v in &mesh.vertices {
                 assert!(v.position.iter().all(|x| x.is_finite()));
             }
-            assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertices.len()));
+            assert!(mesh
+                .indices
+                .iter()
+                .all(|&i| (i as usize) < mesh.vertices.len()));
         }
         Err(e) => assert!(e.to_string().contains("scatterlab-fuzz-")),
     }

@@ -15,7 +15,10 @@ fuzz_target!(|data: &[u8]| {
                 assert!(v.position.iter().all(|x| x.is_finite()));
                 assert!(v.normal.iter().all(|x| x.is_finite()));
             }
-            assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertices.len()));
+            assert!(mesh
+                .indices
+                .iter()
+                .all(|&i| (i as usize) < mesh.vertices.len()));
         }
         Err(e) => assert!(e.to_string().contains("fuzz.obj")),
     }
