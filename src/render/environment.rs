@@ -55,11 +55,8 @@ impl Environment {
     /// and linearised) as an equirectangular map.
     pub fn load(path: &Path) -> Result<Self, EnvironmentError> {
         let origin = path.display().to_string();
-        let img = image::ImageReader::open(path)
-            .and_then(|r| r.with_guessed_format())
-            .map_err(|e| e.to_string())
-            .and_then(|r| r.decode().map_err(|e| e.to_string()))
-            .map_err(|message| EnvironmentError::Load {
+        let img =
+            super::textures::decode_bounded(path).map_err(|message| EnvironmentError::Load {
                 path: origin.clone(),
                 message,
             })?;

@@ -196,18 +196,43 @@ pub fn from_dynamic(
     })
 }
 
+/// Decodes an image file with bounded memory: at most 16384 pixels a side
+/// and 512 MiB per allocation (the image crate refuses more), and at most
+/// 64 megapixels, so later conversions (RGBA8, RGB32F) stay bounded too. A
+/// header claiming a huge image ran the fuzzer out of memory.
+pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, String> {
+    const MAX_PIXELS: u64 = 64 << 20;
+    let mut reader = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| e.to_string())?;
+    reader.limits(bounded_limits());
+    let (w, h) = reader.into_dimensions().map_err(|e| e.to_string())?;
+    if w as u64 * h as u64 > MAX_PIXELS {
+        return Err(format!("{w}×{h} is over the 64-megapixel limit"));
+    }
+    let mut reader = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| e.to_string())?;
+    reader.limits(bounded_limits());
+    reader.decode().map_err(|e| e.to_string())
+}
+
+fn bounded_limits() -> image::Limits {
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(16384);
+    limits.max_image_height = Some(16384);
+    limits.max_alloc = Some(512 << 20);
+    limits
+}
+
 /// Loads an image file (PNG or JPEG) for `slot`.
 pub fn load(path: &Path, slot: TextureSlot) -> Result<TextureImage, TextureError> {
     let origin = path.display().to_string();
-    let img = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())
-        .and_then(|r| r.decode().map_err(|e| e.to_string()))
-        .map_err(|message| TextureError::Load {
-            path: origin.clone(),
-            slot: slot.name(),
-            message,
-        })?;
+    let img = decode_bounded(path).map_err(|message| TextureError::Load {
+        path: origin.clone(),
+        slot: slot.name(),
+        message,
+    })?;
     from_dynamic(img, slot, &origin)
 }
 
