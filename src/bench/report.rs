@@ -41,20 +41,42 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
         .with_context(|| format!("writing {}", path.display()))
 }
 
-/// Reads a `results.csv` written by [`write_csv`] back (for `--replot`).
-pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
+/// The data lines of a CSV `bench` wrote, after checking its header.
+pub fn csv_body(path: &Path, header: &str) -> Result<Vec<String>> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let mut lines = text.lines();
     anyhow::ensure!(
-        lines.next() == Some(CSV_HEADER),
-        "{}: not a bench results.csv (header differs)",
+        lines.next() == Some(header),
+        "{}: not a file `bench` wrote (the header differs)",
         path.display()
     );
+    Ok(lines.map(str::to_string).collect())
+}
+
+/// Field `k` of a CSV row as a finite number; `at` names file and line.
+pub fn finite_field(f: &[&str], k: usize, at: &dyn Fn() -> String) -> Result<f64> {
+    f[k].parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .with_context(|| {
+            format!(
+                "{}: field {} = {:?} is not a finite number",
+                at(),
+                k + 1,
+                f[k]
+            )
+        })
+}
+
+/// Reads a `results.csv` written by [`write_csv`] back (for `--replot`).
+pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
+    let lines = csv_body(path, CSV_HEADER)?;
     let scenes = super::scenes::scenes((1, 1));
     let mut configs = super::scenes::configs();
     configs.push(Config::Reference);
     lines
+        .iter()
         .enumerate()
         .map(|(i, line)| {
             let f: Vec<&str> = line.split(',').collect();
@@ -73,19 +95,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
                 .with_context(|| {
                     format!("{}: unknown configuration {} {} {}", at(), f[1], f[2], f[3])
                 })?;
-            let num = |k: usize| -> Result<f64> {
-                f[k].parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .with_context(|| {
-                        format!(
-                            "{}: field {} = {:?} is not a finite number",
-                            at(),
-                            k + 1,
-                            f[k]
-                        )
-                    })
-            };
+            let num = |k: usize| finite_field(&f, k, &at);
             Ok(Row {
                 scene,
                 config,

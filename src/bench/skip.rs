@@ -1,6 +1,7 @@
 //! Measured proof that unused work is skipped: SSS cost against screen
 //! coverage, strength 0, transmission off, and the LOD on the far shot.
 
+use super::report::{csv_body, finite_field};
 use super::scenes::{plane_settings, scenes, Config, Stage};
 use super::{measure, renderer_for, Options, Prepared};
 use crate::model::jimenez::{Jimenez2012, DEFAULT_FALLOFF};
@@ -284,14 +285,7 @@ pub fn write_csv(path: &Path, rows: &[SkipRow]) -> Result<()> {
 
 /// Reads a `skip.csv` written by [`write_csv`] back (for `--replot`).
 pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text.lines();
-    anyhow::ensure!(
-        lines.next() == Some(CSV_HEADER),
-        "{}: not a bench skip.csv (header differs)",
-        path.display()
-    );
+    let lines = csv_body(path, CSV_HEADER)?;
     const STUDIES: [&str; 4] = ["coverage", "strength", "transmission", "lod"];
     const METHODS: [&str; 6] = [
         "none",
@@ -302,6 +296,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
         "reference",
     ];
     lines
+        .iter()
         .enumerate()
         .map(|(i, line)| {
             let f: Vec<&str> = line.splitn(14, ',').collect();
@@ -313,19 +308,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
                     .find(|x| *x == v)
                     .with_context(|| format!("{}: unknown {v}", at()))
             };
-            let num = |k: usize| -> Result<f64> {
-                f[k].parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .with_context(|| {
-                        format!(
-                            "{}: field {} = {:?} is not a finite number",
-                            at(),
-                            k + 1,
-                            f[k]
-                        )
-                    })
-            };
+            let num = |k: usize| finite_field(&f, k, &at);
             Ok(SkipRow {
                 study: pick(&STUDIES, f[0])?,
                 case: f[1].to_string(),

@@ -62,8 +62,40 @@ fn angle(angles: AngleSequence, i: usize) -> f64 {
         }
 }
 
+/// One of N samples at the quantile ξ of channel `dom`, weighted
+/// w_c = R_c(r)/(N·q(r)) with q = R_dom(r)/A_dom, the planar density.
+fn quantile_sample(
+    profile: &dyn RadialProfile,
+    dom: usize,
+    n: usize,
+    xi: f64,
+    angle_rad: f64,
+) -> DiskSample {
+    let total = profile.total_reflectance();
+    let r = profile.inverse_cdf(dom, xi);
+    let rr = profile.r_reflectance(r);
+    let weight = rgb_map(|c| {
+        if rr[dom] > 0.0 {
+            total[dom] * rr[c] / (n as f64 * rr[dom])
+        } else {
+            0.0
+        }
+    });
+    let density_per_mm2 = if total[dom] > 0.0 {
+        profile.reflectance(r)[dom] / total[dom]
+    } else {
+        0.0
+    };
+    DiskSample {
+        radius_mm: r,
+        angle_rad,
+        weight,
+        density_per_mm2,
+    }
+}
+
 /// The channel with the largest 0.997-energy radius.
-fn widest_channel(profile: &dyn RadialProfile) -> usize {
+pub fn widest_channel(profile: &dyn RadialProfile) -> usize {
     let widest = profile.radius_for_energy(DEFAULT_ENERGY_FRACTION);
     (0..3)
         .max_by(|&a, &b| widest[a].total_cmp(&widest[b]))
@@ -79,30 +111,15 @@ impl SamplePattern {
     ) -> Result<Self, ModelError> {
         check_samples(n)?;
         let dom = widest_channel(profile);
-        let total = profile.total_reflectance();
         let samples = (0..n)
             .map(|i| {
-                let r = profile.inverse_cdf(dom, (i as f64 + 0.5) / n as f64);
-                // w_c = R_c(r) / (N·q(r)), q = area density = R_dom(r)/A_dom.
-                let rr = profile.r_reflectance(r);
-                let weight = rgb_map(|c| {
-                    if rr[dom] > 0.0 {
-                        total[dom] * rr[c] / (n as f64 * rr[dom])
-                    } else {
-                        0.0
-                    }
-                });
-                let density_per_mm2 = if total[dom] > 0.0 {
-                    profile.reflectance(r)[dom] / total[dom]
-                } else {
-                    0.0
-                };
-                DiskSample {
-                    radius_mm: r,
-                    angle_rad: angle(angles, i),
-                    weight,
-                    density_per_mm2,
-                }
+                quantile_sample(
+                    profile,
+                    dom,
+                    n,
+                    (i as f64 + 0.5) / n as f64,
+                    angle(angles, i),
+                )
             })
             .collect();
         Ok(Self {
@@ -128,29 +145,7 @@ impl SamplePattern {
     ) -> Result<Self, ModelError> {
         check_samples(n)?;
         let dom = widest_channel(profile);
-        let total = profile.total_reflectance();
-        let sample = |xi: f64, angle_rad: f64| {
-            let r = profile.inverse_cdf(dom, xi);
-            let rr = profile.r_reflectance(r);
-            let weight = rgb_map(|c| {
-                if rr[dom] > 0.0 {
-                    total[dom] * rr[c] / (n as f64 * rr[dom])
-                } else {
-                    0.0
-                }
-            });
-            let density_per_mm2 = if total[dom] > 0.0 {
-                profile.reflectance(r)[dom] / total[dom]
-            } else {
-                0.0
-            };
-            DiskSample {
-                radius_mm: r,
-                angle_rad,
-                weight,
-                density_per_mm2,
-            }
-        };
+        let sample = |xi: f64, angle_rad: f64| quantile_sample(profile, dom, n, xi, angle_rad);
         let first = n % 2;
         let mut samples = Vec::with_capacity(n);
         if first == 1 {

@@ -87,7 +87,7 @@ impl ProfileInputs {
         let sampling = BurleySampling::default();
         let (gpu_samples, low_samples) = burley_patterns(profile, samples, sampling)?;
         let total = profile.total_reflectance();
-        let dom = SamplePattern::new(profile, 1, AngleSequence::GoldenAngle)?.sampled_channel;
+        let dom = crate::model::sampling::widest_channel(profile);
         // w = R(ρ)/pdf with the planar area density pdf = R_dom(r)/A_dom.
         let gpu_sample = |radius: f64, angle: f64| {
             let rr = profile.r_reflectance(radius)[dom];
