@@ -618,3 +618,37 @@ fn oversized_maps_are_refused_by_slot() {
         "{e}"
     );
 }
+
+/// The editor draws the default head with neutral maps first and swaps its
+/// baked maps in afterwards: the swapped renderer must draw exactly what a
+/// renderer built with the maps draws, and the neutral frame must differ
+/// (the maps carry the brows, lips and pores).
+#[test]
+fn surface_maps_swapped_in_render_like_maps_built_in() {
+    let inp = inputs();
+    let s = RenderSettings {
+        width: 96,
+        height: 96,
+        deterministic: true,
+        method: Method::Burley,
+        ..Default::default()
+    };
+    let (built, _) = renderer().render(&inp, &s).unwrap();
+    let head = Mesh::default_head_without_maps().unwrap();
+    let ctx = GpuContext::new_headless().unwrap();
+    let mut r = Renderer::new(ctx, &head).unwrap();
+    let (neutral, _) = r.render(&inp, &s).unwrap();
+    r.set_surface_maps(&Mesh::default_head_maps(&head)).unwrap();
+    let (swapped, stats) = r.render(&inp, &s).unwrap();
+    assert!(
+        stats.profile_uploaded,
+        "the scene bind group was not rebuilt"
+    );
+    assert_eq!(swapped.as_raw(), built.as_raw());
+    let changed = neutral
+        .pixels()
+        .zip(built.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed > 500, "only {changed} pixels differ without maps");
+}

@@ -174,6 +174,13 @@ struct Worker {
     mesh_path: Option<PathBuf>,
     /// Inputs per (look, method) of the last frame (A and B).
     cache: Vec<((ProfileSpec, usize, usize, Method), ProfileInputs)>,
+    /// The default head whose surface maps are still to bake (after its
+    /// first frame).
+    pending_maps: Option<Mesh>,
+}
+
+fn timings_on() -> bool {
+    std::env::var_os("SCATTERLAB_TIMINGS").is_some()
 }
 
 impl Worker {
@@ -205,13 +212,57 @@ impl Worker {
         if self.renderer.is_some() && self.mesh_path == *mesh {
             return Ok(false);
         }
-        let mesh_data = match mesh {
-            Some(p) => Mesh::load(p, 1.0).map_err(|e| e.to_string())?,
-            None => Mesh::default_head().map_err(|e| e.to_string())?,
-        };
-        let ctx = GpuContext::new_headless().map_err(|e| e.to_string())?;
+        let t = Instant::now();
+        // The GPU context starts while the mesh loads; the default head's
+        // surface maps (about a second) bake after its first frame, so the
+        // head shows first with neutral maps.
+        let bake_later = mesh.is_none() && !Mesh::default_head_maps_baked();
+        let (mesh_data, ctx) = std::thread::scope(|s| {
+            let ctx = s.spawn(GpuContext::new_headless);
+            let mesh_data = match mesh {
+                Some(p) => Mesh::load(p, 1.0),
+                None if bake_later => Mesh::default_head_without_maps(),
+                None => Mesh::default_head(),
+            };
+            (mesh_data, ctx.join())
+        });
+        let mesh_data = mesh_data.map_err(|e| e.to_string())?;
+        let ctx = ctx
+            .map_err(|_| "the GPU set-up thread panicked".to_string())?
+            .map_err(|e| e.to_string())?;
+        let t_setup = t.elapsed();
         self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
         self.mesh_path = mesh.clone();
+        self.pending_maps = bake_later.then_some(mesh_data);
+        if timings_on() {
+            eprintln!(
+                "timing: mesh and GPU context {:.2} s, renderer {:.2} s",
+                t_setup.as_secs_f64(),
+                (t.elapsed() - t_setup).as_secs_f64()
+            );
+        }
+        Ok(true)
+    }
+
+    /// Bakes the default head's maps left by [`Worker::ensure_renderer`]
+    /// (about a second; requests arriving meanwhile coalesce) and swaps them
+    /// in. Returns whether there were maps to apply.
+    fn apply_pending_maps(&mut self) -> Result<bool, String> {
+        let Some(head) = self.pending_maps.take() else {
+            return Ok(false);
+        };
+        let t = Instant::now();
+        let maps = Mesh::default_head_maps(&head);
+        if timings_on() {
+            eprintln!(
+                "timing: skin maps baked in {:.2} s",
+                t.elapsed().as_secs_f64()
+            );
+        }
+        let renderer = self.renderer.as_mut().ok_or("no renderer")?;
+        renderer
+            .set_surface_maps(&maps)
+            .map_err(|e| e.to_string())?;
         Ok(true)
     }
 
@@ -282,7 +333,11 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         renderer: None,
         mesh_path: None,
         cache: Vec::new(),
+        pending_maps: None,
     };
+    // Set up the default head before the UI's first request arrives (an
+    // error here recurs, and is reported, at that request).
+    let _ = w.ensure_renderer(&None);
     // Coalesce: render only the newest request.
     while let Some(mut req) = super::analysis::recv_newest(&rx) {
         let t0 = Instant::now();
@@ -305,20 +360,56 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
             }
             Ok(false) => {}
         }
-        let reply = match w.frame(&req) {
-            Ok((image, stats, note)) => Reply::Frame {
-                image,
-                stats: Box::new(stats),
-                wall_ms: t0.elapsed().as_secs_f64() * 1e3,
-                note,
-            },
-            Err(e) => Reply::Error(e),
-        };
-        if tx.send(reply).is_err() {
+        let maps_pending = w.pending_maps.is_some();
+        if !send_frame(&mut w, &req, t0, maps_pending, &tx) {
             return;
         }
         wake();
+        // The head is on screen; now the same view with its skin maps.
+        match w.apply_pending_maps() {
+            Ok(false) => {}
+            Ok(true) => {
+                if !send_frame(&mut w, &req, Instant::now(), false, &tx) {
+                    return;
+                }
+                wake();
+            }
+            Err(e) => {
+                let _ = tx.send(Reply::Error(e));
+                wake();
+            }
+        }
     }
+}
+
+/// Renders `req` and sends the frame (or the error); false when the UI has
+/// gone.
+fn send_frame(
+    w: &mut Worker,
+    req: &Request,
+    t0: Instant,
+    maps_pending: bool,
+    tx: &Sender<Reply>,
+) -> bool {
+    let t1 = Instant::now();
+    let frame = w.frame(req);
+    if timings_on() {
+        eprintln!(
+            "timing: render thread frame {:.2} s ({:.2} s since the request)",
+            t1.elapsed().as_secs_f64(),
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    let reply = match frame {
+        Ok((image, stats, note)) => Reply::Frame {
+            image,
+            stats: Box::new(stats),
+            wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+            note: note.or_else(|| maps_pending.then(|| "baking the head's skin maps…".into())),
+        },
+        Err(e) => Reply::Error(e),
+    };
+    tx.send(reply).is_ok()
 }
 
 /// The B side of a comparison.

@@ -4,6 +4,7 @@ use super::gpu_types::Vertex;
 use super::textures::MeshTextures;
 use bytemuck::Zeroable;
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -104,28 +105,64 @@ pub enum MeshError {
     Texture(#[from] super::textures::TextureError),
 }
 
+static DEFAULT_HEAD_MAPS: std::sync::OnceLock<Arc<MeshTextures>> = std::sync::OnceLock::new();
+
 impl Mesh {
     /// The embedded head with its baked textures (baked once per process).
     pub fn default_head() -> Result<Self, MeshError> {
-        static TEXTURES: std::sync::OnceLock<Arc<MeshTextures>> = std::sync::OnceLock::new();
-        let mut mesh = Self::from_obj_text(
-            DEFAULT_HEAD_OBJ,
-            "<embedded default head>",
-            DEFAULT_HEAD_METRES_PER_UNIT,
-        )?;
-        mesh.textures = TEXTURES
-            .get_or_init(|| Arc::new(super::procedural::bake(&mesh)))
-            .clone();
-        let mut coarse = Self::from_obj_text(
-            DEFAULT_HEAD_BASE_OBJ,
-            "<embedded default head, coarse>",
-            DEFAULT_HEAD_METRES_PER_UNIT,
-        )?;
-        coarse.textures = mesh.textures.clone();
+        let mut mesh = Self::default_head_without_maps()?;
+        let maps = Self::default_head_maps(&mesh);
+        mesh.set_maps(maps);
+        Ok(mesh)
+    }
+
+    /// The embedded head, both levels of detail parsed and baked (normals,
+    /// curvature, thickness) in parallel, with neutral surface maps: what
+    /// the editor draws first while [`Mesh::default_head_maps`] bakes.
+    pub fn default_head_without_maps() -> Result<Self, MeshError> {
+        let (mesh, coarse) = rayon::join(
+            || {
+                Self::from_obj_text(
+                    DEFAULT_HEAD_OBJ,
+                    "<embedded default head>",
+                    DEFAULT_HEAD_METRES_PER_UNIT,
+                )
+            },
+            || {
+                Self::from_obj_text(
+                    DEFAULT_HEAD_BASE_OBJ,
+                    "<embedded default head, coarse>",
+                    DEFAULT_HEAD_METRES_PER_UNIT,
+                )
+            },
+        );
+        let (mut mesh, mut coarse) = (mesh?, coarse?);
         // One camera target for both levels.
         coarse.focus = mesh.focus;
         mesh.coarse = Some(Box::new(coarse));
         Ok(mesh)
+    }
+
+    /// The default head's surface maps (`procedural::bake`, about a second
+    /// on two cores), baked on the first call in a process and shared
+    /// after. `head` is [`Mesh::default_head_without_maps`].
+    pub fn default_head_maps(head: &Mesh) -> Arc<MeshTextures> {
+        DEFAULT_HEAD_MAPS
+            .get_or_init(|| Arc::new(super::procedural::bake(head)))
+            .clone()
+    }
+
+    /// Whether [`Mesh::default_head_maps`] has baked already.
+    pub fn default_head_maps_baked() -> bool {
+        DEFAULT_HEAD_MAPS.get().is_some()
+    }
+
+    /// Gives this mesh and its coarse level `maps`.
+    pub fn set_maps(&mut self, maps: Arc<MeshTextures>) {
+        if let Some(c) = &mut self.coarse {
+            c.textures = maps.clone();
+        }
+        self.textures = maps;
     }
 
     /// Loads an OBJ, glTF (.gltf) or binary glTF (.glb) file by extension.
@@ -508,7 +545,7 @@ impl Mesh {
         let mm_per_unit = self.metres_per_unit * 1000.0;
         let thickness: Vec<f32> = self
             .vertices
-            .iter()
+            .par_iter()
             .map(|v| {
                 let dir = -Vec3::from(v.normal);
                 let origin = Vec3::from(v.position) + dir * (1e-3 * cell);

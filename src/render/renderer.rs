@@ -20,7 +20,7 @@ pub use super::settings::{
     Transmission,
 };
 use super::sss::{self, SssFrame, SssPipelines};
-use super::textures::{self, AlbedoMode, RoughnessMode, TextureImage};
+use super::textures::{self, AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
 use super::timing::PassTimer;
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -255,57 +255,7 @@ impl Renderer {
             anisotropy_clamp: 1,
             ..Default::default()
         });
-        let maps = &mesh.textures;
-        let upload = |img, format, label| textures::upload(device, &ctx.queue, img, format, label);
-        let no_thickness = TextureImage::solid(&[0]);
-        // Refuse maps the adapter cannot hold, naming the slot, before any
-        // upload (an oversized texture is a device error otherwise).
-        let max = device.limits().max_texture_dimension_2d;
-        let (srgb, rgba, grey) = (
-            wgpu::TextureFormat::Rgba8UnormSrgb,
-            wgpu::TextureFormat::Rgba8Unorm,
-            wgpu::TextureFormat::R8Unorm,
-        );
-        let slots = [
-            ("albedo map", &maps.albedo, srgb),
-            ("normal map", &maps.normal, rgba),
-            ("roughness map", &maps.roughness, grey),
-            ("mask map", &maps.mask, grey),
-            (
-                "thickness map",
-                maps.thickness.as_ref().map_or(&no_thickness, |t| &t.0),
-                grey,
-            ),
-        ];
-        if let Some((slot, img, _)) = slots
-            .iter()
-            .find(|(_, i, _)| i.width > max || i.height > max)
-        {
-            return Err(GpuError::Validation {
-                stage: "surface maps",
-                message: format!(
-                    "the {slot} is {}×{}; this adapter holds at most {max}×{max}",
-                    img.width, img.height
-                ),
-            });
-        }
-        let surface_maps = ctx.checked("surface maps", || {
-            slots.map(|(label, img, format)| upload(img, format, label))
-        })?;
-        let surface_modes = [
-            if maps.albedo_mode == AlbedoMode::Absolute {
-                1.0
-            } else {
-                0.0
-            },
-            if maps.roughness_mode == RoughnessMode::Absolute {
-                1.0
-            } else {
-                0.0
-            },
-            maps.thickness.as_ref().map_or(0.0, |t| t.1),
-            1.0,
-        ];
+        let (surface_maps, surface_modes) = upload_surface_maps(&ctx, &mesh.textures)?;
         let scene_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene uniforms"),
             size: std::mem::size_of::<SceneUniforms>() as u64,
@@ -415,6 +365,17 @@ impl Renderer {
             output,
             bytes,
         });
+    }
+
+    /// Replaces the mesh's surface maps (the editor draws the default head
+    /// with neutral maps first and swaps in its baked maps when they are
+    /// ready). The next frame rebuilds the scene's bind group.
+    pub fn set_surface_maps(&mut self, maps: &MeshTextures) -> Result<(), GpuError> {
+        let (views, modes) = upload_surface_maps(&self.ctx, maps)?;
+        self.surface_maps = views;
+        self.surface_modes = modes;
+        self.profile = None;
+        Ok(())
     }
 
     /// Uploads the profile's tables, patterns and kernels unless the same
@@ -904,6 +865,66 @@ impl Renderer {
         self.shadow_key = Some((light_clip, lod_index));
         Ok((image, diffuse, stats))
     }
+}
+
+/// Uploads a mesh's five surface maps (albedo, normal, roughness, mask,
+/// thickness) and their `SceneUniforms::surface` modes, refusing maps the
+/// adapter cannot hold, naming the slot, before any upload (an oversized
+/// texture is a device error otherwise).
+fn upload_surface_maps(
+    ctx: &GpuContext,
+    maps: &MeshTextures,
+) -> Result<([wgpu::TextureView; 5], [f32; 4]), GpuError> {
+    let device = &ctx.device;
+    let upload = |img, format, label| textures::upload(device, &ctx.queue, img, format, label);
+    let no_thickness = TextureImage::solid(&[0]);
+    let max = device.limits().max_texture_dimension_2d;
+    let (srgb, rgba, grey) = (
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        wgpu::TextureFormat::Rgba8Unorm,
+        wgpu::TextureFormat::R8Unorm,
+    );
+    let slots = [
+        ("albedo map", &maps.albedo, srgb),
+        ("normal map", &maps.normal, rgba),
+        ("roughness map", &maps.roughness, grey),
+        ("mask map", &maps.mask, grey),
+        (
+            "thickness map",
+            maps.thickness.as_ref().map_or(&no_thickness, |t| &t.0),
+            grey,
+        ),
+    ];
+    if let Some((slot, img, _)) = slots
+        .iter()
+        .find(|(_, i, _)| i.width > max || i.height > max)
+    {
+        return Err(GpuError::Validation {
+            stage: "surface maps",
+            message: format!(
+                "the {slot} is {}×{}; this adapter holds at most {max}×{max}",
+                img.width, img.height
+            ),
+        });
+    }
+    let views = ctx.checked("surface maps", || {
+        slots.map(|(label, img, format)| upload(img, format, label))
+    })?;
+    let modes = [
+        if maps.albedo_mode == AlbedoMode::Absolute {
+            1.0
+        } else {
+            0.0
+        },
+        if maps.roughness_mode == RoughnessMode::Absolute {
+            1.0
+        } else {
+            0.0
+        },
+        maps.thickness.as_ref().map_or(0.0, |t| t.1),
+        1.0,
+    ];
+    Ok((views, modes))
 }
 
 /// Draw the coarse level of detail while its mean edge is at most this
