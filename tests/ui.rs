@@ -250,3 +250,79 @@ fn compared_preset_is_overlaid_on_the_plot() {
         "no legend entry for the compared preset"
     );
 }
+
+/// Writes a `w`×`h` equirectangular Radiance map of one radiance.
+fn uniform_hdr(path: &std::path::Path, rgb: [f32; 3]) {
+    let (w, h) = (64u32, 32u32);
+    let img = image::Rgb32FImage::from_pixel(w, h, image::Rgb(rgb));
+    image::DynamicImage::ImageRgb32F(img).save(path).unwrap();
+}
+
+/// HDR… in the viewport's toolbar loads an environment map (on its own
+/// thread) and lights the head with it. A uniform environment has no
+/// direction: its irradiance SH must have the constant band only, in the
+/// map's colour ratios (Ramamoorthi & Hanrahan 2001: bands 1 and 2 of a
+/// constant function vanish). A file that is not an HDR map is refused by
+/// name and leaves the lighting alone.
+#[test]
+fn environment_map_from_the_toolbar() {
+    use scatterlab::app::state::EnvironmentChoice;
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("uniform.hdr");
+    uniform_hdr(&good, [0.5, 0.25, 0.125]);
+    let bad = dir.join("broken.hdr");
+    std::fs::write(&bad, b"#?RADIANCE\nnot really\n").unwrap();
+
+    let mut h = harness(false);
+    h.step();
+    let load = |h: &mut Harness<'_, EditorApp>, path: &std::path::Path| {
+        h.get_by_label("HDR…").click_accesskit();
+        h.run_steps(3);
+        path_field(h).set_text_value_accesskit(&path.display().to_string());
+        h.step();
+        h.get_by_label("OK").click_accesskit();
+        h.step();
+        step_until(h, "the environment", |a| {
+            !a.status().starts_with("Loading environment")
+        });
+    };
+
+    load(&mut h, &bad);
+    assert!(
+        h.state().status().starts_with("Error") && h.state().status().contains("broken.hdr"),
+        "{}",
+        h.state().status()
+    );
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        EnvironmentChoice::Studio
+    );
+
+    load(&mut h, &good);
+    let view = h.state().ui_state.view;
+    assert_eq!(
+        view.environment,
+        EnvironmentChoice::Map,
+        "{}",
+        h.state().status()
+    );
+    let sh = view.environment_map_sh.unwrap();
+    let dc = sh[0];
+    assert!(dc[0] > 0.0, "{sh:?}");
+    assert!(
+        (dc[1] / dc[0] - 0.5).abs() < 1e-3 && (dc[2] / dc[0] - 0.25).abs() < 1e-3,
+        "{dc:?}"
+    );
+    for (k, c) in sh.iter().enumerate().skip(1) {
+        for v in c {
+            assert!(
+                v.abs() < 1e-3 * dc[0],
+                "band coefficient {k} = {c:?} of {dc:?}"
+            );
+        }
+    }
+    // The map shows up as a choice named after the file.
+    assert!(h.query_by_label("uniform.hdr").is_some());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

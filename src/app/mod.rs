@@ -24,6 +24,7 @@ enum DialogKind {
     Export(Format),
     CompareB,
     Mesh,
+    Environment,
 }
 
 #[derive(Debug, Clone)]
@@ -48,6 +49,9 @@ type BCurves = Result<(String, Curves), String>;
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
 
+/// A loaded HDR environment: its file and irradiance SH, or why not.
+type EnvironmentResult = Result<(PathBuf, [[f32; 3]; 9]), String>;
+
 pub struct EditorApp {
     pub doc: Document,
     pub ui_state: UiState,
@@ -63,6 +67,8 @@ pub struct EditorApp {
     dialog: Option<FileDialog>,
     pending: Option<Pending>,
     exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
+    /// An HDR environment map loading on its own thread.
+    environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
     show_b: bool,
     mesh: Option<PathBuf>,
     allow_close: bool,
@@ -114,11 +120,12 @@ impl EditorApp {
             texture: None,
             frame_info: String::new(),
             status:
-                "Ready. Drag a preset (.ron) or mesh (.obj/.gltf/.glb) onto the window to open it."
+                "Ready. Drag a preset (.ron), mesh (.obj/.gltf/.glb) or environment (.hdr) onto the window to open it."
                     .into(),
             dialog: None,
             pending: None,
             exports: Vec::new(),
+            environment_load: None,
             show_b: false,
             mesh: None,
             allow_close: false,
@@ -290,6 +297,20 @@ impl EditorApp {
         self.status = format!("Exporting {} …", format.id());
     }
 
+    /// Loads an equirectangular HDR map on its own thread (decoding and
+    /// projecting a large map takes a while) and lights the head with it.
+    pub fn load_environment(&mut self, path: PathBuf) {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.status = format!("Loading environment {} …", path.display());
+        std::thread::spawn(move || {
+            let r = crate::render::environment::Environment::load(&path)
+                .map(|e| (path, e.irradiance_sh()))
+                .map_err(|e| e.to_string());
+            let _ = tx.send(r);
+        });
+        self.environment_load = Some(rx);
+    }
+
     fn handle_drops(&mut self, ctx: &egui::Context) {
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
@@ -311,9 +332,10 @@ impl EditorApp {
                     self.status = format!("Loading mesh {} …", path.display());
                     self.mesh = Some(path);
                 }
+                "hdr" => self.load_environment(path),
                 _ => {
                     self.status = format!(
-                        "Error: {}: not a preset (.ron) or mesh (.obj, .gltf, .glb)",
+                        "Error: {}: not a preset (.ron), mesh (.obj, .gltf, .glb) or environment (.hdr)",
                         path.display()
                     )
                 }
@@ -434,6 +456,24 @@ impl EditorApp {
                         self.curves = Some(Err(e));
                     }
                 }
+            }
+        }
+        if let Some(rx) = &self.environment_load {
+            match rx.try_recv() {
+                Ok(Ok((path, sh))) => {
+                    let v = &mut self.ui_state.view;
+                    v.environment_map_sh = Some(sh);
+                    v.environment = state::EnvironmentChoice::Map;
+                    self.status = format!("Environment {}", path.display());
+                    self.ui_state.environment_file = Some(path);
+                    self.environment_load = None;
+                }
+                Ok(Err(e)) => {
+                    self.status = format!("Error: {e}");
+                    self.environment_load = None;
+                }
+                Err(std::sync::mpsc::TryRecvError::Empty) => {}
+                Err(_) => self.environment_load = None,
             }
         }
         let mut done = Vec::new();
@@ -563,7 +603,10 @@ impl EditorApp {
 
     fn status_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
-            if !self.exports.is_empty() || self.analysis.busy() {
+            if !self.exports.is_empty()
+                || self.analysis.busy()
+                || self.environment_load.is_some()
+            {
                 ui.spinner();
             }
             let color = if self.status.starts_with("Error") {
@@ -707,7 +750,9 @@ impl EditorApp {
                     .on_hover_text("Space");
             }
         });
-        ui.horizontal(|ui| {
+        let mut open_environment = false;
+        // Wraps onto a second row where the viewport is narrow.
+        ui.horizontal_wrapped(|ui| {
             let v = &mut self.ui_state.view;
             ui.label("Environment");
             ui.selectable_value(
@@ -715,7 +760,37 @@ impl EditorApp {
                 state::EnvironmentChoice::Studio,
                 "studio sky",
             );
-            ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black");
+            ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black")
+                .on_hover_text("No environment light: the key light alone.");
+            if v.environment_map_sh.is_some() {
+                let name = self
+                    .ui_state
+                    .environment_file
+                    .as_ref()
+                    .and_then(|p| p.file_name())
+                    .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
+                let tip = self.ui_state.environment_file.as_ref().map_or(
+                    "The last HDR map loaded.".into(),
+                    |p| {
+                        format!(
+                            "{} (its irradiance, as order-2 spherical harmonics)",
+                            p.display()
+                        )
+                    },
+                );
+                ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Map, name)
+                    .on_hover_text(tip);
+            }
+            if ui
+                .button("HDR…")
+                .on_hover_text(
+                    "Light the head with an equirectangular Radiance .hdr map \
+                     (or drop one onto the window).",
+                )
+                .clicked()
+            {
+                open_environment = true;
+            }
             ui.add(
                 egui::DragValue::new(&mut v.light_intensity)
                     .range(0.0..=50.0)
@@ -729,10 +804,24 @@ impl EditorApp {
                     .speed(0.01)
                     .prefix("exposure "),
             );
-            if ui.button("Reset view").clicked() {
-                *v = state::ViewState::default();
+            if ui
+                .button("Reset view")
+                .on_hover_text(
+                    "Camera, key light and exposure back to their defaults; the environment stays.",
+                )
+                .clicked()
+            {
+                *v = state::ViewState {
+                    environment: v.environment,
+                    environment_map_sh: v.environment_map_sh,
+                    environment_intensity: v.environment_intensity,
+                    ..state::ViewState::default()
+                };
             }
         });
+        if open_environment {
+            self.open_dialog(DialogKind::Environment);
+        }
         let avail = ui.available_size();
         let (rect, response) = ui.allocate_exact_size(avail, egui::Sense::click_and_drag());
         // Orbit (left drag), light (right drag or shift+drag), pan (middle drag), zoom (wheel).
@@ -940,6 +1029,7 @@ impl EditorApp {
             DialogKind::Export(f) => format!("Export {}", f.id()),
             DialogKind::CompareB => "Preset to compare against (B)".into(),
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
+            DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
         };
         let mut close = false;
         let mut accept = false;
@@ -958,6 +1048,7 @@ impl EditorApp {
             };
             let exts: &[&str] = match dialog.kind {
                 DialogKind::Mesh => &["obj", "gltf", "glb"],
+                DialogKind::Environment => &["hdr"],
                 DialogKind::Export(f) => &[f.extension()],
                 _ => &["ron"],
             };
@@ -1019,6 +1110,7 @@ impl EditorApp {
                     }
                 },
                 DialogKind::Mesh => self.mesh = Some(path),
+                DialogKind::Environment => self.load_environment(path),
             }
         }
         self.dialog = if close { None } else { Some(dialog) };

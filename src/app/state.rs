@@ -116,6 +116,9 @@ pub enum EnvironmentChoice {
     Studio,
     /// No environment: the key light alone.
     Black,
+    /// An equirectangular HDR map loaded by the user
+    /// ([`ViewState::environment_map_sh`]).
+    Map,
 }
 
 /// How the viewport shows A and B.
@@ -156,6 +159,9 @@ pub struct ViewState {
     pub light_elevation: f32,
     pub light_intensity: f32,
     pub environment: EnvironmentChoice,
+    /// The loaded HDR map's irradiance as order-2 SH (kept, so a restart
+    /// lights the head the same way without the file).
+    pub environment_map_sh: Option<[[f32; 3]; 9]>,
     pub environment_intensity: f32,
     pub exposure: f32,
 }
@@ -172,6 +178,7 @@ impl Default for ViewState {
             light_elevation: r.light_elevation,
             light_intensity: r.light_intensity,
             environment: EnvironmentChoice::Studio,
+            environment_map_sh: None,
             environment_intensity: 1.0,
             exposure: r.exposure,
         }
@@ -214,6 +221,8 @@ pub struct UiState {
     pub recent: Vec<PathBuf>,
     /// The preset open when the editor was closed.
     pub last_preset: Option<PathBuf>,
+    /// The HDR map behind `view.environment_map_sh`.
+    pub environment_file: Option<PathBuf>,
 }
 
 impl Default for UiState {
@@ -229,6 +238,7 @@ impl Default for UiState {
             show_taps: true,
             recent: Vec::new(),
             last_preset: None,
+            environment_file: None,
         }
     }
 }

@@ -131,6 +131,7 @@ pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> Ren
     let env = match view.environment {
         EnvironmentChoice::Studio => base.environment_sh,
         EnvironmentChoice::Black => [[0.0; 3]; 9],
+        EnvironmentChoice::Map => view.environment_map_sh.unwrap_or(base.environment_sh),
     }
     .map(|c| c.map(|v| v * view.environment_intensity));
     let sp = &r.specular;
