@@ -326,3 +326,66 @@ fn environment_map_from_the_toolbar() {
     assert!(h.query_by_label("uniform.hdr").is_some());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A file as the windowing integration hands it to egui.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+/// Files dropped onto the window: a preset opens (the look becomes the
+/// file's), a mesh is handed to the viewport, an .hdr lights the head, and
+/// anything else is refused by name without touching the open look.
+#[test]
+fn dropped_files_open_presets_and_meshes() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut h = harness(false);
+    h.step();
+    let drop = |h: &mut Harness<'_, EditorApp>, path: std::path::PathBuf| {
+        h.input_mut()
+            .dropped_files
+            .push(std::sync::Arc::new(Dropped(path)));
+        h.run_steps(2);
+    };
+    drop(&mut h, root.join("presets/marble_jensen2001.ron"));
+    assert_eq!(h.state().doc.preset.name, "Marble (Jensen 2001)");
+    assert!(
+        h.state().status().contains("marble_jensen2001.ron"),
+        "{}",
+        h.state().status()
+    );
+
+    drop(&mut h, root.join("README.md"));
+    assert!(
+        h.state().status().starts_with("Error") && h.state().status().contains("README.md"),
+        "{}",
+        h.state().status()
+    );
+    assert_eq!(h.state().doc.preset.name, "Marble (Jensen 2001)");
+
+    drop(&mut h, root.join("assets/head/head.obj"));
+    assert!(
+        h.state().status().starts_with("Loading mesh") && h.state().status().contains("head.obj"),
+        "{}",
+        h.state().status()
+    );
+
+    let hdr = std::env::temp_dir().join(format!("scatterlab-ui-drop-{}.hdr", std::process::id()));
+    uniform_hdr(&hdr, [1.0, 1.0, 1.0]);
+    drop(&mut h, hdr.clone());
+    step_until(&mut h, "the dropped environment", |a| {
+        a.status().starts_with("Environment")
+    });
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        scatterlab::app::state::EnvironmentChoice::Map
+    );
+    std::fs::remove_file(&hdr).unwrap();
+}
