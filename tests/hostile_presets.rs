@@ -4,29 +4,11 @@
 //! a refused file names itself in the error, and an accepted one builds a
 //! profile whose every output is finite.
 
+use scatterlab::model::stress::Rng;
 use scatterlab::model::RadialProfile;
 use scatterlab::settings::library::PRESETS;
 use scatterlab::settings::Preset;
 use std::path::Path;
-
-/// SplitMix64 with a fixed seed: the same mutations on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Byte ranges of the numeric literals in RON text (outside comments).
 fn numbers(text: &str) -> Vec<(usize, usize)> {
@@ -107,6 +89,7 @@ fn check_outputs(p: &dyn RadialProfile, origin: &str) {
 
 #[test]
 fn random_edits_never_panic_or_produce_nan() {
+    // A fixed seed: the same mutations on every run.
     let mut rng = Rng(0x5ca7_7e12);
     let (mut accepted, mut refused) = (0, 0);
     for (file, text) in PRESETS {

@@ -74,19 +74,25 @@ impl StressReport {
     }
 }
 
-/// SplitMix64: a tiny deterministic generator (fixed seeds, no dependency).
-struct Rng(u64);
+/// SplitMix64: a tiny deterministic generator (fixed seeds, no dependency),
+/// also what the hostile-input tests mutate presets with.
+pub struct Rng(pub u64);
 
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
-    fn unit(&mut self) -> f64 {
+    /// Uniform in [0, 1), 53 bits.
+    pub fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in 0..n (n > 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
     }
     fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
         (lo.ln() + self.unit() * (hi.ln() - lo.ln())).exp()
