@@ -21,6 +21,18 @@ fn inputs() -> ProfileInputs {
     ProfileInputs::new(p.as_ref(), 21, 17).unwrap()
 }
 
+/// A 96×96 frame of `method` without per-pixel random rotations: two
+/// renders of it are bit-identical.
+fn small_frame(method: Method) -> RenderSettings {
+    RenderSettings {
+        width: 96,
+        height: 96,
+        deterministic: true,
+        method,
+        ..Default::default()
+    }
+}
+
 fn srgb_to_linear(v: u8) -> f64 {
     let c = v as f64 / 255.0;
     if c <= 0.04045 {
@@ -397,13 +409,7 @@ fn burley_lod_cuts_samples_on_far_shots() {
 #[test]
 fn shadow_map_is_redrawn_only_when_the_light_moves() {
     let inp = inputs();
-    let s = RenderSettings {
-        width: 96,
-        height: 96,
-        deterministic: true,
-        method: Method::None,
-        ..Default::default()
-    };
+    let s = small_frame(Method::None);
     let moved = RenderSettings {
         light_azimuth: s.light_azimuth + 0.5,
         ..s.clone()
@@ -443,13 +449,7 @@ fn shadow_map_is_redrawn_only_when_the_light_moves() {
 #[test]
 fn profile_uploads_only_when_the_profile_changes() {
     let inp = inputs();
-    let s = RenderSettings {
-        width: 96,
-        height: 96,
-        deterministic: true,
-        method: Method::Burley,
-        ..Default::default()
-    };
+    let s = small_frame(Method::Burley);
     let mut r = renderer();
     let (first, a) = r.render(&inp, &s).unwrap();
     assert!(
@@ -626,13 +626,7 @@ fn oversized_maps_are_refused_by_slot() {
 #[test]
 fn surface_maps_swapped_in_render_like_maps_built_in() {
     let inp = inputs();
-    let s = RenderSettings {
-        width: 96,
-        height: 96,
-        deterministic: true,
-        method: Method::Burley,
-        ..Default::default()
-    };
+    let s = small_frame(Method::Burley);
     let (built, _) = renderer().render(&inp, &s).unwrap();
     let head = Mesh::default_head_without_maps().unwrap();
     let ctx = GpuContext::new_headless().unwrap();
