@@ -75,10 +75,11 @@ pub fn split_hdr(hdr: Rgb) -> (Rgb, f64) {
 }
 
 /// Unreal Engine 5 `FSubsurfaceProfileStruct` with Burley and mean free
-/// path enabled. UE5 (SubsurfaceProfile.cpp) turns the mean free path
-/// MFP = MeanFreePathColor × MeanFreePathDistance (cm) into
-/// DMFP_mm = MFP·10·S_dmfp(A)/S_perp(A)/0.6 (`Dmfp2MfpMagicNumber`), and
-/// its shader uses the shape S_dmfp(A)/DMFP; together d = MFP_mm/(0.6·S_perp(A)).
+/// path enabled (UE 5.1+; sources read at 5.1.1). UE turns the mean free
+/// path MFP = MeanFreePathColor × MeanFreePathDistance (cm) into
+/// DMFP_mm = MFP·10·S_dmfp(A)/S_perp(A)/0.6 (SubsurfaceProfile.cpp line
+/// 473, `Dmfp2MfpMagicNumber` line 82), and its shader uses the shape
+/// S_dmfp(A)/DMFP; together d = MFP_mm/(0.6·S_perp(A)).
 /// A world distance in cm maps to profile millimetres as
 /// cm·10·WorldUnitScale/0.1 (BurleyNormalizedSSS.cpp), so the physical d is
 /// d_profile·0.1/WorldUnitScale (the default 0.1 is physical).
@@ -90,10 +91,18 @@ pub struct UnrealProfile {
     pub world_unit_scale: f64,
 }
 
-/// UE5's `Dmfp2MfpMagicNumber`.
+/// UE5's `Dmfp2MfpMagicNumber` (SubsurfaceProfile.cpp line 82, 5.1.1).
 pub const UNREAL_DMFP_TO_MFP: f64 = 0.6;
 /// UE's default world unit scale (physical profiles).
 pub const UNREAL_DEFAULT_WORLD_UNIT_SCALE: f64 = 0.1;
+/// `MeanFreePathDistance`'s ClampMin (SubsurfaceProfile.h lines 31–32):
+/// shorter paths are folded into the colour, as UE's own upgrade does
+/// (SubsurfaceProfile.cpp lines 97–101, "Support mfp < 0.1f").
+pub const UNREAL_MIN_MEAN_FREE_PATH_CM: f64 = 0.1;
+/// `MeanFreePathColor`'s ClampMin (SubsurfaceProfile.h lines 25–26).
+pub const UNREAL_MIN_MEAN_FREE_PATH_COLOR: f64 = 0.001;
+/// UE's `SUBSURFACE_KERNEL_SIZE` (SubsurfaceProfile.h line 261), in cm.
+const UNREAL_SUBSURFACE_KERNEL_SIZE: f64 = 3.0;
 
 impl UnrealProfile {
     pub fn from_burley(b: &Burley, world_unit_scale: f64) -> Result<Self, ModelError> {
@@ -111,7 +120,64 @@ impl UnrealProfile {
             mean_free_path_color: rgb_map(|c| mfp_mm[c] / max),
             mean_free_path_distance_cm: max / MM_PER_CM,
             world_unit_scale,
-        })
+        }
+        .fold_short_distance())
+    }
+
+    /// UE clamps MeanFreePathDistance to at least 0.1 cm; a shorter path
+    /// keeps its product by scaling the colour down (SubsurfaceProfile.cpp
+    /// lines 97–101, 5.1.1), which this does too.
+    pub fn fold_short_distance(mut self) -> Self {
+        let dist = self.mean_free_path_distance_cm;
+        if dist < UNREAL_MIN_MEAN_FREE_PATH_CM && dist > 0.0 {
+            let k = dist / UNREAL_MIN_MEAN_FREE_PATH_CM;
+            self.mean_free_path_color = rgb_map(|c| self.mean_free_path_color[c] * k);
+            self.mean_free_path_distance_cm = UNREAL_MIN_MEAN_FREE_PATH_CM;
+        }
+        self
+    }
+
+    /// Colour channels under UE's ClampMin of 0.001, which the editor would
+    /// raise (and so lengthen that channel's path): the names of the
+    /// channels whose value cannot be held exactly.
+    pub fn clamped_channels(&self) -> Vec<&'static str> {
+        ["red", "green", "blue"]
+            .into_iter()
+            .zip(self.mean_free_path_color)
+            .filter(|(_, v)| *v < UNREAL_MIN_MEAN_FREE_PATH_COLOR)
+            .map(|(n, _)| n)
+            .collect()
+    }
+
+    /// What UE 5.1+ does to a profile saved before mean free paths
+    /// (`UpgradeDiffuseMeanFreePathToMeanFreePath`, SubsurfaceProfile.cpp
+    /// lines 84–109, 5.1.1): MeanFreePathColor × Distance was a diffuse
+    /// mean free path; it becomes MFP = DMFP·S_perp(A)/S_dmfp(A)·0.6
+    /// (`GetMeanFreePathFromDiffuseMeanFreePath`, BurleyNormalizedSSS.cpp
+    /// lines 114–117), split again into colour and distance, folded below
+    /// 0.1 cm, and WorldUnitScale is divided by SUBSURFACE_KERNEL_SIZE/10
+    /// (line 109). UE's default profile (SubsurfaceProfile.h lines 114–134)
+    /// reaches 5.1+ this way.
+    pub fn upgrade_from_diffuse_mean_free_path(
+        surface_albedo: Rgb,
+        dmfp_color: Rgb,
+        dmfp_distance_cm: f64,
+        world_unit_scale: f64,
+    ) -> Self {
+        let a = surface_albedo;
+        let mfp_cm = rgb_map(|c| {
+            dmfp_color[c] * dmfp_distance_cm * ScalingFit::Perpendicular.scale(a[c])
+                / ScalingFit::DiffuseMeanFreePath.scale(a[c])
+                * UNREAL_DMFP_TO_MFP
+        });
+        let max = mfp_cm.into_iter().fold(0.0, f64::max);
+        Self {
+            surface_albedo: a,
+            mean_free_path_color: rgb_map(|c| mfp_cm[c] / max),
+            mean_free_path_distance_cm: max,
+            world_unit_scale: world_unit_scale / (UNREAL_SUBSURFACE_KERNEL_SIZE / MM_PER_CM),
+        }
+        .fold_short_distance()
     }
 
     pub fn to_burley(&self) -> Result<Burley, ModelError> {
@@ -154,10 +220,20 @@ impl UnrealProfile {
     }
 }
 
-/// Blender's Principled BSDF with the Christensen–Burley method: Cycles
-/// (`bssrdf_burley_setup`) scales Subsurface Radius × Subsurface Scale (scene
-/// units) by 1/(4π) to a mean free path ℓ and uses d = ℓ/s(A) with the
-/// diffuse-surface fit s(A) = 1.9 − A + 3.5(A − 0.8)² (C&B eq. 6), A = base colour.
+/// Blender's Principled BSDF with the Christensen–Burley method, as Cycles
+/// (Blender 3.0 and later; checked in the Cycles sources of Blender 5.0.0)
+/// reads it:
+/// - `svm/closure.h` lines 468–470 form radius = max(Subsurface Radius ×
+///   Subsurface Scale, 0) in scene units and take the clamped Base Color as
+///   the BSSRDF's albedo (its closure weight, lines 462–463);
+/// - `closure/bssrdf.h` `bssrdf_setup_radius` (lines 66–88) multiplies that
+///   radius by 1/(4π), and `bssrdf_burley_eval` (lines 129–148) uses the
+///   result as Burley's d: (e^{−r/d} + e^{−r/3d})/(4d) per unit radius.
+///
+/// So d = Radius × Scale × metres_per_unit / (4π), with no albedo term: the
+/// s(A) fit of Christensen & Burley 2015 (`bssrdf_burley_setup`, still in
+/// the file) has had no caller since Cycles X (Blender 3.0). The Cycles
+/// render in `tests/real_clients.rs` recovers d from a shadow edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BlenderSubsurface {
     pub base_color: Rgb,
@@ -166,18 +242,19 @@ pub struct BlenderSubsurface {
     pub metres_per_unit: f64,
 }
 
+/// Cycles' `bssrdf_setup_radius`: Burley's d = radius / (4π).
+const CYCLES_RADIUS_PER_D: f64 = 4.0 * PI;
+
 impl BlenderSubsurface {
     pub fn from_burley(b: &Burley, metres_per_unit: f64) -> Result<Self, ModelError> {
         check_range("metres_per_unit", metres_per_unit, 1e-6, 1e3, " m/unit")?;
-        let a = b.albedo();
-        let d = b.scattering_distance_mm();
-        let units = rgb_map(|c| {
-            d[c] * 4.0 * PI * ScalingFit::DiffuseSurface.scale(a[c]) / (MM_PER_M * metres_per_unit)
-        });
+        let d_mm = b.scattering_distance_mm();
+        // Radius × Scale in scene units = 4π d (bssrdf.h lines 68–71).
+        let units = rgb_map(|c| d_mm[c] * CYCLES_RADIUS_PER_D / (MM_PER_M * metres_per_unit));
         let scale = units.into_iter().fold(0.0, f64::max);
         Ok(Self {
-            base_color: a,
-            subsurface_radius: rgb_map(|c| units[c] / scale),
+            base_color: b.albedo(),
+            subsurface_radius: rgb_map(|c| if scale > 0.0 { units[c] / scale } else { 0.0 }),
             subsurface_scale: scale,
             metres_per_unit,
         })
@@ -200,12 +277,12 @@ impl BlenderSubsurface {
             1e3,
             " m/unit",
         )?;
-        let a = self.base_color;
+        // d = Radius × Scale / (4π) (bssrdf.h lines 68–71), in mm.
         let d = rgb_map(|c| {
             self.subsurface_radius[c] * self.subsurface_scale * self.metres_per_unit * MM_PER_M
-                / (4.0 * PI * ScalingFit::DiffuseSurface.scale(a[c]))
+                / CYCLES_RADIUS_PER_D
         });
-        Burley::from_scattering_distance(a, d)
+        Burley::from_scattering_distance(self.base_color, d)
     }
 }
 
@@ -286,6 +363,88 @@ mod tests {
                 1.0 / sigma_t[c]
             );
         }
+    }
+
+    /// Cycles uses d = Radius × Scale / (4π) (bssrdf.h `bssrdf_setup_radius`,
+    /// Blender 5.0.0 lines 66–88): the default skin's red d = 0.7568628 mm is
+    /// Radius 1 × Scale 4π·0.7568628e-3 m = 0.00951102 m, green and blue
+    /// 0.32156864/0.7568628 = 0.424870 and 0.2/0.7568628 = 0.264249 of it,
+    /// whatever the albedo (hand computation; the Cycles render in
+    /// tests/real_clients.rs measures the same d from a shadow edge).
+    #[test]
+    fn blender_radius_is_four_pi_d_without_albedo() {
+        let b = BlenderSubsurface::from_burley(&skin(), 1.0).unwrap();
+        assert!((b.subsurface_scale - 0.009_511_02).abs() < 1e-8, "{b:?}");
+        assert!((b.subsurface_radius[1] - 0.424_870).abs() < 1e-6, "{b:?}");
+        assert!((b.subsurface_radius[2] - 0.264_249).abs() < 1e-6, "{b:?}");
+        let white =
+            Burley::from_scattering_distance([1.0; 3], skin().scattering_distance_mm()).unwrap();
+        let w = BlenderSubsurface::from_burley(&white, 1.0).unwrap();
+        assert_eq!(w.subsurface_radius, b.subsurface_radius);
+        // Scene in centimetres: the same physical d takes 100× the scale.
+        let cm = BlenderSubsurface::from_burley(&skin(), 0.01).unwrap();
+        assert!((cm.subsurface_scale / b.subsurface_scale - 100.0).abs() < 1e-9);
+    }
+
+    /// UE's default struct (SubsurfaceProfile.h 5.1.1 lines 114–134:
+    /// SurfaceAlbedo (0.91058, 0.338275, 0.2718), MeanFreePathColor
+    /// (1, 0.1983/2.229, 0.1607/2.229), MeanFreePathDistance 1.2·2.229 cm,
+    /// WorldUnitScale 0.1) upgraded as UE 5.1+ does. Figures worked by hand
+    /// from UE's formulas: S_perp = 0.948885/2.200757/2.609788, S_dmfp =
+    /// 14.862004/3.500000/3.501147, so MFP = (0.102467, 0.089776, 0.086246)
+    /// cm, WorldUnitScale 1/3, and d = MFP·10/(0.6·S_perp)·0.1/(1/3) =
+    /// (0.539934, 0.203966, 0.165237) mm: about half a millimetre, not the
+    /// 47 mm that reading the defaults as a mean free path gives.
+    #[test]
+    fn unreal_default_profile_upgrades_to_half_a_millimetre() {
+        let u = UnrealProfile::upgrade_from_diffuse_mean_free_path(
+            [0.91058, 0.338275, 0.2718],
+            [1.0, 0.1983 / 2.229, 0.1607 / 2.229],
+            1.2 * 2.229,
+            0.1,
+        );
+        assert!(
+            (u.mean_free_path_distance_cm - 0.102_467).abs() < 1e-6,
+            "{u:?}"
+        );
+        assert!((u.world_unit_scale - 1.0 / 3.0).abs() < 1e-12);
+        let d = u.to_burley().unwrap().scattering_distance_mm();
+        for (c, want) in [0.539_934, 0.203_966, 0.165_237].into_iter().enumerate() {
+            assert!(
+                (d[c] - want).abs() < 2e-6,
+                "channel {c}: {} vs {want}",
+                d[c]
+            );
+        }
+        // The shipped preset holds exactly this look.
+        let p = crate::settings::Preset::from_ron(
+            include_str!("../../presets/skin_unreal_default.ron"),
+            std::path::Path::new("presets/skin_unreal_default.ron"),
+        )
+        .unwrap();
+        let crate::settings::ProfileSpec::Burley(spec) = &p.profile else {
+            panic!("the Unreal default preset is Burley")
+        };
+        let pd = spec.build().unwrap().scattering_distance_mm();
+        assert!(close(pd, d, 1e-5), "{pd:?} vs {d:?}");
+    }
+
+    /// UE keeps MeanFreePathDistance ≥ 0.1 cm and folds a shorter path into
+    /// the colour (SubsurfaceProfile.cpp lines 97–101): the default skin's
+    /// 0.0431 cm path becomes 0.1 cm with a colour 0.431× as large, and the
+    /// look is unchanged.
+    #[test]
+    fn unreal_short_paths_fold_into_the_colour() {
+        let u = UnrealProfile::from_burley(&skin(), UNREAL_DEFAULT_WORLD_UNIT_SCALE).unwrap();
+        assert_eq!(u.mean_free_path_distance_cm, UNREAL_MIN_MEAN_FREE_PATH_CM);
+        // MFP_red = 0.7568628 mm · 0.6 · S_perp(0.91058) = 0.0431 cm (hand).
+        assert!(
+            (u.mean_free_path_color[0] - 0.430_906).abs() < 1e-5,
+            "{u:?}"
+        );
+        assert!(u.clamped_channels().is_empty());
+        let back = u.to_burley().unwrap().scattering_distance_mm();
+        assert!(close(back, skin().scattering_distance_mm(), 1e-12));
     }
 
     #[test]
