@@ -49,33 +49,3 @@ fn saving_an_invalid_preset_writes_nothing() {
     assert!(e.contains("albedo.r"), "{e}");
     assert!(!tmp.exists());
 }
-
-/// The Unreal default preset is Unreal's struct (seed 000 §4-3-2: UE 4.27
-/// defaults) converted by `UnrealProfile::to_burley`.
-#[test]
-fn unreal_default_preset_matches_the_engine_struct() {
-    use scatterlab::model::units::UnrealProfile;
-    let p = Preset::load(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/skin_unreal_default.ron"),
-    )
-    .unwrap();
-    let want = UnrealProfile {
-        surface_albedo: [0.91058, 0.338275, 0.2718],
-        mean_free_path_color: [1.0, 0.1983 / 2.229, 0.1607 / 2.229],
-        mean_free_path_distance_cm: 1.2 * 2.229,
-        world_unit_scale: 0.1,
-    }
-    .to_burley()
-    .unwrap();
-    let got = match &p.profile {
-        scatterlab::settings::ProfileSpec::Burley(b) => b.build().unwrap(),
-        other => panic!("{other:?}"),
-    };
-    for c in 0..3 {
-        let (a, b) = (
-            got.scattering_distance_mm()[c],
-            want.scattering_distance_mm()[c],
-        );
-        assert!((a / b - 1.0).abs() < 1e-6, "channel {c}: {a} vs {b}");
-    }
-}

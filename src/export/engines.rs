@@ -19,18 +19,35 @@ fn fit_note(fit_error: f64) -> String {
     }
 }
 
-/// Unity's smoothness multipliers (secondary x ∈ [0, 1], primary y ∈
-/// [1, 2]) for the dual-lobe roughness multipliers on the base roughness ρ:
-/// perceptual smoothness is 1 − ρ, so a lobe of roughness ρ·m has the
-/// smoothness multiplier (1 − ρ·m)/(1 − ρ).
-pub fn unity_smoothness_multipliers(preset: &Preset) -> (f64, f64) {
+/// HDRP's dual-lobe fields for our dual-lobe specular. HDRP multiplies the
+/// *perceptual smoothness* 1 − ρ of each lobe (Lit.hlsl `EvaluateBSDF`:
+/// `saturate(lobeA − ρ·lobeA)`), where Unreal and our viewport multiply the
+/// roughness ρ. At the preset's base roughness the two agree when a lobe of
+/// roughness ρ·m gets the smoothness multiplier (1 − ρ·m)/(1 − ρ). HDRP's
+/// `.x` (0–1) is the rougher lobe, weighted 1 − `lobeMix`; its `.y` (1–2)
+/// is the smoother lobe, weighted `lobeMix` (DiffusionProfileSettings.cs
+/// lines 296–309 name them secondary and primary; UpdateCache line 389
+/// packs them for the shader). Our `lobe_mix` weighs the rougher lobe 1,
+/// so HDRP's `lobeMix` is 1 − `lobe_mix`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnityDualLobe {
+    /// `smoothnessMultipliers.x`: the rougher lobe (our lobe 1).
+    pub secondary: f64,
+    /// `smoothnessMultipliers.y`: the smoother lobe (our lobe 0).
+    pub primary: f64,
+    /// `lobeMix`: the weight of the smoother lobe.
+    pub lobe_mix: f64,
+}
+
+pub fn unity_dual_lobe(preset: &Preset) -> UnityDualLobe {
     let s = &preset.rendering.specular;
     let base = (1.0 - s.roughness).max(1e-3);
     let mult = |m: f64| (1.0 - (s.roughness * m).min(1.0)) / base;
-    (
-        mult(s.lobe1_roughness_multiplier).clamp(0.0, 1.0),
-        mult(s.lobe0_roughness_multiplier).clamp(1.0, 2.0),
-    )
+    UnityDualLobe {
+        secondary: mult(s.lobe1_roughness_multiplier).clamp(0.0, 1.0),
+        primary: mult(s.lobe0_roughness_multiplier).clamp(1.0, 2.0),
+        lobe_mix: 1.0 - s.lobe_mix,
+    }
 }
 
 /// A stable non-zero 32-bit id for the profile (FNV-1a of the name). HDRP
@@ -50,19 +67,34 @@ fn yaml_color(c: Rgb) -> String {
 
 /// HDRP `DiffusionProfileSettings` (m_Version 2) as Unity writes it:
 /// the scattering distance (mm at world scale 1) split into an LDR colour
-/// and `scatteringDistanceMultiplier` the way HDRP splits HDR input.
-pub fn unity_asset(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
+/// and `scatteringDistanceMultiplier` the way HDRP splits HDR input. Field
+/// order, enum values and the script GUID follow DiffusionProfileSettings.cs
+/// (HDRP 15–17, lines 33–77) and its .meta; `m_Name` is the asset's file
+/// name, as Unity expects.
+pub fn unity_asset(
+    preset: &Preset,
+    prov: &Provenance,
+    file_stem: &str,
+) -> Result<String, ModelError> {
     let (burley, fit_error) = burley_of(&preset.profile)?;
     let r = &preset.rendering;
     let u = UnityProfile::from_burley(&burley, r.world_scale_m_per_unit)?;
-    let (secondary, primary) = unity_smoothness_multipliers(preset);
-    let name = yaml_name(&preset.name);
+    let lobes = unity_dual_lobe(preset);
+    let name = yaml_name(file_stem);
     Ok(format!(
         "%YAML 1.1
 %TAG !u! tag:unity3d.com,2011:
 # HDRP Diffusion Profile {}.
 # Scattering distance in mm at world scale 1; {}.
 # The profile's albedo {:?} belongs in the material's base colour.
+# HDRP renders a profile only once it is in the Diffusion Profile List
+# (HDRP 17: the Diffusion Profile List volume override; HDRP 12-16: the HDRP
+# Global Settings asset), which holds at most 15 profiles.
+# The dual lobe (smoothnessMultipliers, lobeMix, diffuseShadingPower) needs
+# HDRP 15 or later; this layout (m_Version 2, SplitScatteringDistance: the
+# colour/multiplier split) was checked against HDRP 15-17, not older ones. The smoothness multipliers reproduce scatterlab's roughness
+# multipliers exactly at a base roughness of {} (HDRP scales smoothness,
+# scatterlab and Unreal scale roughness); lobeMix weights the smoother lobe.
 --- !u!114 &11400000
 MonoBehaviour:
   m_ObjectHideFlags: 0
@@ -80,7 +112,7 @@ MonoBehaviour:
     scatteringDistanceMultiplier: {}
     transmissionTint: {}
     texturingMode: {}
-    smoothnessMultipliers: {{x: {secondary}, y: {primary}}}
+    smoothnessMultipliers: {{x: {}, y: {}}}
     lobeMix: {}
     diffuseShadingPower: 1
     transmissionMode: {}
@@ -93,6 +125,7 @@ MonoBehaviour:
         prov.line(),
         fit_note(fit_error),
         burley.albedo(),
+        r.specular.roughness,
         yaml_color(u.scattering_distance_color),
         u.scattering_distance_multiplier,
         yaml_color(r.transmission_tint),
@@ -100,7 +133,9 @@ MonoBehaviour:
             TexturingId::PreAndPostScatter => 0,
             TexturingId::PostScatter => 1,
         },
-        r.specular.lobe_mix,
+        lobes.secondary,
+        lobes.primary,
+        lobes.lobe_mix,
         // HDRP: 0 = Regular ("Thick Object"), 1 = ThinObject. HDRP has no
         // "off": transmission is a material keyword there.
         match r.transmission {
@@ -111,7 +146,7 @@ MonoBehaviour:
         r.thickness_remap_mm.1,
         u.world_scale_m_per_unit,
         r.ior,
-        profile_hash(&preset.name),
+        profile_hash(file_stem),
     ))
 }
 
@@ -134,7 +169,8 @@ fn yaml_name(name: &str) -> String {
     }
 }
 
-/// Unreal's parameters of the look (world unit scale 0.1: physical).
+/// Unreal's parameters of the look (world unit scale 0.1: physical), with
+/// distances under 0.1 cm folded into the colour as UE does.
 pub fn unreal_profile(preset: &Preset) -> Result<(UnrealProfile, f64), ModelError> {
     let (burley, fit_error) = burley_of(&preset.profile)?;
     Ok((
@@ -143,44 +179,122 @@ pub fn unreal_profile(preset: &Preset) -> Result<(UnrealProfile, f64), ModelErro
     ))
 }
 
+/// The struct's dual-lobe and material fields, kept inside the ranges
+/// SubsurfaceProfile.h (UE 5.1.1) clamps them to, with a note for each
+/// value that had to move.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnrealMaterialFields {
+    pub roughness0: f64,
+    pub roughness1: f64,
+    pub lobe_mix: f64,
+    pub ior: f64,
+    pub transmission_tint: Rgb,
+    pub notes: Vec<String>,
+}
+
+pub fn unreal_material_fields(preset: &Preset) -> UnrealMaterialFields {
+    let r = &preset.rendering;
+    let s = &r.specular;
+    let mut notes = Vec::new();
+    let mut clamp = |field: &str, v: f64, lo: f64, hi: f64| {
+        let c = v.clamp(lo, hi);
+        if c != v {
+            notes.push(format!(
+                "{field} {v} is outside UE's {lo}-{hi} and is written as {c}"
+            ));
+        }
+        c
+    };
+    // Roughness0/1 ClampMin 0.5, ClampMax 2.0 (lines 95–99); LobeMix 0.1–0.9
+    // (lines 101–102); IOR 1.0–3.0 (lines 92–93); TransmissionTintColor
+    // 0.001–1 (lines 107–108).
+    let roughness0 = clamp("Roughness0", s.lobe0_roughness_multiplier, 0.5, 2.0);
+    let roughness1 = clamp("Roughness1", s.lobe1_roughness_multiplier, 0.5, 2.0);
+    let lobe_mix = clamp("LobeMix", s.lobe_mix, 0.1, 0.9);
+    let ior = clamp("IOR", r.ior, 1.0, 3.0);
+    let tint = r.transmission_tint;
+    let transmission_tint = [
+        clamp("TransmissionTintColor.R", tint[0], 0.001, 1.0),
+        clamp("TransmissionTintColor.G", tint[1], 0.001, 1.0),
+        clamp("TransmissionTintColor.B", tint[2], 0.001, 1.0),
+    ];
+    UnrealMaterialFields {
+        roughness0,
+        roughness1,
+        lobe_mix,
+        ior,
+        transmission_tint,
+        notes,
+    }
+}
+
+/// What the Unreal export cannot hold exactly, one line each.
+pub fn unreal_notes(preset: &Preset) -> Result<Vec<String>, ModelError> {
+    let (u, fit_error) = unreal_profile(preset)?;
+    let mut notes = vec![fit_note(fit_error)];
+    for ch in u.clamped_channels() {
+        notes.push(format!(
+            "MeanFreePathColor {ch} is under UE's minimum of 0.001 after folding the distance into 0.1 cm; UE raises it, which widens that channel"
+        ));
+    }
+    notes.extend(unreal_material_fields(preset).notes);
+    Ok(notes)
+}
+
 /// The FSubsurfaceProfileStruct as details-panel copy-paste text (Unreal's
 /// struct export syntax has no comments, so the provenance is in the .py).
 pub fn unreal_struct(preset: &Preset) -> Result<String, ModelError> {
     let (u, _) = unreal_profile(preset)?;
-    let r = &preset.rendering;
-    let s = &r.specular;
+    let m = unreal_material_fields(preset);
     let base = u.to_struct_text();
     // to_struct_text ends with ')'; append the rendering fields.
     let head = base.strip_suffix(')').unwrap_or(&base);
     Ok(format!(
         "{head},TransmissionTintColor=(R={:.6},G={:.6},B={:.6},A=1.000000),IOR={:.6},Roughness0={:.6},Roughness1={:.6},LobeMix={:.6})\n",
-        r.transmission_tint[0],
-        r.transmission_tint[1],
-        r.transmission_tint[2],
-        r.ior,
-        s.lobe0_roughness_multiplier,
-        s.lobe1_roughness_multiplier,
-        s.lobe_mix,
+        m.transmission_tint[0],
+        m.transmission_tint[1],
+        m.transmission_tint[2],
+        m.ior,
+        m.roughness0,
+        m.roughness1,
+        m.lobe_mix,
     ))
 }
 
 /// A Python snippet for Unreal's editor scripting that sets the struct on
-/// the selected (or a new) SubsurfaceProfile asset.
+/// the selected (or a new) SubsurfaceProfile asset. Property names are those
+/// of `unreal.SubsurfaceProfileStruct` in UE 5.1+ (its Python API pages);
+/// UE 5.0 has no `enable_mean_free_path` and reads the two mean-free-path
+/// fields as a diffuse mean free path, so there the script stops with a
+/// message instead of setting a different look.
 pub fn unreal_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
-    let (u, fit_error) = unreal_profile(preset)?;
-    let r = &preset.rendering;
-    let s = &r.specular;
+    let (u, _) = unreal_profile(preset)?;
+    let m = unreal_material_fields(preset);
+    let notes: String = unreal_notes(preset)?
+        .iter()
+        .map(|n| format!("# - {n}.\n"))
+        .collect();
     let col = |c: Rgb| format!("unreal.LinearColor({}, {}, {}, 1.0)", c[0], c[1], c[2]);
     Ok(format!(
         r#"# Unreal SubsurfaceProfile for "{name}": {line}.
-# {note}. MeanFreePathDistance is in cm; WorldUnitScale 0.1 keeps it physical.
-# Run in the editor's Python console with a SubsurfaceProfile selected in the
+# Needs Unreal Engine 5.1 or later (checked against the 5.1 to 5.7 Python API).
+# MeanFreePathDistance is in cm (UE keeps it at 0.1 cm or more, so shorter
+# paths are folded into the colour as UE's own upgrade does); WorldUnitScale
+# 0.1 keeps it physical. How close this is to the scatterlab look:
+{notes}# Run in the editor's Python console with a SubsurfaceProfile selected in the
 # Content Browser, or it creates /Game/{asset}.
 import unreal
 
 settings = unreal.SubsurfaceProfileStruct()
+try:
+    settings.set_editor_property("enable_mean_free_path", True)
+except Exception as error:
+    raise RuntimeError(
+        "This profile needs Unreal Engine 5.1 or later: this engine has no "
+        "enable_mean_free_path and would read MeanFreePathColor/Distance as a "
+        "diffuse mean free path, a different look."
+    ) from error
 settings.set_editor_property("enable_burley", True)
-settings.set_editor_property("enable_mean_free_path", True)
 settings.set_editor_property("surface_albedo", {albedo})
 settings.set_editor_property("mean_free_path_color", {mfp})
 settings.set_editor_property("mean_free_path_distance", {dist})
@@ -203,17 +317,16 @@ unreal.EditorAssetLibrary.save_loaded_asset(profile)
 "#,
         name = preset.name.replace(['\n', '\r'], " "),
         line = prov.line(),
-        note = fit_note(fit_error),
         asset = asset_name(&preset.name),
         albedo = col(u.surface_albedo),
         mfp = col(u.mean_free_path_color),
         dist = u.mean_free_path_distance_cm,
         wus = u.world_unit_scale,
-        tint = col(r.transmission_tint),
-        ior = r.ior,
-        r0 = s.lobe0_roughness_multiplier,
-        r1 = s.lobe1_roughness_multiplier,
-        mix = s.lobe_mix,
+        tint = col(m.transmission_tint),
+        ior = m.ior,
+        r0 = m.roughness0,
+        r1 = m.roughness1,
+        mix = m.lobe_mix,
     ))
 }
 
@@ -231,37 +344,73 @@ fn asset_name(name: &str) -> String {
     }
 }
 
-/// Blender's Principled BSDF (Christensen–Burley): Subsurface Radius and
-/// Scale for a scene in metres (scale 1), as a Python snippet that sets
-/// them on the active object's material.
+/// Blender's Principled BSDF (Christensen–Burley) as a Python snippet that
+/// sets it on the active object's material: Subsurface Radius and Scale
+/// from `model::units::BlenderSubsurface` (d = Radius × Scale / 4π, as
+/// Cycles reads it), the scale divided by the scene's Unit Scale at run time
+/// so scenes in centimetres get the same millimetres, and the profile's
+/// albedo as Base Color unless a texture already drives it. Checked with
+/// Blender 5.0.1 (PyPI `bpy`, tests/real_clients.rs renders it in Cycles);
+/// the socket names are those of Blender 4.0 and later, and
+/// `Material.use_nodes`, deprecated in 5.0, is only set before 5.0.
 pub fn blender_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
     let (burley, fit_error) = burley_of(&preset.profile)?;
     let b = BlenderSubsurface::from_burley(&burley, 1.0)?;
     let c = b.subsurface_radius;
+    let a = burley.albedo();
+    let d = burley.scattering_distance_mm();
     Ok(format!(
         r#"# Blender Principled BSDF subsurface for "{name}": {line}.
-# {note}. Scene units in metres (Unit Scale 1).
-# subsurface_radius = ({r0}, {r1}, {r2})
-# subsurface_scale = {scale}  # m
-# base_color = {albedo:?}  (the profile's albedo; textures replace it)
-# Run in Blender's Python console with the object selected.
+# {note}.
+# Cycles (Blender 3.0+, kernel/closure/bssrdf.h bssrdf_setup_radius) uses
+# Burley's d = Subsurface Radius x Subsurface Scale / (4 pi) in scene units,
+# with Base Color as the albedo. This look: d = ({d0:.6}, {d1:.6}, {d2:.6}) mm,
+# albedo ({a0:.6}, {a1:.6}, {a2:.6}).
+# Needs Blender 4.0 or later (Principled BSDF v2 socket names); checked with
+# Blender 5.0.1. EEVEE approximates Burley with its own screen-space blur.
+# Select a mesh object and run this in Blender's Python console or Text Editor.
 import bpy
 
+NAME = "{asset}"
 SUBSURFACE_RADIUS = ({r0}, {r1}, {r2})
-SUBSURFACE_SCALE = {scale}
+SUBSURFACE_SCALE_M = {scale}  # metres; divided by the scene's Unit Scale below
+BASE_COLOR = ({a0}, {a1}, {a2}, 1.0)
 IOR = {ior}
 
-mat = bpy.context.object.active_material
+if bpy.app.version < (4, 0, 0):
+    raise RuntimeError("This snippet needs Blender 4.0 or later (Principled BSDF v2).")
+obj = bpy.context.object
+if obj is None or obj.type != "MESH":
+    raise RuntimeError("Select a mesh object first.")
+mat = obj.active_material
 if mat is None:
-    mat = bpy.data.materials.new("{asset}")
-    bpy.context.object.data.materials.append(mat)
-mat.use_nodes = True
-bsdf = next(n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    mat = bpy.data.materials.new(NAME)
+    if obj.material_slots:
+        obj.active_material = mat
+    else:
+        obj.data.materials.append(mat)
+if bpy.app.version < (5, 0, 0):
+    mat.use_nodes = True  # Blender 5.0 deprecates it: every material has nodes.
+nodes, links = mat.node_tree.nodes, mat.node_tree.links
+bsdf = next((n for n in nodes if n.type == "BSDF_PRINCIPLED"), None)
+if bsdf is None:
+    bsdf = nodes.new("ShaderNodeBsdfPrincipled")
+    out = next((n for n in nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output), None)
+    if out is None:
+        out = nodes.new("ShaderNodeOutputMaterial")
+    links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    print("scatterlab: added a Principled BSDF to", mat.name, "and connected it to the output")
+unit_scale = bpy.context.scene.unit_settings.scale_length or 1.0
 bsdf.subsurface_method = "BURLEY"
+if bsdf.inputs["Base Color"].is_linked:
+    print("scatterlab: Base Color is driven by a texture; it stays (the albedo of this look is", BASE_COLOR[:3], ")")
+else:
+    bsdf.inputs["Base Color"].default_value = BASE_COLOR
 bsdf.inputs["Subsurface Weight"].default_value = 1.0
 bsdf.inputs["Subsurface Radius"].default_value = SUBSURFACE_RADIUS
-bsdf.inputs["Subsurface Scale"].default_value = SUBSURFACE_SCALE
+bsdf.inputs["Subsurface Scale"].default_value = SUBSURFACE_SCALE_M / unit_scale
 bsdf.inputs["IOR"].default_value = IOR
+print("scatterlab: set", mat.name, "for a scene of", unit_scale, "m per unit")
 "#,
         name = preset.name.replace(['\n', '\r'], " "),
         line = prov.line(),
@@ -271,7 +420,12 @@ bsdf.inputs["IOR"].default_value = IOR
         r1 = c[1],
         r2 = c[2],
         scale = b.subsurface_scale,
-        albedo = burley.albedo(),
+        d0 = d[0],
+        d1 = d[1],
+        d2 = d[2],
+        a0 = a[0],
+        a1 = a[1],
+        a2 = a[2],
         ior = preset.rendering.ior,
     ))
 }
@@ -282,13 +436,16 @@ mod tests {
 
     /// Unreal's defaults (roughness 0.55 × 0.75 and × 1.30): perceptual
     /// smoothness 1 − 0.4125 = 0.5875 and 1 − 0.715 = 0.285 over the base
-    /// 0.45 give primary 1.30556 and secondary 0.63333 (hand computation).
+    /// 0.45 give primary 1.30556 and secondary 0.63333 (hand computation);
+    /// HDRP's lobeMix weights the smoother (primary) lobe, which takes
+    /// 1 − 0.85 = 0.15 of Unreal's default mix.
     #[test]
-    fn unity_smoothness_multipliers_from_roughness_multipliers() {
+    fn unity_dual_lobe_from_roughness_multipliers() {
         let p = Preset::default_skin();
-        let (secondary, primary) = unity_smoothness_multipliers(&p);
-        assert!((primary - 0.5875 / 0.45).abs() < 1e-12, "{primary}");
-        assert!((secondary - 0.285 / 0.45).abs() < 1e-12, "{secondary}");
+        let l = unity_dual_lobe(&p);
+        assert!((l.primary - 0.5875 / 0.45).abs() < 1e-12, "{l:?}");
+        assert!((l.secondary - 0.285 / 0.45).abs() < 1e-12, "{l:?}");
+        assert!((l.lobe_mix - 0.15).abs() < 1e-12, "{l:?}");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 mod engines;
 mod images;
+mod materialx;
 mod shaders;
 
 use crate::model::burley::Burley;
@@ -13,8 +14,12 @@ use crate::model::ModelError;
 use crate::settings::{Preset, ProfileSpec};
 use std::path::{Path, PathBuf};
 
-pub use engines::{blender_python, unity_asset, unreal_python, unreal_struct};
+pub use engines::{
+    blender_python, unity_asset, unity_dual_lobe, unreal_material_fields, unreal_notes,
+    unreal_python, unreal_struct, UnityDualLobe, UnrealMaterialFields,
+};
 pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
+pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
 
 /// Every export target.
@@ -44,10 +49,12 @@ pub enum Format {
     ProfilePng,
     /// Blender Principled BSDF: subsurface radius and scale as a Python snippet.
     Blender,
+    /// MaterialX document with an OpenPBR Surface (`open_pbr_surface`).
+    Materialx,
 }
 
 impl Format {
-    pub const ALL: [Format; 12] = [
+    pub const ALL: [Format; 13] = [
         Format::Ron,
         Format::Unity,
         Format::Unreal,
@@ -60,6 +67,7 @@ impl Format {
         Format::ProfileExr,
         Format::ProfilePng,
         Format::Blender,
+        Format::Materialx,
     ];
 
     /// The command-line name (`--format`).
@@ -77,6 +85,7 @@ impl Format {
             Format::ProfileExr => "profile-exr",
             Format::ProfilePng => "profile-png",
             Format::Blender => "blender",
+            Format::Materialx => "materialx",
         }
     }
 
@@ -93,6 +102,7 @@ impl Format {
             Format::LutPng | Format::ProfilePng => "png",
             Format::LutExr | Format::ProfileExr => "exr",
             Format::Blender => "py",
+            Format::Materialx => "mtlx",
         }
     }
 
@@ -158,6 +168,55 @@ pub fn burley_of(profile: &ProfileSpec) -> Result<(Burley, f64), ModelError> {
     }
 }
 
+/// What the target will not hold exactly, one sentence each, for the export
+/// dialog (the files' comments say the same): the relative L2 error of
+/// r·R(r) when the look reaches the engine through a Burley fit, values an
+/// engine clamps, and fields a target cannot express. Fits run here, so
+/// call it off the UI thread.
+pub fn export_notes(preset: &Preset, format: Format) -> Result<Vec<String>, ModelError> {
+    let burley_note = || -> Result<String, ModelError> {
+        let (_, e) = burley_of(&preset.profile)?;
+        Ok(if e > 0.0 {
+            format!("The look reaches the engine through a Burley fit: relative L2 error of r·R(r) {e:.4}.")
+        } else {
+            "The Burley profile goes across exactly.".into()
+        })
+    };
+    let mut notes = Vec::new();
+    match format {
+        Format::Unity => {
+            notes.push(burley_note()?);
+            let s = &preset.rendering.specular;
+            let l = unity_dual_lobe(preset);
+            notes.push(format!(
+                "HDRP scales smoothness, not roughness: its two lobes match ours at base roughness {} (smoothness multipliers {:.4} and {:.4}, lobeMix {:.4} on the smoother lobe).",
+                s.roughness, l.secondary, l.primary, l.lobe_mix
+            ));
+            notes.push("Add the asset to HDRP's Diffusion Profile List (at most 15); dual lobe needs HDRP 15+.".into());
+        }
+        Format::Unreal => {
+            notes.extend(unreal_notes(preset)?.into_iter().map(|n| {
+                let mut n = n;
+                if let Some(f) = n.get_mut(0..1) {
+                    f.make_ascii_uppercase();
+                }
+                format!("{n}.")
+            }));
+            notes.push("Needs Unreal Engine 5.1 or later.".into());
+        }
+        Format::Blender => {
+            notes.push(burley_note()?);
+            notes.push("Cycles renders it exactly (Christensen–Burley); EEVEE approximates it. Blender 4.0+.".into());
+        }
+        Format::Materialx => {
+            notes.push(burley_note()?);
+            notes.push("The dual-lobe specular is not representable in OpenPBR: the base roughness is written.".into());
+        }
+        _ => {}
+    }
+    Ok(notes)
+}
+
 /// Path of a companion file: `out` with `suffix` added to its stem and `ext`.
 pub fn companion(out: &Path, suffix: &str, ext: &str) -> PathBuf {
     let stem = out
@@ -190,7 +249,13 @@ pub fn export(
             let text = format!("// Exported: {}.\n{}", prov.line(), preset.to_ron());
             write(out, text.as_bytes())?;
         }
-        Format::Unity => write(out, unity_asset(preset, &prov)?.as_bytes())?,
+        Format::Unity => {
+            let stem = out
+                .file_stem()
+                .map(|s| s.to_string_lossy())
+                .unwrap_or_default();
+            write(out, unity_asset(preset, &prov, &stem)?.as_bytes())?
+        }
         Format::Unreal => {
             let (text, py) = (unreal_struct(preset)?, unreal_python(preset, &prov)?);
             write(out, text.as_bytes())?;
@@ -223,6 +288,7 @@ pub fn export(
             written.push(strip);
         }
         Format::Blender => write(out, blender_python(preset, &prov)?.as_bytes())?,
+        Format::Materialx => write(out, materialx_document(preset, &prov)?.as_bytes())?,
     }
     Ok(written)
 }

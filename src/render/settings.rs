@@ -228,11 +228,11 @@ impl Default for RenderSettings {
             lod: true,
             // Unreal's SubsurfaceProfile defaults: Roughness0 0.75 and
             // Roughness1 1.30 as multipliers of a material roughness of
-            // 0.55, LobeMix 0.15.
+            // 0.55, LobeMix 0.85 (settings::rendering::DualLobeSpec).
             specular: Specular::DualGgx {
                 roughness0: 0.41,
                 roughness1: 0.72,
-                lobe_mix: 0.15,
+                lobe_mix: 0.85,
             },
             // IOR 1.4: ((1.4 − 1)/(1.4 + 1))².
             specular_f0: 0.028,

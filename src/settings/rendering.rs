@@ -63,7 +63,11 @@ pub enum TransmissionId {
 }
 
 /// Unreal's dual-lobe GGX specular: two roughnesses, each a multiplier of
-/// the material roughness, mixed by `lobe_mix`.
+/// the material roughness, mixed by `lobe_mix` exactly as Unreal mixes
+/// them: D = lerp(D_lobe0, D_lobe1, LobeMix) (ShadingModels.ush line 256,
+/// UE 5.1.1), so `lobe_mix` is the weight of lobe 1, the rougher one. HDRP
+/// weights its *smoother* lobe by its own `lobeMix` (Lit.hlsl
+/// `EvaluateBSDF`), so the Unity export writes 1 − `lobe_mix`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DualLobeSpec {
@@ -73,19 +77,21 @@ pub struct DualLobeSpec {
     pub lobe0_roughness_multiplier: f64,
     /// Multiplier of the second (broader) lobe's roughness.
     pub lobe1_roughness_multiplier: f64,
-    /// Weight of the second lobe, 0–1.
+    /// Weight of lobe 1 (the rougher lobe), 0–1; lobe 0 gets 1 − this.
     pub lobe_mix: f64,
 }
 
 impl Default for DualLobeSpec {
     fn default() -> Self {
-        // Unreal's FSubsurfaceProfileStruct defaults (Roughness0 0.75,
-        // Roughness1 1.30, LobeMix 0.15) on a skin roughness of 0.55.
+        // Unreal's FSubsurfaceProfileStruct defaults (SubsurfaceProfile.h,
+        // UE 5.1.1 lines 95–102 and the constructor: Roughness0 0.75,
+        // Roughness1 1.30, LobeMix 0.85, i.e. 85 % on the rougher lobe) on a
+        // skin roughness of 0.55.
         Self {
             roughness: 0.55,
             lobe0_roughness_multiplier: 0.75,
             lobe1_roughness_multiplier: 1.30,
-            lobe_mix: 0.15,
+            lobe_mix: 0.85,
         }
     }
 }
