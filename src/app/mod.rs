@@ -31,6 +31,9 @@ enum DialogKind {
 struct FileDialog {
     kind: DialogKind,
     path: String,
+    /// Export only: what the target will not hold exactly
+    /// (`export::export_notes`, computed on a thread: fits take a while).
+    notes: Option<Vec<String>>,
 }
 
 /// An action waiting for the unsaved-changes prompt.
@@ -67,6 +70,8 @@ pub struct EditorApp {
     dialog: Option<FileDialog>,
     pending: Option<Pending>,
     exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
+    /// The open export dialog's notes, while they are being computed.
+    export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// An HDR environment map loading on its own thread.
     environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
     show_b: bool,
@@ -125,6 +130,7 @@ impl EditorApp {
             dialog: None,
             pending: None,
             exports: Vec::new(),
+            export_notes: None,
             environment_load: None,
             show_b: false,
             mesh: None,
@@ -277,9 +283,21 @@ impl EditorApp {
             }
             _ => String::new(),
         };
+        self.export_notes = None;
+        if let DialogKind::Export(format) = kind {
+            let preset = self.doc.preset.clone();
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let notes = crate::export::export_notes(&preset, format)
+                    .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
+                let _ = tx.send(notes);
+            });
+            self.export_notes = Some(rx);
+        }
         self.dialog = Some(FileDialog {
             kind,
             path: dir.join(name).display().to_string(),
+            notes: None,
         });
     }
 
@@ -578,6 +596,7 @@ impl EditorApp {
                         Format::Unity => "HDRP DiffusionProfileSettings .asset",
                         Format::Unreal => "SubsurfaceProfile struct text + Python",
                         Format::Blender => "Principled BSDF Python snippet",
+                        Format::Materialx => "MaterialX OpenPBR Surface (.mtlx)",
                         Format::LutPng | Format::LutExr => {
                             "pre-integrated and shadow tables (takes a few seconds)"
                         }
@@ -1023,6 +1042,10 @@ impl EditorApp {
         let Some(mut dialog) = self.dialog.clone() else {
             return;
         };
+        if let Some(notes) = self.export_notes.as_ref().and_then(|rx| rx.try_recv().ok()) {
+            dialog.notes = Some(notes);
+            self.export_notes = None;
+        }
         let title = match &dialog.kind {
             DialogKind::Open => "Open preset".to_string(),
             DialogKind::SaveAs => "Save preset as".into(),
@@ -1035,6 +1058,22 @@ impl EditorApp {
         let mut accept = false;
         egui::Modal::new(egui::Id::unique("scatterlab_file_dialog")).show(ctx, |ui| {
             ui.heading(&title);
+            if let DialogKind::Export(_) = dialog.kind {
+                match &dialog.notes {
+                    Some(notes) => {
+                        for n in notes {
+                            ui.label(n);
+                        }
+                    }
+                    None => {
+                        ui.horizontal(|ui| {
+                            ui.spinner();
+                            ui.label("Estimating how closely the target holds this look …");
+                        });
+                    }
+                }
+                ui.separator();
+            }
             let r = ui.add(egui::TextEdit::singleline(&mut dialog.path).desired_width(520.0));
             if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
                 accept = true;

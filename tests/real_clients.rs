@@ -1,0 +1,364 @@
+//! Exports checked by the programs that read them, not by our own code:
+//! Blender 5.0.1's Cycles renders the Blender snippet and the scattering
+//! distance is measured back from a shadow edge; HDRP's conventions read
+//! the Unity asset through a YAML parser; a stand-in `unreal` module that
+//! accepts only Unreal's documented property names runs the Unreal script;
+//! the OpenEXR bindings open every EXR export. The Python side lives in
+//! tests/clients/ (each script cites its sources); `tools/python-env.sh`
+//! (the README's test command runs it) installs the programs into `.venv/`.
+
+use scatterlab::export::{burley_of, export, Format};
+use scatterlab::model::RadialProfile;
+use scatterlab::settings::Preset;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The virtual environment's Python; never skipped: without it the test
+/// fails and says how to make it.
+fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("SCATTERLAB_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let p = root().join(".venv/bin/python");
+    assert!(
+        p.exists(),
+        "{} is missing: run tools/python-env.sh (the README's test command does) to install Blender's bpy, OpenEXR, MaterialX and PyYAML",
+        p.display()
+    );
+    p
+}
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scatterlab-clients-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs a script from tests/clients and returns its last stdout line as JSON.
+fn run_client(script: &str, args: &[&str], env: &[(&str, &str)]) -> Value {
+    let mut cmd = Command::new(python());
+    cmd.arg(root().join("tests/clients").join(script))
+        .args(args);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd.output().expect("run the client Python");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "{script} {args:?} failed ({}):\n{stdout}\n{stderr}",
+        out.status
+    );
+    let last = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| {
+            panic!("{script} printed no JSON:\n{stdout}\n{stderr}");
+        });
+    serde_json::from_str(last).unwrap()
+}
+
+fn preset(file: &str) -> Preset {
+    Preset::load(&root().join("presets").join(file)).unwrap()
+}
+
+fn floats(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// The sun of tests/clients/blender_edge.py: 3 W/m² straight down.
+const SUN_IRRADIANCE: f64 = 3.0;
+
+/// Renders the Blender export of `p` in Cycles and returns (d wanted,
+/// d measured, albedo, measured lit radiance) per channel.
+fn cycles_edge(p: &Preset, tag: &str, extra: &[&str]) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let (burley, _) = burley_of(&p.profile).unwrap();
+    let d = burley.scattering_distance_mm().to_vec();
+    let (d_min, d_max) = (
+        d.iter().cloned().fold(f64::INFINITY, f64::min),
+        d.iter().cloned().fold(0.0, f64::max),
+    );
+    // Ten of the widest d across, pixels at most a quarter of the narrowest.
+    let width_mm = (10.0 * d_max).clamp(4.0, 80.0);
+    let pixels = ((width_mm / (d_min / 4.0)).ceil() as usize).clamp(160, 480);
+    let dir = tmp_dir(tag);
+    let snippet = dir.join("snippet.py");
+    export(p, None, Format::Blender, &snippet).unwrap();
+    let (w, n) = (format!("{width_mm}"), format!("{pixels}"));
+    let mut args = vec![
+        snippet.to_str().unwrap(),
+        dir.to_str().unwrap(),
+        "--width-mm",
+        &w,
+        "--pixels",
+        &n,
+    ];
+    args.extend_from_slice(extra);
+    let v = run_client("blender_edge.py", &args, &[]);
+    let inputs = &v["inputs"];
+    assert_eq!(inputs["subsurface_method"], "BURLEY", "{tag}: {v}");
+    assert_eq!(inputs["linked_to_output"], true, "{tag}: {v}");
+    assert_eq!(
+        inputs["subsurface_weight"].as_f64(),
+        Some(1.0),
+        "{tag}: {v}"
+    );
+    (
+        d,
+        floats(&v["d_mm"]),
+        burley.albedo().to_vec(),
+        floats(&v["amplitude"]),
+    )
+}
+
+/// Cycles scatters the distance the preset asks for: each channel's d,
+/// fitted to the rendered shadow edge with Burley's edge-spread function
+/// (tests/clients/blender_edge.py derives it independently), is within
+/// 10 % of the look's d, and the lit side's radiance is Base Color × E/π
+/// within 5 %. Presets: the default skin (Burley), Jensen 2001's measured
+/// Skin1 and the wax dipole (both through their Burley fit, whose d is
+/// what the export carries). With the s(A) division Cycles dropped in
+/// Blender 3.0, the skin's green and blue came out 2.3× and 2.6× too wide.
+#[test]
+fn blender_export_scatters_the_look_distance_in_cycles() {
+    let mut report = String::new();
+    let mut worst = 0.0f64;
+    for file in ["skin_default.ron", "skin1_jensen2001.ron", "wax.ron"] {
+        let p = preset(file);
+        let (want, got, albedo, amp) = cycles_edge(&p, file, &[]);
+        for c in 0..3 {
+            let rel = got[c] / want[c] - 1.0;
+            worst = worst.max(rel.abs());
+            report += &format!(
+                "{file} ch{c}: d {:.4} mm, Cycles {:.4} mm ({:+.1} %); lit {:.4}, A·E/π {:.4}\n",
+                want[c],
+                got[c],
+                100.0 * rel,
+                amp[c],
+                albedo[c] * SUN_IRRADIANCE / std::f64::consts::PI
+            );
+        }
+        for c in 0..3 {
+            assert!(
+                (got[c] / want[c] - 1.0).abs() < 0.10,
+                "{file} channel {c}: Cycles scatters d = {} mm, the look has {} mm\n{report}",
+                got[c],
+                want[c]
+            );
+            let lit = albedo[c] * SUN_IRRADIANCE / std::f64::consts::PI;
+            assert!(
+                (amp[c] / lit - 1.0).abs() < 0.05,
+                "{file} channel {c}: lit radiance {} vs Base Color × E/π = {lit}\n{report}",
+                amp[c]
+            );
+        }
+    }
+    eprintln!("{report}worst |Δd|/d = {:.1} %", 100.0 * worst);
+}
+
+/// On an artist's object that already has a Principled BSDF (Random Walk,
+/// other colours), in a scene modelled in centimetres (Unit Scale 0.01),
+/// the snippet replaces the values and Cycles still scatters the look's
+/// physical millimetres; on a material with only a Diffuse BSDF it adds a
+/// Principled BSDF and connects it to the output.
+#[test]
+fn blender_export_on_an_existing_material_and_a_centimetre_scene() {
+    let p = Preset::default_skin();
+    let (want, got, _, _) = cycles_edge(
+        &p,
+        "existing-cm",
+        &["--existing-material", "principled", "--unit-scale", "0.01"],
+    );
+    for c in 0..3 {
+        assert!(
+            (got[c] / want[c] - 1.0).abs() < 0.10,
+            "channel {c}: Cycles scatters d = {} mm in a cm scene, the look has {} mm",
+            got[c],
+            want[c]
+        );
+    }
+    let dir = tmp_dir("diffuse-only");
+    let snippet = dir.join("snippet.py");
+    export(&p, None, Format::Blender, &snippet).unwrap();
+    let v = run_client(
+        "blender_edge.py",
+        &[
+            snippet.to_str().unwrap(),
+            dir.to_str().unwrap(),
+            "--existing-material",
+            "diffuse",
+            "--no-render",
+        ],
+        &[],
+    );
+    let inputs = &v["inputs"];
+    assert_eq!(inputs["material"], "ArtistSkin", "{v}");
+    assert_eq!(inputs["materials_on_object"], 1, "{v}");
+    assert_eq!(inputs["linked_to_output"], true, "{v}");
+    assert_eq!(inputs["subsurface_method"], "BURLEY", "{v}");
+}
+
+/// The Unity asset read as HDRP reads it (tests/clients/unity_yaml.py
+/// writes HDRP's conventions down with their source lines): field order,
+/// GUID, m_Name = the file's name, d from colour × multiplier, and the dual
+/// lobe: each of HDRP's two lobes has the roughness and weight of the
+/// viewport's lobe (before the fix HDRP put 0.15 on the smoother lobe where
+/// the viewport puts 0.85), for every shipped preset.
+#[test]
+fn unity_asset_reads_as_hdrp_reads_it() {
+    let dir = tmp_dir("unity");
+    let mut n = 0;
+    for entry in std::fs::read_dir(root().join("presets")).unwrap() {
+        let path = entry.unwrap().path();
+        let p = Preset::load(&path).unwrap();
+        let stem = format!("SSS {}", path.file_stem().unwrap().to_string_lossy());
+        let out = dir.join(format!("{stem}.asset"));
+        export(&p, Some(&path), Format::Unity, &out).unwrap();
+        let (burley, _) = burley_of(&p.profile).unwrap();
+        let s = &p.rendering.specular;
+        let expect = serde_json::json!({
+            "file_stem": stem,
+            "d_mm": burley.scattering_distance_mm(),
+            "world_scale_m_per_unit": p.rendering.world_scale_m_per_unit,
+            "roughness": s.roughness,
+            "m0": s.lobe0_roughness_multiplier,
+            "m1": s.lobe1_roughness_multiplier,
+            "lobe_mix": s.lobe_mix,
+        });
+        let expect_path = dir.join(format!("{stem}.json"));
+        std::fs::write(&expect_path, expect.to_string()).unwrap();
+        run_client(
+            "unity_yaml.py",
+            &[out.to_str().unwrap(), expect_path.to_str().unwrap()],
+            &[],
+        );
+        n += 1;
+    }
+    assert!(n >= 17, "{n} presets");
+}
+
+/// The Unreal script runs against a stand-in `unreal` module that knows
+/// only the documented SubsurfaceProfileStruct properties of UE 5.1+ and
+/// their clamps; what it sets, converted back with UE's own formulas
+/// (tests/clients/unreal_check.py), is the look's d, and the struct text
+/// agrees. Under UE 5.0's API (no enable_mean_free_path) it stops with a
+/// message instead of setting a different look.
+#[test]
+fn unreal_script_runs_against_the_documented_api() {
+    let dir = tmp_dir("unreal");
+    for file in [
+        "skin_default.ron",
+        "skin_unreal_default.ron",
+        "jade.ron",
+        "skin1_jensen2001.ron",
+    ] {
+        let p = preset(file);
+        let out = dir.join(format!("{file}.txt"));
+        let written = export(&p, None, Format::Unreal, &out).unwrap();
+        let v = run_client(
+            "unreal_check.py",
+            &[written[1].to_str().unwrap(), out.to_str().unwrap()],
+            &[],
+        );
+        let (burley, _) = burley_of(&p.profile).unwrap();
+        let want = burley.scattering_distance_mm();
+        let got = floats(&v["d_mm"]);
+        for c in 0..3 {
+            assert!(
+                (got[c] / want[c] - 1.0).abs() < 1e-5,
+                "{file} channel {c}: UE reads d = {} mm, the look has {} mm",
+                got[c],
+                want[c]
+            );
+        }
+        assert!(
+            v["mean_free_path_distance_cm"].as_f64().unwrap() >= 0.1,
+            "{v}"
+        );
+        // UE's LobeMix is the weight of lobe 1, as ours (clamped to 0.1–0.9).
+        let mix = v["lobe_mix"].as_f64().unwrap();
+        assert!(
+            (mix - p.rendering.specular.lobe_mix.clamp(0.1, 0.9)).abs() < 1e-9,
+            "{v}"
+        );
+    }
+    // UE 5.0: a clear stop, naming the version.
+    let p = Preset::default_skin();
+    let out = dir.join("ue50.txt");
+    let written = export(&p, None, Format::Unreal, &out).unwrap();
+    let o = Command::new(python())
+        .arg(root().join("tests/clients/unreal_check.py"))
+        .args([written[1].to_str().unwrap(), out.to_str().unwrap()])
+        .env("SCATTERLAB_UNREAL_STUB_VERSION", "5.0")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "the script ran on UE 5.0's API");
+    assert!(err.contains("Unreal Engine 5.1 or later"), "{err}");
+}
+
+/// Every EXR export opens in the OpenEXR bindings with the layout its
+/// header states, and holds Burley's closed forms (r·R(r), T(d)) and the
+/// flat-skin limits of the two tables (tests/clients/exr_check.py).
+#[test]
+fn exr_exports_open_in_openexr() {
+    let dir = tmp_dir("exr");
+    let p = Preset::default_skin();
+    let profile = dir.join("profile.exr");
+    let lut = dir.join("lut.exr");
+    let pw = export(&p, None, Format::ProfileExr, &profile).unwrap();
+    let lw = export(&p, None, Format::LutExr, &lut).unwrap();
+    let (burley, _) = burley_of(&p.profile).unwrap();
+    assert!(burley.total_reflectance()[0] > 0.0);
+    let expect = serde_json::json!({
+        "profile": pw[0], "transmittance": pw[1], "lut": lw[0], "shadow": lw[1],
+        "albedo": burley.albedo(), "d_mm": burley.scattering_distance_mm(),
+        "thickness_max_mm": p.rendering.thickness_remap_mm.1,
+    });
+    let e = dir.join("expect.json");
+    std::fs::write(&e, expect.to_string()).unwrap();
+    let v = run_client("exr_check.py", &[e.to_str().unwrap()], &[]);
+    eprintln!("EXR worst errors: {v}");
+}
+
+/// The MaterialX export validates against MaterialX's standard libraries
+/// (tests/clients/materialx_check.py), for every shipped preset, and its
+/// OpenPBR mean free path, converted with Christensen & Burley's eq. 5
+/// typed in the checker, gives back the look's d.
+#[test]
+fn materialx_export_validates_and_holds_the_look() {
+    let dir = tmp_dir("materialx");
+    for entry in std::fs::read_dir(root().join("presets")).unwrap() {
+        let path = entry.unwrap().path();
+        let p = Preset::load(&path).unwrap();
+        let out = dir.join(format!(
+            "{}.mtlx",
+            path.file_stem().unwrap().to_string_lossy()
+        ));
+        export(&p, Some(&path), Format::Materialx, &out).unwrap();
+        let v = run_client("materialx_check.py", &[out.to_str().unwrap()], &[]);
+        let (burley, _) = burley_of(&p.profile).unwrap();
+        let want = burley.scattering_distance_mm();
+        let got = floats(&v["d_mm"]);
+        for c in 0..3 {
+            assert!(
+                (got[c] / want[c] - 1.0).abs() < 1e-6,
+                "{}: channel {c}: {} vs {} mm",
+                path.display(),
+                got[c],
+                want[c]
+            );
+        }
+    }
+}
