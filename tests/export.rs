@@ -8,7 +8,7 @@
 
 use scatterlab::export::{export, Format, LUT_LAYOUT, PROFILE_TEXELS};
 use scatterlab::model::lut::preintegrated_d;
-use scatterlab::model::units::{BlenderSubsurface, UnrealProfile};
+use scatterlab::model::units::UnrealProfile;
 use scatterlab::settings::profile::{BurleyShape, BurleySpec};
 use scatterlab::settings::{Preset, ProfileSpec};
 use std::path::{Path, PathBuf};
@@ -341,28 +341,32 @@ fn profile_exr_and_png_hold_r_times_r() {
     assert_eq!(max, 65535);
 }
 
-/// Blender's radius and scale go back to the same d (Cycles' mapping).
+/// The snippet's radius and scale give the look's d through Cycles' own
+/// rule, typed here from `bssrdf_setup_radius` (Blender 5.0.0
+/// kernel/closure/bssrdf.h lines 66–88): d = Radius × Scale / (4π), with no
+/// albedo term; Base Color is the albedo; `use_nodes` (deprecated in 5.0)
+/// is only set before 5.0. tests/real_clients.rs renders it in Cycles.
 #[test]
-fn blender_snippet_round_trips() {
+fn blender_snippet_follows_cycles_radius_rule() {
     let p = skin();
     let out = tmp("skin.py");
     export(&p, None, Format::Blender, &out).unwrap();
     let t = std::fs::read_to_string(&out).unwrap();
     assert!(t.contains("import bpy") && t.contains("Subsurface Radius"));
     let radius = numbers_after(&t, "\nSUBSURFACE_RADIUS = ");
-    let scale = numbers_after(&t, "\nSUBSURFACE_SCALE = ")[0];
+    let scale_m = numbers_after(&t, "\nSUBSURFACE_SCALE_M = ")[0];
+    let base = numbers_after(&t, "\nBASE_COLOR = ");
     let (d, a) = skin_d_and_albedo(&p);
-    let back = BlenderSubsurface {
-        base_color: a,
-        subsurface_radius: [radius[0], radius[1], radius[2]],
-        subsurface_scale: scale,
-        metres_per_unit: 1.0,
-    }
-    .to_burley()
-    .unwrap();
     for c in 0..3 {
-        assert!((back.scattering_distance_mm()[c] / d[c] - 1.0).abs() < 1e-9);
+        let cycles_d_mm = radius[c] * scale_m * 1000.0 / (4.0 * std::f64::consts::PI);
+        assert!(
+            (cycles_d_mm / d[c] - 1.0).abs() < 1e-9,
+            "{c}: {cycles_d_mm} vs {}",
+            d[c]
+        );
+        assert!((base[c] - a[c]).abs() < 1e-12);
     }
+    assert!(t.contains("if bpy.app.version < (5, 0, 0):\n    mat.use_nodes = True"));
 }
 
 /// A non-Burley look is converted through a fit, and the file says so.
