@@ -1,3 +1,5 @@
+#![allow(clippy::unwrap_used)]
+#![allow(clippy::needless_range_loop)]
 //! Exports checked by the programs that read them, not by our own code:
 //! Blender 5.0.1's Cycles renders the Blender snippet and the scattering
 //! distance is measured back from a shadow edge; HDRP's conventions read
