@@ -10,7 +10,6 @@
 //! (the README's test command runs it) installs the programs into `.venv/`.
 
 use scatterlab::export::{burley_of, export, Format};
-use scatterlab::model::RadialProfile;
 use scatterlab::settings::Preset;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -322,7 +321,6 @@ fn exr_exports_open_in_openexr() {
     let pw = export(&p, None, Format::ProfileExr, &profile).unwrap();
     let lw = export(&p, None, Format::LutExr, &lut).unwrap();
     let (burley, _) = burley_of(&p.profile).unwrap();
-    assert!(burley.total_reflectance()[0] > 0.0);
     let expect = serde_json::json!({
         "profile": pw[0], "transmittance": pw[1], "lut": lw[0], "shadow": lw[1],
         "albedo": burley.albedo(), "d_mm": burley.scattering_distance_mm(),

@@ -231,6 +231,11 @@ pub fn unreal_material_fields(preset: &Preset) -> UnrealMaterialFields {
 /// What the Unreal export cannot hold exactly, one line each.
 pub fn unreal_notes(preset: &Preset) -> Result<Vec<String>, ModelError> {
     let (u, fit_error) = unreal_profile(preset)?;
+    Ok(unreal_notes_of(preset, &u, fit_error))
+}
+
+/// `unreal_notes` for a profile already converted (fits take a while).
+fn unreal_notes_of(preset: &Preset, u: &UnrealProfile, fit_error: f64) -> Vec<String> {
     let mut notes = vec![fit_note(fit_error)];
     for ch in u.clamped_channels() {
         notes.push(format!(
@@ -238,7 +243,7 @@ pub fn unreal_notes(preset: &Preset) -> Result<Vec<String>, ModelError> {
         ));
     }
     notes.extend(unreal_material_fields(preset).notes);
-    Ok(notes)
+    notes
 }
 
 /// The FSubsurfaceProfileStruct as details-panel copy-paste text (Unreal's
@@ -268,9 +273,9 @@ pub fn unreal_struct(preset: &Preset) -> Result<String, ModelError> {
 /// fields as a diffuse mean free path, so there the script stops with a
 /// message instead of setting a different look.
 pub fn unreal_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
-    let (u, _) = unreal_profile(preset)?;
+    let (u, fit_error) = unreal_profile(preset)?;
     let m = unreal_material_fields(preset);
-    let notes: String = unreal_notes(preset)?
+    let notes: String = unreal_notes_of(preset, &u, fit_error)
         .iter()
         .map(|n| format!("# - {n}.\n"))
         .collect();
