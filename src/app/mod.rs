@@ -597,6 +597,7 @@ impl EditorApp {
                         Format::Unreal => "SubsurfaceProfile struct text + Python",
                         Format::Blender => "Principled BSDF Python snippet",
                         Format::Materialx => "MaterialX OpenPBR Surface (.mtlx)",
+                        Format::Godot => "Godot 4 StandardMaterial3D (.tres); Godot's kernel is fixed, so the dialog states the error",
                         Format::LutPng | Format::LutExr => {
                             "pre-integrated and shadow tables (takes a few seconds)"
                         }

@@ -4,6 +4,7 @@
 //! scatterlab version and the source preset.
 
 mod engines;
+mod godot;
 mod images;
 mod materialx;
 mod shaders;
@@ -17,6 +18,9 @@ use std::path::{Path, PathBuf};
 pub use engines::{
     blender_python, unity_asset, unity_dual_lobe, unreal_material_fields, unreal_notes,
     unreal_python, unreal_struct, UnityDualLobe, UnrealMaterialFields,
+};
+pub use godot::{
+    godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
 pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
@@ -51,10 +55,12 @@ pub enum Format {
     Blender,
     /// MaterialX document with an OpenPBR Surface (`open_pbr_surface`).
     Materialx,
+    /// Godot 4 StandardMaterial3D `.tres` (width and transmittance fitted).
+    Godot,
 }
 
 impl Format {
-    pub const ALL: [Format; 13] = [
+    pub const ALL: [Format; 14] = [
         Format::Ron,
         Format::Unity,
         Format::Unreal,
@@ -68,6 +74,7 @@ impl Format {
         Format::ProfilePng,
         Format::Blender,
         Format::Materialx,
+        Format::Godot,
     ];
 
     /// The command-line name (`--format`).
@@ -86,6 +93,7 @@ impl Format {
             Format::ProfilePng => "profile-png",
             Format::Blender => "blender",
             Format::Materialx => "materialx",
+            Format::Godot => "godot",
         }
     }
 
@@ -103,6 +111,7 @@ impl Format {
             Format::LutExr | Format::ProfileExr => "exr",
             Format::Blender => "py",
             Format::Materialx => "mtlx",
+            Format::Godot => "tres",
         }
     }
 
@@ -212,6 +221,7 @@ pub fn export_notes(preset: &Preset, format: Format) -> Result<Vec<String>, Mode
             notes.push(burley_note()?);
             notes.push("The dual-lobe specular is not representable in OpenPBR: the base roughness is written.".into());
         }
+        Format::Godot => notes.extend(godot_notes(preset)?),
         _ => {}
     }
     Ok(notes)
@@ -289,6 +299,7 @@ pub fn export(
         }
         Format::Blender => write(out, blender_python(preset, &prov)?.as_bytes())?,
         Format::Materialx => write(out, materialx_document(preset, &prov)?.as_bytes())?,
+        Format::Godot => write(out, godot_material(preset, &prov)?.as_bytes())?,
     }
     Ok(written)
 }

@@ -135,6 +135,32 @@ impl Jimenez2012 {
     }
 }
 
+impl Jimenez2012 {
+    /// The same kernel with every radius multiplied by `width_mm`, the
+    /// physical length of one kernel unit (the demo's profile is in mm, so
+    /// width 1 is the kernel itself). An engine that ships the demo's fixed
+    /// kernel and only exposes its width (Godot 4's `subsurf_scatter_strength`)
+    /// renders this profile: variances v_k·((0.001 + falloff)·width)², the
+    /// weights and the Dirac delta unchanged.
+    pub fn widened(&self, width_mm: f64) -> Result<GaussianSum, ModelError> {
+        check_range("width", width_mm, 1e-6, 1e6, "mm")?;
+        let sum_w: f64 = base_terms().map(|(_, w)| w).sum();
+        let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
+            let f = (0.001 + self.falloff[c]) * width_mm;
+            base_terms()
+                .map(|(v, w)| Term {
+                    weight: self.strength[c] * w / sum_w,
+                    variance_mm2: v * f * f,
+                })
+                .collect()
+        });
+        Ok(GaussianSum::from_channels(
+            channels,
+            rgb_map(|c| 1.0 - self.strength[c]),
+        ))
+    }
+}
+
 /// Validates a tap count: odd and within [`TAPS_RANGE`].
 pub fn check_taps(taps: usize) -> Result<usize, ModelError> {
     check_range(
