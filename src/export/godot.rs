@@ -282,7 +282,7 @@ fn notes_of(g: &GodotSubsurface) -> Vec<String> {
             100.0 * g.unscattered[1],
             100.0 * g.unscattered[2]
         ),
-        format!("In Project Settings → Rendering → Environment → Subsurface Scattering set Subsurface Scattering Scale to {GODOT_SCALE} and Depth Scale to {GODOT_DEPTH_SCALE} (the defaults 0.05 and 0.01 size the blur by the screen, not the object), and use the Forward+ renderer (Mobile and Compatibility have no SSS blur)."),
+        format!("In Project Settings > Rendering > Environment > Subsurface Scattering set Subsurface Scattering Scale to {GODOT_SCALE} and Depth Scale to {GODOT_DEPTH_SCALE} (the defaults 0.05 and 0.01 size the blur by the screen, not the object), and use the Forward+ renderer (Mobile and Compatibility have no SSS blur)."),
     ];
     if g.clamped {
         n.push(format!(
