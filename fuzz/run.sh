@@ -19,6 +19,9 @@ set -euo pipefail
 cd "$(dirname "$0")"
 scale="${1:-1}"
 triple="$(rustc -vV | sed -n 's/^host: //p')"
+# The binaries are looked for under fuzz/target, whatever the caller's
+# CARGO_TARGET_DIR says (a shared target dir would hide them).
+export CARGO_TARGET_DIR="$PWD/target"
 export RUSTC_BOOTSTRAP=1
 export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 \
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \
@@ -42,6 +45,10 @@ for t in "${targets[@]}"; do
     status=0
     n=$((runs[$t] * scale))
     start=$SECONDS
+    if [ ! -x "target/$triple/release/$t" ]; then
+        echo "fuzz/run.sh: target/$triple/release/$t was not built" >&2
+        exit 1
+    fi
     "target/$triple/release/$t" "$corpus" -seed=1 -runs="$n" -max_total_time=300 \
         -rss_limit_mb=2048 -timeout=10 -artifact_prefix="artifacts/$t-" \
         -print_final_stats=1 >"run-$t.log" 2>&1 || status=$?

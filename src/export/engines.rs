@@ -355,7 +355,7 @@ fn asset_name(name: &str) -> String {
 /// Cycles reads it), the scale divided by the scene's Unit Scale at run time
 /// so scenes in centimetres get the same millimetres, and the profile's
 /// albedo as Base Color unless a texture already drives it. Checked with
-/// Blender 5.0.1 (PyPI `bpy`, tests/real_clients.rs renders it in Cycles);
+/// Blender 4.5.15 and 5.0.1 (PyPI `bpy`, tests/real_clients.rs renders it in Cycles);
 /// the socket names are those of Blender 4.0 and later, and
 /// `Material.use_nodes`, deprecated in 5.0, is only set before 5.0.
 pub fn blender_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
@@ -372,7 +372,7 @@ pub fn blender_python(preset: &Preset, prov: &Provenance) -> Result<String, Mode
 # with Base Color as the albedo. This look: d = ({d0:.6}, {d1:.6}, {d2:.6}) mm,
 # albedo ({a0:.6}, {a1:.6}, {a2:.6}).
 # Needs Blender 4.0 or later (Principled BSDF v2 socket names); checked with
-# Blender 5.0.1. EEVEE approximates Burley with its own screen-space blur.
+# Blender 4.5.15 and 5.0.1. EEVEE approximates Burley with its own screen-space blur.
 # Select a mesh object and run this in Blender's Python console or Text Editor.
 import bpy
 

@@ -215,7 +215,7 @@ pub fn export_notes(preset: &Preset, format: Format) -> Result<Vec<String>, Mode
         }
         Format::Blender => {
             notes.push(burley_note()?);
-            notes.push("Cycles renders it exactly (Christensen–Burley); EEVEE approximates it. Blender 4.0+.".into());
+            notes.push("Cycles renders it exactly (Christensen–Burley); EEVEE approximates it. Blender 4.0+ (checked with 4.5 and 5.0).".into());
         }
         Format::Materialx => {
             notes.push(burley_note()?);

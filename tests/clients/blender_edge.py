@@ -95,6 +95,10 @@ def build_scene(args):
         # BSDF whose values the snippet must replace, or a Diffuse BSDF
         # only, for which it must add and connect a Principled BSDF.
         mat = bpy.data.materials.new("ArtistSkin")
+        if bpy.app.version < (5, 0, 0):
+            # Before 5.0 a new material has no node tree until use_nodes
+            # is on; an artist's material in 4.x has it on.
+            mat.use_nodes = True
         nodes, links = mat.node_tree.nodes, mat.node_tree.links
         for n in list(nodes):
             if n.type != "OUTPUT_MATERIAL":
