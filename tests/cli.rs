@@ -858,3 +858,28 @@ fn export_writes_files_and_refuses_bad_input() {
     assert!(!dir.join("o.ron").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An adapter the renderer cannot use (the GL backend: no R32Float target,
+/// no `textureLoad` of a depth texture in GLSL; or no GL driver at all)
+/// gets one line on stderr that names the fix, a non-zero exit and no
+/// panic (issue 12: "Format R32Float is not renderable" was all it said).
+#[test]
+fn unusable_adapter_names_the_fix_in_one_line() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-gl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(["render", "--width", "64", "--height", "64", "--out"])
+        .arg(dir.join("gl.png"))
+        .env("WGPU_BACKEND", "gl")
+        .output()
+        .expect("binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    if out.status.success() {
+        // A GL driver that can run every pass: then the frame must exist.
+        assert!(dir.join("gl.png").exists());
+        return;
+    }
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("mesa-vulkan-drivers"), "{err}");
+}

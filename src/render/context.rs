@@ -9,6 +9,13 @@ pub enum GpuError {
         "no GPU adapter found (install a Vulkan driver such as mesa-vulkan-drivers/lavapipe): {0}"
     )]
     NoAdapter(String),
+    #[error(
+        "the GPU adapter {adapter} cannot render to {format:?}, which the renderer needs: install Mesa's Vulkan driver (Debian/Ubuntu: apt-get install mesa-vulkan-drivers) or update the GPU driver, then run with WGPU_BACKEND=vulkan"
+    )]
+    Unsupported {
+        adapter: String,
+        format: wgpu::TextureFormat,
+    },
     #[error("the GPU device could not be created: {0}")]
     Device(String),
     #[error("GPU validation error in {stage}: {message}")]
@@ -20,12 +27,34 @@ pub enum GpuError {
     Readback(String),
 }
 
+/// Linear-depth formats, best first (see [`GpuContext::linear_depth_format`]).
+pub const LINEAR_DEPTH_CANDIDATES: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::R32Float,
+    wgpu::TextureFormat::R16Float,
+    wgpu::TextureFormat::Rgba16Float,
+];
+
+/// Formats the renderer draws into with no fallback: the HDR targets, the
+/// albedo target, the output, the depth-stencil and shadow depth buffers.
+const REQUIRED_RENDERABLE: [wgpu::TextureFormat; 5] = [
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba8Unorm,
+    wgpu::TextureFormat::Rgba8UnormSrgb,
+    wgpu::TextureFormat::Depth24PlusStencil8,
+    wgpu::TextureFormat::Depth32Float,
+];
+
 /// A device and queue plus what the adapter is.
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter_info: wgpu::AdapterInfo,
     pub timestamps: bool,
+    /// Format of the linear-depth target: R32Float where the adapter can
+    /// render to it (Vulkan, Metal, D3D12); R16Float or Rgba16Float on GL
+    /// ES and older adapters (half precision: depth steps of ~1/2048 of
+    /// the distance, enough for the depth-aware SSS weights at a head).
+    pub linear_depth_format: wgpu::TextureFormat,
     /// Format of the specular target (RG11B10 where renderable).
     pub specular_format: wgpu::TextureFormat,
 }
@@ -61,6 +90,26 @@ impl GpuContext {
         if rg11b10 {
             required_features |= wgpu::Features::RG11B10UFLOAT_RENDERABLE;
         }
+        let renderable = |f: wgpu::TextureFormat| {
+            adapter
+                .get_texture_format_features(f)
+                .allowed_usages
+                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        };
+        let info = adapter.get_info();
+        let unsupported = |format| GpuError::Unsupported {
+            adapter: format!("\"{}\" ({:?})", info.name, info.backend),
+            format,
+        };
+        let linear_depth_format = LINEAR_DEPTH_CANDIDATES
+            .into_iter()
+            .find(|f| renderable(*f))
+            .ok_or_else(|| unsupported(LINEAR_DEPTH_CANDIDATES[0]))?;
+        for f in REQUIRED_RENDERABLE {
+            if !renderable(f) {
+                return Err(unsupported(f));
+            }
+        }
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("scatterlab"),
@@ -74,8 +123,9 @@ impl GpuContext {
         Ok(Self {
             device,
             queue,
-            adapter_info: adapter.get_info(),
+            adapter_info: info,
             timestamps,
+            linear_depth_format,
             specular_format: if rg11b10 {
                 wgpu::TextureFormat::Rg11b10Ufloat
             } else {
@@ -84,16 +134,28 @@ impl GpuContext {
         })
     }
 
-    /// Runs `f` inside a validation error scope and reports what it caught.
+    /// Runs `f` inside validation and internal error scopes and reports
+    /// what they caught (an internal error is a shader the backend cannot
+    /// compile, e.g. WGSL the GL backend does not support), with the fix.
     pub fn checked<T>(&self, stage: &'static str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = self.device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out = f();
-        match pollster::block_on(scope.pop()) {
-            Some(e) => Err(GpuError::Validation {
+        let v = pollster::block_on(validation.pop());
+        let i = pollster::block_on(internal.pop());
+        match (v, i) {
+            (Some(e), _) => Err(GpuError::Validation {
                 stage,
                 message: e.to_string(),
             }),
-            None => Ok(out),
+            (None, Some(e)) => Err(GpuError::Validation {
+                stage,
+                message: format!(
+                    "{e} (the {:?} backend cannot run this renderer: install Mesa's Vulkan driver, Debian/Ubuntu: apt-get install mesa-vulkan-drivers, and run with WGPU_BACKEND=vulkan)",
+                    self.adapter_info.backend
+                ),
+            }),
+            (None, None) => Ok(out),
         }
     }
 }

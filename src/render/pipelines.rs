@@ -8,9 +8,6 @@ pub(super) const HDR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// albedo^post (rgb) and coverage (a).
 pub(super) const ALBEDO: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
-/// Linear view depth for the depth-aware SSS weights.
-pub(super) const LINEAR_DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
 /// The scene's depth buffer; its stencil marks the SSS pixels.
 pub(super) const DEPTH_STENCIL: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
 
@@ -91,6 +88,7 @@ pub(super) fn scene_pipeline(
     module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
     specular: wgpu::TextureFormat,
+    linear_depth: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
     let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("scene"),
@@ -121,7 +119,7 @@ pub(super) fn scene_pipeline(
             module,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
-            targets: &[target(HDR), target(specular), target(ALBEDO), target(LINEAR_DEPTH)],
+            targets: &[target(HDR), target(specular), target(ALBEDO), target(linear_depth)],
         }),
         // Back faces are culled: closed meshes shade each pixel about once
         // (halves the pass on lavapipe). glTF's default is single-sided too.

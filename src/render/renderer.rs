@@ -10,7 +10,7 @@ use super::mesh::Mesh;
 pub use super::pipelines::shader_sources;
 use super::pipelines::{
     buffer_entry, fullscreen_pipeline, scene_pipeline, shadow_pipeline, texture_entry, Output,
-    Stencil, ALBEDO, DEPTH_STENCIL, HDR, LINEAR_DEPTH, OUTPUT,
+    Stencil, ALBEDO, DEPTH_STENCIL, HDR, OUTPUT,
 };
 use super::profile_gpu::ProfileGpu;
 pub use super::readback::{f32_to_half, half_to_f32};
@@ -193,6 +193,7 @@ impl Renderer {
                     &scene_module,
                     &scene_layout,
                     ctx.specular_format,
+                    ctx.linear_depth_format,
                 ),
                 shadow_pipeline: shadow_pipeline(device, &scene_module, &shadow_layout),
                 composite_pipeline: fullscreen_pipeline(
@@ -344,7 +345,7 @@ impl Renderer {
         let hdr = [hdr("diffuse"), hdr("sss ping"), hdr("sss pong")];
         let specular = view(&make("specular", self.ctx.specular_format, rt));
         let albedo = view(&make("albedo", ALBEDO, rt));
-        let linear_depth = view(&make("linear depth", LINEAR_DEPTH, rt));
+        let linear_depth = view(&make("linear depth", self.ctx.linear_depth_format, rt));
         let depth_stencil = view(&make(
             "depth stencil",
             DEPTH_STENCIL,
