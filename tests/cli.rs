@@ -475,18 +475,26 @@ fn render_refuses_bad_meshes_and_scales() {
 /// A one-quad glTF (1 m square in z = 0) with its buffer as a data URI;
 /// `uvs` adds TEXCOORD_0.
 fn quad_gltf(uvs: bool) -> String {
+    quad_gltf_with(uvs, 0.5, false)
+}
+
+/// A square of side 2·`half` units facing +z; UVs with glTF's top-left
+/// origin (v = 0 at the top edge), or with V up (v = 0 at the bottom) when
+/// `v_up`, as files from OpenGL-convention tools come.
+fn quad_gltf_with(uvs: bool, half: f32, v_up: bool) -> String {
     let mut bytes = Vec::new();
     for p in [
-        [-0.5f32, -0.5, 0.0],
-        [0.5, -0.5, 0.0],
-        [0.5, 0.5, 0.0],
-        [-0.5, 0.5, 0.0],
+        [-half, -half, 0.0f32],
+        [half, -half, 0.0],
+        [half, half, 0.0],
+        [-half, half, 0.0],
     ] {
         for c in p {
             bytes.extend_from_slice(&c.to_le_bytes());
         }
     }
-    for t in [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]] {
+    let (bottom, top) = if v_up { (0.0f32, 1.0) } else { (1.0, 0.0) };
+    for t in [[0.0f32, bottom], [1.0, bottom], [1.0, top], [0.0, top]] {
         for c in t {
             bytes.extend_from_slice(&c.to_le_bytes());
         }
@@ -518,11 +526,107 @@ fn quad_gltf(uvs: bool) -> String {
  "buffers": [{{"byteLength": {len}, "uri": "data:application/octet-stream;base64,{b64}"}}],
  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
  "accessors": [
-  {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]}},
+  {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-{half}, -{half}, 0.0], "max": [{half}, {half}, 0.0]}},
   {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
   {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}]}}"#,
         len = bytes.len()
     )
+}
+
+/// A mesh in 1/40 m units with an external albedo map whose V runs up:
+/// `render --mesh` frames it from its own size (the whole square in view,
+/// corners background), warns in one line when --metres-per-unit makes it
+/// implausible for a head, and `--flip-v` puts the map the right way up:
+/// the map's top half (red) on the square's top, its bottom (blue) below.
+/// Before framing, the camera sat at a fixed 0.55 m whatever the mesh.
+#[test]
+fn render_frames_a_mesh_in_other_units_and_flips_v() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-units-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = dir.join("scan40.gltf");
+    // 10 units a side = 0.25 m at 0.025 m/unit, a head's height.
+    std::fs::write(&mesh, quad_gltf_with(true, 5.0, true)).unwrap();
+    let map = dir.join("top_red.png");
+    image::RgbaImage::from_fn(16, 16, |_, y| {
+        if y < 8 {
+            image::Rgba([230, 20, 20, 255])
+        } else {
+            image::Rgba([20, 20, 230, 255])
+        }
+    })
+    .save(&map)
+    .unwrap();
+    let png = dir.join("scan.png");
+    let render = |mpu: &str, flip: bool| {
+        let mut args = vec![
+            "render",
+            "--mesh",
+            mesh.to_str().unwrap(),
+            "--metres-per-unit",
+            mpu,
+            "--albedo",
+            map.to_str().unwrap(),
+            "--camera-yaw",
+            "0",
+            "--light-azimuth",
+            "0",
+            "--light-elevation",
+            "30",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        if flip {
+            args.push("--flip-v");
+        }
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+        (image::open(&png).unwrap().to_rgba8(), err)
+    };
+    let redness = |img: &image::RgbaImage, y: u32| {
+        let c = img.get_pixel(32, y);
+        c[0] as i32 - c[2] as i32
+    };
+    let (img, err) = render("0.025", true);
+    assert!(
+        err.trim().is_empty(),
+        "no warning expected at 0.025 m/unit: {err}"
+    );
+    // Framed: the square's 0.25 m fill the 30° view at the focus (62 % up);
+    // the corners are background (a grey sky, |r − b| < 15), the centre is the square.
+    let corner = img.get_pixel(0, 0);
+    assert!(
+        (corner[0] as i32 - corner[2] as i32).abs() < 15,
+        "corner {corner:?}"
+    );
+    assert!(
+        redness(&img, 18) > 60,
+        "top of the square is not red: {:?}",
+        img.get_pixel(32, 18)
+    );
+    assert!(
+        redness(&img, 46) < -60,
+        "bottom is not blue: {:?}",
+        img.get_pixel(32, 46)
+    );
+    // Without --flip-v the V-up map is upside down.
+    let (img, _) = render("0.025", false);
+    assert!(redness(&img, 18) < -60 && redness(&img, 46) > 60);
+    // Read as metres the square is 10 m tall: still framed, and one warning
+    // line that names the fix.
+    let (img, err) = render("1", true);
+    let corner = img.get_pixel(0, 0);
+    assert!(
+        (corner[0] as i32 - corner[2] as i32).abs() < 15,
+        "not framed at 1 m/unit: corner {corner:?}"
+    );
+    assert!(redness(&img, 18) > 60, "not framed at 1 m/unit");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("--metres-per-unit 0.0250"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A glTF quad renders with textures named on the command line: a red

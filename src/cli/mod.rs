@@ -199,9 +199,10 @@ pub struct ViewArgs {
     /// Texturing mode.
     #[arg(long, value_enum, default_value = "pre-and-post")]
     pub texturing: TexturingArg,
-    /// Camera distance from the face (m).
-    #[arg(long, default_value_t = 0.55)]
-    pub camera_distance: f32,
+    /// Camera distance from the face (m); default: the distance at which
+    /// the mesh's height fills the view (0.574 m for the default head).
+    #[arg(long, value_name = "M")]
+    pub camera_distance: Option<f32>,
     /// Turn off Burley's discrete LOD.
     #[arg(long)]
     pub no_lod: bool,
@@ -258,6 +259,11 @@ pub struct ViewArgs {
     /// profile's tables are reused.
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
+    /// Flip the maps given with --albedo/--normal/--roughness/--mask/
+    /// --thickness vertically (v → 1 − v): for maps made with V up
+    /// (OpenGL's bottom-left origin) on a glTF, or the other way round.
+    #[arg(long)]
+    pub flip_v: bool,
     /// Thickness (mm) that a white texel of --thickness stands for.
     #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
     pub thickness_range_mm: f32,
@@ -283,29 +289,43 @@ impl ViewArgs {
             " mm",
         )?;
         let mut mesh = match &self.mesh {
-            Some(path) => Mesh::load(path, self.metres_per_unit)?,
+            Some(path) => {
+                let mesh = Mesh::load(path, self.metres_per_unit)?;
+                let (lo, hi) = mesh.bounds();
+                if let Some(w) =
+                    crate::render::mesh::scale_warning(hi.y - lo.y, self.metres_per_unit)
+                {
+                    eprintln!("warning: {}: {w}", path.display());
+                }
+                mesh
+            }
             None => Mesh::default_head()?,
+        };
+        let flip = self.flip_v;
+        let load = |p: &std::path::Path, slot| -> anyhow::Result<textures::TextureImage> {
+            let mut t = textures::load(p, slot)?;
+            if flip {
+                t.flip_v();
+            }
+            Ok(t)
         };
         let maps = std::sync::Arc::make_mut(&mut mesh.textures);
         if let Some(p) = &self.albedo {
-            maps.albedo = textures::load(p, TextureSlot::Albedo)?;
+            maps.albedo = load(p, TextureSlot::Albedo)?;
             maps.albedo_mode = AlbedoMode::Absolute;
         }
         if let Some(p) = &self.normal {
-            maps.normal = textures::load(p, TextureSlot::Normal)?;
+            maps.normal = load(p, TextureSlot::Normal)?;
         }
         if let Some(p) = &self.roughness {
-            maps.roughness = textures::load(p, TextureSlot::Roughness)?;
+            maps.roughness = load(p, TextureSlot::Roughness)?;
             maps.roughness_mode = RoughnessMode::Absolute;
         }
         if let Some(p) = &self.mask {
-            maps.mask = textures::load(p, TextureSlot::Mask)?;
+            maps.mask = load(p, TextureSlot::Mask)?;
         }
         if let Some(p) = &self.thickness {
-            maps.thickness = Some((
-                textures::load(p, TextureSlot::Thickness)?,
-                self.thickness_range_mm,
-            ));
+            maps.thickness = Some((load(p, TextureSlot::Thickness)?, self.thickness_range_mm));
         }
         Ok(mesh)
     }
@@ -880,13 +900,9 @@ fn render(
     };
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
-    crate::model::check_range(
-        "camera_distance",
-        view.camera_distance as f64,
-        0.05,
-        1000.0,
-        " m",
-    )?;
+    if let Some(d) = view.camera_distance {
+        crate::model::check_range("camera_distance", d as f64, 0.05, 1000.0, " m")?;
+    }
     // The shared model flags name the volume albedo `--albedo`; here that
     // flag is `--volume-albedo` (`--albedo` is the albedo map).
     let (spec, p) = built(model)
@@ -930,7 +946,9 @@ fn render(
         method: to_method(method),
         deterministic,
         camera_yaw: view.camera_yaw.to_radians(),
-        camera_distance_m: view.camera_distance,
+        camera_distance_m: view
+            .camera_distance
+            .unwrap_or_else(|| mesh.framing_distance_m(RenderSettings::default().fov_y)),
         lod: !view.no_lod,
         light_azimuth: view.light_azimuth.to_radians(),
         light_elevation: view.light_elevation.to_radians(),

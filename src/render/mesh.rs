@@ -588,6 +588,19 @@ impl Mesh {
         }
     }
 
+    /// Height of the bounding box in metres (y up, as OBJ and glTF are).
+    pub fn height_m(&self) -> f32 {
+        let (lo, hi) = self.bounds();
+        (hi.y - lo.y).max(0.0) * self.metres_per_unit
+    }
+
+    /// Camera distance (m) that frames the mesh: its bounding-box height
+    /// fills the vertical field of view at the focus (for the default
+    /// head, 0.308 m tall at 30°, 0.574 m; its fixed 0.55 m cropped it).
+    pub fn framing_distance_m(&self, fov_y: f32) -> f32 {
+        framing_distance_m(self.height_m(), fov_y)
+    }
+
     /// Axis-aligned bounds (min, max) in mesh units.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.vertices.iter().fold(
@@ -785,5 +798,63 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("/no/such.obj"));
+    }
+}
+
+/// Distance (m) at which an object `height_m` tall fills a vertical field
+/// of view `fov_y` (radians): h/2 = d·tan(fov/2).
+pub fn framing_distance_m(height_m: f32, fov_y: f32) -> f32 {
+    let h = if height_m.is_finite() && height_m > 0.0 {
+        height_m
+    } else {
+        0.3
+    };
+    0.5 * h / (0.5 * fov_y).tan()
+}
+
+/// Plausible height of a head-and-shoulders or a bust in metres: outside
+/// it a mesh's units are probably not what `metres_per_unit` says.
+pub const PLAUSIBLE_HEIGHT_M: (f32, f32) = (0.1, 1.0);
+
+/// A one-line warning when a mesh's implied size is implausible for a
+/// head, with the metres-per-unit that would make it 25 cm tall.
+pub fn scale_warning(height_units: f32, metres_per_unit: f32) -> Option<String> {
+    let h = height_units * metres_per_unit;
+    if !(h.is_finite() && h > 0.0) || (PLAUSIBLE_HEIGHT_M.0..=PLAUSIBLE_HEIGHT_M.1).contains(&h) {
+        return None;
+    }
+    Some(format!(
+        "the mesh is {h:.3} m tall at {metres_per_unit} m/unit, not a head's 0.1–1 m: its units may differ (--metres-per-unit {:.4} would make it 0.25 m)",
+        0.25 / height_units
+    ))
+}
+
+#[cfg(test)]
+mod framing_tests {
+    use super::*;
+
+    /// tan(15°) = 0.267949: a 0.308 m head at 30° is framed from
+    /// 0.154 / 0.267949 = 0.5747 m; the default head (0.3077 m tall) lands
+    /// within 5 % of the 0.55 m its views used before framing existed.
+    #[test]
+    fn framing_by_hand_and_the_default_head() {
+        let d = framing_distance_m(0.308, 30f32.to_radians());
+        assert!((d - 0.5747).abs() < 1e-3, "{d}");
+        let head = Mesh::default_head().unwrap();
+        let d = head.framing_distance_m(30f32.to_radians());
+        assert!(
+            (d / 0.55 - 1.0).abs() < 0.05,
+            "{d} m (height {} m)",
+            head.height_m()
+        );
+    }
+
+    /// A 9-unit-tall scan in 1/40 m units is 0.225 m: no warning; read as
+    /// metres it is 9 m and the warning suggests 0.25/9 = 0.0278 m/unit.
+    #[test]
+    fn scale_warning_names_the_fix() {
+        assert!(scale_warning(9.0, 0.025).is_none());
+        let w = scale_warning(9.0, 1.0).unwrap();
+        assert!(w.contains("--metres-per-unit 0.0278"), "{w}");
     }
 }

@@ -35,6 +35,19 @@ pub struct TextureImage {
 }
 
 impl TextureImage {
+    /// Mirrors the rows: sampling the result at v is sampling the original
+    /// at 1 − v, for maps made with V pointing up (OpenGL's bottom-left
+    /// origin, as some scanners and bakers write them) on a mesh whose UVs
+    /// follow glTF's top-left origin, or the other way round.
+    pub fn flip_v(&mut self) {
+        let row = (self.width * self.channels) as usize;
+        if row == 0 {
+            return;
+        }
+        let rows: Vec<&[u8]> = self.texels.chunks(row).rev().collect();
+        self.texels = rows.concat();
+    }
+
     /// A 1×1 texture of one value.
     pub fn solid(value: &[u8]) -> Self {
         Self {
@@ -306,5 +319,26 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("missing.png") && e.contains("mask"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod flip_tests {
+    use super::TextureImage;
+
+    /// A 2×3 single-channel image: rows (1 2), (3 4), (5 6) become
+    /// (5 6), (3 4), (1 2); twice is the identity.
+    #[test]
+    fn flip_v_mirrors_rows() {
+        let mut t = TextureImage {
+            width: 2,
+            height: 3,
+            channels: 1,
+            texels: vec![1, 2, 3, 4, 5, 6],
+        };
+        t.flip_v();
+        assert_eq!(t.texels, vec![5, 6, 3, 4, 1, 2]);
+        t.flip_v();
+        assert_eq!(t.texels, vec![1, 2, 3, 4, 5, 6]);
     }
 }
