@@ -13,6 +13,8 @@ use scatterlab::settings::profile::BurleyShape;
 use scatterlab::settings::{Preset, ProfileSpec};
 use std::time::{Duration, Instant};
 
+mod common;
+
 fn harness(viewport: bool) -> Harness<'static, EditorApp> {
     let app = EditorApp::new(None, UiState::default(), None, viewport);
     Harness::builder()
@@ -190,6 +192,62 @@ fn viewport_renders_the_head() {
         "{}",
         h.state().status()
     );
+}
+
+/// A mesh in other units (a square 16 units tall with V-up UVs, as a
+/// 1/40 m scan's bounds would be) dropped onto the window: the units prompt
+/// opens by itself with a suggestion from the bounds, taking it reloads
+/// the mesh at those units, and the camera frames it: the distance is the
+/// one at which its height fills the 30° view (h/2/tan 15°, typed here),
+/// the frame's corners are background and its centre is the square. Before
+/// framing, the camera stayed at 0.55 m whatever the mesh (a 16 m square
+/// at 1 m/unit filled the view; a scan wrapped the camera inside it).
+#[test]
+fn a_mesh_in_other_units_is_framed_after_the_units_prompt() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-units-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mesh = dir.join("scan40.gltf");
+    std::fs::write(&mesh, common::quad_gltf_with(true, 8.0, true)).unwrap();
+    let mut h = harness(true);
+    h.step();
+    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(mesh.clone())));
+    step_until(&mut h, "the units prompt", |a| {
+        a.units_prompt_for() == Some(mesh.as_path())
+    });
+    // 16 units: no common unit makes it 18–40 cm, so 0.25/16 → 0.0156.
+    h.get_by_label("Use 0.0156 m/unit (25.0 cm tall)")
+        .click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().units_prompt_for(), None);
+    assert_eq!(h.state().ui_state.mesh_units.get(&mesh), Some(&0.0156));
+    step_until(&mut h, "the mesh at 0.0156 m/unit", |a| {
+        a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.0156)
+    });
+    let want = 0.5 * 16.0 * 0.0156 / 15f32.to_radians().tan();
+    let info = h.state().mesh_info().unwrap();
+    assert!(
+        (info.framing_distance_m - want).abs() < 1e-4,
+        "{info:?} vs {want}"
+    );
+    assert!((h.state().ui_state.view.camera_distance_m - want).abs() < 1e-4);
+    // A frame rendered after the reload.
+    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "a frame of the framed mesh", |a| {
+        a.viewport_frame().is_some_and(|f| f.1 > n0)
+    });
+    let (img, _) = h.state().viewport_frame().unwrap();
+    let (w, hh) = (img.width(), img.height());
+    let grey = |c: &image::Rgba<u8>| (c[0] as i32 - c[2] as i32).abs() < 15;
+    let corner = img.get_pixel(1, 1);
+    assert!(grey(corner), "corner {corner:?}: the square is not framed");
+    let centre = img.get_pixel(w / 2, hh / 2);
+    assert_ne!(centre, corner, "the centre shows no mesh");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Compare from the toolbar (difference view against separable), Space

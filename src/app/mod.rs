@@ -76,6 +76,14 @@ pub struct EditorApp {
     environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
     show_b: bool,
     mesh: Option<PathBuf>,
+    /// The loaded mesh's size and framing (from the render thread).
+    mesh_info: Option<viewport::MeshInfo>,
+    /// The mesh and units the camera was last framed for.
+    framed_for: Option<(Option<PathBuf>, f32)>,
+    /// The units prompt, open for this mesh.
+    units_prompt: Option<PathBuf>,
+    /// The last viewport frame, and how many have arrived.
+    last_frame: Option<(image::RgbaImage, u64)>,
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
     b_curves: Option<(BCurvesKey, BCurves)>,
@@ -134,6 +142,10 @@ impl EditorApp {
             environment_load: None,
             show_b: false,
             mesh: None,
+            mesh_info: None,
+            framed_for: None,
+            units_prompt: None,
+            last_frame: None,
             allow_close: false,
             preview_textures: None,
             b_curves: None,
@@ -166,6 +178,21 @@ impl EditorApp {
     /// Whether the viewport has shown a rendered frame.
     pub fn has_viewport_frame(&self) -> bool {
         self.texture.is_some()
+    }
+
+    /// The last viewport frame and the number of frames received so far.
+    pub fn viewport_frame(&self) -> Option<(&image::RgbaImage, u64)> {
+        self.last_frame.as_ref().map(|(i, n)| (i, *n))
+    }
+
+    /// The loaded mesh's size and framing, once the viewport has it.
+    pub fn mesh_info(&self) -> Option<viewport::MeshInfo> {
+        self.mesh_info
+    }
+
+    /// The mesh whose units prompt is open.
+    pub fn units_prompt_for(&self) -> Option<&Path> {
+        self.units_prompt.as_deref()
     }
 
     /// Whether the unsaved-changes prompt is waiting for an answer.
@@ -728,7 +755,22 @@ impl EditorApp {
         }
     }
 
+    /// Metres per unit of the loaded mesh: remembered per file, 1 until
+    /// the artist says otherwise (the default head knows its own).
+    fn mesh_metres_per_unit(&self) -> f32 {
+        self.mesh
+            .as_ref()
+            .and_then(|p| self.ui_state.mesh_units.get(p))
+            .copied()
+            .unwrap_or(1.0)
+    }
+
     fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+        // Camera distance that frames the mesh (Reset view, zoom limits).
+        let framing = self.mesh_info.map_or(
+            crate::render::RenderSettings::default().camera_distance_m,
+            |i| i.framing_distance_m,
+        );
         let compare_b_label = match &self.ui_state.compare_b {
             CompareB::Method(m) => format!("method {}", m.label()),
             CompareB::Preset(p) => format!("preset {}", p.display()),
@@ -835,8 +877,18 @@ impl EditorApp {
                     environment: v.environment,
                     environment_map_sh: v.environment_map_sh,
                     environment_intensity: v.environment_intensity,
+                    camera_distance_m: framing,
                     ..state::ViewState::default()
                 };
+            }
+            if let Some(p) = self.mesh.clone() {
+                if ui
+                    .button("Units…")
+                    .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
+                    .clicked()
+                {
+                    self.units_prompt = Some(p);
+                }
             }
         });
         if open_environment {
@@ -864,8 +916,10 @@ impl EditorApp {
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                v.camera_distance_m =
-                    (v.camera_distance_m * (-scroll * 0.002).exp()).clamp(0.08, 5.0);
+                // Zoom from a close-up of a pore to the whole mesh in a
+                // corner, whatever its size.
+                v.camera_distance_m = (v.camera_distance_m * (-scroll * 0.002).exp())
+                    .clamp(0.15 * framing, 8.0 * framing);
             }
         }
         response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
@@ -892,6 +946,7 @@ impl EditorApp {
             view: self.ui_state.view,
             size,
             mesh: self.mesh.clone(),
+            mesh_metres_per_unit: self.mesh_metres_per_unit(),
         };
         let valid =
             self.doc.preset.rendering.validate().is_ok() && !matches!(self.curves, Some(Err(_)));
@@ -911,6 +966,8 @@ impl EditorApp {
                             [image.width() as usize, image.height() as usize],
                             image.as_raw(),
                         );
+                        let n = self.last_frame.as_ref().map_or(0, |f| f.1) + 1;
+                        self.last_frame = Some((image, n));
                         match &mut self.texture {
                             Some(t) => t.set(ci, egui::TextureOptions::LINEAR),
                             None => {
@@ -938,10 +995,31 @@ impl EditorApp {
                     // The same request is not sent again (it would fail
                     // again); the next change renders.
                     viewport::Reply::Error(e) => self.status = format!("Error: viewport: {e}"),
-                    viewport::Reply::MeshLoaded(p) => {
+                    viewport::Reply::MeshLoaded(p, info) => {
+                        self.mesh_info = Some(info);
+                        // Frame a mesh the artist loads, or new units of
+                        // it; the default head at start-up keeps the
+                        // remembered view.
+                        let key = (p.clone(), info.metres_per_unit);
+                        let first_head = self.framed_for.is_none() && p.is_none();
+                        if self.framed_for.as_ref() != Some(&key) && !first_head {
+                            self.ui_state.view.camera_distance_m = info.framing_distance_m;
+                            self.ui_state.view.pan_m = [0.0; 2];
+                        }
+                        self.framed_for = Some(key);
+                        if let Some(p) = &p {
+                            if !self.ui_state.mesh_units.contains_key(p) {
+                                self.units_prompt = Some(p.clone());
+                            }
+                        }
                         match &p {
                             Some(p) => self.status = format!("Mesh {}", p.display()),
                             // The first load of the default head is not news.
+                            // After a failed load the error stays readable.
+                            None if self.status.starts_with("Error") => {
+                                self.status.push_str(" (showing the default head)");
+                                self.mesh = None;
+                            }
                             None if self.mesh.is_some() || self.status.starts_with("Loading") => {
                                 self.status = "Default head".into();
                                 self.mesh = None;
@@ -1001,7 +1079,89 @@ impl EditorApp {
         }
     }
 
+    /// Asks for a mesh's units: metres per unit with common choices, a
+    /// live height readout and a suggestion from the bounds (a head is
+    /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
+    /// the camera frames it) and is remembered for the file.
+    fn units_prompt(&mut self, ctx: &egui::Context) {
+        let Some(path) = self.units_prompt.clone() else {
+            return;
+        };
+        let Some(info) = self.mesh_info else {
+            return;
+        };
+        let h = info.height_units.max(1e-9);
+        let current = self.ui_state.mesh_units.get(&path).copied().unwrap_or(1.0);
+        let mut mpu = current;
+        let mut open = true;
+        let mut done = false;
+        egui::Window::new("Mesh units")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
+            .open(&mut open)
+            .show(ctx, |ui| {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                ui.label(format!("{name} is {h:.4} units tall."));
+                ui.horizontal(|ui| {
+                    for (label, v) in [
+                        ("m", 1.0),
+                        ("dm", 0.1),
+                        ("cm", 0.01),
+                        ("mm", 0.001),
+                        ("inch", 0.0254),
+                    ] {
+                        ui.selectable_value(&mut mpu, v, label);
+                    }
+                });
+                let speed = mpu * 0.01;
+                ui.add(
+                    egui::DragValue::new(&mut mpu)
+                        .range(1e-6..=1e3)
+                        .speed(speed)
+                        .max_decimals(6)
+                        .suffix(" m/unit"),
+                )
+                .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
+                let height_cm = h * mpu * 100.0;
+                let plausible = (10.0..=100.0).contains(&height_cm);
+                let text = format!("Head height = {height_cm:.1} cm");
+                if plausible {
+                    ui.label(text);
+                } else {
+                    ui.colored_label(
+                        egui::Color32::from_rgb(240, 170, 60),
+                        format!("{text}: not a head's 10–100 cm"),
+                    );
+                }
+                let suggested = suggest_metres_per_unit(h);
+                if ui
+                    .button(format!(
+                        "Use {suggested} m/unit ({:.1} cm tall)",
+                        h * suggested * 100.0
+                    ))
+                    .on_hover_text("A common unit that makes the mesh 18–40 cm tall (a head, with or without neck), or the exact scale for 25 cm.")
+                    .clicked()
+                {
+                    mpu = suggested;
+                }
+                if ui.button("OK").clicked() {
+                    done = true;
+                }
+            });
+        if mpu != current || !self.ui_state.mesh_units.contains_key(&path) {
+            self.ui_state.mesh_units.insert(path.clone(), mpu);
+        }
+        if done || !open {
+            self.units_prompt = None;
+        }
+    }
+
     fn dialogs(&mut self, ctx: &egui::Context) {
+        self.units_prompt(ctx);
         if let Some(pending) = self.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
@@ -1250,4 +1410,37 @@ pub fn run(preset: Option<PathBuf>, exit_after_first_frame: bool) -> anyhow::Res
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))
+}
+
+/// Metres per unit for a mesh `height_units` tall: a common unit (m, dm,
+/// cm, mm, inch) that makes it 18–40 cm (a head, with or without neck
+/// and shoulders), else 0.25 m / height rounded to
+/// three significant digits.
+fn suggest_metres_per_unit(height_units: f32) -> f32 {
+    for v in [1.0, 0.1, 0.01, 0.001, 0.0254] {
+        let h = height_units * v;
+        if (0.18..=0.4).contains(&h) {
+            return v;
+        }
+    }
+    let x = 0.25 / height_units.max(1e-9);
+    let mag = 10f32.powf(x.log10().floor() - 2.0);
+    (x / mag).round() * mag
+}
+
+#[cfg(test)]
+mod units_tests {
+    use super::suggest_metres_per_unit;
+
+    /// A 7-unit scan in 1/40 m units (0.175 m): no common unit makes it
+    /// 18–40 cm (7 inches = 17.8 cm), so 0.25/7 = 0.035714 → 0.0357; a
+    /// 9.2-unit one reads as inches (23.4 cm); a 24-unit mesh in cm
+    /// suggests cm; the default head (3.08 dm) suggests dm.
+    #[test]
+    fn suggestions() {
+        assert!((suggest_metres_per_unit(7.0) - 0.0357).abs() < 1e-6);
+        assert_eq!(suggest_metres_per_unit(9.2), 0.0254);
+        assert_eq!(suggest_metres_per_unit(24.0), 0.01);
+        assert_eq!(suggest_metres_per_unit(3.08), 0.1);
+    }
 }

@@ -223,6 +223,8 @@ pub struct UiState {
     pub last_preset: Option<PathBuf>,
     /// The HDR map behind `view.environment_map_sh`.
     pub environment_file: Option<PathBuf>,
+    /// Metres per unit of each mesh the artist has loaded, by path.
+    pub mesh_units: std::collections::BTreeMap<PathBuf, f32>,
 }
 
 impl Default for UiState {
@@ -239,6 +241,7 @@ impl Default for UiState {
             recent: Vec::new(),
             last_preset: None,
             environment_file: None,
+            mesh_units: Default::default(),
         }
     }
 }

@@ -58,6 +58,18 @@ pub struct Request {
     pub view: ViewState,
     pub size: (u32, u32),
     pub mesh: Option<PathBuf>,
+    /// Metres per unit of `mesh` (the default head knows its own).
+    pub mesh_metres_per_unit: f32,
+}
+
+/// What the editor needs to frame and scale a loaded mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshInfo {
+    /// Bounding-box height in the file's units.
+    pub height_units: f32,
+    pub metres_per_unit: f32,
+    /// Camera distance (m) at which the mesh fills the view.
+    pub framing_distance_m: f32,
 }
 
 /// What the thread sends back.
@@ -71,8 +83,8 @@ pub enum Reply {
         note: Option<String>,
     },
     Error(String),
-    /// The mesh in the request was loaded (path, triangles).
-    MeshLoaded(Option<PathBuf>),
+    /// The mesh in the request was loaded (`None`: the default head).
+    MeshLoaded(Option<PathBuf>, MeshInfo),
 }
 
 pub struct Viewport {
@@ -117,7 +129,7 @@ impl Viewport {
     /// Replies that arrived since the last call.
     pub fn poll(&mut self) -> Vec<Reply> {
         let replies: Vec<Reply> = self.rx.try_iter().collect();
-        if replies.iter().any(|r| !matches!(r, Reply::MeshLoaded(_))) {
+        if replies.iter().any(|r| !matches!(r, Reply::MeshLoaded(..))) {
             self.busy_since = None;
         }
         replies
@@ -173,6 +185,8 @@ pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> Ren
 struct Worker {
     renderer: Option<Renderer>,
     mesh_path: Option<PathBuf>,
+    mesh_metres_per_unit: f32,
+    mesh_info: Option<MeshInfo>,
     /// Inputs per (look, method) of the last frame (A and B).
     cache: Vec<((ProfileSpec, usize, usize, Method), ProfileInputs)>,
     /// The default head whose surface maps are still to bake (after its
@@ -209,8 +223,9 @@ impl Worker {
         Ok(inputs)
     }
 
-    fn ensure_renderer(&mut self, mesh: &Option<PathBuf>) -> Result<bool, String> {
-        if self.renderer.is_some() && self.mesh_path == *mesh {
+    fn ensure_renderer(&mut self, mesh: &Option<PathBuf>, mpu: f32) -> Result<bool, String> {
+        let same_units = mesh.is_none() || self.mesh_metres_per_unit == mpu;
+        if self.renderer.is_some() && self.mesh_path == *mesh && same_units {
             return Ok(false);
         }
         let t = Instant::now();
@@ -221,7 +236,7 @@ impl Worker {
         let (mesh_data, ctx) = std::thread::scope(|s| {
             let ctx = s.spawn(GpuContext::new_headless);
             let mesh_data = match mesh {
-                Some(p) => Mesh::load(p, 1.0),
+                Some(p) => Mesh::load(p, mpu),
                 None if bake_later => Mesh::default_head_without_maps(),
                 None => Mesh::default_head(),
             };
@@ -234,6 +249,13 @@ impl Worker {
         let t_setup = t.elapsed();
         self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
         self.mesh_path = mesh.clone();
+        self.mesh_metres_per_unit = mpu;
+        let (lo, hi) = mesh_data.bounds();
+        self.mesh_info = Some(MeshInfo {
+            height_units: hi.y - lo.y,
+            metres_per_unit: mesh_data.metres_per_unit,
+            framing_distance_m: mesh_data.framing_distance_m(RenderSettings::default().fov_y),
+        });
         self.pending_maps = bake_later.then_some(mesh_data);
         if timings_on() {
             eprintln!(
@@ -333,23 +355,27 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
     let mut w = Worker {
         renderer: None,
         mesh_path: None,
+        mesh_metres_per_unit: 1.0,
+        mesh_info: None,
         cache: Vec::new(),
         pending_maps: None,
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
-    let _ = w.ensure_renderer(&None);
+    let _ = w.ensure_renderer(&None, 1.0);
     // Coalesce: render only the newest request.
     while let Some(mut req) = super::analysis::recv_newest(&rx) {
         let t0 = Instant::now();
-        match w.ensure_renderer(&req.mesh) {
+        match w.ensure_renderer(&req.mesh, req.mesh_metres_per_unit) {
             Err(e) => {
                 // Fall back to the head so the viewport keeps working.
                 let _ = tx.send(Reply::Error(e));
                 if req.mesh.is_some() {
                     req.mesh = None;
-                    let _ = w.ensure_renderer(&None);
-                    let _ = tx.send(Reply::MeshLoaded(None));
+                    let _ = w.ensure_renderer(&None, 1.0);
+                    if let Some(info) = w.mesh_info {
+                        let _ = tx.send(Reply::MeshLoaded(None, info));
+                    }
                 }
                 if w.renderer.is_none() {
                     wake();
@@ -357,7 +383,9 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
                 }
             }
             Ok(true) => {
-                let _ = tx.send(Reply::MeshLoaded(req.mesh.clone()));
+                if let Some(info) = w.mesh_info {
+                    let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
+                }
             }
             Ok(false) => {}
         }
