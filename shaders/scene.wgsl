@@ -12,7 +12,7 @@ struct SceneUniforms {
     camera_position: vec4<f32>,
     light_direction: vec4<f32>,   // xyz: towards a directional light (unit); point light: xyz position (world), w = 1
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
-    skin_albedo: vec4<f32>,       // rgb: linear albedo of the skin
+    surface_albedo: vec4<f32>,    // rgb: the look's colour (total reflectance), linear
     params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness of lobe 0, z: F0, w: roughness of lobe 1
     light_clip_from_world: mat4x4<f32>,
     shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
@@ -249,7 +249,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let light = light_at(i.world);
     let l = light.xyz;
     let light_radiance = u.light_radiance.rgb * light.w;
-    var albedo = select(u.skin_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
+    var albedo = select(u.surface_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
     var mask = clamp(mask_tex, 0.0, 1.0);
     if (i.material > 0.5 && i.material < 1.5) {
         albedo = vec3<f32>(0.8, 0.78, 0.75);

@@ -931,3 +931,64 @@ fn unusable_adapter_names_the_fix_in_one_line() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("mesa-vulkan-drivers"), "{err}");
 }
+
+/// Editing the look's albedo changes the head's colour (issue 12: R from
+/// 0.91 to 0.10 moved the head's mean colour by less than 0.5 %): the
+/// look's total reflectance is the base colour under the default head's
+/// modulation map. Mean red over a face patch must fall by more than 40 %,
+/// green (unchanged A) by less than 10 %.
+#[test]
+fn the_looks_albedo_is_the_heads_colour() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-albedo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mean = |albedo: &str| -> [f64; 3] {
+        let out = dir.join(format!("a{albedo}.png"));
+        let (code, _, err) = run(&[
+            "render",
+            "--model",
+            "burley",
+            "--volume-albedo",
+            albedo,
+            "--distance",
+            "0.757,0.322,0.2",
+            "--deterministic",
+            "--camera-yaw",
+            "0",
+            "--width",
+            "96",
+            "--height",
+            "96",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let img = image::open(&out).unwrap().to_rgba8();
+        let mut s = [0.0; 3];
+        let mut n = 0.0;
+        for y in 40..60 {
+            for x in 38..58 {
+                let p = img.get_pixel(x, y);
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+                n += 1.0;
+            }
+        }
+        s.map(|v| v / n)
+    };
+    let skin = mean("0.91,0.34,0.27");
+    let blue_green = mean("0.10,0.34,0.27");
+    assert!(
+        blue_green[0] < 0.6 * skin[0],
+        "red {} → {}",
+        skin[0],
+        blue_green[0]
+    );
+    assert!(
+        (blue_green[1] / skin[1] - 1.0).abs() < 0.1,
+        "green {} → {}",
+        skin[1],
+        blue_green[1]
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

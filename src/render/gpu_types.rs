@@ -14,7 +14,7 @@ pub struct SceneUniforms {
     /// position in world units.
     pub light_direction: [f32; 4],
     pub light_radiance: [f32; 4],
-    pub skin_albedo: [f32; 4],
+    pub surface_albedo: [f32; 4],
     /// x: pre-scatter exponent, y: roughness of lobe 0, z: F0, w: roughness of lobe 1.
     pub params: [f32; 4],
     pub light_clip_from_world: [[f32; 4]; 4],
@@ -32,7 +32,7 @@ pub struct SceneUniforms {
     pub transmission_tint: [f32; 4],
     /// x: lobe mix of the dual GGX, y: 1 = Kelemen/Szirmay-Kalos lobe.
     pub specular: [f32; 4],
-    /// x: albedo map absolute (1) or ×2 modulation of skin_albedo (0);
+    /// x: albedo map absolute (1) or ×2 modulation of surface_albedo (0);
     /// y: roughness map absolute (1) or ×2 scale (0); z: thickness map
     /// range (mm), 0 = per-vertex bake; w: detail-normal strength.
     pub surface: [f32; 4],

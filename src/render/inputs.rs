@@ -10,6 +10,9 @@ use crate::model::{ModelError, RadialProfile};
 
 /// Per-profile GPU inputs, computed on the CPU and rebuilt only when the
 /// profile or the counts change.
+/// Base colour for kernels without a colour (see [`ProfileInputs::for_look`]).
+pub const KERNEL_SURFACE_ALBEDO: [f32; 3] = [0.91058, 0.338275, 0.2718];
+
 #[derive(Debug, Clone)]
 pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
@@ -37,6 +40,14 @@ pub struct ProfileInputs {
     /// the smooth one: r/(r + 1 mm) for the channel's 0.997-energy radius r
     /// (Penner 2011's per-channel normals; wide red light ignores pores).
     pub normal_blend: [f32; 3],
+    /// The look's colour: its total diffuse reflectance ∫2πr R(r) dr per
+    /// channel (Burley's A), clamped to [0, 1]. The scattering kernels are
+    /// energy-normalised, as in the engines, so this is where the look's
+    /// colour enters: the base colour of a surface whose map only
+    /// modulates (the default head), while a colour map of the artist's
+    /// own is the albedo (HDRP, Unreal, Cycles: the material's base colour,
+    /// the profile normalised).
+    pub surface_albedo: [f32; 3],
     /// (σ mm, normalised RGB weight) of each Gaussian for the `gaussians`
     /// method; empty until [`ProfileInputs::set_gaussians`].
     pub gaussians: Vec<(f32, [f32; 3])>,
@@ -57,6 +68,9 @@ impl ProfileInputs {
     /// other profile uses the importance-sampled pre-integrated kernel
     /// (Jimenez 2015 §4, §7); `gaussians` uses a Gaussian-sum look as it is
     /// and fits six Gaussians to any other.
+    /// The colour under a look that is only a blur kernel (Jimenez 2012,
+    /// the artist two-Gaussian model): the default skin's albedo A
+    /// (presets/skin_default.ron, Unreal's default SurfaceAlbedo).
     pub fn for_look(
         spec: &crate::settings::ProfileSpec,
         profile: &dyn RadialProfile,
@@ -66,6 +80,12 @@ impl ProfileInputs {
     ) -> Result<Self, ModelError> {
         use crate::settings::ProfileSpec;
         let mut inputs = Self::new(profile, samples, taps)?;
+        // Kernels without a colour of their own (energy-conserving blurs,
+        // total reflectance 1) leave the colour to the surface, as in the
+        // engines: the default skin's albedo stands in for a colour map.
+        if matches!(spec, ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)) {
+            inputs.surface_albedo = KERNEL_SURFACE_ALBEDO;
+        }
         if let ProfileSpec::Jimenez2012(j) = spec {
             inputs.set_separable_kernel(
                 &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
@@ -198,6 +218,7 @@ impl ProfileInputs {
             penumbra_lut,
             penumbra_layout,
             normal_blend,
+            surface_albedo: total.map(|t| t.clamp(0.0, 1.0) as f32),
             gaussians: Vec::new(),
             gaussian_taps: GAUSSIAN_TAPS,
             lut,

@@ -585,7 +585,12 @@ impl Renderer {
                 None => [0.0; 4],
             },
             light_radiance: [s.light_intensity; 4],
-            skin_albedo: [s.skin_albedo[0], s.skin_albedo[1], s.skin_albedo[2], 0.0],
+            surface_albedo: [
+                inputs.surface_albedo[0],
+                inputs.surface_albedo[1],
+                inputs.surface_albedo[2],
+                0.0,
+            ],
             params: match s.specular {
                 Specular::DualGgx {
                     roughness0,

@@ -140,7 +140,6 @@ pub struct RenderSettings {
     /// Directional, or a point light at this distance (m) from the centre;
     /// `light_intensity` is its irradiance at that distance.
     pub point_light_distance_m: Option<f32>,
-    pub skin_albedo: [f32; 3],
     pub exposure: f32,
     /// Turns off per-pixel random rotation (for tests).
     pub deterministic: bool,
@@ -219,7 +218,6 @@ impl Default for RenderSettings {
             light_elevation: 0.35,
             light_intensity: 3.2,
             point_light_distance_m: None,
-            skin_albedo: [0.56, 0.33, 0.25],
             exposure: 1.0,
             deterministic: false,
             pattern: IrradiancePattern::Lit,
