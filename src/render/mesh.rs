@@ -389,40 +389,77 @@ impl Mesh {
         (sum / self.indices.len().max(1) as f64) as f32
     }
 
-    /// Per-vertex tangents from the UV layout (Lengyel 2001): T along +u,
-    /// orthogonalised against N, with w = ±1 so that B = w·N×T runs along
-    /// +v up the image. Triangles with degenerate UVs contribute nothing;
-    /// a vertex left without a tangent gets any unit vector ⟂ N.
+    /// Per-vertex tangents by MikkTSpace (Mikkelsen 2008), the tangent
+    /// space glTF 2.0 prescribes when a file has none and the one the
+    /// normal-map bakers (Blender, Substance, xNormal) bake against, so
+    /// baked maps show no seams. `bevy_mikktspace` is a safe Rust port,
+    /// byte-identical to the reference C code; tests/real_clients.rs checks
+    /// the result against Blender's own `calc_tangents`. MikkTSpace reads
+    /// UVs with V up the image (OpenGL, Blender), so v is flipped from our
+    /// top-left origin; B = w·N×T then runs up the image, as the shader's
+    /// normal map (green up) expects. MikkTSpace answers per face corner;
+    /// a vertex shared by corners that disagree (a mirror seam welded in
+    /// the index buffer) keeps the last, as glTF importers do. Corners it
+    /// cannot serve (degenerate UVs everywhere around) get any unit vector
+    /// ⟂ N.
     pub fn compute_tangents(&mut self) {
-        let n = self.vertices.len();
-        let (mut tan, mut bit) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-        for tri in self.indices.chunks_exact(3) {
-            let v = |k: usize| &self.vertices[tri[k] as usize];
-            let p = |k: usize| Vec3::from(v(k).position);
-            // Up the image: v_up = −v (top-left origin).
-            let uv = |k: usize| Vec2::new(v(k).uv[0], -v(k).uv[1]);
-            let (e1, e2) = (p(1) - p(0), p(2) - p(0));
-            let (d1, d2) = (uv(1) - uv(0), uv(2) - uv(0));
-            let det = d1.perp_dot(d2);
-            if det.abs() < 1e-20 {
-                continue;
-            }
-            let sdir = (e1 * d2.y - e2 * d1.y) / det;
-            let tdir = (e2 * d1.x - e1 * d2.x) / det;
-            for &i in tri {
-                tan[i as usize] += sdir;
-                bit[i as usize] += tdir;
+        struct Corners<'a> {
+            vertices: &'a [Vertex],
+            indices: &'a [u32],
+            out: Vec<Option<[f32; 4]>>,
+        }
+        impl Corners<'_> {
+            fn v(&self, face: usize, vert: usize) -> &Vertex {
+                &self.vertices[self.indices[3 * face + vert] as usize]
             }
         }
-        for (i, v) in self.vertices.iter_mut().enumerate() {
+        impl bevy_mikktspace::Geometry for Corners<'_> {
+            fn num_faces(&self) -> usize {
+                self.indices.len() / 3
+            }
+            fn num_vertices_of_face(&self, _face: usize) -> usize {
+                3
+            }
+            fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+                self.v(face, vert).position
+            }
+            fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+                self.v(face, vert).normal
+            }
+            fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+                let uv = self.v(face, vert).uv;
+                [uv[0], 1.0 - uv[1]]
+            }
+            fn set_tangent(
+                &mut self,
+                tangent: Option<bevy_mikktspace::TangentSpace>,
+                face: usize,
+                vert: usize,
+            ) {
+                let i = self.indices[3 * face + vert] as usize;
+                if let Some(t) = tangent {
+                    self.out[i] = Some(t.tangent_encoded());
+                }
+            }
+        }
+        let mut g = Corners {
+            vertices: &self.vertices,
+            indices: &self.indices,
+            out: vec![None; self.vertices.len()],
+        };
+        // An error means no face could be processed; every vertex then
+        // takes the fallback below.
+        let _ = bevy_mikktspace::generate_tangents(&mut g);
+        let out = g.out;
+        for (v, t) in self.vertices.iter_mut().zip(out) {
             let nrm = Vec3::from(v.normal);
-            let t = (tan[i] - nrm * nrm.dot(tan[i])).normalize_or(nrm.any_orthonormal_vector());
-            let w = if nrm.cross(t).dot(bit[i]) < 0.0 {
-                -1.0
-            } else {
-                1.0
+            v.tangent = match t {
+                Some(t) if Vec3::new(t[0], t[1], t[2]).is_finite() => t,
+                _ => {
+                    let t = nrm.any_orthonormal_vector();
+                    [t.x, t.y, t.z, 1.0]
+                }
             };
-            v.tangent = [t.x, t.y, t.z, w];
         }
     }
 
@@ -741,7 +778,7 @@ mod tests {
         }
     }
 
-    /// Lengyel tangents on a plane unwrapped with u along +x and v (up the
+    /// MikkTSpace tangents on a plane unwrapped with u along +x and v (up the
     /// image) along +y: T = +x, and B = w N × T = +y needs w = +1; mirroring
     /// u flips T and w.
     #[test]
