@@ -26,7 +26,39 @@ struct SceneUniforms {
     penumbra: vec4<f32>,          // x, y: 1/width (1/mm) at the table's first/last row; z: PCF footprint (mm) facing the light
     environment_sh: array<vec4<f32>, 9>, // rgb: irradiance/π of the environment, order-2 SH (render::environment)
     light_range: vec4<f32>,       // point light: x, y: shadow near/far (world units), z: distance at which light_radiance is reached
+    eyes: array<vec4<f32>, 2>,    // eyeballs: xyz centre (world units), w radius (0 = none)
 };
+
+// The eye at `world` (material 1), drawn from the direction d to the
+// nearer eyeball's centre against the gaze (+z, the head's front): a human
+// eyeball is 24 mm across with an 11.7 mm iris and a 3–4 mm pupil (Atchison
+// & Smith 2000), so the iris ends ~29° and the pupil ~8° off the gaze axis.
+// Returns the albedo (linear) and, in w, 1 on the cornea (iris and pupil).
+fn eye_albedo(world: vec3<f32>) -> vec4<f32> {
+    var e = u.eyes[0];
+    if (u.eyes[1].w > 0.0 && distance(world, u.eyes[1].xyz) < distance(world, e.xyz)) {
+        e = u.eyes[1];
+    }
+    if (e.w <= 0.0) {
+        return vec4<f32>(0.8, 0.78, 0.75, 0.0);
+    }
+    let d = normalize(world - e.xyz);
+    let theta = acos(clamp(d.z, -1.0, 1.0));
+    let phi = atan2(d.y, d.x);
+    let iris_edge = 0.47;
+    let pupil_edge = 0.15;
+    // Sclera: off-white, warmer and pinker away from the cornea.
+    let sclera = mix(vec3<f32>(0.78, 0.74, 0.70), vec3<f32>(0.72, 0.55, 0.50), smoothstep(0.9, 1.6, theta));
+    // Iris: hazel-brown fibres (radial streaks), darker at the limbus.
+    let fibres = 0.75 + 0.25 * sin(phi * 47.0 + 3.0 * sin(phi * 7.0)) * sin(phi * 23.0 + theta * 30.0);
+    let radial = theta / iris_edge;
+    var iris = mix(vec3<f32>(0.20, 0.11, 0.04), vec3<f32>(0.09, 0.06, 0.035), radial) * fibres;
+    iris = iris * (1.0 - 0.75 * smoothstep(0.78, 1.0, radial));
+    var a = mix(iris, sclera, smoothstep(iris_edge - 0.015, iris_edge + 0.015, theta));
+    a = mix(vec3<f32>(0.012, 0.011, 0.010), a, smoothstep(pupil_edge - 0.01, pupil_edge + 0.01, theta));
+    let cornea = 1.0 - smoothstep(iris_edge, iris_edge + 0.05, theta);
+    return vec4<f32>(a, cornea);
+}
 
 // Direction towards the light from `world` (unit) and the radiance factor:
 // 1 for a directional light, inverse square (1 at light_range.z) for a point.
@@ -251,16 +283,27 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     let light_radiance = u.light_radiance.rgb * light.w;
     var albedo = select(u.surface_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
     var mask = clamp(mask_tex, 0.0, 1.0);
+    var cornea = 0.0;
     if (i.material > 0.5 && i.material < 1.5) {
-        albedo = vec3<f32>(0.8, 0.78, 0.75);
+        let eye = eye_albedo(i.world);
+        albedo = eye.rgb;
+        cornea = eye.w;
         mask = 0.0;
     } else if (i.material > 1.5) {
         albedo = vec3<f32>(0.85, 0.8, 0.7);
         mask = 0.0;
     }
     let rough_scale = select(2.0 * rough_tex, rough_tex / max(u.params.y, 1e-3), u.surface.y > 0.5);
-    let r0 = clamp(u.params.y * rough_scale, 0.02, 1.0);
-    let r1 = clamp(u.params.w * rough_scale, 0.02, 1.0);
+    var r0 = clamp(u.params.y * rough_scale, 0.02, 1.0);
+    var r1 = clamp(u.params.w * rough_scale, 0.02, 1.0);
+    var f0 = u.params.z;
+    if (i.material > 0.5 && i.material < 1.5) {
+        // The wet eye: a sharp highlight, glossier on the cornea (tear
+        // film, n = 1.376: F0 = 0.025).
+        r0 = mix(0.12, 0.04, cornea);
+        r1 = r0;
+        f0 = 0.025;
+    }
     var thickness = i.thickness;
     if (u.surface.z > 0.0) {
         thickness = thickness_tex * u.surface.z;
@@ -312,9 +355,9 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
     // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
-    var spec = mix(ggx(n, v, l, r0, u.params.z), ggx(n, v, l, r1, u.params.z), u.specular.x);
+    var spec = mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.specular.x);
     if (u.specular.y > 0.5) {
-        spec = kelemen(n, v, l, r0, u.params.z);
+        spec = kelemen(n, v, l, r0, f0);
     }
     o.specular = vec4<f32>(light_radiance * spec * shadow, 1.0);
     o.albedo = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), 1.0);

@@ -27,12 +27,17 @@ pub enum Environment {
 }
 
 impl Default for Environment {
-    /// A dim studio sky: cool zenith, neutral horizon, warm dark floor.
+    /// A studio sky as fill: cool zenith, neutral horizon, warm dark
+    /// floor. Its irradiance on a face is about 15 % of the key light's
+    /// (π·0.15 against 3.2), a 6:1 key-to-fill ratio, inside the 4:1–8:1
+    /// of portrait lighting, so the side away from the key (and the eye
+    /// there) stays readable; at a third of this (20:1) that eye read as
+    /// a hole.
     fn default() -> Self {
         Environment::Sky {
-            zenith: [0.05, 0.058, 0.072],
-            horizon: [0.042, 0.044, 0.048],
-            ground: [0.02, 0.018, 0.016],
+            zenith: [0.15, 0.174, 0.216],
+            horizon: [0.126, 0.132, 0.144],
+            ground: [0.06, 0.054, 0.048],
         }
     }
 }

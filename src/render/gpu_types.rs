@@ -48,8 +48,12 @@ pub struct SceneUniforms {
     /// Point light: x, y: shadow near/far (world units); z: the distance
     /// at which the light delivers `light_radiance`.
     pub light_range: [f32; 4],
+    /// The eyeballs (material 1): xyz centre (world units), w radius; a
+    /// radius of 0 means none. The shader draws sclera, iris, pupil and a
+    /// glossy cornea from the direction to the centre.
+    pub eyes: [[f32; 4]; 2],
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 24 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 26 * 16);
 
 /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
 #[repr(C)]

@@ -625,6 +625,36 @@ impl Mesh {
         }
     }
 
+    /// The eyeballs: the vertices of material 1 (an OBJ group `eyes`),
+    /// split into left and right by x about their mean, each taken as a
+    /// sphere with its bounding box's centre and half its largest extent
+    /// (mesh units); `[centre, radius]`, radius 0 where there is none.
+    pub fn eyeballs(&self) -> [[f32; 4]; 2] {
+        let eye: Vec<Vec3> = self
+            .vertices
+            .iter()
+            .filter(|v| v.material > 0.5 && v.material < 1.5)
+            .map(|v| Vec3::from(v.position))
+            .collect();
+        let mut out = [[0.0; 4]; 2];
+        if eye.is_empty() {
+            return out;
+        }
+        let mid = eye.iter().map(|p| p.x).sum::<f32>() / eye.len() as f32;
+        for (k, right) in [false, true].into_iter().enumerate() {
+            let side = eye.iter().filter(|p| (p.x > mid) == right);
+            let (lo, hi) = side.fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            if lo.x <= hi.x {
+                let c = 0.5 * (lo + hi);
+                out[k] = [c.x, c.y, c.z, 0.5 * (hi - lo).max_element()];
+            }
+        }
+        out
+    }
+
     /// Height of the bounding box in metres (y up, as OBJ and glTF are).
     pub fn height_m(&self) -> f32 {
         let (lo, hi) = self.bounds();
@@ -884,6 +914,21 @@ mod framing_tests {
             "{d} m (height {} m)",
             head.height_m()
         );
+    }
+
+    /// The default head's eyeballs (MakeHuman's low-poly eyes): two spheres
+    /// at x = ±0.308 dm, y 0.342, z 0.654 (the mean of each group's 282
+    /// vertices, computed from head.obj by a separate script), radius about
+    /// 0.147 dm (z from 0.507 to 0.801): 1.2–1.5 cm, an eyeball's size.
+    #[test]
+    fn default_head_eyeballs() {
+        let e = Mesh::default_head().unwrap().eyeballs();
+        for (k, x) in [(0, -0.308f32), (1, 0.308)] {
+            let [cx, cy, cz, r] = e[k];
+            assert!((cx - x).abs() < 0.01 && (cy - 0.342).abs() < 0.01, "{e:?}");
+            assert!((cz - 0.654).abs() < 0.01, "{e:?}");
+            assert!((r - 0.147).abs() < 0.01, "{e:?}");
+        }
     }
 
     /// A 9-unit-tall scan in 1/40 m units is 0.225 m: no warning; read as

@@ -76,6 +76,8 @@ pub struct Renderer {
     mesh_centre: Vec3,
     metres_per_unit: f32,
     mesh_radius: f32,
+    /// The eyeballs ([`Mesh::eyeballs`]).
+    eyes: [[f32; 4]; 2],
     scene_layout: wgpu::BindGroupLayout,
     scene_pipeline: wgpu::RenderPipeline,
     scene_uniforms: wgpu::Buffer,
@@ -277,6 +279,7 @@ impl Renderer {
             lods,
             mesh_centre: Vec3::from(mesh.focus),
             mesh_radius: 0.5 * (hi - lo).length(),
+            eyes: mesh.eyeballs(),
             metres_per_unit: mesh.metres_per_unit,
             scene_layout: built.scene_layout,
             scene_pipeline: built.scene_pipeline,
@@ -642,6 +645,7 @@ impl Renderer {
                 s.detail_normal_strength,
             ],
             environment_sh: s.environment_sh.map(|c| [c[0], c[1], c[2], 0.0]),
+            eyes: self.eyes,
             penumbra: [
                 1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
                 1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
