@@ -35,4 +35,18 @@ r --method burley --compare separable --split 0.5 --width 512 --height 512 \
 r --method burley --compare none --split 0.5 --width 512 --height 512 \
   --camera-distance 0.32 --camera-yaw 25 --light-azimuth 75 --light-elevation 20 \
   --out "$out/closeup_burley_vs_none.png"
-echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none}.png"
+# The default head from the front and its eyes in close-up (sclera, iris,
+# pupil, the cornea's highlight).
+r --method burley --width 512 --height 640 --camera-yaw 0 --light-azimuth 35 \
+  --light-elevation 25 --out "$out/head_front.png"
+r --method burley --width 640 --height 320 --camera-yaw 12 --camera-distance 0.16 \
+  --light-azimuth 35 --light-elevation 20 --out "$out/head_eyes_closeup.png"
+
+# The look's colour is the head's colour: four presets on the default head.
+for p in skin_default ketchup_jensen2001 marble_jensen2001 skin_jimenez2012_demo; do
+  r --preset "presets/$p.ron" --width 256 --height 320 --camera-yaw 0 --light-azimuth 35 \
+    --out "$tmp/look_$p.png"
+done
+montage -label '%t' -font DejaVu-Sans -pointsize 14 "$tmp"/look_*.png \
+  -tile 4x1 -geometry +4+4 -background '#202428' -fill white "$out/looks.png"
+echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none,head_front,head_eyes_closeup,looks}.png"
