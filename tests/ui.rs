@@ -194,20 +194,32 @@ fn viewport_renders_the_head() {
     );
 }
 
-/// A mesh in other units (a square 16 units tall with V-up UVs, as a
-/// 1/40 m scan's bounds would be) dropped onto the window: the units prompt
-/// opens by itself with a suggestion from the bounds, taking it reloads
-/// the mesh at those units, and the camera frames it: the distance is the
-/// one at which its height fills the 30° view (h/2/tan 15°, typed here),
-/// the frame's corners are background and its centre is the square. Before
-/// framing, the camera stayed at 0.55 m whatever the mesh (a 16 m square
-/// at 1 m/unit filled the view; a scan wrapped the camera inside it).
+/// A scan-like glTF in other units with an external colour map and V-up
+/// UVs (a square 16 units tall, as a 1/40 m scan's bounds would be; its
+/// map red on the top half, blue below) dropped onto the window: the units
+/// prompt opens by itself with a suggestion from the bounds; taking it
+/// reloads the mesh at those units and the camera frames it (the distance
+/// at which its height fills the 30° view, h/2/tan 15°, typed here; the
+/// frame's corners are background). The map shows upside down (blue on
+/// top) until "flip V" is ticked for the albedo in Mesh maps, then red is
+/// on top; the units and the flip are remembered for the file. Before
+/// framing, the camera stayed at 0.55 m whatever the mesh, and there was no
+/// way to flip a map in the editor.
 #[test]
-fn a_mesh_in_other_units_is_framed_after_the_units_prompt() {
+fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-units-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mesh = dir.join("scan40.gltf");
-    std::fs::write(&mesh, common::quad_gltf_with(true, 8.0, true)).unwrap();
+    std::fs::write(&mesh, common::quad_gltf_textured(8.0, true, "colour.png")).unwrap();
+    image::RgbaImage::from_fn(16, 16, |_, y| {
+        if y < 8 {
+            image::Rgba([230, 20, 20, 255])
+        } else {
+            image::Rgba([20, 20, 230, 255])
+        }
+    })
+    .save(dir.join("colour.png"))
+    .unwrap();
     let mut h = harness(true);
     h.step();
     step_until(&mut h, "the head", EditorApp::has_viewport_frame);
@@ -224,7 +236,6 @@ fn a_mesh_in_other_units_is_framed_after_the_units_prompt() {
     h.get_by_label("OK").click_accesskit();
     h.run_steps(2);
     assert_eq!(h.state().units_prompt_for(), None);
-    assert_eq!(h.state().ui_state.mesh_units.get(&mesh), Some(&0.0156));
     step_until(&mut h, "the mesh at 0.0156 m/unit", |a| {
         a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.0156)
     });
@@ -235,19 +246,47 @@ fn a_mesh_in_other_units_is_framed_after_the_units_prompt() {
         "{info:?} vs {want}"
     );
     assert!((h.state().ui_state.view.camera_distance_m - want).abs() < 1e-4);
-    // A frame rendered after the reload.
-    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
-    step_until(&mut h, "a frame of the framed mesh", |a| {
-        a.viewport_frame().is_some_and(|f| f.1 > n0)
-    });
-    let (img, _) = h.state().viewport_frame().unwrap();
-    let (w, hh) = (img.width(), img.height());
-    let grey = |c: &image::Rgba<u8>| (c[0] as i32 - c[2] as i32).abs() < 15;
+    let frame_after = |h: &mut Harness<'_, EditorApp>, what: &str| -> image::RgbaImage {
+        let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+        step_until(h, what, |a| {
+            a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+        });
+        h.state().viewport_frame().unwrap().0.clone()
+    };
+    // Red minus blue at the square's top and bottom (a third and seven
+    // ninths down the frame: the focus is 62 % up the square).
+    let redness = |img: &image::RgbaImage, fy: f32| {
+        let c = img.get_pixel(img.width() / 2, (fy * img.height() as f32) as u32);
+        c[0] as i32 - c[2] as i32
+    };
+    let img = frame_after(&mut h, "a frame of the framed mesh");
     let corner = img.get_pixel(1, 1);
-    assert!(grey(corner), "corner {corner:?}: the square is not framed");
-    let centre = img.get_pixel(w / 2, hh / 2);
-    assert_ne!(centre, corner, "the centre shows no mesh");
-    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        (corner[0] as i32 - corner[2] as i32).abs() < 15,
+        "corner {corner:?}: the square is not framed"
+    );
+    img.save(dir.join("before_flip.png")).unwrap();
+    assert!(
+        redness(&img, 0.3) < -60 && redness(&img, 0.75) > 60,
+        "the V-up map should show upside down before the flip: {} {}",
+        redness(&img, 0.3),
+        redness(&img, 0.75)
+    );
+    h.get_by_label("Maps…").click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("Albedo: flip V").click_accesskit();
+    h.run_steps(2);
+    assert!(h.state().ui_state.meshes[&mesh].maps[0].flip_v);
+    let img = frame_after(&mut h, "a frame with the flipped map");
+    img.save(dir.join("after_flip.png")).unwrap();
+    assert!(
+        redness(&img, 0.3) > 60 && redness(&img, 0.75) < -60,
+        "after the flip the map's top (red) should be on the square's top"
+    );
+    assert_eq!(h.state().ui_state.meshes[&mesh].metres_per_unit, 0.0156);
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_none() {
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }
 
 /// Compare from the toolbar (difference view against separable), Space

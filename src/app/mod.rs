@@ -25,6 +25,8 @@ enum DialogKind {
     CompareB,
     Mesh,
     Environment,
+    /// A map file for slot k of the loaded mesh (`textures::SLOTS`).
+    Map(usize),
 }
 
 #[derive(Debug, Clone)]
@@ -82,6 +84,8 @@ pub struct EditorApp {
     framed_for: Option<(Option<PathBuf>, f32)>,
     /// The units prompt, open for this mesh.
     units_prompt: Option<PathBuf>,
+    /// The map slots window, open for this mesh.
+    maps_window: Option<PathBuf>,
     /// The last viewport frame, and how many have arrived.
     last_frame: Option<(image::RgbaImage, u64)>,
     allow_close: bool,
@@ -145,6 +149,7 @@ impl EditorApp {
             mesh_info: None,
             framed_for: None,
             units_prompt: None,
+            maps_window: None,
             last_frame: None,
             allow_close: false,
             preview_textures: None,
@@ -183,6 +188,13 @@ impl EditorApp {
     /// The last viewport frame and the number of frames received so far.
     pub fn viewport_frame(&self) -> Option<(&image::RgbaImage, u64)> {
         self.last_frame.as_ref().map(|(i, n)| (i, *n))
+    }
+
+    /// Whether the viewport has rendered everything asked of it.
+    pub fn viewport_idle(&self) -> bool {
+        self.viewport
+            .as_ref()
+            .is_none_or(|v| v.busy_since.is_none())
     }
 
     /// The loaded mesh's size and framing, once the viewport has it.
@@ -755,16 +767,6 @@ impl EditorApp {
         }
     }
 
-    /// Metres per unit of the loaded mesh: remembered per file, 1 until
-    /// the artist says otherwise (the default head knows its own).
-    fn mesh_metres_per_unit(&self) -> f32 {
-        self.mesh
-            .as_ref()
-            .and_then(|p| self.ui_state.mesh_units.get(p))
-            .copied()
-            .unwrap_or(1.0)
-    }
-
     fn viewport_panel(&mut self, ui: &mut egui::Ui) {
         // Camera distance that frames the mesh (Reset view, zoom limits).
         let framing = self.mesh_info.map_or(
@@ -887,7 +889,14 @@ impl EditorApp {
                     .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
                     .clicked()
                 {
-                    self.units_prompt = Some(p);
+                    self.units_prompt = Some(p.clone());
+                }
+                if ui
+                    .button("Maps…")
+                    .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
+                    .clicked()
+                {
+                    self.maps_window = Some(p);
                 }
             }
         });
@@ -946,7 +955,13 @@ impl EditorApp {
             view: self.ui_state.view,
             size,
             mesh: self.mesh.clone(),
-            mesh_metres_per_unit: self.mesh_metres_per_unit(),
+            seq: 0,
+            mesh_settings: self
+                .mesh
+                .as_ref()
+                .and_then(|p| self.ui_state.meshes.get(p))
+                .cloned()
+                .unwrap_or_default(),
         };
         let valid =
             self.doc.preset.rendering.validate().is_ok() && !matches!(self.curves, Some(Err(_)));
@@ -961,6 +976,7 @@ impl EditorApp {
                         stats,
                         wall_ms,
                         note,
+                        ..
                     } => {
                         let ci = egui::ColorImage::from_rgba_unmultiplied(
                             [image.width() as usize, image.height() as usize],
@@ -1008,7 +1024,7 @@ impl EditorApp {
                         }
                         self.framed_for = Some(key);
                         if let Some(p) = &p {
-                            if !self.ui_state.mesh_units.contains_key(p) {
+                            if !self.ui_state.meshes.contains_key(p) {
                                 self.units_prompt = Some(p.clone());
                             }
                         }
@@ -1091,7 +1107,11 @@ impl EditorApp {
             return;
         };
         let h = info.height_units.max(1e-9);
-        let current = self.ui_state.mesh_units.get(&path).copied().unwrap_or(1.0);
+        let current = self
+            .ui_state
+            .meshes
+            .get(&path)
+            .map_or(1.0, |m| m.metres_per_unit);
         let mut mpu = current;
         let mut open = true;
         let mut done = false;
@@ -1152,16 +1172,95 @@ impl EditorApp {
                     done = true;
                 }
             });
-        if mpu != current || !self.ui_state.mesh_units.contains_key(&path) {
-            self.ui_state.mesh_units.insert(path.clone(), mpu);
+        if mpu != current || !self.ui_state.meshes.contains_key(&path) {
+            self.ui_state
+                .meshes
+                .entry(path.clone())
+                .or_default()
+                .metres_per_unit = mpu;
         }
         if done || !open {
             self.units_prompt = None;
         }
     }
 
+    /// The loaded mesh's map slots: for each, the file (or the mesh's own
+    /// map), a V-flip for maps whose V runs up, and the texels' encoding.
+    /// Changes apply at once (the mesh reloads with them) and are
+    /// remembered for the file.
+    fn maps_window(&mut self, ctx: &egui::Context) {
+        use crate::render::textures::{MapSlot, TextureSlot, SLOTS};
+        let Some(path) = self.maps_window.clone() else {
+            return;
+        };
+        let mut settings = self.ui_state.meshes.get(&path).cloned().unwrap_or_default();
+        let mut open = true;
+        let mut choose = None;
+        egui::Window::new("Mesh maps")
+            .collapsible(false)
+            .resizable(false)
+            .open(&mut open)
+            .show(ctx, |ui| {
+                egui::Grid::new("mesh_maps").num_columns(5).show(ui, |ui| {
+                    for (k, slot) in SLOTS.into_iter().enumerate() {
+                        let m = &mut settings.maps[k];
+                        let label = match slot {
+                            TextureSlot::Albedo => "Albedo",
+                            TextureSlot::Normal => "Normal",
+                            TextureSlot::Roughness => "Roughness",
+                            TextureSlot::Mask => "SSS mask",
+                            TextureSlot::Thickness => "Thickness",
+                        };
+                        ui.label(label);
+                        let file = m.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+                            || "the mesh's own".to_string(),
+                            |n| n.to_string_lossy().into_owned(),
+                        );
+                        if ui
+                            .button(format!("{label}: {file}"))
+                            .on_hover_text("Choose a PNG or JPEG that replaces this map.")
+                            .clicked()
+                        {
+                            choose = Some(k);
+                        }
+                        if ui
+                            .add_enabled(m.path.is_some(), egui::Button::new("Clear"))
+                            .on_hover_text("Back to the mesh's own map.")
+                            .clicked()
+                        {
+                            m.path = None;
+                        }
+                        ui.checkbox(&mut m.flip_v, format!("{label}: flip V"))
+                            .on_hover_text("For maps made with V up (OpenGL's bottom-left origin) on a mesh with glTF's top-left origin, or the other way round.");
+                        egui::ComboBox::from_id_salt(("map_space", k))
+                            .selected_text(if m.srgb { "sRGB" } else { "linear" })
+                            .show_ui(ui, |ui| {
+                                ui.selectable_value(&mut m.srgb, true, "sRGB");
+                                ui.selectable_value(&mut m.srgb, false, "linear");
+                            })
+                            .response
+                            .on_hover_text(format!(
+                                "How the file's texels are encoded ({} is usual for this map).",
+                                if MapSlot::default_for(slot).srgb { "sRGB" } else { "linear" }
+                            ));
+                        ui.end_row();
+                    }
+                });
+            });
+        if self.ui_state.meshes.get(&path) != Some(&settings) {
+            self.ui_state.meshes.insert(path.clone(), settings);
+        }
+        if let Some(k) = choose {
+            self.open_dialog(DialogKind::Map(k));
+        }
+        if !open {
+            self.maps_window = None;
+        }
+    }
+
     fn dialogs(&mut self, ctx: &egui::Context) {
         self.units_prompt(ctx);
+        self.maps_window(ctx);
         if let Some(pending) = self.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
@@ -1214,6 +1313,10 @@ impl EditorApp {
             DialogKind::CompareB => "Preset to compare against (B)".into(),
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
+            DialogKind::Map(k) => format!(
+                "{} map (.png, .jpg)",
+                crate::render::textures::SLOTS[*k].name()
+            ),
         };
         let mut close = false;
         let mut accept = false;
@@ -1249,6 +1352,7 @@ impl EditorApp {
             let exts: &[&str] = match dialog.kind {
                 DialogKind::Mesh => &["obj", "gltf", "glb"],
                 DialogKind::Environment => &["hdr"],
+                DialogKind::Map(_) => &["png", "jpg", "jpeg"],
                 DialogKind::Export(f) => &[f.extension()],
                 _ => &["ron"],
             };
@@ -1311,6 +1415,11 @@ impl EditorApp {
                 },
                 DialogKind::Mesh => self.mesh = Some(path),
                 DialogKind::Environment => self.load_environment(path),
+                DialogKind::Map(k) => {
+                    if let Some(mesh) = self.mesh.clone() {
+                        self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);
+                    }
+                }
             }
         }
         self.dialog = if close { None } else { Some(dialog) };

@@ -206,6 +206,26 @@ pub enum OverlayModel {
     Gaussians4,
 }
 
+/// What the artist set for one of their meshes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MeshSettings {
+    /// Metres per unit of the file.
+    pub metres_per_unit: f32,
+    /// Albedo, normal, roughness, SSS mask and thickness
+    /// (`render::textures::SLOTS` order).
+    pub maps: [crate::render::textures::MapSlot; 5],
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        Self {
+            metres_per_unit: 1.0,
+            maps: crate::render::textures::SLOTS.map(crate::render::textures::MapSlot::default_for),
+        }
+    }
+}
+
 /// UI state remembered between runs (eframe storage, RON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -223,8 +243,8 @@ pub struct UiState {
     pub last_preset: Option<PathBuf>,
     /// The HDR map behind `view.environment_map_sh`.
     pub environment_file: Option<PathBuf>,
-    /// Metres per unit of each mesh the artist has loaded, by path.
-    pub mesh_units: std::collections::BTreeMap<PathBuf, f32>,
+    /// Units and map slots of each mesh the artist has loaded, by path.
+    pub meshes: std::collections::BTreeMap<PathBuf, MeshSettings>,
 }
 
 impl Default for UiState {
@@ -241,7 +261,7 @@ impl Default for UiState {
             recent: Vec::new(),
             last_preset: None,
             environment_file: None,
-            mesh_units: Default::default(),
+            meshes: Default::default(),
         }
     }
 }

@@ -58,8 +58,10 @@ pub struct Request {
     pub view: ViewState,
     pub size: (u32, u32),
     pub mesh: Option<PathBuf>,
-    /// Metres per unit of `mesh` (the default head knows its own).
-    pub mesh_metres_per_unit: f32,
+    /// Units and map slots of `mesh` (the default head knows its own).
+    pub mesh_settings: super::state::MeshSettings,
+    /// Set by [`Viewport::request`]: which request a frame answers.
+    pub seq: u64,
 }
 
 /// What the editor needs to frame and scale a loaded mesh.
@@ -81,6 +83,8 @@ pub enum Reply {
         wall_ms: f64,
         /// Note for the status bar (difference scale).
         note: Option<String>,
+        /// The request it answers.
+        seq: u64,
     },
     Error(String),
     /// The mesh in the request was loaded (`None`: the default head).
@@ -90,7 +94,9 @@ pub enum Reply {
 pub struct Viewport {
     tx: Sender<Request>,
     rx: Receiver<Reply>,
+    /// The last request sent, with `seq` 0 (to compare), and its number.
     last_sent: Option<Request>,
+    seq: u64,
     pub busy_since: Option<Instant>,
 }
 
@@ -110,6 +116,7 @@ impl Viewport {
             tx,
             rx,
             last_sent: None,
+            seq: 0,
             busy_since: None,
         }
     }
@@ -117,19 +124,30 @@ impl Viewport {
     /// Sends `req` unless it equals the last one sent (nothing changed:
     /// nothing is rendered).
     pub fn request(&mut self, req: Request) {
+        let mut req = req;
+        req.seq = 0;
         if self.last_sent.as_ref() == Some(&req) {
             return;
         }
-        if self.tx.send(req.clone()).is_ok() {
+        self.last_sent = Some(req.clone());
+        self.seq += 1;
+        req.seq = self.seq;
+        if self.tx.send(req).is_ok() {
             self.busy_since.get_or_insert_with(Instant::now);
         }
-        self.last_sent = Some(req);
     }
 
     /// Replies that arrived since the last call.
     pub fn poll(&mut self) -> Vec<Reply> {
         let replies: Vec<Reply> = self.rx.try_iter().collect();
-        if replies.iter().any(|r| !matches!(r, Reply::MeshLoaded(..))) {
+        // Busy until the newest request is answered (a frame of an older
+        // one, still on its way, does not count) or has failed.
+        let done = replies.iter().any(|r| match r {
+            Reply::Frame { seq, .. } => *seq == self.seq,
+            Reply::Error(_) => true,
+            Reply::MeshLoaded(..) => false,
+        });
+        if done {
             self.busy_since = None;
         }
         replies
@@ -185,7 +203,7 @@ pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> Ren
 struct Worker {
     renderer: Option<Renderer>,
     mesh_path: Option<PathBuf>,
-    mesh_metres_per_unit: f32,
+    mesh_settings: super::state::MeshSettings,
     mesh_info: Option<MeshInfo>,
     /// Inputs per (look, method) of the last frame (A and B).
     cache: Vec<((ProfileSpec, usize, usize, Method), ProfileInputs)>,
@@ -223,11 +241,17 @@ impl Worker {
         Ok(inputs)
     }
 
-    fn ensure_renderer(&mut self, mesh: &Option<PathBuf>, mpu: f32) -> Result<bool, String> {
-        let same_units = mesh.is_none() || self.mesh_metres_per_unit == mpu;
-        if self.renderer.is_some() && self.mesh_path == *mesh && same_units {
+    fn ensure_renderer(
+        &mut self,
+        mesh: &Option<PathBuf>,
+        settings: &super::state::MeshSettings,
+        thickness_range_mm: f32,
+    ) -> Result<bool, String> {
+        let same_settings = mesh.is_none() || self.mesh_settings == *settings;
+        if self.renderer.is_some() && self.mesh_path == *mesh && same_settings {
             return Ok(false);
         }
+        let mpu = settings.metres_per_unit;
         let t = Instant::now();
         // The GPU context starts while the mesh loads; the default head's
         // surface maps (about a second) bake after its first frame, so the
@@ -236,20 +260,30 @@ impl Worker {
         let (mesh_data, ctx) = std::thread::scope(|s| {
             let ctx = s.spawn(GpuContext::new_headless);
             let mesh_data = match mesh {
-                Some(p) => Mesh::load(p, mpu),
-                None if bake_later => Mesh::default_head_without_maps(),
-                None => Mesh::default_head(),
+                Some(p) => Mesh::load(p, mpu)
+                    .map_err(|e| e.to_string())
+                    .and_then(|mut m| {
+                        crate::render::textures::apply_slots(
+                            std::sync::Arc::make_mut(&mut m.textures),
+                            &settings.maps,
+                            thickness_range_mm,
+                        )
+                        .map_err(|e| e.to_string())?;
+                        Ok(m)
+                    }),
+                None if bake_later => Mesh::default_head_without_maps().map_err(|e| e.to_string()),
+                None => Mesh::default_head().map_err(|e| e.to_string()),
             };
             (mesh_data, ctx.join())
         });
-        let mesh_data = mesh_data.map_err(|e| e.to_string())?;
+        let mesh_data = mesh_data?;
         let ctx = ctx
             .map_err(|_| "the GPU set-up thread panicked".to_string())?
             .map_err(|e| e.to_string())?;
         let t_setup = t.elapsed();
         self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
         self.mesh_path = mesh.clone();
-        self.mesh_metres_per_unit = mpu;
+        self.mesh_settings = settings.clone();
         let (lo, hi) = mesh_data.bounds();
         self.mesh_info = Some(MeshInfo {
             height_units: hi.y - lo.y,
@@ -355,24 +389,25 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
     let mut w = Worker {
         renderer: None,
         mesh_path: None,
-        mesh_metres_per_unit: 1.0,
+        mesh_settings: Default::default(),
         mesh_info: None,
         cache: Vec::new(),
         pending_maps: None,
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
-    let _ = w.ensure_renderer(&None, 1.0);
+    let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
     // Coalesce: render only the newest request.
     while let Some(mut req) = super::analysis::recv_newest(&rx) {
         let t0 = Instant::now();
-        match w.ensure_renderer(&req.mesh, req.mesh_metres_per_unit) {
+        let range = req.a.rendering.thickness_remap_mm.1 as f32;
+        match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
             Err(e) => {
                 // Fall back to the head so the viewport keeps working.
                 let _ = tx.send(Reply::Error(e));
                 if req.mesh.is_some() {
                     req.mesh = None;
-                    let _ = w.ensure_renderer(&None, 1.0);
+                    let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
                     if let Some(info) = w.mesh_info {
                         let _ = tx.send(Reply::MeshLoaded(None, info));
                     }
@@ -385,6 +420,11 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
             Ok(true) => {
                 if let Some(info) = w.mesh_info {
                     let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
+                    // The editor frames a newly loaded mesh when this reply
+                    // arrives; frame this first frame the same way, so a
+                    // stale camera never shows.
+                    req.view.camera_distance_m = info.framing_distance_m;
+                    req.view.pan_m = [0.0; 2];
                 }
             }
             Ok(false) => {}
@@ -435,6 +475,7 @@ fn send_frame(
             stats: Box::new(stats),
             wall_ms: t0.elapsed().as_secs_f64() * 1e3,
             note: note.or_else(|| maps_pending.then(|| "baking the head's skin maps…".into())),
+            seq: req.seq,
         },
         Err(e) => Reply::Error(e),
     };

@@ -342,3 +342,175 @@ mod flip_tests {
         assert_eq!(t.texels, vec![1, 2, 3, 4, 5, 6]);
     }
 }
+
+/// One surface-map slot of a user mesh, as the artist set it: a file that
+/// replaces the mesh's own map (`None` keeps the mesh's), whether its V
+/// runs up (flipped on load), and whether its texels are sRGB-encoded.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct MapSlot {
+    pub path: Option<std::path::PathBuf>,
+    pub flip_v: bool,
+    /// Texels are sRGB-encoded (colour maps usually are; normal,
+    /// roughness, mask and thickness maps usually are not).
+    pub srgb: bool,
+}
+
+impl MapSlot {
+    /// The usual encoding of a slot: sRGB for colour, linear for data.
+    pub fn default_for(slot: TextureSlot) -> Self {
+        Self {
+            path: None,
+            flip_v: false,
+            srgb: slot == TextureSlot::Albedo,
+        }
+    }
+}
+
+impl Default for MapSlot {
+    fn default() -> Self {
+        Self::default_for(TextureSlot::Normal)
+    }
+}
+
+/// The five slots in [`MeshTextures`]' order.
+pub const SLOTS: [TextureSlot; 5] = [
+    TextureSlot::Albedo,
+    TextureSlot::Normal,
+    TextureSlot::Roughness,
+    TextureSlot::Mask,
+    TextureSlot::Thickness,
+];
+
+impl TextureImage {
+    /// Re-encodes 8-bit texels between sRGB and linear (IEC 61966-2-1):
+    /// `to_srgb` true encodes linear values, false decodes sRGB ones.
+    /// The alpha of RGBA images is left alone.
+    pub fn recode(&mut self, to_srgb: bool) {
+        let lut: Vec<u8> = (0..256)
+            .map(|i| {
+                let x = i as f32 / 255.0;
+                let y = if to_srgb {
+                    if x <= 0.003_130_8 {
+                        12.92 * x
+                    } else {
+                        1.055 * x.powf(1.0 / 2.4) - 0.055
+                    }
+                } else if x <= 0.040_45 {
+                    x / 12.92
+                } else {
+                    ((x + 0.055) / 1.055).powf(2.4)
+                };
+                (y * 255.0).round().clamp(0.0, 255.0) as u8
+            })
+            .collect();
+        let c = self.channels as usize;
+        for (i, t) in self.texels.iter_mut().enumerate() {
+            if c == 4 && i % 4 == 3 {
+                continue;
+            }
+            *t = lut[*t as usize];
+        }
+    }
+}
+
+/// Applies the artist's map slots to a mesh's textures: loads the files
+/// that replace maps, flips V and re-encodes where asked. The albedo
+/// texture is sampled as sRGB and the others as linear, so a slot whose
+/// encoding differs is converted on load. A replaced albedo is the albedo
+/// as it is (`AlbedoMode::Absolute`), a replaced roughness likewise.
+pub fn apply_slots(
+    maps: &mut MeshTextures,
+    slots: &[MapSlot; 5],
+    thickness_range_mm: f32,
+) -> Result<(), TextureError> {
+    for (slot, set) in SLOTS.into_iter().zip(slots) {
+        let mut img = match &set.path {
+            Some(p) => Some(load(p, slot)?),
+            None => None,
+        };
+        let replaced = img.is_some();
+        let target: Option<&mut TextureImage> = match slot {
+            TextureSlot::Albedo => Some(&mut maps.albedo),
+            TextureSlot::Normal => Some(&mut maps.normal),
+            TextureSlot::Roughness => Some(&mut maps.roughness),
+            TextureSlot::Mask => Some(&mut maps.mask),
+            TextureSlot::Thickness => maps.thickness.as_mut().map(|t| &mut t.0),
+        };
+        let t = match (img.take(), target) {
+            (Some(new), Some(t)) => {
+                *t = new;
+                t
+            }
+            (Some(new), None) => {
+                maps.thickness = Some((new, thickness_range_mm));
+                match maps.thickness.as_mut() {
+                    Some(t) => &mut t.0,
+                    None => continue,
+                }
+            }
+            (None, Some(t)) if set.flip_v || set.srgb != MapSlot::default_for(slot).srgb => t,
+            _ => continue,
+        };
+        if set.flip_v {
+            t.flip_v();
+        }
+        // The GPU decodes the albedo as sRGB and reads the rest as linear.
+        let gpu_srgb = slot == TextureSlot::Albedo;
+        if set.srgb != gpu_srgb {
+            t.recode(gpu_srgb);
+        }
+        if replaced {
+            match slot {
+                TextureSlot::Albedo => maps.albedo_mode = AlbedoMode::Absolute,
+                TextureSlot::Roughness => maps.roughness_mode = RoughnessMode::Absolute,
+                _ => {}
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod slot_tests {
+    use super::*;
+
+    /// sRGB 188 is linear 0.5029 → 128 (IEC 61966-2-1), and back.
+    #[test]
+    fn recode_round_trips_mid_grey() {
+        let mut t = TextureImage {
+            width: 1,
+            height: 1,
+            channels: 4,
+            texels: vec![188, 188, 188, 7],
+        };
+        t.recode(false);
+        assert_eq!(t.texels, vec![128, 128, 128, 7]);
+        t.recode(true);
+        assert_eq!(t.texels, vec![188, 188, 188, 7]);
+    }
+
+    /// A linear-encoded albedo map is converted for the sRGB sampler; a
+    /// flipped normal slot mirrors the mesh's own map; untouched slots stay.
+    #[test]
+    fn slots_flip_and_recode_the_meshs_maps() {
+        let mut maps = MeshTextures {
+            normal: TextureImage {
+                width: 1,
+                height: 2,
+                channels: 4,
+                texels: vec![1, 2, 3, 4, 5, 6, 7, 8],
+            },
+            ..MeshTextures::default()
+        };
+        let mut slots: [MapSlot; 5] = SLOTS.map(MapSlot::default_for);
+        slots[0].srgb = false;
+        slots[1].flip_v = true;
+        let before_mask = maps.mask.clone();
+        apply_slots(&mut maps, &slots, 20.0).unwrap();
+        assert_eq!(maps.normal.texels, vec![5, 6, 7, 8, 1, 2, 3, 4]);
+        // 188 read as linear 0.737 is sRGB 0.874 → 223.
+        assert_eq!(maps.albedo.texels[0], 223);
+        assert_eq!(maps.mask.texels, before_mask.texels);
+    }
+}

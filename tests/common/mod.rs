@@ -61,3 +61,19 @@ pub fn quad_gltf_with(uvs: bool, half: f32, v_up: bool) -> String {
         len = bytes.len()
     )
 }
+
+/// [`quad_gltf_with`] plus a material whose base colour is an external
+/// image file (`uri`, relative to the .gltf), as scans ship their maps.
+pub fn quad_gltf_textured(half: f32, v_up: bool, uri: &str) -> String {
+    let base = quad_gltf_with(true, half, v_up);
+    let base = base.replace(
+        r#", "indices": 2}]}],"#,
+        r#", "indices": 2, "material": 0}]}],"#,
+    );
+    let end = base.rfind('}').expect("a JSON object");
+    format!(
+        r#"{}, "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+ "textures": [{{"source": 0}}], "images": [{{"uri": "{uri}"}}]}}"#,
+        &base[..end]
+    )
+}
