@@ -1057,6 +1057,19 @@ impl EditorApp {
             .as_ref()
             .and_then(|v| v.busy_since)
             .map(|t| t.elapsed().as_secs_f32());
+        if self.status.starts_with("Loading mesh") {
+            // The mesh loads and bakes thickness and curvature on the
+            // render thread; show how far the bake has got.
+            let bar = egui::ProgressBar::new(crate::render::mesh::bake_fraction())
+                .text("loading the mesh, baking thickness …")
+                .desired_width(rect.width().min(360.0) - 16.0);
+            let area = egui::Rect::from_min_size(
+                rect.left_bottom() + egui::vec2(8.0, -32.0),
+                egui::vec2(rect.width().min(360.0) - 16.0, 24.0),
+            );
+            ui.put(area, bar);
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
             (_, Some(s)) if s > 0.3 || self.texture.is_none() => {

@@ -555,6 +555,9 @@ impl Mesh {
     /// surface along the inward normal to the first surface it meets, over a
     /// uniform grid of triangles. Misses (open boundaries) get `max_mm`.
     pub fn bake_thickness(&mut self, max_mm: f32) {
+        use std::sync::atomic::Ordering;
+        BAKE_PROGRESS[1].store(self.vertices.len() as u32, Ordering::Relaxed);
+        BAKE_PROGRESS[0].store(0, Ordering::Relaxed);
         let (lo, hi) = self.bounds();
         let n = 24usize;
         let cell = (hi - lo).max_element() / n as f32 + 1e-6;
@@ -584,6 +587,7 @@ impl Mesh {
             .vertices
             .par_iter()
             .map(|v| {
+                BAKE_PROGRESS[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let dir = -Vec3::from(v.normal);
                 let origin = Vec3::from(v.position) + dir * (1e-3 * cell);
                 // March through the grid in half-cell steps; test each cell's triangles.
@@ -866,6 +870,24 @@ mod tests {
             .to_string()
             .contains("/no/such.obj"));
     }
+}
+
+/// The thickness bake's progress in this process: vertices done and in
+/// all, of the bake running now or last (for the editor's progress bar; a
+/// load on another thread of the same process would share it).
+pub static BAKE_PROGRESS: [std::sync::atomic::AtomicU32; 2] = [
+    std::sync::atomic::AtomicU32::new(0),
+    std::sync::atomic::AtomicU32::new(0),
+];
+
+/// Fraction of the current thickness bake done, in [0, 1].
+pub fn bake_fraction() -> f32 {
+    use std::sync::atomic::Ordering;
+    let total = BAKE_PROGRESS[1].load(Ordering::Relaxed);
+    if total == 0 {
+        return 0.0;
+    }
+    (BAKE_PROGRESS[0].load(Ordering::Relaxed) as f32 / total as f32).min(1.0)
 }
 
 /// Distance (m) at which an object `height_m` tall fills a vertical field
