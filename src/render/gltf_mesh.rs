@@ -78,6 +78,12 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
                     positions.len()
                 )));
             }
+            let names = [prim.material().name(), mesh.name(), node.name()]
+                .into_iter()
+                .flatten()
+                .collect::<Vec<_>>()
+                .join(" ");
+            let kind = part_kind(&names);
             let base = vertices.len() as u32;
             for (i, p) in positions.iter().enumerate() {
                 let n = normals
@@ -99,6 +105,7 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
                     normal: n.into(),
                     uv: uvs[i],
                     tangent,
+                    material: kind,
                     ..Vertex::zeroed()
                 });
             }
@@ -109,7 +116,8 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
             if let Some(bad) = indices[..].iter().find(|&&i| i as usize >= vertices.len()) {
                 return Err(load_error(format!("{part}: index {bad} is out of range")));
             }
-            if !material_seen {
+            // The skin's maps: the first primitive that is not an eye or teeth.
+            if !material_seen && kind == 0.0 {
                 material_seen = true;
                 read_material(&prim.material(), &images, &origin, &mut textures)?;
             }
@@ -118,6 +126,25 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
     let mut mesh = Mesh::from_triangles(vertices, indices, &origin, metres_per_unit, has_normals)?;
     mesh.textures = Arc::new(textures);
     Ok(mesh)
+}
+
+/// What a primitive is, from its material's, mesh's and node's names (as
+/// character exporters name them: "Eye_L", "Cornea", "Teeth"): 1 for an
+/// eye, 2 for teeth, gums or tongue, 0 (skin) otherwise. Eyebrows, lashes
+/// and lids are skin-side parts, not eyes. Eyes and teeth take no SSS and
+/// the eye is drawn with an iris (`shaders/scene.wgsl`).
+pub fn part_kind(names: &str) -> f32 {
+    let n = names.to_ascii_lowercase();
+    let has = |ks: &[&str]| ks.iter().any(|k| n.contains(k));
+    if has(&["brow", "lash", "lid"]) {
+        0.0
+    } else if has(&["eye", "cornea", "iris", "sclera", "pupil"]) {
+        1.0
+    } else if has(&["teeth", "tooth", "gum", "tongue"]) {
+        2.0
+    } else {
+        0.0
+    }
 }
 
 /// The accessors a primitive's reader will read must hold the types the
@@ -370,5 +397,25 @@ mod tests {
         let e = super::load(&path, 1.0).map(|_| ()).unwrap_err().to_string();
         std::fs::remove_file(&path).unwrap();
         assert!(e.contains("scatterlab-cycle-"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod part_tests {
+    use super::part_kind;
+
+    #[test]
+    fn parts_by_name() {
+        for (name, kind) in [
+            ("Eye_L", 1.0),
+            ("Cornea_R mesh", 1.0),
+            ("Head Skin", 0.0),
+            ("EyeBrows", 0.0),
+            ("eyelashes", 0.0),
+            ("Teeth_Upper", 2.0),
+            ("", 0.0),
+        ] {
+            assert_eq!(part_kind(name), kind, "{name}");
+        }
     }
 }
