@@ -1068,7 +1068,8 @@ impl EditorApp {
                 egui::vec2(rect.width().min(360.0) - 16.0, 24.0),
             );
             ui.put(area, bar);
-            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
         }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
