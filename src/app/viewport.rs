@@ -205,6 +205,9 @@ struct Worker {
     mesh_path: Option<PathBuf>,
     mesh_settings: super::state::MeshSettings,
     mesh_info: Option<MeshInfo>,
+    /// The last reload changed the mesh or its units (not only its maps):
+    /// the editor frames it anew.
+    reframed: bool,
     /// Inputs per (look, method) of the last frame (A and B).
     cache: Vec<((ProfileSpec, usize, usize, Method), ProfileInputs)>,
     /// The default head whose surface maps are still to bake (after its
@@ -282,6 +285,8 @@ impl Worker {
             .map_err(|e| e.to_string())?;
         let t_setup = t.elapsed();
         self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
+        self.reframed = self.mesh_path != *mesh
+            || self.mesh_settings.metres_per_unit != settings.metres_per_unit;
         self.mesh_path = mesh.clone();
         self.mesh_settings = settings.clone();
         let (lo, hi) = mesh_data.bounds();
@@ -391,6 +396,7 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         mesh_path: None,
         mesh_settings: Default::default(),
         mesh_info: None,
+        reframed: false,
         cache: Vec::new(),
         pending_maps: None,
     };
@@ -420,11 +426,14 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
             Ok(true) => {
                 if let Some(info) = w.mesh_info {
                     let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
-                    // The editor frames a newly loaded mesh when this reply
-                    // arrives; frame this first frame the same way, so a
-                    // stale camera never shows.
-                    req.view.camera_distance_m = info.framing_distance_m;
-                    req.view.pan_m = [0.0; 2];
+                    // The editor frames a new mesh (or new units) when this
+                    // reply arrives; frame this first frame the same way,
+                    // so a stale camera never shows. A change of maps
+                    // alone keeps the artist's view.
+                    if w.reframed {
+                        req.view.camera_distance_m = info.framing_distance_m;
+                        req.view.pan_m = [0.0; 2];
+                    }
                 }
             }
             Ok(false) => {}
