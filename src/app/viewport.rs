@@ -98,6 +98,23 @@ pub struct Viewport {
     last_sent: Option<Request>,
     seq: u64,
     pub busy_since: Option<Instant>,
+    /// The render thread, joined on drop.
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for Viewport {
+    /// Closes the request channel (the render thread's loop ends after its
+    /// current frame) and waits for the thread, so its GPU device is torn
+    /// down before the process exits: leaving it running into exit aborted
+    /// a test process once in lavapipe's teardown ("malloc_consolidate():
+    /// unaligned fastbin chunk detected").
+    fn drop(&mut self) {
+        let (closed, _) = channel::<Request>();
+        drop(std::mem::replace(&mut self.tx, closed));
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
 }
 
 impl Viewport {
@@ -108,16 +125,21 @@ impl Viewport {
         let spawned = std::thread::Builder::new()
             .name("scatterlab-render".into())
             .spawn(move || worker(req_rx, reply_tx, wake));
-        if let Err(e) = spawned {
-            // The UI still works without the viewport.
-            eprintln!("error: cannot start the render thread: {e}");
-        }
+        let thread = match spawned {
+            Ok(t) => Some(t),
+            Err(e) => {
+                // The UI still works without the viewport.
+                eprintln!("error: cannot start the render thread: {e}");
+                None
+            }
+        };
         Self {
             tx,
             rx,
             last_sent: None,
             seq: 0,
             busy_since: None,
+            thread,
         }
     }
 
