@@ -1548,7 +1548,8 @@ fn suggest_metres_per_unit(height_units: f32) -> f32 {
     }
     let x = 0.25 / height_units.max(1e-9);
     let mag = 10f32.powf(x.log10().floor() - 2.0);
-    (x / mag).round() * mag
+    // Within what a mesh load accepts, even for a flat or degenerate mesh.
+    ((x / mag).round() * mag).clamp(1e-6, 1e3)
 }
 
 #[cfg(test)]
@@ -1565,5 +1566,8 @@ mod units_tests {
         assert_eq!(suggest_metres_per_unit(9.2), 0.0254);
         assert_eq!(suggest_metres_per_unit(24.0), 0.01);
         assert_eq!(suggest_metres_per_unit(3.08), 0.1);
+        // A flat mesh (height 0) or a huge one still gets a loadable value.
+        assert_eq!(suggest_metres_per_unit(0.0), 1e3);
+        assert_eq!(suggest_metres_per_unit(1e12), 1e-6);
     }
 }
