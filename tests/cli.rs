@@ -573,6 +573,142 @@ fn render_frames_a_mesh_in_other_units_and_flips_v() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A real photogrammetry scan written by another tool (Lee Perry-Smith's
+/// CC BY head, as the Khronos Blender exporter wrote it for three.js:
+/// about 1/32 m per unit, external flip-Y maps; assets/scan/ATTRIBUTION.md).
+/// Its size comes from the file's own accessor bounds (the exporter's
+/// statement, read here without our loader). Read as metres it warns in one
+/// line naming the fix; at that fix it renders framed with no warning and
+/// scatters; and with `--flip-v` its maps are the right way up, which is
+/// judged with a V ramp on the scan's own UV layout: the layout puts the
+/// face upright in the map (the colour map shows it), so the map's top must
+/// land on the top of the head on screen.
+#[test]
+fn a_photogrammetry_scan_is_framed_and_its_maps_upright() {
+    let scan = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scan");
+    let glb = format!("{scan}/LeePerrySmith.glb");
+    let bytes = std::fs::read(&glb).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let gltf: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let pos = &gltf["accessors"][gltf["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+        .as_u64()
+        .unwrap() as usize];
+    let height_units = pos["max"][1].as_f64().unwrap() - pos["min"][1].as_f64().unwrap();
+    assert!((height_units - 7.945).abs() < 1e-3, "{height_units}");
+
+    let dir = std::env::temp_dir().join(format!("scatterlab-scan-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("scan.png");
+    let stats = dir.join("scan.json");
+    let render = |mpu: &str, albedo: &str, flip: bool| {
+        let mut args = vec![
+            "render",
+            "--mesh",
+            &glb,
+            "--metres-per-unit",
+            mpu,
+            "--albedo",
+            albedo,
+            "--camera-yaw",
+            "0",
+            "--width",
+            "96",
+            "--height",
+            "96",
+            "--out",
+            png.to_str().unwrap(),
+            "--stats",
+            stats.to_str().unwrap(),
+        ];
+        if flip {
+            args.push("--flip-v");
+        }
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+        (image::open(&png).unwrap().to_rgb8(), err)
+    };
+    let colour = format!("{scan}/Map-COL.jpg");
+    let (_, err) = render("1", &colour, true);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains(&format!("{height_units:.3} m tall"))
+            && err.contains("--metres-per-unit 0.0315"),
+        "the warning should give the file's height and 0.25 m / 7.945 = 0.0315: {err}"
+    );
+    let (img, err) = render("0.0315", &colour, true);
+    assert!(err.trim().is_empty(), "no warning at 0.0315 m/unit: {err}");
+    let background = *img.get_pixel(0, 0);
+    let is_head =
+        |p: &image::Rgb<u8>| (0..3).any(|c| (p[c] as i32 - background[c] as i32).abs() > 12);
+    // Framed on the face (62 % up the bust): the crown is in view, the
+    // shoulders may run out at the bottom.
+    assert!(
+        !is_head(img.get_pixel(95, 0)),
+        "top right corner is not background"
+    );
+    let crown = (0..96)
+        .find(|&y| (0..96).any(|x| is_head(img.get_pixel(x, y))))
+        .unwrap();
+    assert!(
+        (2..20).contains(&crown),
+        "the crown is at row {crown} of 96"
+    );
+    let covered = img.pixels().filter(|p| is_head(p)).count() as f64 / (96.0 * 96.0);
+    assert!(
+        (0.3..0.9).contains(&covered),
+        "the framed scan covers {covered:.2} of the frame"
+    );
+    let stats: Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let sss = stats["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"].as_str().unwrap().starts_with("sss"))
+        .unwrap();
+    assert!(sss["pixels"].as_u64().unwrap() > 1000, "{stats}");
+
+    // A V ramp: red at the map's first row, blue at its last.
+    let ramp = dir.join("ramp.png");
+    image::RgbImage::from_fn(64, 64, |_, y| {
+        let t = y as f32 / 63.0;
+        image::Rgb([(230.0 * (1.0 - t)) as u8 + 10, 40, (230.0 * t) as u8 + 10])
+    })
+    .save(&ramp)
+    .unwrap();
+    // Mean red minus blue over the head's pixels in the upper and lower
+    // halves of its span down the middle columns.
+    let top_minus_bottom = |img: &image::RgbImage| {
+        let rows: Vec<u32> = (0..96)
+            .filter(|&y| (40..56).any(|x| is_head(img.get_pixel(x, y))))
+            .collect();
+        let (first, last) = (rows[0], *rows.last().unwrap());
+        let mid = (first + last) / 2;
+        let mean = |ys: std::ops::Range<u32>| {
+            let v: Vec<f64> = ys
+                .flat_map(|y| (40..56).map(move |x| (x, y)))
+                .map(|(x, y)| img.get_pixel(x, y))
+                .filter(|p| is_head(p))
+                .map(|p| p[0] as f64 - p[2] as f64)
+                .collect();
+            v.iter().sum::<f64>() / v.len() as f64
+        };
+        mean(first..mid) - mean(mid..last + 1)
+    };
+    let (img, _) = render("0.0315", ramp.to_str().unwrap(), true);
+    img.save(dir.join("ramp_flipped.png")).unwrap();
+    let upright = top_minus_bottom(&img);
+    let (img, _) = render("0.0315", ramp.to_str().unwrap(), false);
+    img.save(dir.join("ramp_unflipped.png")).unwrap();
+    let upside_down = top_minus_bottom(&img);
+    assert!(
+        upright > 40.0 && upside_down < -40.0,
+        "with --flip-v the map's top should be the head's top: red − blue top minus bottom \
+         {upright:.0} flipped, {upside_down:.0} not (frames in {})",
+        dir.display()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// A glTF quad renders with textures named on the command line: a red
 /// albedo map shows red, and a black SSS mask turns every SSS pass off.
 #[test]
