@@ -289,6 +289,86 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
     }
 }
 
+/// A real photogrammetry scan with its own external maps (Lee Perry-Smith's
+/// CC BY head as three.js ships it: no textures inside, about 1/22 m per
+/// unit, maps with V up; assets/scan/ATTRIBUTION.md), as an artist loads
+/// it: dropped on the window, the suggested units taken (the head above
+/// the neck 4.024 units across by a separate numpy script: 0.186 / 4.024
+/// = 0.0462 m/unit, 18.6 cm across and 7.945 × 0.0462 = 36.7 cm tall),
+/// the colour and normal maps chosen in Maps… with flip V. The frame is
+/// framed (crown in view, background above it) and the map is on the skin;
+/// with SCATTERLAB_KEEP_UI_OUTPUT the editor's window is kept as a PNG
+/// (docs/images/editor_scan.png is one, looked at).
+#[test]
+fn a_photogrammetry_scan_with_its_own_maps() {
+    let scan = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scan"));
+    let mesh = scan.join("LeePerrySmith.glb");
+    let mut h = harness(true);
+    h.step();
+    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(mesh.clone())));
+    step_until(&mut h, "the units prompt", |a| {
+        a.units_prompt_for() == Some(mesh.as_path())
+    });
+    h.get_by_label("Use 0.0462 m/unit (18.6 cm across, 36.7 cm tall)")
+        .click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(2);
+    step_until(&mut h, "the scan at 0.0462 m/unit", |a| {
+        a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.0462)
+    });
+    h.get_by_label("Maps…").click_accesskit();
+    h.run_steps(2);
+    for (label, file) in [
+        ("Albedo", "Map-COL.jpg"),
+        ("Normal", "Infinite-Level_02_Tangent_SmoothUV.jpg"),
+    ] {
+        h.get_by_label(&format!("{label}: the mesh's own"))
+            .click_accesskit();
+        h.run_steps(3);
+        path_field(&h).set_text_value_accesskit(&scan.join(file).display().to_string());
+        h.step();
+        h.get_by_label("OK").click_accesskit();
+        h.run_steps(2);
+        h.get_by_label(&format!("{label}: flip V"))
+            .click_accesskit();
+        h.run_steps(2);
+    }
+    let settings = &h.state().ui_state.meshes[&mesh];
+    assert_eq!(settings.maps[0].path, Some(scan.join("Map-COL.jpg")));
+    assert!(settings.maps[0].flip_v && settings.maps[1].flip_v);
+    assert!(settings.maps[0].srgb && !settings.maps[1].srgb);
+    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "a frame with the maps", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+    });
+    let img = h.state().viewport_frame().unwrap().0.clone();
+    let bg = *img.get_pixel(img.width() - 1, 0);
+    let is_head = |p: &image::Rgba<u8>| (0..3).any(|c| (p[c] as i32 - bg[c] as i32).abs() > 12);
+    let crown = (0..img.height())
+        .find(|&y| (0..img.width()).any(|x| is_head(img.get_pixel(x, y))))
+        .unwrap_or(img.height());
+    let rows = img.height() as f32;
+    assert!(
+        (0.02..0.25).contains(&(crown as f32 / rows)),
+        "the crown is at row {crown} of {rows}: not framed"
+    );
+    // Skin under the colour map: the face's middle is warm (red > blue).
+    let (w, hgt) = (img.width(), img.height());
+    let c = img.get_pixel(w / 2, hgt / 2);
+    assert!(c[0] as i32 - c[2] as i32 > 20, "the face's middle is {c:?}");
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+        h.run_steps(2);
+        let dir = std::env::temp_dir().join("scatterlab-ui-scan");
+        std::fs::create_dir_all(&dir).unwrap();
+        img.save(dir.join("viewport.png")).unwrap();
+        h.render().unwrap().save(dir.join("editor.png")).unwrap();
+    }
+}
+
 /// Compare from the toolbar (difference view against separable), Space
 /// toggles to B alone, and Export → unity writes the asset through the
 /// file dialog.

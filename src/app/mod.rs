@@ -9,6 +9,7 @@ pub mod state;
 pub mod viewport;
 
 use crate::export::Format;
+use crate::render::mesh::{CRANIUM_M, PLAUSIBLE_CRANIUM_M, PLAUSIBLE_HEIGHT_M};
 use crate::settings::{library, Preset};
 use analysis::{Analysis, AnalysisKey, Background, Curves};
 use state::{CompareB, CompareMode, Document, UiState};
@@ -1120,7 +1121,8 @@ impl EditorApp {
         let Some(info) = self.mesh_info else {
             return;
         };
-        let h = info.height_units.max(1e-9);
+        let size = info.size;
+        let h = size.height_units.max(1e-9);
         let current = self
             .ui_state
             .meshes
@@ -1161,23 +1163,43 @@ impl EditorApp {
                 )
                 .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
                 let height_cm = h * mpu * 100.0;
-                let plausible = (10.0..=100.0).contains(&height_cm);
-                let text = format!("Head height = {height_cm:.1} cm");
+                let (lo, hi) = PLAUSIBLE_HEIGHT_M;
+                let mut text = format!("Head height = {height_cm:.1} cm");
+                let mut plausible = (100.0 * lo..=100.0 * hi).contains(&height_cm);
+                if let Some(c) = size.cranium_units {
+                    let across_cm = c * mpu * 100.0;
+                    let (lo, hi) = PLAUSIBLE_CRANIUM_M;
+                    text += &format!(", the head {across_cm:.1} cm across");
+                    plausible = (100.0 * lo..=100.0 * hi).contains(&across_cm);
+                }
+                let hover = format!(
+                    "Across: the mean of the head's width (ears included) and depth (nose included) above the neck; an adult's is about {:.0} cm.",
+                    100.0 * CRANIUM_M
+                );
                 if plausible {
-                    ui.label(text);
+                    ui.label(text).on_hover_text(hover);
                 } else {
                     ui.colored_label(
                         egui::Color32::from_rgb(240, 170, 60),
-                        format!("{text}: not a head's 10–100 cm"),
-                    );
+                        format!("{text}: not a head's size"),
+                    )
+                    .on_hover_text(hover);
                 }
-                let suggested = suggest_metres_per_unit(h);
-                if ui
-                    .button(format!(
-                        "Use {suggested} m/unit ({:.1} cm tall)",
+                let suggested = size.suggest_metres_per_unit();
+                let label = match size.cranium_units {
+                    Some(c) => format!(
+                        "Use {suggested} m/unit ({:.1} cm across, {:.1} cm tall)",
+                        c * suggested * 100.0,
                         h * suggested * 100.0
-                    ))
-                    .on_hover_text("A common unit that makes the mesh 18–40 cm tall (a head, with or without neck), or the exact scale for 25 cm.")
+                    ),
+                    None => format!("Use {suggested} m/unit ({:.1} cm tall)", h * suggested * 100.0),
+                };
+                if ui
+                    .button(label)
+                    .on_hover_text(match size.cranium_units {
+                        Some(_) => "The units that make the head an adult's size (a common unit when one is within 20 %).",
+                        None => "No head found above a neck: a common unit that makes the mesh 18–40 cm tall, or the exact scale for 25 cm.",
+                    })
                     .clicked()
                 {
                     mpu = suggested;
@@ -1533,41 +1555,4 @@ pub fn run(preset: Option<PathBuf>, exit_after_first_frame: bool) -> anyhow::Res
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))
-}
-
-/// Metres per unit for a mesh `height_units` tall: a common unit (m, dm,
-/// cm, mm, inch) that makes it 18–40 cm (a head, with or without neck
-/// and shoulders), else 0.25 m / height rounded to
-/// three significant digits.
-fn suggest_metres_per_unit(height_units: f32) -> f32 {
-    for v in [1.0, 0.1, 0.01, 0.001, 0.0254] {
-        let h = height_units * v;
-        if (0.18..=0.4).contains(&h) {
-            return v;
-        }
-    }
-    let x = 0.25 / height_units.max(1e-9);
-    let mag = 10f32.powf(x.log10().floor() - 2.0);
-    // Within what a mesh load accepts, even for a flat or degenerate mesh.
-    ((x / mag).round() * mag).clamp(1e-6, 1e3)
-}
-
-#[cfg(test)]
-mod units_tests {
-    use super::suggest_metres_per_unit;
-
-    /// A 7-unit scan in 1/40 m units (0.175 m): no common unit makes it
-    /// 18–40 cm (7 inches = 17.8 cm), so 0.25/7 = 0.035714 → 0.0357; a
-    /// 9.2-unit one reads as inches (23.4 cm); a 24-unit mesh in cm
-    /// suggests cm; the default head (3.08 dm) suggests dm.
-    #[test]
-    fn suggestions() {
-        assert!((suggest_metres_per_unit(7.0) - 0.0357).abs() < 1e-6);
-        assert_eq!(suggest_metres_per_unit(9.2), 0.0254);
-        assert_eq!(suggest_metres_per_unit(24.0), 0.01);
-        assert_eq!(suggest_metres_per_unit(3.08), 0.1);
-        // A flat mesh (height 0) or a huge one still gets a loadable value.
-        assert_eq!(suggest_metres_per_unit(0.0), 1e3);
-        assert_eq!(suggest_metres_per_unit(1e12), 1e-6);
-    }
 }

@@ -67,8 +67,8 @@ pub struct Request {
 /// What the editor needs to frame and scale a loaded mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshInfo {
-    /// Bounding-box height in the file's units.
-    pub height_units: f32,
+    /// Height and cranium in the file's units.
+    pub size: crate::render::mesh::HeadSize,
     pub metres_per_unit: f32,
     /// Camera distance (m) at which the mesh fills the view.
     pub framing_distance_m: f32,
@@ -311,9 +311,8 @@ impl Worker {
             || self.mesh_settings.metres_per_unit != settings.metres_per_unit;
         self.mesh_path = mesh.clone();
         self.mesh_settings = settings.clone();
-        let (lo, hi) = mesh_data.bounds();
         self.mesh_info = Some(MeshInfo {
-            height_units: hi.y - lo.y,
+            size: mesh_data.head_size(),
             metres_per_unit: mesh_data.metres_per_unit,
             framing_distance_m: mesh_data.framing_distance_m(RenderSettings::default().fov_y),
         });

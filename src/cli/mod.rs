@@ -291,10 +291,7 @@ impl ViewArgs {
         let mut mesh = match &self.mesh {
             Some(path) => {
                 let mesh = Mesh::load(path, self.metres_per_unit)?;
-                let (lo, hi) = mesh.bounds();
-                if let Some(w) =
-                    crate::render::mesh::scale_warning(hi.y - lo.y, self.metres_per_unit)
-                {
+                if let Some(w) = mesh.head_size().scale_warning(self.metres_per_unit) {
                     eprintln!("warning: {}: {w}", path.display());
                 }
                 mesh

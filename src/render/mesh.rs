@@ -905,17 +905,131 @@ pub fn framing_distance_m(height_m: f32, fov_y: f32) -> f32 {
 /// it a mesh's units are probably not what `metres_per_unit` says.
 pub const PLAUSIBLE_HEIGHT_M: (f32, f32) = (0.1, 1.0);
 
-/// A one-line warning when a mesh's implied size is implausible for a
-/// head, with the metres-per-unit that would make it 25 cm tall.
-pub fn scale_warning(height_units: f32, metres_per_unit: f32) -> Option<String> {
-    let h = height_units * metres_per_unit;
-    if !(h.is_finite() && h > 0.0) || (PLAUSIBLE_HEIGHT_M.0..=PLAUSIBLE_HEIGHT_M.1).contains(&h) {
-        return None;
+/// The cranium's size (m) that [`HeadSize::cranium_units`] measures: the
+/// mean of its greatest width (ears included) and depth (nose included).
+/// Taken from MakeHuman's hm08 base mesh, an average adult modelled in
+/// decimetres (our default head): 17.5 cm wide and 19.7 cm deep, mean
+/// 18.6 cm (`head_size_of_the_default_head_and_a_scan`).
+pub const CRANIUM_M: f32 = 0.186;
+
+/// Cranium sizes (m) an adult or a child head can have; outside them the
+/// units are probably wrong. Heads vary by about ±10 % about
+/// [`CRANIUM_M`]; the range leaves room for stylised characters.
+pub const PLAUSIBLE_CRANIUM_M: (f32, f32) = (0.13, 0.3);
+
+/// A mesh's size in its own units, for judging the units it was saved in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeadSize {
+    /// Bounding-box height (y up, as OBJ and glTF are).
+    pub height_units: f32,
+    /// Mean of the width (x) and depth (z) of the head's top part, from the
+    /// crown down to the neck; `None` when the mesh has no such part (a
+    /// flat card, a face mask, a box). Unlike the height, it does not
+    /// depend on how much neck, shoulder or body the file includes.
+    pub cranium_units: Option<f32>,
+}
+
+impl HeadSize {
+    /// Measures `positions` (mesh units, y up). The mesh is cut into 20
+    /// horizontal slices; walking down from the crown, the cranium ends at
+    /// the first slice narrower (in x) than 3/4 of the widest slice above
+    /// it: the neck. A head is about as deep as it is wide, so a cranium
+    /// whose depth and width differ by more than 2× is not one.
+    pub fn measure(positions: impl Iterator<Item = Vec3> + Clone) -> Self {
+        const SLICES: usize = 20;
+        let (lo, hi) = positions.clone().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(p), hi.max(p)),
+        );
+        let height_units = (hi.y - lo.y).max(0.0);
+        let mut size = Self {
+            height_units,
+            cranium_units: None,
+        };
+        if !(height_units.is_finite() && height_units > 0.0) {
+            return size;
+        }
+        // Per slice from the top: (min, max) of x and of z.
+        let mut slices = [(Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)); SLICES];
+        for p in positions {
+            let k = (((hi.y - p.y) / height_units) * SLICES as f32) as usize;
+            let s = &mut slices[k.min(SLICES - 1)];
+            *s = (s.0.min(p), s.1.max(p));
+        }
+        let (mut widest, mut width, mut depth, mut filled) = (0f32, 0f32, 0f32, 0);
+        for (lo, hi) in slices.iter().filter(|(lo, hi)| lo.x <= hi.x) {
+            let w = hi.x - lo.x;
+            if filled > 0 && w < 0.75 * widest {
+                break;
+            }
+            widest = widest.max(w);
+            width = width.max(w);
+            depth = depth.max(hi.z - lo.z);
+            filled += 1;
+        }
+        if filled >= 3 && width > 0.0 && depth > 0.0 && (0.5..=2.0).contains(&(depth / width)) {
+            size.cranium_units = Some(0.5 * (width + depth));
+        }
+        size
     }
-    Some(format!(
-        "the mesh is {h:.3} m tall at {metres_per_unit} m/unit, not a head's 0.1–1 m: its units may differ (--metres-per-unit {:.4} would make it 0.25 m)",
-        0.25 / height_units
-    ))
+
+    /// The metres per unit to suggest: the one that makes the cranium
+    /// [`CRANIUM_M`] (else the whole mesh 25 cm tall), replaced by a
+    /// common unit (m, dm, cm, mm, inch) that lies within −20 %/+20 % of it
+    /// (−28 %/+60 % from the height: 18–40 cm, a head with or without
+    /// neck and shoulders), else rounded to three significant digits, and
+    /// kept within what a mesh load accepts (1e-6–1e3).
+    pub fn suggest_metres_per_unit(&self) -> f32 {
+        let (x, lo, hi) = match self.cranium_units {
+            Some(c) => (CRANIUM_M / c, 0.8, 1.2),
+            None => (0.25 / self.height_units.max(1e-9), 0.72, 1.6),
+        };
+        if !x.is_finite() {
+            return 1e3;
+        }
+        for v in [1.0, 0.1, 0.01, 0.001, 0.0254] {
+            if (lo * x..=hi * x).contains(&v) {
+                return v;
+            }
+        }
+        let mag = 10f32.powf(x.log10().floor() - 2.0);
+        ((x / mag).round() * mag).clamp(1e-6, 1e3)
+    }
+
+    /// A one-line warning when the size implied by `metres_per_unit` is
+    /// implausible for a head (the cranium outside
+    /// [`PLAUSIBLE_CRANIUM_M`], else the height outside
+    /// [`PLAUSIBLE_HEIGHT_M`]), naming [`Self::suggest_metres_per_unit`].
+    pub fn scale_warning(&self, metres_per_unit: f32) -> Option<String> {
+        let fix = self.suggest_metres_per_unit();
+        let h = self.height_units * metres_per_unit;
+        match self.cranium_units.map(|c| c * metres_per_unit) {
+            Some(c) if !(c.is_finite() && c > 0.0) => None,
+            Some(c) if (PLAUSIBLE_CRANIUM_M.0..=PLAUSIBLE_CRANIUM_M.1).contains(&c) => None,
+            Some(c) => Some(format!(
+                "the head is {:.1} cm across at {metres_per_unit} m/unit ({h:.3} m tall), an adult's about {:.0}: its units may differ (--metres-per-unit {fix} would make it {:.1} cm)",
+                100.0 * c,
+                100.0 * CRANIUM_M,
+                100.0 * self.cranium_units.unwrap_or(0.0) * fix,
+            )),
+            None if !(h.is_finite() && h > 0.0)
+                || (PLAUSIBLE_HEIGHT_M.0..=PLAUSIBLE_HEIGHT_M.1).contains(&h) =>
+            {
+                None
+            }
+            None => Some(format!(
+                "the mesh is {h:.3} m tall at {metres_per_unit} m/unit, not a head's 0.1–1 m: its units may differ (--metres-per-unit {fix} would make it {:.2} m)",
+                self.height_units * fix
+            )),
+        }
+    }
+}
+
+impl Mesh {
+    /// [`HeadSize::measure`] of this mesh's vertices.
+    pub fn head_size(&self) -> HeadSize {
+        HeadSize::measure(self.vertices.iter().map(|v| Vec3::from(v.position)))
+    }
 }
 
 #[cfg(test)]
@@ -953,12 +1067,90 @@ mod framing_tests {
         }
     }
 
-    /// A 9-unit-tall scan in 1/40 m units is 0.225 m: no warning; read as
-    /// metres it is 9 m and the warning suggests 0.25/9 = 0.0278 m/unit.
+    /// A card 9 units tall in 1/40 m units is 0.225 m: no warning; read
+    /// as metres it is 9 m and the warning suggests 0.25/9 = 0.0278 m/unit,
+    /// within −28 %/+60 % of which lies the inch.
     #[test]
     fn scale_warning_names_the_fix() {
-        assert!(scale_warning(9.0, 0.025).is_none());
-        let w = scale_warning(9.0, 1.0).unwrap();
-        assert!(w.contains("--metres-per-unit 0.0278"), "{w}");
+        let card = [
+            Vec3::ZERO,
+            Vec3::new(9.0, 0.0, 0.0),
+            Vec3::new(0.0, 9.0, 0.0),
+        ];
+        let size = HeadSize::measure(card.into_iter());
+        assert_eq!(size.cranium_units, None);
+        assert!(size.scale_warning(0.025).is_none());
+        let w = size.scale_warning(1.0).unwrap();
+        assert!(
+            w.contains("--metres-per-unit 0.0254 would make it 0.23 m"),
+            "{w}"
+        );
+    }
+
+    /// Height-only suggestions (no cranium): a 7-unit card (0.25/7 =
+    /// 0.0357; 7 inches would be 17.8 cm), 9.2 units reads as inches
+    /// (23.4 cm), 24 as cm, 3.08 as dm; a flat or huge mesh still gets a
+    /// loadable value.
+    #[test]
+    fn suggestions_from_the_height() {
+        let s = |h: f32| {
+            HeadSize {
+                height_units: h,
+                cranium_units: None,
+            }
+            .suggest_metres_per_unit()
+        };
+        assert!((s(7.0) - 0.0357).abs() < 1e-6);
+        assert_eq!(s(9.2), 0.0254);
+        assert_eq!(s(24.0), 0.01);
+        assert_eq!(s(3.08), 0.1);
+        assert_eq!(s(0.0), 1e3);
+        assert_eq!(s(1e12), 1e-6);
+    }
+
+    /// The cranium of the default head (MakeHuman hm08, decimetres): a
+    /// separate numpy script over head.obj's vertices found 1.751 dm
+    /// wide and 1.964 dm deep above the neck, so the mean is 1.857 dm, and the
+    /// suggestion is the decimetre. Lee Perry-Smith's scan
+    /// (assets/scan/, a bust to the shoulders, 7.945 units tall): the same
+    /// script found 3.620 wide and 4.428 deep, mean 4.024 (the crown to the
+    /// chin is 4.6 units, so at 0.0462 m/unit 21 cm: an adult's), and the old
+    /// height rule's 25 cm for the whole bust made that head 15 cm from
+    /// crown to chin. A sphere (a ball, not a head with a neck) has no
+    /// neck: the walk stops where it narrows past its equator, 2 units
+    /// wide and deep.
+    #[test]
+    fn head_size_of_the_default_head_and_a_scan() {
+        let head = Mesh::default_head().unwrap().head_size();
+        let c = head.cranium_units.unwrap();
+        assert!((c - 1.857).abs() < 0.005, "{head:?}");
+        assert_eq!(head.suggest_metres_per_unit(), 0.1);
+        assert!(head.scale_warning(0.1).is_none());
+        let scan = Mesh::load(
+            std::path::Path::new(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/assets/scan/LeePerrySmith.glb"
+            )),
+            1.0,
+        )
+        .unwrap()
+        .head_size();
+        let c = scan.cranium_units.unwrap();
+        assert!((c - 4.024).abs() < 0.005, "{scan:?}");
+        let mpu = scan.suggest_metres_per_unit();
+        assert!((mpu - 0.0462).abs() < 1e-6, "{mpu}");
+        assert!(scan.scale_warning(mpu).is_none());
+        // 1/40 m/unit, "about right" by the bust's height (19.9 cm), is a
+        // 10 cm head.
+        let w = scan.scale_warning(0.025).unwrap();
+        assert!(w.contains("10.1 cm across"), "{w}");
+        let sphere: Vec<Vec3> = (0..400)
+            .map(|k| {
+                let (t, p) = (k as f32 * 0.7, k as f32 / 399.0 * std::f32::consts::PI);
+                Vec3::new(p.sin() * t.cos(), p.cos(), p.sin() * t.sin())
+            })
+            .collect();
+        let ball = HeadSize::measure(sphere.into_iter());
+        assert!((ball.cranium_units.unwrap() - 2.0).abs() < 0.05, "{ball:?}");
     }
 }
