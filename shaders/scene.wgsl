@@ -117,6 +117,9 @@ fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
 @group(0) @binding(11) var surface_sampler: sampler;
 // Penner's scattered shadow: x = unscattered shadow u, y = 1/penumbra width.
 @group(0) @binding(12) var penumbra_lut: texture_2d<f32>;
+// The shadow map again, as plain depth values (binding 1 is for comparison
+// sampling; GLSL cannot textureLoad a comparison-bound depth texture).
+@group(0) @binding(13) var shadow_depth: texture_2d<f32>;
 
 fn transmittance_at(d_mm: f32) -> vec3<f32> {
     let n = u.transmission.z;
@@ -131,7 +134,7 @@ fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
     let q = light_space(u.light_clip_from_world * vec4<f32>(world, 1.0));
     let size = vec2<f32>(textureDimensions(shadow_map));
     let texel = clamp(vec2<i32>(q.xy * size), vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1));
-    let occluder = textureLoad(shadow_map, texel, 0);
+    let occluder = textureLoad(shadow_depth, texel, 0).r;
     let depth = light_linear_depth(q.z) - light_linear_depth(occluder);
     return max(depth, 0.0) * u.transmission.w;
 }

@@ -151,6 +151,11 @@ impl Renderer {
                     texture(10, filterable),
                     sampler(11, wgpu::SamplerBindingType::Filtering),
                     texture(12, filterable),
+                    // The same shadow map read raw (the thick-object
+                    // thickness): GLSL cannot textureLoad a depth texture
+                    // bound for comparison, and WebGPU allows a depth view
+                    // as an unfilterable float texture.
+                    texture(13, wgpu::TextureSampleType::Float { filterable: false }),
                 ],
             });
             let shadow_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -419,6 +424,7 @@ impl Renderer {
                         resource: wgpu::BindingResource::Sampler(&self.surface_sampler),
                     },
                     tex(12, &gpu.penumbra_lut),
+                    tex(13, &self.shadow_map),
                 ],
             });
         self.profile = Some(ProfileBinding { gpu, scene_bg });
