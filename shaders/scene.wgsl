@@ -339,10 +339,21 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         // shadow-map) thickness and are not shadowed by themselves.
         let back = max(-dot(ng, l), 0.0);
         var d = thickness;
-        var reach = back * shadow;
+        var reach = back;
         if (u.transmission.x > 1.5) {
             d = max(d, shadow_thickness_mm(i.world));
-            reach = back;
+        } else if (back > 0.0) {
+            // Thin objects take the shadow of the face the light enters:
+            // the point `thickness` behind this one along −N_g, looked up
+            // with the normal offset turned towards the light (HDRP flips
+            // the shadow normal of lit back faces for transmission:
+            // SHADOW_AUTO_FLIP_NORMAL, HDShadow.hlsl lines 6–8 and 27–29,
+            // Unity Graphics 2c80a82). Offsetting along −N_g from this point
+            // alone, as before, looked up the slab's own shadow: a back-lit
+            // 1 mm slab got nothing (test
+            // thin_transmission_lights_a_back_lit_slab_by_t_of_t).
+            let entry = i.world - ng * (thickness / u.transmission.w);
+            reach = back * shadow_factor(entry, -ng);
         }
         irradiance = irradiance + light_radiance * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
     }

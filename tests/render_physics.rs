@@ -287,3 +287,89 @@ fn burley_converges_to_reference_as_samples_grow() {
     assert!(errors[3].1 < 0.5 * errors[0].1, "{errors:?}");
     assert!(errors[3].1 < 0.01, "{errors:?}");
 }
+
+/// A back-lit slab, t = 1 mm thick and 60 mm wide, seen from the front,
+/// the light straight behind it, no environment: with transmission on, the
+/// front face's diffuse radiance is the back irradiance times the thin-slab
+/// transmittance, T(t) = A/4 (e^(−t/d) + 3 e^(−t/3d)) for Burley (the
+/// issue's closed form, typed here; ∫2πr R(√(r²+t²)) dr of Burley 2015
+/// eq. 2). In the renderer's units (light π, before the albedo) that is
+/// T(t)/A: 0.6294, 0.4189, 0.2023 for d = 1, 0.5, 0.25 mm. Thin mode
+/// (the default) used to look up the slab's own shadow and gave ~0.
+#[test]
+fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
+    use scatterlab::render::Transmission;
+    let (w, t) = (30.0f32, 1.0f32);
+    let mut obj = String::new();
+    // Six faces, each with its own four corners (flat normals) and UVs.
+    let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]),
+        ([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+    ];
+    let half = [w, w, 0.5 * t];
+    for (k, (n, a, b)) in faces.iter().enumerate() {
+        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            let p: Vec<f32> = (0..3)
+                .map(|i| (n[i] + su * a[i] + sv * b[i]) * half[i])
+                .collect();
+            obj += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+            obj += &format!("vt {} {}\n", 0.5 + 0.5 * su, 0.5 + 0.5 * sv);
+            obj += &format!("vn {} {} {}\n", n[0], n[1], n[2]);
+        }
+        let i = 4 * k + 1;
+        obj += &format!("f {0}/{0}/{0} {1}/{1}/{1} {2}/{2}/{2}\n", i, i + 1, i + 2);
+        obj += &format!("f {0}/{0}/{0} {1}/{1}/{1} {2}/{2}/{2}\n", i, i + 2, i + 3);
+    }
+    let mesh = Mesh::from_obj_text(&obj, "slab.obj", 0.001).unwrap();
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &mesh).unwrap();
+    let profile = Burley::from_scattering_distance([0.8; 3], [1.0, 0.5, 0.25]).unwrap();
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    let expected = [1.0f64, 0.5, 0.25]
+        .map(|d| 0.25 * ((-t as f64 / d).exp() + 3.0 * (-t as f64 / (3.0 * d)).exp()));
+    for (mode, name) in [
+        (Transmission::ThickObject, "thick"),
+        (Transmission::ThinObject, "thin"),
+    ] {
+        let s = RenderSettings {
+            width: 64,
+            height: 64,
+            method: Method::None,
+            texturing: TexturingMode::PostScatter,
+            camera_yaw: 0.0,
+            camera_pitch: 0.0,
+            camera_distance_m: 0.08,
+            light_azimuth: std::f32::consts::PI,
+            light_elevation: 0.0,
+            light_intensity: std::f32::consts::PI,
+            environment_sh: [[0.0; 3]; 9],
+            transmission: mode,
+            transmission_tint: [1.0; 3],
+            deterministic: true,
+            ..Default::default()
+        };
+        let (_, d, _) = r.render_with_diffuse(&inputs, &s).unwrap();
+        // The middle 16×16 pixels (about 8 mm of the slab's front face).
+        let mut got = [0.0f64; 3];
+        for y in 24..40 {
+            for x in 24..40 {
+                for c in 0..3 {
+                    got[c] += d[y * 64 + x][c] as f64 / 256.0;
+                }
+            }
+        }
+        eprintln!("{name}: {got:?} vs T(t)/A {expected:?}");
+        for c in 0..3 {
+            assert!(
+                (got[c] / expected[c] - 1.0).abs() < 0.03,
+                "{name} channel {c}: {:.4} vs T(t)/A = {:.4}",
+                got[c],
+                expected[c]
+            );
+        }
+    }
+}

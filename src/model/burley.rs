@@ -155,7 +155,15 @@ impl RadialProfile for Burley {
     fn reflectance(&self, radius_mm: f64) -> Rgb {
         rgb_map(|c| {
             let s = self.shape_per_mm[c];
-            let r = radius_mm.max(1e-6 / s);
+            // Burley 2015 eq. 2 is finite for every r > 0 and is returned
+            // as such down to 1e-300 mm (below that 1/r would overflow f64);
+            // only r = 0, where it diverges like 1/r, takes the documented
+            // value at `r_floor_mm`, 1e-6·d (`reflectance_below_the_floor_is_the_closed_form`).
+            let r = if radius_mm > 0.0 {
+                radius_mm.max(1e-300)
+            } else {
+                1e-6 / s
+            };
             let x = (-s * r / 3.0).exp(); // e^(−sr/3); e^(−sr) = x³
             self.albedo[c] * s * (x * x * x + x) / (8.0 * PI * r)
         })
@@ -543,5 +551,21 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("xi"));
+    }
+
+    /// Below 1e-6·d the closed form still holds (it used to return R at
+    /// 1e-6·d): with A = 1 and d = 1 mm, R(r) = (e^(−r) + e^(−r/3))/(8π r)
+    /// → 1/(4π r) as r → 0, so R(1e-9 mm) = 7.957747e7 mm⁻² (by hand:
+    /// 1/(4π·1e-9)), a thousand times R(1e-6 mm); r = 0 keeps the
+    /// documented value at r_floor_mm = 1e-6 mm, and 1e-310 stays finite.
+    #[test]
+    fn reflectance_below_the_floor_is_the_closed_form() {
+        let b = Burley::from_scattering_distance([1.0; 3], [1.0; 3]).unwrap();
+        let r9 = b.reflectance(1e-9)[0];
+        assert!((r9 / 7.957747e7 - 1.0).abs() < 1e-6, "{r9}");
+        let r6 = b.reflectance(1e-6)[0];
+        assert!((r9 / r6 / 1000.0 - 1.0).abs() < 1e-5);
+        assert_eq!(b.reflectance(0.0)[0], b.reflectance(b.r_floor_mm())[0]);
+        assert!(b.reflectance(1e-310)[0].is_finite());
     }
 }
