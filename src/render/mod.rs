@@ -13,6 +13,7 @@ pub mod environment;
 mod frame;
 mod gltf_mesh;
 pub mod gpu_types;
+pub mod ground_truth;
 pub mod inputs;
 pub mod mesh;
 #[cfg(feature = "gpu")]
