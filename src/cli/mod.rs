@@ -1005,6 +1005,7 @@ fn render(
             "sss_samples": stats.sss_samples,
             "lod_skipped_pixels": stats.lod_skipped_pixels,
             "sss_gpu_ms": stats.sss_gpu_ms,
+            "reference_cpu_ms": stats.reference_cpu_ms,
             "profile_uploaded": stats.profile_uploaded,
             "target_bytes": stats.target_bytes,
             "triangles": stats.triangles,

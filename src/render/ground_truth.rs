@@ -38,9 +38,12 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// Midpoint-rule cells are at most this fraction of their distance.
-const THETA: f64 = 0.5;
+const THETA: f64 = 1.0;
 /// Target relative error of the midpoint rule per cell (see the module).
-const TAU: f64 = 0.01;
+const TAU: f64 = 0.034;
+/// Density (relative to a channel's mean inside its median radius) below
+/// which that channel's accuracy stops setting the cell size.
+const FLOOR: f64 = 1e-2;
 /// Energy fraction inside the truncation radius, per channel.
 pub const ENERGY_FRACTION: f64 = 0.999;
 
@@ -101,7 +104,7 @@ impl ProfileTable {
         // Density below which a channel's accuracy does not matter: a
         // thousandth of its mean density inside its median radius.
         let floor =
-            [0, 1, 2].map(|c| 1e-3 * 0.5 / (std::f64::consts::PI * r50[c].powi(2).max(1e-300)));
+            [0, 1, 2].map(|c| FLOOR * 0.5 / (std::f64::consts::PI * r50[c].powi(2).max(1e-300)));
         let leaf_mm = (0..TABLE_SIZE)
             .map(|i| {
                 let (a, b) = (i.saturating_sub(1), (i + 1).min(TABLE_SIZE - 1));
@@ -130,6 +133,17 @@ impl ProfileTable {
             r_max_mm: r_max,
             epsilon_mm: epsilon,
         }
+    }
+
+    /// A hash of the table: equal tables give equal clouds.
+    pub fn fingerprint(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for v in self.density.iter().chain(&self.cdf) {
+            v.map(f32::to_bits).hash(&mut h);
+        }
+        self.r_max_mm.to_bits().hash(&mut h);
+        h.finish()
     }
 
     /// (index, fraction) of r on the grid, clamped to its ends.
@@ -166,86 +180,142 @@ pub trait SurfaceIrradiance: Sync {
     fn at(&self, triangle: usize, bary: Vec3) -> [f32; 3];
 }
 
-/// One cell: a sub-triangle of SSS triangle `tri`, its corners in that
-/// triangle's barycentric coordinates and in mm.
+/// The split of a triangle at its edge midpoints into four, in the order
+/// the quadtrees below index children: three corners, then the middle.
+fn split<T: Copy + std::ops::Add<Output = T> + std::ops::Mul<f32, Output = T>>(
+    v: [T; 3],
+) -> [[T; 3]; 4] {
+    let m = [0, 1, 2].map(|k| (v[k] + v[(k + 1) % 3]) * 0.5);
+    [
+        [v[0], m[0], m[2]],
+        [m[0], v[1], m[1]],
+        [m[2], m[1], v[2]],
+        [m[0], m[1], m[2]],
+    ]
+}
+
+fn longest_side(c: &[Vec3; 3]) -> f64 {
+    (c[1] - c[0])
+        .length()
+        .max((c[2] - c[1]).length())
+        .max((c[0] - c[2]).length()) as f64
+}
+
+/// One SSS triangle and the quadtree of its irradiance: `levels` levels
+/// of midpoint splits down to cells at most `spacing_mm` on a side, each
+/// node holding the area-weighted mean of its cells (all cells of a
+/// triangle have equal area). Level ℓ's nodes start at (4^ℓ − 1)/3 in
+/// `Cloud::node_e`, after `offset`; child k of node i is node 4i + k of
+/// the next level.
 #[derive(Debug, Clone, Copy)]
-struct Cell {
+struct Root {
     tri: u32,
-    bary: [Vec3; 3],
     corners: [Vec3; 3],
-    e: [f32; 3],
+    levels: u32,
+    offset: u32,
 }
 
 /// The irradiance samples over a mesh's SSS surface and the profile.
 pub struct Cloud {
-    cells: Vec<Cell>,
+    roots: Vec<Root>,
+    node_e: Vec<[f32; 3]>,
     buckets: HashMap<[i32; 3], Vec<u32>>,
     bucket_mm: f64,
+    reach_mm: f64,
     table: ProfileTable,
     /// Largest cell side (mm).
     pub spacing_mm: f64,
 }
 
+fn level_start(level: u32) -> usize {
+    ((1usize << (2 * level)) - 1) / 3
+}
+
 impl Cloud {
-    /// Subdivides every triangle with `include` (corners in mm) into cells
-    /// at most `spacing_mm` on a side and evaluates the irradiance at each
-    /// cell's centroid.
+    /// Splits every triangle with `include` (corners in mm) into cells at
+    /// most `spacing_mm` on a side, evaluates the irradiance at each cell's
+    /// centroid and averages it up each triangle's quadtree.
     pub fn build(
         positions_mm: &[Vec3],
         triangles: &[[u32; 3]],
         include: impl Fn(usize) -> bool + Sync,
         irradiance: &dyn SurfaceIrradiance,
-        profile: &dyn RadialProfile,
+        table: ProfileTable,
         spacing_mm: f64,
     ) -> Self {
-        let table = ProfileTable::new(profile);
-        let cells: Vec<Cell> = triangles
+        let trees: Vec<(Root, Vec<[f32; 3]>)> = triangles
             .par_iter()
             .enumerate()
             .filter(|(t, _)| include(*t))
-            .flat_map_iter(|(t, tri)| {
-                let p = tri.map(|i| positions_mm[i as usize]);
-                let side = (p[1] - p[0])
-                    .length()
-                    .max((p[2] - p[1]).length())
-                    .max((p[0] - p[2]).length()) as f64;
-                let k = ((side / spacing_mm).ceil() as usize).max(1);
-                let at = move |i: usize, j: usize| {
-                    let (u, v) = (i as f32 / k as f32, j as f32 / k as f32);
-                    Vec3::new(1.0 - u - v, u, v)
+            .map(|(t, tri)| {
+                let corners = tri.map(|i| positions_mm[i as usize]);
+                let side = longest_side(&corners);
+                let levels = if side > spacing_mm {
+                    (side / spacing_mm).log2().ceil() as u32
+                } else {
+                    0
                 };
-                let mut out = Vec::with_capacity(k * k);
-                for i in 0..k {
-                    for j in 0..k - i {
-                        out.push([at(i, j), at(i + 1, j), at(i, j + 1)]);
-                        if i + j + 2 <= k {
-                            out.push([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
-                        }
+                let levels = levels.min(10);
+                // The cells (deepest level) in quadtree order, then each
+                // level above as the mean of its four children.
+                let mut nodes = vec![[0.0f32; 3]; level_start(levels + 1)];
+                let bary0 = [Vec3::X, Vec3::Y, Vec3::Z];
+                let mut stack = vec![(bary0, 0u32, 0usize)];
+                while let Some((b, level, i)) = stack.pop() {
+                    if level == levels {
+                        nodes[level_start(level) + i] =
+                            irradiance.at(t, (b[0] + b[1] + b[2]) / 3.0);
+                        continue;
+                    }
+                    for (k, child) in split(b).into_iter().enumerate() {
+                        stack.push((child, level + 1, 4 * i + k));
                     }
                 }
-                out.into_iter().map(move |bary| {
-                    let corners = bary.map(|b| p[0] * b.x + p[1] * b.y + p[2] * b.z);
-                    let centre = (bary[0] + bary[1] + bary[2]) / 3.0;
-                    Cell {
-                        tri: t as u32,
-                        bary,
-                        corners,
-                        e: irradiance.at(t, centre),
+                for level in (0..levels).rev() {
+                    for i in 0..(1usize << (2 * level)) {
+                        let first = level_start(level + 1) + 4 * i;
+                        let mut m = [0.0f32; 3];
+                        for k in 0..4 {
+                            for c in 0..3 {
+                                m[c] += 0.25 * nodes[first + k][c];
+                            }
+                        }
+                        nodes[level_start(level) + i] = m;
                     }
-                })
+                }
+                (
+                    Root {
+                        tri: t as u32,
+                        corners,
+                        levels,
+                        offset: 0,
+                    },
+                    nodes,
+                )
             })
             .collect();
+        let mut roots = Vec::with_capacity(trees.len());
+        let mut node_e = Vec::new();
+        let mut widest = 0.0f64;
+        for (mut root, nodes) in trees {
+            root.offset = node_e.len() as u32;
+            node_e.extend(nodes);
+            widest = widest.max(longest_side(&root.corners));
+            roots.push(root);
+        }
         let bucket_mm = (0.5 * table.r_max_mm).max(spacing_mm);
         let mut buckets: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
-        for (i, c) in cells.iter().enumerate() {
-            let centre = (c.corners[0] + c.corners[1] + c.corners[2]) / 3.0;
+        for (i, r) in roots.iter().enumerate() {
+            let centre = (r.corners[0] + r.corners[1] + r.corners[2]) / 3.0;
             buckets
                 .entry(bucket_of(centre, bucket_mm))
                 .or_default()
                 .push(i as u32);
         }
         Self {
-            cells,
+            reach_mm: table.r_max_mm + widest,
+            roots,
+            node_e,
             buckets,
             bucket_mm,
             table,
@@ -253,13 +323,13 @@ impl Cloud {
         }
     }
 
-    /// Number of cells.
+    /// Number of cells (the quadtrees' deepest nodes).
     pub fn len(&self) -> usize {
-        self.cells.len()
+        self.roots.iter().map(|r| 1usize << (2 * r.levels)).sum()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.cells.is_empty()
+        self.roots.is_empty()
     }
 
     pub fn table(&self) -> &ProfileTable {
@@ -269,9 +339,9 @@ impl Cloud {
     /// Σ R(‖x − y‖)·E(y)·dA / total per channel over the SSS surface: the
     /// scattered diffuse at the surface point `x_mm`.
     pub fn gather(&self, x_mm: Vec3, irradiance: &dyn SurfaceIrradiance) -> [f32; 3] {
-        let reach = self.table.r_max_mm + self.spacing_mm;
-        let lo = bucket_of(x_mm - Vec3::splat(reach as f32), self.bucket_mm);
-        let hi = bucket_of(x_mm + Vec3::splat(reach as f32), self.bucket_mm);
+        let reach = self.reach_mm as f32;
+        let lo = bucket_of(x_mm - Vec3::splat(reach), self.bucket_mm);
+        let hi = bucket_of(x_mm + Vec3::splat(reach), self.bucket_mm);
         let mut acc = [0.0f64; 3];
         for bx in lo[0]..=hi[0] {
             for by in lo[1]..=hi[1] {
@@ -280,16 +350,14 @@ impl Cloud {
                         continue;
                     };
                     for &i in list {
-                        let c = &self.cells[i as usize];
-                        self.integrate(
-                            x_mm,
-                            c.tri as usize,
-                            c.bary,
-                            c.corners,
-                            Some(c.e),
-                            irradiance,
-                            &mut acc,
-                        );
+                        let r = &self.roots[i as usize];
+                        let node = Node {
+                            bary: [Vec3::X, Vec3::Y, Vec3::Z],
+                            corners: r.corners,
+                            level: 0,
+                            index: 0,
+                        };
+                        self.integrate(x_mm, r, node, irradiance, &mut acc);
                     }
                 }
             }
@@ -309,102 +377,149 @@ impl Cloud {
             .collect()
     }
 
-    /// Adds the integral of ρ(‖x − y‖)·E(y) over one (sub-)triangle.
-    #[allow(clippy::too_many_arguments)]
+    /// Adds the integral of ρ(‖x − y‖)·E(y) over one quadtree node (or,
+    /// below the cells, one piece of a cell).
     fn integrate(
         &self,
         x: Vec3,
-        tri: usize,
-        bary: [Vec3; 3],
-        corners: [Vec3; 3],
-        e: Option<[f32; 3]>,
+        root: &Root,
+        node: Node,
         irradiance: &dyn SurfaceIrradiance,
         acc: &mut [f64; 3],
     ) {
+        let corners = node.corners;
         let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
-        let side = (corners[1] - corners[0])
-            .length()
-            .max((corners[2] - corners[1]).length())
-            .max((corners[0] - corners[2]).length()) as f64;
+        let side = longest_side(&corners);
         let dist = (x - centre).length() as f64;
-        if dist - side > self.table.r_max_mm {
+        // Truncate at r_max: a piece across it counts with the fraction of
+        // its extent inside (the density there is the profile's last
+        // 0.1 %, so this costs nothing measurable).
+        let inside = ((self.table.r_max_mm - (dist - 0.5 * side)) / side).clamp(0.0, 1.0);
+        if inside <= 0.0 {
             return;
         }
-        let leaf = side <= self.table.epsilon_mm;
-        if leaf || side <= self.table.leaf_mm(dist) {
-            let e = e.unwrap_or_else(|| irradiance.at(tri, (bary[0] + bary[1] + bary[2]) / 3.0));
-            if e == [0.0; 3] {
+        // The piece's irradiance: the quadtree's mean down to the cells;
+        // below them (only ever beside x) evaluated afresh.
+        let cached = node.level <= root.levels;
+        let e = if cached {
+            self.node_e[root.offset as usize + level_start(node.level) + node.index]
+        } else {
+            irradiance.at(
+                root.tri as usize,
+                (node.bary[0] + node.bary[1] + node.bary[2]) / 3.0,
+            )
+        };
+        if node.level >= root.levels && dist < 3.0 * side {
+            // A cell (or piece of one) at or beside x. Where the irradiance
+            // is even across it (its corners within 2 % of its mean, or it
+            // is already tiny), the profile is integrated exactly in polar
+            // coordinates about x (`polar_weight`); otherwise it is split
+            // and each piece evaluated afresh, so a shadow edge stays sharp
+            // at the profile's core.
+            let even = side <= self.table.epsilon_mm
+                || node.bary.iter().all(|b| {
+                    let v = irradiance.at(root.tri as usize, *b);
+                    (0..3).all(|c| (v[c] - e[c]).abs() <= 0.02 * e[c].abs().max(1e-6))
+                });
+            if even {
+                if e != [0.0; 3] {
+                    let w = self.polar_weight(x, corners);
+                    for c in 0..3 {
+                        acc[c] += e[c] as f64 * w[c];
+                    }
+                }
                 return;
             }
-            if leaf && dist < side {
-                // A cell at or beside x: the profile integrated exactly in
-                // polar coordinates about x (see `polar_weight`).
-                let w = self.polar_weight(x, corners);
-                for c in 0..3 {
-                    acc[c] += e[c] as f64 * w[c];
-                }
+        } else if side <= self.table.leaf_mm(dist) {
+            if e == [0.0; 3] {
                 return;
             }
             let area = 0.5
                 * (corners[1] - corners[0])
                     .cross(corners[2] - corners[0])
                     .length() as f64;
-            let w = self.table.density(dist);
+            // The edge-midpoint rule, exact for quadratics on a triangle.
+            let mut w = [0.0f64; 3];
+            for k in 0..3 {
+                let m = 0.5 * (corners[k] + corners[(k + 1) % 3]);
+                let d = self.table.density((x - m).length() as f64);
+                for c in 0..3 {
+                    w[c] += d[c] as f64 / 3.0;
+                }
+            }
             for c in 0..3 {
-                acc[c] += e[c] as f64 * w[c] as f64 * area;
+                acc[c] += e[c] as f64 * w[c] * area * inside;
             }
             return;
         }
-        // Split at the edge midpoints into four.
-        let mb = [0, 1, 2].map(|k| 0.5 * (bary[k] + bary[(k + 1) % 3]));
-        let mc = [0, 1, 2].map(|k| 0.5 * (corners[k] + corners[(k + 1) % 3]));
-        let parts = [
-            ([bary[0], mb[0], mb[2]], [corners[0], mc[0], mc[2]]),
-            ([mb[0], bary[1], mb[1]], [mc[0], corners[1], mc[1]]),
-            ([mb[2], mb[1], bary[2]], [mc[2], mc[1], corners[2]]),
-            ([mb[0], mb[1], mb[2]], [mc[0], mc[1], mc[2]]),
-        ];
-        for (b, p) in parts {
-            self.integrate(x, tri, b, p, None, irradiance, acc);
+        let bary = split(node.bary);
+        let pieces = split(corners);
+        for k in 0..4 {
+            let child = Node {
+                bary: bary[k],
+                corners: pieces[k],
+                level: node.level + 1,
+                index: if node.level < root.levels {
+                    4 * node.index + k
+                } else {
+                    0
+                },
+            };
+            self.integrate(x, root, child, irradiance, acc);
         }
     }
 }
 
+/// A node of a root's quadtree during the gather.
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    bary: [Vec3; 3],
+    corners: [Vec3; 3],
+    level: u32,
+    index: usize,
+}
+
 impl Cloud {
-    /// ∫ ρ(‖x − y‖) dA over the triangle `corners`, with x projected onto
-    /// its plane: the signed sum over its edges (a, b) of the triangles
-    /// (x, a, b), each (1/2π) ∫ CDF(r(φ)) dφ over the angle it spans, since
-    /// ∫₀^r ρ(s) s ds = CDF(r)/2π. With φ running along the edge P(u) =
-    /// a + u(b − a), dφ = |(a − x) × (b − a)| / ‖P(u) − x‖² du; 8-point
-    /// Gauss–Legendre in u. Exact for the 1/r core and for a Dirac part,
-    /// and additive over cells, where a disk of equal area per cell is not
-    /// (a fan of thin cells around x, as at a sphere's pole, summed their
-    /// disks' √area and counted the core hundreds of times).
+    /// ∫ ρ(‖x − y‖) dA over the triangle `corners`. With x at height h
+    /// above the triangle's plane and x' its foot, ‖x − y‖² = r² + h² for
+    /// r = ‖x' − y‖, and ∫₀^R ρ(√(r² + h²)) r dr = (CDF(√(R² + h²)) −
+    /// CDF(h))/2π. The triangle is the signed sum over its edges (a, b) of
+    /// the triangles (x', a, b), each integrated over the angle φ it spans;
+    /// with φ running along the edge P(u) = a + u(b − a), dφ = |(a − x') ×
+    /// (b − a)| / ‖P(u) − x'‖² du; 8-point Gauss–Legendre in u. Exact for
+    /// the 1/r core, for a Dirac part (at h = 0) and for a cell behind x
+    /// (a slab's far face), and additive over cells, where a disk of equal
+    /// area per cell is not (a fan of thin cells around x, as at a
+    /// sphere's pole, summed their disks' √area and counted the core
+    /// hundreds of times).
     fn polar_weight(&self, x: Vec3, corners: [Vec3; 3]) -> [f64; 3] {
         let n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
         let n2 = n.length_squared();
         if n2 <= 0.0 {
             return [0.0; 3];
         }
-        let x = x - n * ((x - corners[0]).dot(n) / n2);
+        let along = (x - corners[0]).dot(n) / n2;
+        let h = (along.abs() * n2.sqrt()) as f64;
+        let cdf_h = if h > 0.0 { self.table.cdf(h) } else { [0.0; 3] };
+        let x = x - n * along;
         let (nodes, weights) = crate::model::quad::gl8();
         let mut w = [0.0f64; 3];
         for k in 0..3 {
             let (a, b) = (corners[k], corners[(k + 1) % 3]);
             let span = (a - x).cross(b - a);
             let sign = span.dot(n).signum() as f64;
-            let h = span.length() as f64;
-            if h <= 0.0 {
+            let span_len = span.length() as f64;
+            if span_len <= 0.0 {
                 continue;
             }
             for (t, q) in nodes.iter().zip(weights) {
                 // gl8 is on [−1, 1]: u = (t + 1)/2, du = dt/2.
                 let u = 0.5 * (t + 1.0);
                 let d = (a + (b - a) * u as f32 - x).length() as f64;
-                let cdf = self.table.cdf(d);
-                let dphi = 0.5 * q * h / (d * d).max(1e-300);
+                let cdf = self.table.cdf((d * d + h * h).sqrt());
+                let dphi = 0.5 * q * span_len / (d * d).max(1e-300);
                 for c in 0..3 {
-                    w[c] += sign * cdf[c] as f64 * dphi / (2.0 * std::f64::consts::PI);
+                    w[c] += sign * (cdf[c] - cdf_h[c]) as f64 * dphi / (2.0 * std::f64::consts::PI);
                 }
             }
         }
@@ -477,7 +592,7 @@ mod ground_truth_tests {
             t: &t,
             f: &f,
         };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, &profile, 0.5);
+        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
         let mut worst = [0.0f64; 3];
         for k in 0..=60 {
             let x = -3.0 + 0.1 * k as f64 + 0.013;
@@ -503,7 +618,7 @@ mod ground_truth_tests {
             t: &t,
             f: &f,
         };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, &profile, 0.5);
+        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
         for x in [Vec3::new(0.11, -0.27, 0.0), Vec3::new(1.3, 2.9, 0.0)] {
             let got = cloud.gather(x, &irr);
             eprintln!("uniform plane at {x}: {got:?}");
@@ -535,7 +650,7 @@ mod ground_truth_tests {
             t: &t,
             f: &f,
         };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, &profile, 0.5);
+        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
         let got = cloud.gather(Vec3::new(0.21, 0.34, 0.0), &irr);
         for (c, d) in [1.0f64, 0.5, 0.25].into_iter().enumerate() {
             let want = 0.25 * ((-1.0 / d).exp() + 3.0 * (-1.0 / (3.0 * d)).exp());
@@ -585,7 +700,7 @@ mod ground_truth_tests {
             t: &t,
             f: &f,
         };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, &profile, 0.5);
+        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
         let total = profile.total_reflectance();
         for theta0 in [0.0f64, 0.5 * std::f64::consts::PI, std::f64::consts::PI] {
             let x = Vec3::new((a * theta0.sin()) as f32, 0.0, (a * theta0.cos()) as f32);

@@ -16,8 +16,8 @@ pub const KERNEL_SURFACE_ALBEDO: [f32; 3] = [0.91058, 0.338275, 0.2718];
 #[derive(Debug, Clone)]
 pub struct ProfileInputs {
     pub samples: Vec<GpuSample>,
-    /// The dense stratified pattern of the `reference` method.
-    pub reference_samples: Vec<GpuSample>,
+    /// The profile as the ground truth (`reference`) integrates it.
+    pub ground_truth: std::sync::Arc<super::ground_truth::ProfileTable>,
     /// The short pattern the Burley LOD uses for 1–4 px disks.
     pub low_samples: Vec<GpuSample>,
     /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
@@ -107,40 +107,11 @@ impl ProfileInputs {
         let sampling = BurleySampling::default();
         let (gpu_samples, low_samples) = burley_patterns(profile, samples, sampling)?;
         let total = profile.total_reflectance();
-        let dom = crate::model::sampling::widest_channel(profile);
-        // w = R(ρ)/pdf with the planar area density pdf = R_dom(r)/A_dom.
-        let gpu_sample = |radius: f64, angle: f64| {
-            let rr = profile.r_reflectance(radius)[dom];
-            let inv_pdf = if rr > 0.0 {
-                total[dom] * radius / rr
-            } else {
-                0.0
-            };
-            GpuSample {
-                radius_mm: radius as f32,
-                angle: angle as f32,
-                inv_pdf: inv_pdf as f32,
-                pad: 0.0,
-            }
-        };
         let filter_radius_mm = profile
             .radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION)
             .into_iter()
             .fold(0.0, f64::max) as f32;
-        // Reference: rings at the quantiles (i + ½)/48, angles (j + ½·(i mod 2))/48.
-        const RINGS: usize = 48;
-        let reference_samples = (0..RINGS)
-            .flat_map(|i| {
-                let r = profile.inverse_cdf(dom, (i as f64 + 0.5) / RINGS as f64);
-                (0..RINGS).map(move |j| {
-                    (
-                        r,
-                        std::f64::consts::TAU * (j as f64 + 0.5 * (i % 2) as f64) / RINGS as f64,
-                    )
-                })
-            })
-            .map(|(r, a)| gpu_sample(r, a))
-            .collect();
+        let ground_truth = std::sync::Arc::new(super::ground_truth::ProfileTable::new(profile));
         let r_max = profile
             .radius_for_energy(0.999)
             .into_iter()
@@ -210,7 +181,7 @@ impl ProfileInputs {
             filter_radius_mm,
             scatters,
             samples: gpu_samples,
-            reference_samples,
+            ground_truth,
             transmittance,
             transmittance_range_mm,
             preintegrated_lut,
@@ -315,7 +286,7 @@ impl ProfileInputs {
         let mut h = std::collections::hash_map::DefaultHasher::new();
         let mut bytes = |b: &[u8]| b.hash(&mut h);
         bytes(bytemuck::cast_slice(&self.samples));
-        bytes(bytemuck::cast_slice(&self.reference_samples));
+        bytes(&self.ground_truth.fingerprint().to_le_bytes());
         bytes(bytemuck::cast_slice(&self.low_samples));
         bytes(bytemuck::cast_slice(&self.transmittance));
         bytes(bytemuck::cast_slice(&self.preintegrated_lut));

@@ -25,6 +25,7 @@ mod profile_gpu;
 pub mod readback;
 #[cfg(feature = "gpu")]
 pub mod renderer;
+pub mod scene_cpu;
 pub mod settings;
 #[cfg(feature = "gpu")]
 mod sss;

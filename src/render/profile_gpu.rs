@@ -16,15 +16,13 @@ pub(super) struct ProfileGpu {
     pub transmittance: wgpu::Buffer,
     /// Burley's main pattern followed by the LOD's short one.
     pub burley_samples: wgpu::Buffer,
-    pub reference_samples: wgpu::Buffer,
-    /// r·R_N(r) per channel (Burley and reference weights).
+    /// r·R_N(r) per channel (Burley's weights).
     pub profile_lut: wgpu::Buffer,
     pub separable_taps: wgpu::Buffer,
     /// One 13-tap buffer and RGB weight per Gaussian of `gaussians`.
     pub gaussians: Vec<(wgpu::Buffer, [f32; 3])>,
     pub burley_count: u32,
     pub low_count: u32,
-    pub reference_count: u32,
     pub tap_count: u32,
     pub gaussian_tap_count: u32,
     /// The widest channel's 0.997-energy radius (mm): the LOD's disk size.
@@ -87,10 +85,6 @@ impl ProfileGpu {
             ),
             transmittance: storage("transmittance", bytemuck::cast_slice(&inputs.transmittance)),
             burley_samples: storage("burley samples", bytemuck::cast_slice(&burley)),
-            reference_samples: storage(
-                "reference samples",
-                bytemuck::cast_slice(&inputs.reference_samples),
-            ),
             profile_lut: storage("profile lut", bytemuck::cast_slice(&inputs.lut)),
             separable_taps: storage("separable taps", bytemuck::cast_slice(&inputs.taps)),
             gaussians: inputs
@@ -106,7 +100,6 @@ impl ProfileGpu {
                 .collect(),
             burley_count: inputs.samples.len() as u32,
             low_count: inputs.low_samples.len() as u32,
-            reference_count: inputs.reference_samples.len() as u32,
             tap_count: inputs.taps.len() as u32,
             gaussian_tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
             filter_radius_mm: inputs.filter_radius_mm,

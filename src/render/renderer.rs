@@ -45,6 +45,7 @@ pub(super) struct Targets {
     /// albedo^post and coverage.
     pub albedo: wgpu::TextureView,
     pub linear_depth: wgpu::TextureView,
+    linear_depth_texture: wgpu::Texture,
     /// Depth buffer; its stencil marks the SSS pixels.
     depth_stencil: wgpu::TextureView,
     output: wgpu::Texture,
@@ -84,6 +85,8 @@ pub struct Renderer {
     shadow_pipeline: wgpu::RenderPipeline,
     shadow_bg: wgpu::BindGroup,
     shadow_map: wgpu::TextureView,
+    /// The shadow map's texture (read back by `reference`).
+    shadow_texture: wgpu::Texture,
     shadow_sampler: wgpu::Sampler,
     lut_sampler: wgpu::Sampler,
     surface_sampler: wgpu::Sampler,
@@ -101,6 +104,11 @@ pub struct Renderer {
     /// The light transform the shadow map was last drawn with: the map
     /// depends only on it and the mesh, so an unchanged light skips the pass.
     shadow_key: Option<([[f32; 4]; 4], usize)>,
+    /// The finest level of detail on the CPU, with its maps: the surface
+    /// the ground truth (`reference`) integrates over.
+    mesh: Mesh,
+    /// The ground truth's cloud, kept while only the view changes.
+    reference_cache: Option<sss::reference::Cache>,
 }
 
 impl Renderer {
@@ -219,23 +227,23 @@ impl Renderer {
                 classify_pipeline,
             }
         })?;
-        let shadow_map = device
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some("shadow map"),
-                size: wgpu::Extent3d {
-                    width: SHADOW_SIZE,
-                    height: SHADOW_SIZE,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Depth32Float,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-            .create_view(&Default::default());
+        let shadow_texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow map"),
+            size: wgpu::Extent3d {
+                width: SHADOW_SIZE,
+                height: SHADOW_SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Depth32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let shadow_map = shadow_texture.create_view(&Default::default());
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow pcf"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -292,6 +300,7 @@ impl Renderer {
             shadow_pipeline: built.shadow_pipeline,
             shadow_bg,
             shadow_map,
+            shadow_texture,
             shadow_sampler,
             lut_sampler,
             surface_sampler,
@@ -305,6 +314,11 @@ impl Renderer {
             targets: None,
             profile: None,
             shadow_key: None,
+            mesh: Mesh {
+                coarse: None,
+                ..mesh.clone()
+            },
+            reference_cache: None,
             ctx,
         })
     }
@@ -346,14 +360,24 @@ impl Renderer {
         };
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
         let mut hdr = |label| {
-            let t = make(label, HDR, rt | wgpu::TextureUsages::COPY_SRC);
+            // Copied out for readback and the reference; written by it.
+            let t = make(
+                label,
+                HDR,
+                rt | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
+            );
             let v = view(&t);
             (t, v)
         };
         let hdr = [hdr("diffuse"), hdr("sss ping"), hdr("sss pong")];
         let specular = view(&make("specular", self.ctx.specular_format, rt));
         let albedo = view(&make("albedo", ALBEDO, rt));
-        let linear_depth = view(&make("linear depth", self.ctx.linear_depth_format, rt));
+        let linear_depth_texture = make(
+            "linear depth",
+            self.ctx.linear_depth_format,
+            rt | wgpu::TextureUsages::COPY_SRC,
+        );
+        let linear_depth = view(&linear_depth_texture);
         let depth_stencil = view(&make(
             "depth stencil",
             DEPTH_STENCIL,
@@ -370,6 +394,7 @@ impl Renderer {
             specular,
             albedo,
             linear_depth,
+            linear_depth_texture,
             depth_stencil,
             output,
             bytes,
@@ -384,6 +409,8 @@ impl Renderer {
         self.surface_maps = views;
         self.surface_modes = modes;
         self.profile = None;
+        self.mesh.textures = std::sync::Arc::new(maps.clone());
+        self.reference_cache = None;
         Ok(())
     }
 
@@ -682,7 +709,12 @@ impl Renderer {
         let device = &ctx.device;
         let scene_u = self.scene_uniforms(inputs, s);
         let light_clip = scene_u.light_clip_from_world;
-        let lod_index = self.pick_lod(s);
+        // The ground truth integrates the finest surface: draw that one.
+        let lod_index = if s.method == Method::Reference {
+            0
+        } else {
+            self.pick_lod(s)
+        };
         let lod = &self.lods[lod_index];
         let shadow_cached = self.shadow_key == Some((light_clip, lod_index));
         ctx.queue
@@ -777,6 +809,31 @@ impl Renderer {
             lod: s.lod,
             rotate_separable: s.separable_rotation && !s.deterministic,
         };
+        let mut reference_cpu_ms = None;
+        if method == Method::Reference {
+            let (_, view, ..) = self.camera_and_light(s);
+            let io = sss::reference::Io {
+                diffuse: t.texture(HdrTarget::Diffuse),
+                linear_depth: &t.linear_depth_texture,
+                linear_depth_format: ctx.linear_depth_format,
+                shadow_map: &self.shadow_texture,
+                shadow_size: SHADOW_SIZE,
+                ping: t.texture(HdrTarget::Ping),
+            };
+            // The scene pass must be on the GPU before it is read back.
+            ctx.queue.submit([f.take().finish()]);
+            let timing = sss::reference::scatter(
+                ctx,
+                &self.mesh,
+                &io,
+                &scene_u,
+                view,
+                s,
+                inputs,
+                &mut self.reference_cache,
+            )?;
+            reference_cpu_ms = Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms);
+        }
         let scattered = sss::encode(method, &mut f, &self.sss, &io);
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
@@ -871,6 +928,7 @@ impl Renderer {
             sss_samples,
             lod_skipped_pixels,
             sss_gpu_ms,
+            reference_cpu_ms,
             profile_uploaded: false,
             target_bytes: t.bytes,
             triangles: lod.index_count as u64 / 3,

@@ -261,6 +261,10 @@ pub struct FrameStats {
     /// adapter has them (on lavapipe the "GPU" is the CPU); `None` when no
     /// SSS pass ran.
     pub sss_gpu_ms: Option<f64>,
+    /// `reference`: CPU wall time of the ground truth (ms): building its
+    /// irradiance cloud (only when the light, look or profile changed) and
+    /// the gather over the SSS pixels.
+    pub reference_cpu_ms: Option<f64>,
     /// Whether this frame uploaded the profile's tables, patterns and
     /// kernels (false while the profile is unchanged).
     pub profile_uploaded: bool,

@@ -1,8 +1,9 @@
 //! `burley` (Golubev 2018, `shaders/sss_burley.wgsl`): one pass over an
 //! importance-sampled disk with per-pixel rotation, energy-normalised
-//! bilateral weights on the Euclidean distance and a discrete LOD.
-//! `reference` runs the same shader with a dense stratified pattern and
-//! no LOD: the brute-force convolution the error views compare against.
+//! bilateral weights on the Euclidean distance and a discrete LOD. At a
+//! high count (`--samples 2304`) it is the converged screen-space Burley
+//! the sample-count studies compare against; the ground truth is
+//! `reference` (`sss/reference.rs`), which shares none of this.
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
@@ -12,31 +13,21 @@ pub(in crate::render) fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
-    reference: bool,
 ) -> Scattered {
     let gpu = io.profile;
-    let (samples, n, label) = if reference {
-        (&gpu.reference_samples, gpu.reference_count, "sss reference")
-    } else {
-        (&gpu.burley_samples, gpu.burley_count, "sss burley")
-    };
+    let (samples, n, label) = (&gpu.burley_samples, gpu.burley_count, "sss burley");
     let u = f.uniform(
         "sss uniforms",
         bytemuck::bytes_of(&io.uniforms(n as f32, [0.0; 4])),
     );
-    let use_lod = io.lod && !reference;
+    let use_lod = io.lod;
     let lod = f.uniform(
         "lod",
         bytemuck::cast_slice(&[
             gpu.low_count as f32,
             gpu.filter_radius_mm,
             if use_lod { 1.0 } else { 0.0 },
-            // The reference keeps its plain stratified grid.
-            if reference {
-                0.0
-            } else {
-                gpu.burley_flags as f32
-            },
+            gpu.burley_flags as f32,
         ]),
     );
     let t = io.targets;

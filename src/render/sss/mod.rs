@@ -1,11 +1,12 @@
-//! The screen-space SSS methods, one file each: `burley` (with the
-//! `reference` convolution, which shares its shader), `separable` and
-//! `gaussians`. `none` and `preintegrated` have no pass of their own: they
+//! The screen-space SSS methods, one file each: `burley`, `separable` and
+//! `gaussians`, and the ground truth they are judged against,
+//! `reference` (object space, on the CPU). `none` and `preintegrated` have no pass of their own: they
 //! are lit in the scene pass (`shaders/scene.wgsl`; see `preintegrated.rs`).
 
 pub(super) mod burley;
 pub(super) mod gaussians;
 pub(super) mod preintegrated;
+pub(super) mod reference;
 pub(super) mod separable;
 
 use super::frame::FrameEncoder;
@@ -133,8 +134,14 @@ pub(super) fn encode(
             samples_per_pixel: 0,
             counted_pass: None,
         },
-        Method::Burley => burley::encode(f, p, io, false),
-        Method::Reference => burley::encode(f, p, io, true),
+        Method::Burley => burley::encode(f, p, io),
+        // The ground truth, computed on the CPU into the ping target before
+        // this frame's composite (`reference.rs`).
+        Method::Reference => Scattered {
+            target: HdrTarget::Ping,
+            samples_per_pixel: 0,
+            counted_pass: None,
+        },
         Method::Separable => separable::encode(f, p, io),
         Method::Gaussians => gaussians::encode(f, p, io),
     }
