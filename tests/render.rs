@@ -493,8 +493,9 @@ fn sss_changes_only_masked_pixels() {
         height: 160,
         method,
         deterministic: true,
-        // Close enough that the eyes cover pixels.
-        camera_distance_m: 0.3,
+        // Close enough that the eyes cover pixels, and that every method
+        // draws the finest level of detail (`reference` always does).
+        camera_distance_m: 0.2,
         ..Default::default()
     };
     let (base, mask, _) = r.render_with_diffuse(&inp, &s(Method::None)).unwrap();

@@ -127,8 +127,12 @@ fn separable_pass_follows_the_strip_cdf_across_an_edge() {
     );
 }
 
-/// The reference method (2304 stratified samples, no rotation) is the
-/// tightest: within 0.01 of the exact edge profile.
+/// The ground truth (`reference`: the profile integrated over the mesh in
+/// object space on the CPU, render::ground_truth) through the whole frame:
+/// scene pass, read-back depth and shadow map, CPU twin of the lighting,
+/// gather, composite. Across the step it follows the strip CDF Φ(x) (Ki₁
+/// closed form for Burley) within 0.003 (fp16 targets; its CPU test on
+/// the same edge is within 0.002), the tightest of all methods.
 #[test]
 fn reference_pass_follows_the_strip_cdf_across_an_edge() {
     let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
@@ -137,11 +141,12 @@ fn reference_pass_follows_the_strip_cdf_across_an_edge() {
     let (_, diffuse, stats) = r
         .render_with_diffuse(&inputs, &settings(Method::Reference))
         .unwrap();
-    assert_eq!(stats.samples_per_sss_pixel, 48 * 48);
+    assert_eq!(stats.samples_per_sss_pixel, 0);
+    assert!(stats.reference_cpu_ms.is_some_and(|ms| ms > 0.0));
     let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("reference worst deviation per channel: {worst:?}");
     assert!(
-        worst.iter().all(|w| *w < 0.01),
+        worst.iter().all(|w| *w < 0.003),
         "worst deviation per channel {worst:?}"
     );
 }
@@ -295,7 +300,9 @@ fn burley_converges_to_reference_as_samples_grow() {
 /// issue's closed form, typed here; ∫2πr R(√(r²+t²)) dr of Burley 2015
 /// eq. 2). In the renderer's units (light π, before the albedo) that is
 /// T(t)/A: 0.6294, 0.4189, 0.2023 for d = 1, 0.5, 0.25 mm. Thin mode
-/// (the default) used to look up the slab's own shadow and gave ~0.
+/// (the default) used to look up the slab's own shadow and gave ~0. The
+/// ground truth (`reference`, transmission off) must give the same from
+/// the lit back face alone.
 #[test]
 fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
     use scatterlab::render::Transmission;
@@ -331,14 +338,17 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
     let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
     let expected = [1.0f64, 0.5, 0.25]
         .map(|d| 0.25 * ((-t as f64 / d).exp() + 3.0 * (-t as f64 / (3.0 * d)).exp()));
-    for (mode, name) in [
-        (Transmission::ThickObject, "thick"),
-        (Transmission::ThinObject, "thin"),
+    // The ground truth gets no transmission term: the back face's light
+    // reaches the front through the profile integrated in 3D.
+    for (mode, method, name) in [
+        (Transmission::ThickObject, Method::None, "thick"),
+        (Transmission::ThinObject, Method::None, "thin"),
+        (Transmission::Off, Method::Reference, "ground truth"),
     ] {
         let s = RenderSettings {
             width: 64,
             height: 64,
-            method: Method::None,
+            method,
             texturing: TexturingMode::PostScatter,
             camera_yaw: 0.0,
             camera_pitch: 0.0,
@@ -353,7 +363,7 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
             ..Default::default()
         };
         let (_, d, _) = r.render_with_diffuse(&inputs, &s).unwrap();
-        // The middle 16×16 pixels (about 8 mm of the slab's front face).
+        // The middle 16×16 pixels (about 5 mm of the slab's front face).
         let mut got = [0.0f64; 3];
         for y in 24..40 {
             for x in 24..40 {
@@ -371,5 +381,74 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
                 expected[c]
             );
         }
+    }
+}
+
+/// The ground truth's CPU twin of the scene pass (render::scene_cpu)
+/// against the scene pass itself on the default head: with a profile of
+/// d = 0.03 mm the ground truth is the irradiance at each pixel's own
+/// surface point (its 0.999 radius, 0.6 mm, is under a pixel's 2.4 mm;
+/// at d = 1 µm the f32 depth reconstruction's ~0.1 µm off the surface
+/// already hides 5 % of the profile), so
+/// `reference` and `none` must agree pixel by pixel wherever the light,
+/// its PCF shadow, the environment, the normal map and albedo^pre of the
+/// twin match the shader's. The GPU filters the maps with mip levels from
+/// the screen footprint and the CPU reads level 0, so single pixels
+/// differ; the bounds are on the mean, the 90th percentile and the sum.
+#[test]
+fn scene_twin_matches_the_scene_pass() {
+    use scatterlab::render::TexturingMode;
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &Mesh::default_head().unwrap()).unwrap();
+    let profile = Burley::from_scattering_distance([0.8; 3], [0.03; 3]).unwrap();
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    for (texturing, detail) in [
+        (TexturingMode::PreAndPostScatter, 0.0),
+        (TexturingMode::PostScatter, 1.0),
+    ] {
+        let s = |method| RenderSettings {
+            width: 128,
+            height: 128,
+            method,
+            texturing,
+            detail_normal_strength: detail,
+            light_azimuth: 0.8,
+            light_elevation: 0.4,
+            deterministic: true,
+            ..Default::default()
+        };
+        let (_, gpu, _) = r.render_with_diffuse(&inputs, &s(Method::None)).unwrap();
+        let (_, cpu, _) = r
+            .render_with_diffuse(&inputs, &s(Method::Reference))
+            .unwrap();
+        let mut rel: Vec<f64> = Vec::new();
+        let (mut sum_g, mut sum_c) = (0.0f64, 0.0f64);
+        for (g, c) in gpu.iter().zip(&cpu) {
+            if g[3] <= 1.0 / 255.0 || c[3] <= 1.0 / 255.0 {
+                continue;
+            }
+            let (lg, lc) = ((g[0] + g[1] + g[2]) as f64, (c[0] + c[1] + c[2]) as f64);
+            rel.push((lc - lg).abs() / lg.max(0.05));
+            sum_g += lg;
+            sum_c += lc;
+        }
+        rel.sort_by(f64::total_cmp);
+        let mean = rel.iter().sum::<f64>() / rel.len() as f64;
+        let p90 = rel[rel.len() * 9 / 10];
+        eprintln!(
+            "{texturing:?} detail {detail}: {} SSS pixels, mean |Δ|/L {mean:.4}, 90th percentile {p90:.4}, ΣCPU/ΣGPU {:.4}",
+            rel.len(),
+            sum_c / sum_g
+        );
+        assert!(rel.len() > 3000, "{} SSS pixels", rel.len());
+        // Measured on lavapipe: mean 0.027–0.030, p90 0.049–0.057, sums
+        // within 0.7 % (the 0.1 % truncation, shadow edges and silhouettes,
+        // where the twin's 0.6 mm disk averages what a pixel point-samples).
+        assert!(mean < 0.04 && p90 < 0.07, "mean {mean:.4}, p90 {p90:.4}");
+        assert!(
+            (sum_c / sum_g - 1.0).abs() < 0.02,
+            "ΣCPU/ΣGPU {}",
+            sum_c / sum_g
+        );
     }
 }

@@ -218,6 +218,8 @@ struct Root {
 /// The irradiance samples over a mesh's SSS surface and the profile.
 pub struct Cloud {
     roots: Vec<Root>,
+    /// Each root's bucket range (lowest and highest bucket of its box).
+    boxes: Vec<([i32; 3], [i32; 3])>,
     node_e: Vec<[f32; 3]>,
     buckets: HashMap<[i32; 3], Vec<u32>>,
     bucket_mm: f64,
@@ -296,24 +298,31 @@ impl Cloud {
             .collect();
         let mut roots = Vec::with_capacity(trees.len());
         let mut node_e = Vec::new();
-        let mut widest = 0.0f64;
         for (mut root, nodes) in trees {
             root.offset = node_e.len() as u32;
             node_e.extend(nodes);
-            widest = widest.max(longest_side(&root.corners));
             roots.push(root);
         }
+        // Each root goes into every bucket its bounding box touches; a query
+        // visits a root once, from the first bucket it shares with it.
         let bucket_mm = (0.5 * table.r_max_mm).max(spacing_mm);
         let mut buckets: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
+        let mut boxes = Vec::with_capacity(roots.len());
         for (i, r) in roots.iter().enumerate() {
-            let centre = (r.corners[0] + r.corners[1] + r.corners[2]) / 3.0;
-            buckets
-                .entry(bucket_of(centre, bucket_mm))
-                .or_default()
-                .push(i as u32);
+            let lo = bucket_of(r.corners[0].min(r.corners[1]).min(r.corners[2]), bucket_mm);
+            let hi = bucket_of(r.corners[0].max(r.corners[1]).max(r.corners[2]), bucket_mm);
+            for bx in lo[0]..=hi[0] {
+                for by in lo[1]..=hi[1] {
+                    for bz in lo[2]..=hi[2] {
+                        buckets.entry([bx, by, bz]).or_default().push(i as u32);
+                    }
+                }
+            }
+            boxes.push((lo, hi));
         }
         Self {
-            reach_mm: table.r_max_mm + widest,
+            boxes,
+            reach_mm: table.r_max_mm,
             roots,
             node_e,
             buckets,
@@ -350,6 +359,13 @@ impl Cloud {
                         continue;
                     };
                     for &i in list {
+                        // Visit the root from the first bucket of the
+                        // query's range that holds it.
+                        let (blo, _) = self.boxes[i as usize];
+                        let first = [0, 1, 2].map(|k| blo[k].max(lo[k]));
+                        if first != [bx, by, bz] {
+                            continue;
+                        }
                         let r = &self.roots[i as usize];
                         let node = Node {
                             bary: [Vec3::X, Vec3::Y, Vec3::Z],
@@ -394,7 +410,10 @@ impl Cloud {
         // Truncate at r_max: a piece across it counts with the fraction of
         // its extent inside (the density there is the profile's last
         // 0.1 %, so this costs nothing measurable).
-        let inside = ((self.table.r_max_mm - (dist - 0.5 * side)) / side).clamp(0.0, 1.0);
+        // (Every point of a triangle lies within 0.58 of its longest side
+        // of its centroid.)
+        let reach = 0.58 * side;
+        let inside = ((self.table.r_max_mm - (dist - reach)) / (2.0 * reach)).clamp(0.0, 1.0);
         if inside <= 0.0 {
             return;
         }
