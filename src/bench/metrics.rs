@@ -9,6 +9,32 @@ pub fn sss_mask(diffuse: &[[f32; 4]]) -> Vec<bool> {
     diffuse.iter().map(|p| p[3] > 1.0 / 255.0).collect()
 }
 
+/// The SSS pixels at least `margin` pixels (Chebyshev) from every pixel
+/// that is not SSS (background, eyes, brows, the image border): away from
+/// the mask edges and silhouettes, where the screen-space methods
+/// renormalise their weights over the SSS pixels they see and the ground
+/// truth does not.
+pub fn interior(mask: &[bool], width: usize, margin: usize) -> Vec<bool> {
+    let height = mask.len() / width.max(1);
+    let m = margin as isize;
+    (0..mask.len())
+        .map(|i| {
+            let (x, y) = ((i % width) as isize, (i / width) as isize);
+            mask[i]
+                && (-m..=m).all(|dy| {
+                    (-m..=m).all(|dx| {
+                        let (u, v) = (x + dx, y + dy);
+                        u >= 0
+                            && v >= 0
+                            && (u as usize) < width
+                            && (v as usize) < height
+                            && mask[v as usize * width + u as usize]
+                    })
+                })
+        })
+        .collect()
+}
+
 /// √(Σ|a − r|²) / √(Σ|r|²) over the masked pixels' RGB; 0 with no pixel.
 pub fn relative_rmse(actual: &[[f32; 4]], reference: &[[f32; 4]], mask: &[bool]) -> f64 {
     let (mut num, mut den) = (0.0f64, 0.0f64);
@@ -56,6 +82,16 @@ pub fn masked_mean(values: &[f32], mask: &[bool]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 5×5 all-SSS image with margin 1: its 3×3 middle; a hole at the
+    /// centre removes the whole middle (every pixel of it touches it).
+    #[test]
+    fn interior_by_hand() {
+        let mut mask = vec![true; 25];
+        assert_eq!(interior(&mask, 5, 1).iter().filter(|m| **m).count(), 9);
+        mask[12] = false;
+        assert_eq!(interior(&mask, 5, 1).iter().filter(|m| **m).count(), 0);
+    }
 
     #[test]
     fn relative_rmse_by_hand() {

@@ -45,6 +45,9 @@ pub struct Row {
     /// The `none` frame of the same scene in the same run (ms).
     pub none_frame_ms: f64,
     pub rel_rmse: f64,
+    /// Relative RMSE over the SSS pixels at least [`INTERIOR_MARGIN_PX`]
+    /// from a mask edge or silhouette (`metrics::interior`).
+    pub rel_rmse_interior: f64,
     /// Mean FLIP over SSS pixels and over the whole image.
     pub flip_sss: f64,
     pub flip_image: f64,
@@ -60,6 +63,9 @@ impl Row {
         self.frame_ms / self.none_frame_ms
     }
 }
+
+/// Margin (px) of the interior error.
+pub const INTERIOR_MARGIN_PX: usize = 3;
 
 /// Frame sizes and repeats of a run.
 #[derive(Debug, Clone, Copy)]
@@ -238,6 +244,7 @@ pub fn bench_scene(
         }
     };
     let mask = metrics::sss_mask(&reference.diffuse);
+    let inner = metrics::interior(&mask, scene.settings.width as usize, INTERIOR_MARGIN_PX);
     let row = |c: Config, m: &Measured| {
         let flip = metrics::flip_map(&reference.image, &m.image);
         Row {
@@ -251,6 +258,7 @@ pub fn bench_scene(
             frame_ms: m.frame_ms,
             none_frame_ms: 0.0,
             rel_rmse: metrics::relative_rmse(&m.diffuse, &reference.diffuse, &mask),
+            rel_rmse_interior: metrics::relative_rmse(&m.diffuse, &reference.diffuse, &inner),
             flip_sss: metrics::masked_mean(&flip, &mask),
             flip_image: metrics::masked_mean(&flip, &vec![true; flip.len()]),
             timing: m.timing,

@@ -40,6 +40,8 @@ pub fn plane_settings(size: (u32, u32), pattern: IrradiancePattern) -> RenderSet
         pattern,
         light_intensity: std::f32::consts::PI,
         transmission: Transmission::Off,
+        // Every method on the surface the ground truth integrates.
+        mesh_lod: false,
         ..RenderSettings::default()
     }
 }
@@ -52,6 +54,8 @@ fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> R
         camera_distance_m: distance_m,
         light_azimuth: light.0.to_radians(),
         light_elevation: light.1.to_radians(),
+        // Every method on the surface the ground truth integrates.
+        mesh_lod: false,
         ..RenderSettings::default()
     }
 }

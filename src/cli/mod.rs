@@ -203,7 +203,8 @@ pub struct ViewArgs {
     /// the mesh's height fills the view (0.574 m for the default head).
     #[arg(long, value_name = "M")]
     pub camera_distance: Option<f32>,
-    /// Turn off Burley's discrete LOD.
+    /// Turn off the levels of detail: Burley's discrete LOD and the mesh's
+    /// coarse level (always the finest mesh, as `reference` draws).
     #[arg(long)]
     pub no_lod: bool,
     /// Render this mesh (OBJ, glTF .gltf or .glb) instead of the default
@@ -947,6 +948,7 @@ fn render(
             .camera_distance
             .unwrap_or_else(|| mesh.framing_distance_m(RenderSettings::default().fov_y)),
         lod: !view.no_lod,
+        mesh_lod: !view.no_lod,
         light_azimuth: view.light_azimuth.to_radians(),
         light_elevation: view.light_elevation.to_radians(),
         transmission: match view.transmission {

@@ -710,7 +710,7 @@ impl Renderer {
         let scene_u = self.scene_uniforms(inputs, s);
         let light_clip = scene_u.light_clip_from_world;
         // The ground truth integrates the finest surface: draw that one.
-        let lod_index = if s.method == Method::Reference {
+        let lod_index = if s.method == Method::Reference || !s.mesh_lod {
             0
         } else {
             self.pick_lod(s)

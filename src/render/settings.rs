@@ -149,6 +149,10 @@ pub struct RenderSettings {
     pub transmission_tint: [f32; 3],
     /// Burley's discrete LOD (no convolution under 1 px, short pattern under 4 px).
     pub lod: bool,
+    /// Draw the mesh's coarse level of detail when its edges are under
+    /// 10 px; false always draws the finest (as `reference` does, so that
+    /// `bench` compares every method on the same surface).
+    pub mesh_lod: bool,
     pub specular: Specular,
     /// Specular reflectance at normal incidence (from the IOR).
     pub specular_f0: f32,
@@ -224,6 +228,7 @@ impl Default for RenderSettings {
             transmission: Transmission::ThinObject,
             transmission_tint: [1.0, 1.0, 1.0],
             lod: true,
+            mesh_lod: true,
             // Unreal's SubsurfaceProfile defaults: Roughness0 0.75 and
             // Roughness1 1.30 as multipliers of a material roughness of
             // 0.55, LobeMix 0.85 (settings::rendering::DualLobeSpec).
