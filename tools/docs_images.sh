@@ -49,4 +49,27 @@ for p in skin_default ketchup_jensen2001 marble_jensen2001 skin_jimenez2012_demo
 done
 montage -label '%t' -font DejaVu-Sans -pointsize 14 "$tmp"/look_*.png \
   -tile 4x1 -geometry +4+4 -background '#202428' -fill white "$out/looks.png"
-echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none,head_front,head_eyes_closeup,looks}.png"
+# Every method beside the ground truth (`reference`, object space) and its
+# |method − ground truth| on one scale: the front-lit head, and the
+# back-lit ear with thin transmission and with transmission off. All on the
+# finest mesh (--no-lod), as the ground truth integrates it.
+views=(
+  "front|--light-azimuth 50 --light-elevation 25"
+  "ear_thin|--camera-yaw 65 --camera-distance 0.4 --light-azimuth 200 --light-elevation 10 --transmission thin"
+  "ear_off|--camera-yaw 65 --camera-distance 0.4 --light-azimuth 200 --light-elevation 10 --transmission off"
+)
+for v in "${views[@]}"; do
+  name=${v%%|*}
+  read -r -a args <<<"${v#*|}"
+  r --method reference --no-lod "${args[@]}" --width 256 --height 256 --out "$tmp/gt_$name.png"
+  for m in none preintegrated separable gaussians burley; do
+    r --method "$m" --no-lod "${args[@]}" --width 256 --height 256 --out "$tmp/${m}_$name.png"
+    r --method "$m" --compare reference --diff --diff-scale 0.1 --no-lod "${args[@]}" \
+      --width 256 --height 256 --out "$tmp/${m}_${name}_diff.png"
+  done
+  montage -label '%t' -font DejaVu-Sans -pointsize 14 \
+    "$tmp/gt_$name.png" "$tmp"/{none,preintegrated,separable,gaussians,burley}_"$name".png \
+    null: "$tmp"/{none,preintegrated,separable,gaussians,burley}_"${name}"_diff.png \
+    -tile 6x2 -geometry +3+3 -background '#202428' -fill white "$out/ground_truth_$name.png"
+done
+echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none,head_front,head_eyes_closeup,looks,ground_truth_front,ground_truth_ear_thin,ground_truth_ear_off}.png"

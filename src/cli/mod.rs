@@ -119,6 +119,11 @@ pub enum Command {
         /// (against `reference` when no --compare is given).
         #[arg(long)]
         diff: bool,
+        /// With --diff: the |ΔL| (linear luminance) at the top of the colour
+        /// bar, so that several heat maps share one scale; default: the
+        /// frame's largest difference.
+        #[arg(long, value_name = "ΔL")]
+        diff_scale: Option<f32>,
     },
     /// Write a preset for an engine or tool. Files are written atomically;
     /// formats with comments or metadata record the scatterlab version and
@@ -565,6 +570,7 @@ pub fn run(cli: Cli) -> Result<()> {
             compare,
             split,
             diff,
+            diff_scale,
         } => render(
             &model,
             method,
@@ -574,7 +580,7 @@ pub fn run(cli: Cli) -> Result<()> {
             &out,
             stats.as_deref(),
             &view,
-            (compare, split, diff),
+            (compare, split, diff, diff_scale),
         ),
         Command::Convert {
             model,
@@ -891,7 +897,7 @@ fn render(
     out: &std::path::Path,
     stats_path: Option<&std::path::Path>,
     view: &ViewArgs,
-    (compare, split, diff): (Option<MethodArg>, f32, bool),
+    (compare, split, diff, fixed_scale): (Option<MethodArg>, f32, bool, Option<f32>),
 ) -> Result<()> {
     use crate::render::{
         GpuContext, ProfileInputs, RenderSettings, Renderer, TexturingMode, Transmission,
@@ -984,7 +990,10 @@ fn render(
         };
         let (b, _) = renderer.render(&inputs, &b_settings)?;
         if diff {
-            let (d, scale) = crate::render::compare::difference_view(&image, &b, None);
+            if let Some(v) = fixed_scale {
+                crate::model::check_range("diff_scale", v as f64, 1e-6, 1e6, "")?;
+            }
+            let (d, scale) = crate::render::compare::difference_view(&image, &b, fixed_scale);
             image = d;
             diff_scale = Some(scale);
         } else {
