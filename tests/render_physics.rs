@@ -143,6 +143,13 @@ fn reference_pass_follows_the_strip_cdf_across_an_edge() {
         .unwrap();
     assert_eq!(stats.samples_per_sss_pixel, 0);
     assert!(stats.reference_cpu_ms.is_some_and(|ms| ms > 0.0));
+    // The same view again is the cached frame: the same texels, no gather.
+    let (_, again, stats2) = r
+        .render_with_diffuse(&inputs, &settings(Method::Reference))
+        .unwrap();
+    assert_eq!(again, diffuse);
+    // (No cloud build and no gather: the recorded CPU time is exactly 0.)
+    assert_eq!(stats2.reference_cpu_ms, Some(0.0));
     let worst = worst_edge_deviation(&profile, &diffuse);
     eprintln!("reference worst deviation per channel: {worst:?}");
     assert!(

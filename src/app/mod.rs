@@ -1072,6 +1072,26 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         }
+        if let (Some(_), Some((phase, done))) = (busy, crate::render::ground_truth::progress()) {
+            // `reference` is the ground truth, computed on the CPU on the
+            // render thread: tens of seconds for a full viewport.
+            let text = if phase == 1 {
+                "ground truth: irradiance over the surface …"
+            } else {
+                "ground truth: integrating each pixel …"
+            };
+            let bar = egui::ProgressBar::new(done)
+                .text(format!("{text} {:.0} %", 100.0 * done))
+                .desired_width(rect.width().min(360.0) - 16.0);
+            // Above the "rendering … s" line.
+            let area = egui::Rect::from_min_size(
+                rect.left_bottom() + egui::vec2(8.0, -64.0),
+                egui::vec2(rect.width().min(360.0) - 16.0, 24.0),
+            );
+            ui.put(area, bar);
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
             (_, Some(s)) if s > 0.3 || self.texture.is_none() => {

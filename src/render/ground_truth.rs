@@ -174,6 +174,43 @@ impl ProfileTable {
     }
 }
 
+/// The ground truth's progress in this process: [triangles or points done,
+/// in all, phase] with phase 1 while the irradiance cloud is built and 2
+/// while the gather runs, 0 when idle (for the editor's progress bar).
+pub static PROGRESS: [std::sync::atomic::AtomicU32; 3] = [
+    std::sync::atomic::AtomicU32::new(0),
+    std::sync::atomic::AtomicU32::new(0),
+    std::sync::atomic::AtomicU32::new(0),
+];
+
+/// (phase, fraction done) of the ground truth running now, if any.
+pub fn progress() -> Option<(u32, f32)> {
+    use std::sync::atomic::Ordering;
+    let phase = PROGRESS[2].load(Ordering::Relaxed);
+    let total = PROGRESS[1].load(Ordering::Relaxed);
+    (phase > 0 && total > 0).then(|| {
+        (
+            phase,
+            (PROGRESS[0].load(Ordering::Relaxed) as f32 / total as f32).min(1.0),
+        )
+    })
+}
+
+fn start(phase: u32, total: usize) {
+    use std::sync::atomic::Ordering;
+    PROGRESS[0].store(0, Ordering::Relaxed);
+    PROGRESS[1].store(total.min(u32::MAX as usize) as u32, Ordering::Relaxed);
+    PROGRESS[2].store(phase, Ordering::Relaxed);
+}
+
+fn step() {
+    PROGRESS[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+}
+
+fn finish() {
+    PROGRESS[2].store(0, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// What the SSS methods blur, at a point of an SSS triangle: the scene
 /// pass's diffuse target (irradiance/π × albedo^pre × mask), linear RGB.
 pub trait SurfaceIrradiance: Sync {
@@ -245,9 +282,11 @@ impl Cloud {
         table: ProfileTable,
         spacing_mm: f64,
     ) -> Self {
+        start(1, triangles.len());
         let trees: Vec<(Root, Vec<[f32; 3]>)> = triangles
             .par_iter()
             .enumerate()
+            .inspect(|_| step())
             .filter(|(t, _)| include(*t))
             .map(|(t, tri)| {
                 let corners = tri.map(|i| positions_mm[i as usize]);
@@ -296,6 +335,7 @@ impl Cloud {
                 )
             })
             .collect();
+        finish();
         let mut roots = Vec::with_capacity(trees.len());
         let mut node_e = Vec::new();
         for (mut root, nodes) in trees {
@@ -387,10 +427,16 @@ impl Cloud {
         points_mm: &[Vec3],
         irradiance: &dyn SurfaceIrradiance,
     ) -> Vec<[f32; 3]> {
-        points_mm
+        start(2, points_mm.len());
+        let out = points_mm
             .par_iter()
-            .map(|&x| self.gather(x, irradiance))
-            .collect()
+            .map(|&x| {
+                step();
+                self.gather(x, irradiance)
+            })
+            .collect();
+        finish();
+        out
     }
 
     /// Adds the integral of ρ(‖x − y‖)·E(y) over one quadtree node (or,

@@ -28,6 +28,10 @@ pub(in crate::render) struct Cache {
     key: u64,
     cloud: Arc<Cloud>,
     shadow: Arc<ShadowMap>,
+    /// The last frame's ping texels and what they were for (cloud, view,
+    /// size): showing the same view again (A/B toggles, compare modes)
+    /// costs nothing.
+    frame: Option<(u64, Vec<u8>)>,
 }
 
 /// What the ground truth cost (CPU wall time, ms).
@@ -151,11 +155,29 @@ pub(in crate::render) fn scatter(
             key: k,
             cloud: Arc::new(cloud),
             shadow,
+            frame: None,
         });
     }
-    let Some(c) = cache.as_ref() else {
+    let Some(c) = cache.as_mut() else {
         return Err(GpuError::Readback("ground truth cache".into()));
     };
+    let frame_key = {
+        use std::hash::{Hash, Hasher};
+        let mut hs = std::collections::hash_map::DefaultHasher::new();
+        k.hash(&mut hs);
+        bytemuck::bytes_of(scene).hash(&mut hs);
+        (w, h, s.fov_y.to_bits()).hash(&mut hs);
+        hs.finish()
+    };
+    if let Some((key, bytes)) = &c.frame {
+        if *key == frame_key {
+            write_ping(ctx, io.ping, bytes, w, h);
+            return Ok(Timing {
+                build_ms,
+                gather_ms: 0.0,
+            });
+        }
+    }
     // Each SSS pixel's point on the surface, from its linear view depth.
     let t0 = Instant::now();
     let world_from_view = view.inverse();
@@ -199,14 +221,23 @@ pub(in crate::render) fn scatter(
             out[8 * i + 2 * k + 1] = b[1];
         }
     }
+    write_ping(ctx, io.ping, &out, w, h);
+    c.frame = Some((frame_key, out));
+    Ok(Timing {
+        build_ms,
+        gather_ms,
+    })
+}
+
+fn write_ping(ctx: &GpuContext, ping: &wgpu::Texture, texels: &[u8], w: u32, h: u32) {
     ctx.queue.write_texture(
         wgpu::TexelCopyTextureInfo {
-            texture: io.ping,
+            texture: ping,
             mip_level: 0,
             origin: wgpu::Origin3d::ZERO,
             aspect: wgpu::TextureAspect::All,
         },
-        &out,
+        texels,
         wgpu::TexelCopyBufferLayout {
             offset: 0,
             bytes_per_row: Some(8 * w),
@@ -218,8 +249,4 @@ pub(in crate::render) fn scatter(
             depth_or_array_layers: 1,
         },
     );
-    Ok(Timing {
-        build_ms,
-        gather_ms,
-    })
 }
