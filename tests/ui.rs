@@ -220,25 +220,8 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
     })
     .save(dir.join("colour.png"))
     .unwrap();
-    let mut h = harness(true);
-    h.step();
-    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
-    h.input_mut()
-        .dropped_files
-        .push(std::sync::Arc::new(Dropped(mesh.clone())));
-    step_until(&mut h, "the units prompt", |a| {
-        a.units_prompt_for() == Some(mesh.as_path())
-    });
     // 16 units: no common unit makes it 18–40 cm, so 0.25/16 → 0.0156.
-    h.get_by_label("Use 0.0156 m/unit (25.0 cm tall)")
-        .click_accesskit();
-    h.run_steps(2);
-    h.get_by_label("OK").click_accesskit();
-    h.run_steps(2);
-    assert_eq!(h.state().units_prompt_for(), None);
-    step_until(&mut h, "the mesh at 0.0156 m/unit", |a| {
-        a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.0156)
-    });
+    let mut h = load_with_suggested_units(&mesh, "Use 0.0156 m/unit (25.0 cm tall)", 0.0156);
     let want = 0.5 * 16.0 * 0.0156 / 15f32.to_radians().tan();
     let info = h.state().mesh_info().unwrap();
     assert!(
@@ -303,23 +286,11 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
 fn a_photogrammetry_scan_with_its_own_maps() {
     let scan = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scan"));
     let mesh = scan.join("LeePerrySmith.glb");
-    let mut h = harness(true);
-    h.step();
-    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
-    h.input_mut()
-        .dropped_files
-        .push(std::sync::Arc::new(Dropped(mesh.clone())));
-    step_until(&mut h, "the units prompt", |a| {
-        a.units_prompt_for() == Some(mesh.as_path())
-    });
-    h.get_by_label("Use 0.0462 m/unit (18.6 cm across, 36.7 cm tall)")
-        .click_accesskit();
-    h.run_steps(2);
-    h.get_by_label("OK").click_accesskit();
-    h.run_steps(2);
-    step_until(&mut h, "the scan at 0.0462 m/unit", |a| {
-        a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.0462)
-    });
+    let mut h = load_with_suggested_units(
+        &mesh,
+        "Use 0.0462 m/unit (18.6 cm across, 36.7 cm tall)",
+        0.0462,
+    );
     h.get_by_label("Maps…").click_accesskit();
     h.run_steps(2);
     for (label, file) in [
@@ -367,6 +338,34 @@ fn a_photogrammetry_scan_with_its_own_maps() {
         img.save(dir.join("viewport.png")).unwrap();
         h.render().unwrap().save(dir.join("editor.png")).unwrap();
     }
+}
+
+/// The editor with `mesh` dropped on it, the units prompt's suggestion
+/// (`button`) taken and the mesh reloaded at `metres_per_unit`.
+fn load_with_suggested_units(
+    mesh: &std::path::Path,
+    button: &str,
+    metres_per_unit: f32,
+) -> Harness<'static, EditorApp> {
+    let mut h = harness(true);
+    h.step();
+    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(mesh.to_path_buf())));
+    step_until(&mut h, "the units prompt", |a| {
+        a.units_prompt_for() == Some(mesh)
+    });
+    h.get_by_label(button).click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().units_prompt_for(), None);
+    step_until(&mut h, "the mesh at its units", |a| {
+        a.mesh_info()
+            .is_some_and(|i| i.metres_per_unit == metres_per_unit)
+    });
+    h
 }
 
 /// Compare from the toolbar (difference view against separable), Space

@@ -1058,39 +1058,41 @@ impl EditorApp {
             .as_ref()
             .and_then(|v| v.busy_since)
             .map(|t| t.elapsed().as_secs_f32());
+        // A progress bar at the viewport's bottom left, `lift` px up.
+        let progress = |ui: &mut egui::Ui, done: f32, text: String, lift: f32| {
+            let width = rect.width().min(360.0) - 16.0;
+            let area = egui::Rect::from_min_size(
+                rect.left_bottom() + egui::vec2(8.0, -lift),
+                egui::vec2(width, 24.0),
+            );
+            ui.put(
+                area,
+                egui::ProgressBar::new(done).text(text).desired_width(width),
+            );
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        };
         if self.status.starts_with("Loading mesh") {
             // The mesh loads and bakes thickness and curvature on the
             // render thread; show how far the bake has got.
-            let bar = egui::ProgressBar::new(crate::render::mesh::bake_fraction())
-                .text("loading the mesh, baking thickness …")
-                .desired_width(rect.width().min(360.0) - 16.0);
-            let area = egui::Rect::from_min_size(
-                rect.left_bottom() + egui::vec2(8.0, -32.0),
-                egui::vec2(rect.width().min(360.0) - 16.0, 24.0),
+            let done = crate::render::mesh::bake_fraction();
+            progress(
+                ui,
+                done,
+                "loading the mesh, baking thickness …".into(),
+                32.0,
             );
-            ui.put(area, bar);
-            ui.ctx()
-                .request_repaint_after(std::time::Duration::from_millis(100));
         }
         if let (Some(_), Some((phase, done))) = (busy, crate::render::ground_truth::progress()) {
             // `reference` is the ground truth, computed on the CPU on the
-            // render thread: tens of seconds for a full viewport.
+            // render thread: tens of seconds for a full viewport. Above the
+            // "rendering … s" line.
             let text = if phase == 1 {
                 "ground truth: irradiance over the surface …"
             } else {
                 "ground truth: integrating each pixel …"
             };
-            let bar = egui::ProgressBar::new(done)
-                .text(format!("{text} {:.0} %", 100.0 * done))
-                .desired_width(rect.width().min(360.0) - 16.0);
-            // Above the "rendering … s" line.
-            let area = egui::Rect::from_min_size(
-                rect.left_bottom() + egui::vec2(8.0, -64.0),
-                egui::vec2(rect.width().min(360.0) - 16.0, 24.0),
-            );
-            ui.put(area, bar);
-            ui.ctx()
-                .request_repaint_after(std::time::Duration::from_millis(100));
+            progress(ui, done, format!("{text} {:.0} %", 100.0 * done), 64.0);
         }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
