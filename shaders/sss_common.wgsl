@@ -4,7 +4,7 @@ struct SssUniforms {
     size: vec4<f32>,        // x: width, y: height, z: 1/width, w: 1/height
     projection: vec4<f32>,  // x: pixels per world unit at depth 1 (height / (2 tan(fovy/2))), y: mm per world unit
     params: vec4<f32>,      // x: sample count, y: deterministic (1) or rotated (0), z: lut radius max (mm), w: lut size
-    direction: vec4<f32>,   // xy: blur direction for separable passes, z: follow-surface strength, w: 1 = stochastic axis rotation
+    direction: vec4<f32>,   // xy: blur direction for separable passes, z: follow surface (> 0: 2012 lerp per mm; < 0: −1/(2σ²) of Jimenez 2015 eq. 7), w: 1 = stochastic axis rotation
     weight: vec4<f32>,      // rgb: output multiplier (a Gaussian's weight when accumulating; 1 otherwise)
 };
 

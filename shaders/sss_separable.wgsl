@@ -49,8 +49,14 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
             c = select(c1, c0, c0.a > c1.a);
         }
         let dz_mm = abs(mix(load_depth(q0), load_depth(q1), f) - z) * s.projection.y;
-        // Follow the surface: beyond a few mm of depth difference, use the centre.
-        let k = clamp(s.direction.z * dz_mm, 0.0, 1.0);
+        // Follow the surface: across a depth difference the tap's weight
+        // moves to the centre. direction.z > 0: the Jimenez 2012 demo's
+        // lerp, strength per mm; < 0: −1/(2σ²) of Jimenez 2015 eq. 7's
+        // e^(−Δz²/2σ²) with the kernel's σ.
+        var k = clamp(s.direction.z * dz_mm, 0.0, 1.0);
+        if (s.direction.z < 0.0) {
+            k = 1.0 - exp(s.direction.z * dz_mm * dz_mm);
+        }
         var col = mix(c.rgb, centre.rgb, k);
         if (c.a <= 1.0 / 255.0) {
             col = centre.rgb;

@@ -130,11 +130,11 @@ impl Prepared {
                 i.set_burley(self.profile.as_ref(), samples, sampling)?
             }
             Config::Separable { taps, kernel } => match kernel {
-                Kernel::Jimenez2012 => i.set_separable_kernel(&self.jimenez.kernel(taps)?),
+                Kernel::Jimenez2012 => i.set_separable_kernel(&self.jimenez.kernel(taps)?, true),
                 Kernel::Preintegrated2015 => {
                     let k = self.kernels_2015.iter().find(|k| k.0 == taps);
                     let k = k.context("a separable tap count outside the bench's list")?;
-                    i.set_separable_kernel(&k.1)
+                    i.set_separable_kernel(&k.1, false)
                 }
             },
             Config::Gaussians => i.set_gaussians(&self.gaussians),

@@ -56,6 +56,11 @@ pub struct ProfileInputs {
     pub lut: Vec<[f32; 4]>,
     pub lut_radius_mm: f32,
     pub taps: Vec<GpuTap>,
+    /// How `separable` follows the surface across depth: σ (mm) of Jimenez
+    /// 2015 eq. 7's depth weight e^(−Δz²/2σ²) for the pre-integrated kernel
+    /// (its widest channel's RMS width), or 0 for the Jimenez 2012 demo
+    /// kernel's lerp towards the centre.
+    pub separable_depth_sigma_mm: f32,
     /// How `burley` samples (the pattern here, the rest in the shader).
     pub burley_sampling: BurleySampling,
 }
@@ -89,6 +94,7 @@ impl ProfileInputs {
         if let ProfileSpec::Jimenez2012(j) = spec {
             inputs.set_separable_kernel(
                 &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
+                true,
             );
         }
         if method == super::Method::Gaussians {
@@ -136,7 +142,9 @@ impl ProfileInputs {
                 [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
             }))
             .collect();
-        let taps = gpu_taps(&SeparableKernel::importance_sampled(profile, taps)?);
+        let kernel = SeparableKernel::importance_sampled(profile, taps)?;
+        let separable_depth_sigma_mm = rms_width_mm(&kernel);
+        let taps = gpu_taps(&kernel);
         let lut_layout = crate::model::lut::LutLayout {
             width: 64,
             height: 64,
@@ -195,6 +203,7 @@ impl ProfileInputs {
             lut,
             lut_radius_mm: r_max as f32,
             taps,
+            separable_depth_sigma_mm,
             burley_sampling: sampling,
         })
     }
@@ -278,6 +287,27 @@ fn burley_patterns(
     ))
 }
 
+/// The RMS width √(Σ w x² / Σ w) (mm) of a 1D kernel's widest channel:
+/// the σ of Jimenez 2015 eq. 7's depth weight (σ_max, the widest Gaussian
+/// of their two-Gaussian kernel; for any other kernel, its spread).
+fn rms_width_mm(kernel: &SeparableKernel) -> f32 {
+    (0..3)
+        .map(|c| {
+            let (m2, w) = kernel.taps.iter().fold((0.0f64, 0.0f64), |(m2, w), t| {
+                (
+                    m2 + t.weight[c] * t.offset_mm * t.offset_mm,
+                    w + t.weight[c],
+                )
+            });
+            if w > 0.0 {
+                (m2 / w).sqrt()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0f64, f64::max) as f32
+}
+
 impl ProfileInputs {
     /// A hash of everything the GPU receives from these inputs: the renderer
     /// re-uploads tables, patterns and kernels only when it changes.
@@ -302,6 +332,7 @@ impl ProfileInputs {
         ]));
         bytes(bytemuck::cast_slice(&self.lut));
         bytes(bytemuck::cast_slice(&self.taps));
+        bytes(bytemuck::bytes_of(&self.separable_depth_sigma_mm));
         bytes(bytemuck::cast_slice(&[self.gaussian_taps as u64]));
         let b = self.burley_sampling;
         bytes(&[b.shader_flags() as u8, b.mis as u8, b.antithetic as u8]);
@@ -328,9 +359,12 @@ impl ProfileInputs {
     }
 
     /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
-    /// of a Jimenez 2012 profile instead of the pre-integrated one).
-    pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel) {
+    /// of a Jimenez 2012 profile instead of the pre-integrated one):
+    /// `demo_2012` keeps the demo's follow-surface lerp, otherwise the depth
+    /// weight's σ is the kernel's RMS width.
+    pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel, demo_2012: bool) {
         self.taps = gpu_taps(kernel);
+        self.separable_depth_sigma_mm = if demo_2012 { 0.0 } else { rms_width_mm(kernel) };
     }
 
     /// Sets the Gaussians of the `gaussians` method from (variance mm²,

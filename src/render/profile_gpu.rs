@@ -20,7 +20,9 @@ pub(super) struct ProfileGpu {
     pub profile_lut: wgpu::Buffer,
     pub separable_taps: wgpu::Buffer,
     /// One 13-tap buffer and RGB weight per Gaussian of `gaussians`.
-    pub gaussians: Vec<(wgpu::Buffer, [f32; 3])>,
+    pub gaussians: Vec<(wgpu::Buffer, [f32; 3], f32)>,
+    /// `separable`'s depth weight σ (mm), 0 for the Jimenez 2012 lerp.
+    pub separable_depth_sigma_mm: f32,
     pub burley_count: u32,
     pub low_count: u32,
     pub tap_count: u32,
@@ -95,6 +97,7 @@ impl ProfileGpu {
                     (
                         storage("gaussian taps", bytemuck::cast_slice(&taps)),
                         *weight,
+                        *sigma,
                     )
                 })
                 .collect(),
@@ -103,6 +106,7 @@ impl ProfileGpu {
             tap_count: inputs.taps.len() as u32,
             gaussian_tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
             filter_radius_mm: inputs.filter_radius_mm,
+            separable_depth_sigma_mm: inputs.separable_depth_sigma_mm,
             burley_flags: inputs.burley_sampling.shader_flags(),
         }
     }

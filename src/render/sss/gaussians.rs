@@ -22,12 +22,15 @@ pub(in crate::render) fn encode(
             counted_pass: None,
         };
     }
-    for (k, (buffer, weight)) in io.profile.gaussians.iter().enumerate() {
+    for (k, (buffer, weight, sigma)) in io.profile.gaussians.iter().enumerate() {
+        // Each Gaussian follows the surface with its own σ (Jimenez 2015
+        // eq. 7 before its σ_max approximation: exact for a Gaussian).
         separable::blur_xy(
             f,
             p,
             io,
             (buffer, taps),
+            *sigma,
             Into::Add {
                 weight: *weight,
                 first: k == 0,

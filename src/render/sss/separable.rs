@@ -7,9 +7,23 @@ use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::renderer::HdrTarget;
 
-/// Follow-surface strength (seed 000's SSSS_FOLLOW_SURFACE lerp per mm of
-/// depth difference).
+/// Follow-surface strength of the Jimenez 2012 demo kernel (seed 000's
+/// SSSS_FOLLOW_SURFACE lerp towards the centre, per mm of depth
+/// difference). Every other kernel uses Jimenez 2015 eq. 7's weight
+/// e^(−Δz²/2σ²) with its own σ (see [`follow_surface`]).
 const FOLLOW_SURFACE: f32 = 0.5;
+
+/// `SssUniforms::direction.z` for a kernel of depth σ (mm): the 2012
+/// lerp strength (positive) for σ = 0, else −1/(2σ²), which the shader
+/// turns into a lerp towards the centre by 1 − e^(−Δz²/2σ²), so the weight
+/// a tap loses across a depth step stays at the centre (energy is kept).
+fn follow_surface(depth_sigma_mm: f32) -> f32 {
+    if depth_sigma_mm > 0.0 {
+        -0.5 / (depth_sigma_mm * depth_sigma_mm)
+    } else {
+        FOLLOW_SURFACE
+    }
+}
 
 /// How the vertical pass writes its target.
 pub(in crate::render) enum Into {
@@ -26,6 +40,7 @@ pub(in crate::render) fn blur_xy(
     p: &SssPipelines,
     io: &SssFrame,
     taps: (&wgpu::Buffer, u32),
+    depth_sigma_mm: f32,
     into: Into,
     labels: [&'static str; 2],
 ) {
@@ -56,7 +71,8 @@ pub(in crate::render) fn blur_xy(
     ];
     for (dir, from, to, label, weight, pipeline, load) in passes {
         let rotate = if io.rotate_separable { 1.0 } else { 0.0 };
-        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], FOLLOW_SURFACE, rotate]);
+        let follow = follow_surface(depth_sigma_mm);
+        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], follow, rotate]);
         u.weight = [weight[0], weight[1], weight[2], 1.0];
         let u = f.uniform("sss uniforms", bytemuck::bytes_of(&u));
         let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -92,6 +108,7 @@ pub(in crate::render) fn encode(
         p,
         io,
         (&gpu.separable_taps, gpu.tap_count),
+        gpu.separable_depth_sigma_mm,
         Into::Replace,
         ["sss separable x", "sss separable y"],
     );
