@@ -459,3 +459,36 @@ fn scene_twin_matches_the_scene_pass() {
         );
     }
 }
+
+/// A Jimenez 2012 look (the demo skin: strength 0.48/0.41/0.28, so about
+/// half of its energy is a Dirac at r = 0) through the ground truth on a
+/// uniformly lit plane keeps its mean radiance within 1 % of `none`: the
+/// pixels' points come back from f32 depth a fraction of a µm off the
+/// surface, and the Dirac must not be lost there (it was: −52 % red).
+#[test]
+fn ground_truth_keeps_a_jimenez_looks_energy() {
+    use scatterlab::model::jimenez::Jimenez2012;
+    let profile = Jimenez2012::new([0.48, 0.41, 0.28], [1.0, 0.37, 0.3]).unwrap();
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    let mut r = plane_renderer();
+    let lit = |method| RenderSettings {
+        pattern: IrradiancePattern::Lit,
+        light_azimuth: 0.0,
+        light_elevation: 0.0,
+        ..settings(method)
+    };
+    let mean = |d: &[[f32; 4]]| {
+        let n = d.len() as f64;
+        [0, 1, 2].map(|c| d.iter().map(|p| p[c] as f64).sum::<f64>() / n)
+    };
+    let (_, flat, _) = r.render_with_diffuse(&inputs, &lit(Method::None)).unwrap();
+    let (_, gt, _) = r
+        .render_with_diffuse(&inputs, &lit(Method::Reference))
+        .unwrap();
+    let (base, got) = (mean(&flat), mean(&gt));
+    for c in 0..3 {
+        let rel = got[c] / base[c] - 1.0;
+        eprintln!("channel {c}: {:.5} vs {:.5} ({rel:+.4})", got[c], base[c]);
+        assert!(rel.abs() < 0.01, "channel {c}: {rel:+.4}");
+    }
+}
