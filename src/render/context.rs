@@ -25,6 +25,10 @@ pub enum GpuError {
     },
     #[error("reading the frame back failed: {0}")]
     Readback(String),
+    #[error(
+        "the ground truth (`reference`) reads the shadow map back, which the adapter {adapter} cannot (no depth-texture copies, as on GL): run it on Vulkan (Debian/Ubuntu: apt-get install mesa-vulkan-drivers, then WGPU_BACKEND=vulkan), or pick another method"
+    )]
+    NoGroundTruth { adapter: String },
 }
 
 /// Linear-depth formats, best first (see [`GpuContext::linear_depth_format`]).
@@ -57,6 +61,9 @@ pub struct GpuContext {
     pub linear_depth_format: wgpu::TextureFormat,
     /// Format of the specular target (RG11B10 where renderable).
     pub specular_format: wgpu::TextureFormat,
+    /// Whether depth textures can be copied to buffers (not on GL): the
+    /// ground truth reads the shadow map back.
+    pub depth_copies: bool,
 }
 
 impl GpuContext {
@@ -97,6 +104,10 @@ impl GpuContext {
                 .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
         };
         let info = adapter.get_info();
+        let depth_copies = adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES);
         let unsupported = |format| GpuError::Unsupported {
             adapter: format!("\"{}\" ({:?})", info.name, info.backend),
             format,
@@ -126,6 +137,7 @@ impl GpuContext {
             adapter_info: info,
             timestamps,
             linear_depth_format,
+            depth_copies,
             specular_format: if rg11b10 {
                 wgpu::TextureFormat::Rg11b10Ufloat
             } else {

@@ -77,6 +77,22 @@ pub(in crate::render) fn scatter(
     inputs: &ProfileInputs,
     cache: &mut Option<Cache>,
 ) -> Result<Timing, GpuError> {
+    if !ctx.depth_copies {
+        return Err(GpuError::NoGroundTruth {
+            adapter: format!(
+                "\"{}\" ({:?})",
+                ctx.adapter_info.name, ctx.adapter_info.backend
+            ),
+        });
+    }
+    if !ctx.depth_copies {
+        return Err(GpuError::NoGroundTruth {
+            adapter: format!(
+                "\"{}\" ({:?})",
+                ctx.adapter_info.name, ctx.adapter_info.backend
+            ),
+        });
+    }
     let (w, h) = (s.width, s.height);
     let depth_bpp: u32 = match io.linear_depth_format {
         wgpu::TextureFormat::R32Float => 4,
