@@ -698,11 +698,8 @@ mod ground_truth_tests {
         assert!(worst.iter().all(|w| *w < 0.002), "worst |M − Φ| {worst:?}");
     }
 
-    /// Uniform light on a plane: the sum holds each channel's energy up to
-    /// the stated truncation (≥ 99.9 %, ≤ 100.05 % with the quadrature).
-    #[test]
-    fn uniformly_lit_plane_keeps_its_energy() {
-        let profile = skin();
+    /// The gather at `points` on a uniformly lit 80 mm plane.
+    fn on_a_uniformly_lit_plane(profile: &dyn RadialProfile, points: &[Vec3]) -> Vec<[f32; 3]> {
         let (p, t) = plane(80.0, 20);
         let f = |_: Vec3| [1.0; 3];
         let irr = ByPosition {
@@ -710,9 +707,19 @@ mod ground_truth_tests {
             t: &t,
             f: &f,
         };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
-        for x in [Vec3::new(0.11, -0.27, 0.0), Vec3::new(1.3, 2.9, 0.0)] {
-            let got = cloud.gather(x, &irr);
+        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(profile), 0.5);
+        points.iter().map(|x| cloud.gather(*x, &irr)).collect()
+    }
+
+    /// Uniform light on a plane: the sum holds each channel's energy up to
+    /// the stated truncation (≥ 99.9 %, ≤ 100.05 % with the quadrature).
+    #[test]
+    fn uniformly_lit_plane_keeps_its_energy() {
+        let points = [Vec3::new(0.11, -0.27, 0.0), Vec3::new(1.3, 2.9, 0.0)];
+        for (x, got) in points
+            .iter()
+            .zip(on_a_uniformly_lit_plane(&skin(), &points))
+        {
             eprintln!("uniform plane at {x}: {got:?}");
             for c in 0..3 {
                 assert!(
@@ -733,23 +740,18 @@ mod ground_truth_tests {
     fn a_dirac_part_survives_depth_noise() {
         let profile =
             crate::model::jimenez::Jimenez2012::new([0.48, 0.41, 0.28], [1.0, 0.37, 0.3]).unwrap();
-        let (p, t) = plane(80.0, 20);
-        let f = |_: Vec3| [1.0; 3];
-        let irr = ByPosition {
-            p: &p,
-            t: &t,
-            f: &f,
-        };
-        let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
-        for z in [0.0f32, 1e-4] {
-            let got = cloud.gather(Vec3::new(0.11, -0.27, z), &irr);
-            eprintln!("Jimenez demo skin at z = {z} mm: {got:?}");
+        let points = [Vec3::new(0.11, -0.27, 0.0), Vec3::new(0.11, -0.27, 1e-4)];
+        for (x, got) in points
+            .iter()
+            .zip(on_a_uniformly_lit_plane(&profile, &points))
+        {
+            eprintln!("Jimenez demo skin at {x}: {got:?}");
             for c in 0..3 {
                 // Measured 0.9965 / 0.9997 / 0.9998 at both heights: the
                 // truncation and 0.25 % of quadrature on the widest Gaussians.
                 assert!(
                     (0.995..1.0005).contains(&got[c]),
-                    "z {z} channel {c}: {}",
+                    "{x} channel {c}: {}",
                     got[c]
                 );
             }

@@ -114,12 +114,8 @@ impl<'a> SceneIrradiance<'a> {
     }
 
     fn environment(&self, n: Vec3) -> Vec3 {
-        let c: Vec<Vec3> = self
-            .u
-            .environment_sh
-            .iter()
-            .map(|v| Vec3::new(v[0], v[1], v[2]))
-            .collect();
+        // (Called for every cell: no allocation.)
+        let c = self.u.environment_sh.map(|v| Vec3::new(v[0], v[1], v[2]));
         let mut e = c[0] * 0.282095;
         e += c[1] * (0.488603 * n.y) + c[2] * (0.488603 * n.z) + c[3] * (0.488603 * n.x);
         e += c[4] * (1.092548 * n.x * n.y) + c[5] * (1.092548 * n.y * n.z);
