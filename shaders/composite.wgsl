@@ -37,3 +37,12 @@ fn fs_composite(in: FullscreenOut) -> @location(0) vec4<f32> {
     let hdr = d.rgb * ad.rgb + sp.rgb;
     return vec4<f32>(aces(hdr * c.exposure.x), 1.0);
 }
+
+// Progressive refinement: the method's output joins the running mean of
+// the frames before it. The pipeline blends with the constant c = 1/(n+1)
+// (`pipelines::Output::Mean`): mean_{n+1} = c·x + (1 − c)·mean_n, the
+// incremental mean. Alpha (the SSS mask, the same every frame) stays.
+@fragment
+fn fs_accumulate(in: FullscreenOut) -> @location(0) vec4<f32> {
+    return textureLoad(scattered_tex, vec2<i32>(in.clip.xy), 0);
+}

@@ -96,9 +96,9 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     var rotation = 0.0;
     if (s.params.y < 0.5) {
         if ((flags & 1u) != 0u) {
-            rotation = 6.28318531 * r2(p);
+            rotation = 6.28318531 * rotation_turns(r2(p));
         } else {
-            rotation = 6.28318531 * hash(vec2<u32>(p));
+            rotation = 6.28318531 * rotation_turns(hash(vec2<u32>(p)));
         }
     }
     // Centre weight: the pixel's own footprint (a disk of one pixel's

@@ -23,7 +23,7 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
     var axis = s.direction.xy;
     let rotate = s.direction.w > 0.5;
     if (rotate) {
-        let a = 6.28318531 * hash(vec2<u32>(p));
+        let a = 6.28318531 * rotation_turns(hash(vec2<u32>(p)));
         axis = vec2<f32>(axis.x * cos(a) - axis.y * sin(a), axis.x * sin(a) + axis.y * cos(a));
     }
     let step = axis * pixels_per_mm(z) * centre.a;

@@ -106,6 +106,61 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     );
 }
 
+/// RMS of (rendered − Φ(x)) over rows 8–56 and every channel.
+fn rms_edge_deviation(profile: &dyn RadialProfile, diffuse: &[[f32; 4]]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0.0);
+    for row in 8..56usize {
+        for px in 0..WIDTH as usize {
+            let got = diffuse[row * WIDTH as usize + px];
+            let expected = profile.strip_cdf(column_mm(px));
+            for c in 0..3 {
+                sum += (got[c] as f64 - expected[c]).powi(2);
+                n += 1.0;
+            }
+        }
+    }
+    (sum / n).sqrt()
+}
+
+/// Progressive refinement (the editor once input stops): the running mean
+/// of frames with fresh rotations converges on the exact edge response Φ
+/// (Ki₁ closed form), its first frame is the lone frame, and later frames
+/// reuse the scene pass.
+#[test]
+fn progressive_mean_converges_on_the_strip_cdf() {
+    use scatterlab::render::Progressive;
+    let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
+    let mut r = plane_renderer();
+    // The editor's default: 21 rotated samples a pixel.
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    let lone = RenderSettings {
+        deterministic: false,
+        ..settings(Method::Burley)
+    };
+    let (_, single, _) = r.render_with_diffuse(&inputs, &lone).unwrap();
+    let single_rms = rms_edge_deviation(&profile, &single);
+    let mut rms = Vec::new();
+    for frame in 0..32 {
+        let s = RenderSettings {
+            progressive: Some(Progressive { slot: 0, frame }),
+            ..lone.clone()
+        };
+        let (_, mean, stats) = r.render_with_diffuse(&inputs, &s).unwrap();
+        if frame == 0 {
+            assert_eq!(mean, single, "frame 0 is the lone frame");
+        }
+        assert_eq!(stats.scene_reused, frame > 0, "frame {frame}");
+        rms.push(rms_edge_deviation(&profile, &mean));
+    }
+    eprintln!("rms vs Φ: lone {single_rms:.5}, means {rms:.5?}");
+    assert!(
+        rms[31] < 0.4 * single_rms,
+        "32 frames {} vs one {single_rms}",
+        rms[31]
+    );
+    assert!(rms[7] < rms[1] && rms[31] < rms[7], "{rms:?}");
+}
+
 /// The separable method with the importance-sampled pre-integrated kernel
 /// is exact for a straight edge up to its tap discretisation: with 33 taps
 /// each step of the rendered edge is one tap's weight.

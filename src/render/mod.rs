@@ -42,8 +42,8 @@ pub use renderer::Renderer;
 #[cfg(feature = "gpu")]
 pub use settings::FrameStats;
 pub use settings::{
-    BurleySampling, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode,
-    Transmission,
+    BurleySampling, IrradiancePattern, Method, Progressive, RenderSettings, Specular,
+    TexturingMode, Transmission,
 };
 #[cfg(feature = "gpu")]
 pub use timing::PassStats;

@@ -201,6 +201,9 @@ pub(super) enum Output {
     Nothing,
     Replace(wgpu::TextureFormat),
     Add(wgpu::TextureFormat),
+    /// Blended with the pass's blend constant c: c·new + (1 − c)·old
+    /// (progressive refinement's running mean).
+    Mean(wgpu::TextureFormat),
 }
 
 pub(super) fn fullscreen_pipeline(
@@ -236,6 +239,21 @@ pub(super) fn fullscreen_pipeline(
             }),
             write_mask: wgpu::ColorWrites::ALL,
         }),
+        Output::Mean(format) => {
+            let mean = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::Constant,
+                dst_factor: wgpu::BlendFactor::OneMinusConstant,
+                operation: wgpu::BlendOperation::Add,
+            };
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: Some(wgpu::BlendState {
+                    color: mean,
+                    alpha: mean,
+                }),
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        }
     };
     let face = |compare, pass_op| wgpu::StencilFaceState {
         compare,

@@ -49,6 +49,8 @@ pub(super) struct Targets {
     /// Depth buffer; its stencil marks the SSS pixels.
     depth_stencil: wgpu::TextureView,
     output: wgpu::Texture,
+    /// Progressive refinement's running means (A and B), made on first use.
+    accum: [Option<(wgpu::Texture, wgpu::TextureView)>; 2],
     /// Bytes of GPU memory these targets take.
     pub bytes: u64,
 }
@@ -67,6 +69,17 @@ impl Targets {
 struct ProfileBinding {
     gpu: ProfileGpu,
     scene_bg: wgpu::BindGroup,
+}
+
+/// Everything the scene pass's targets depend on: its uniforms (camera,
+/// light, look, method's scene terms), the size, the level of detail and
+/// the profile on the GPU.
+#[derive(Debug, Clone, PartialEq)]
+struct SceneKey {
+    uniforms: Vec<u8>,
+    size: (u32, u32),
+    lod: usize,
+    profile: u64,
 }
 
 /// Owns the device, the mesh and the pipelines.
@@ -97,6 +110,9 @@ pub struct Renderer {
     sss: SssPipelines,
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
+    /// Progressive refinement: a method's output into a running mean.
+    accumulate_layout: wgpu::BindGroupLayout,
+    accumulate_pipeline: wgpu::RenderPipeline,
     classify_layout: wgpu::BindGroupLayout,
     classify_pipeline: wgpu::RenderPipeline,
     targets: Option<Targets>,
@@ -104,6 +120,10 @@ pub struct Renderer {
     /// The light transform the shadow map was last drawn with: the map
     /// depends only on it and the mesh, so an unchanged light skips the pass.
     shadow_key: Option<([[f32; 4]; 4], usize)>,
+    /// What the scene, depth, stencil and classify targets were last drawn
+    /// with, and the SSS pixels counted: a progressive frame past the first
+    /// with the same key reuses them.
+    scene_key: Option<(SceneKey, u64)>,
     /// The finest level of detail on the CPU, with its maps: the surface
     /// the ground truth (`reference`) integrates over.
     mesh: Mesh,
@@ -181,6 +201,11 @@ impl Renderer {
                         texture_entry(4),
                     ],
                 });
+            let accumulate_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("accumulate"),
+                    entries: &[texture_entry(1)],
+                });
             let classify_layout =
                 device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some("classify"),
@@ -219,6 +244,15 @@ impl Renderer {
                     Output::Replace(OUTPUT),
                     Stencil::None,
                 ),
+                accumulate_pipeline: fullscreen_pipeline(
+                    device,
+                    &module("composite"),
+                    "fs_accumulate",
+                    &accumulate_layout,
+                    Output::Mean(HDR),
+                    Stencil::None,
+                ),
+                accumulate_layout,
                 sss: SssPipelines::new(device, &module),
                 scene_layout,
                 shadow_layout,
@@ -309,11 +343,14 @@ impl Renderer {
             sss: built.sss,
             composite_layout: built.composite_layout,
             composite_pipeline: built.composite_pipeline,
+            accumulate_layout: built.accumulate_layout,
+            accumulate_pipeline: built.accumulate_pipeline,
             classify_layout: built.classify_layout,
             classify_pipeline: built.classify_pipeline,
             targets: None,
             profile: None,
             shadow_key: None,
+            scene_key: None,
             mesh: Mesh {
                 coarse: None,
                 ..mesh.clone()
@@ -397,8 +434,42 @@ impl Renderer {
             linear_depth_texture,
             depth_stencil,
             output,
+            accum: [None, None],
             bytes,
         });
+        self.scene_key = None;
+    }
+
+    /// The running-mean target `slot` of progressive refinement, made on
+    /// first use (a frame rendered alone never allocates it).
+    fn ensure_accumulator(&mut self, slot: usize) {
+        let device = &self.ctx.device;
+        let Some(t) = self.targets.as_mut() else {
+            return;
+        };
+        if t.accum[slot].is_some() {
+            return;
+        }
+        let (w, h) = t.size;
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("progressive mean"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HDR,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        t.bytes += HDR.block_copy_size(None).unwrap_or(8) as u64 * w as u64 * h as u64;
+        let view = texture.create_view(&Default::default());
+        t.accum[slot] = Some((texture, view));
     }
 
     /// Replaces the mesh's surface maps (the editor draws the default head
@@ -409,6 +480,7 @@ impl Renderer {
         self.surface_maps = views;
         self.surface_modes = modes;
         self.profile = None;
+        self.scene_key = None;
         self.mesh.textures = std::sync::Arc::new(maps.clone());
         self.reference_cache = None;
         Ok(())
@@ -496,7 +568,8 @@ impl Renderer {
     }
 
     /// As [`Renderer::render`], also reading back the scattered diffuse
-    /// irradiance (linear HDR, before albedo and tonemapping), row-major RGBA.
+    /// irradiance (linear HDR, before albedo and tonemapping), row-major RGBA:
+    /// under progressive refinement, the running mean.
     pub fn render_with_diffuse(
         &mut self,
         inputs: &ProfileInputs,
@@ -512,6 +585,15 @@ impl Renderer {
         want_diffuse: bool,
     ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
         self.ensure_targets(s.width, s.height);
+        if let Some(p) = s.progressive {
+            if p.slot >= 2 {
+                return Err(GpuError::Readback(format!(
+                    "progressive slot {} (there are two: A and B)",
+                    p.slot
+                )));
+            }
+            self.ensure_accumulator(p.slot);
+        }
         // Any validation error in the frame is reported, never panicked on.
         let scope = self
             .ctx
@@ -523,6 +605,7 @@ impl Renderer {
         if error.is_some() || result.is_err() {
             // The shadow map or the profile may be incomplete: redo them.
             self.shadow_key = None;
+            self.scene_key = None;
             self.profile = None;
         }
         match error {
@@ -716,7 +799,20 @@ impl Renderer {
             self.pick_lod(s)
         };
         let lod = &self.lods[lod_index];
-        let shadow_cached = self.shadow_key == Some((light_clip, lod_index));
+        let scene_key = SceneKey {
+            uniforms: bytemuck::bytes_of(&scene_u).to_vec(),
+            size: (s.width, s.height),
+            lod: lod_index,
+            profile: profile.gpu.key,
+        };
+        // A progressive frame past the first changes only the rotations:
+        // the scene's targets and stencil from the frame before still hold.
+        let reused_pixels = match (&self.scene_key, s.progressive) {
+            (Some((key, pixels)), Some(p)) if p.frame > 0 && *key == scene_key => Some(*pixels),
+            _ => None,
+        };
+        let shadow_cached =
+            reused_pixels.is_some() || self.shadow_key == Some((light_clip, lod_index));
         ctx.queue
             .write_buffer(&self.scene_uniforms, 0, bytemuck::bytes_of(&scene_u));
         let (w, h) = (s.width as u64, s.height as u64);
@@ -753,7 +849,7 @@ impl Renderer {
             });
             mesh_pass(&mut pass, &self.shadow_pipeline, &self.shadow_bg);
         }
-        {
+        if reused_pixels.is_none() {
             let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("scene"),
                 color_attachments: &[
@@ -771,7 +867,10 @@ impl Renderer {
         // Classify: count SSS pixels on the GPU; with none on screen, or a
         // profile that does not scatter (strength 0), no SSS pass runs.
         f.stencil = Some(&t.depth_stencil);
-        let sss_pixels = self.count_sss_pixels(&mut f, t)?;
+        let sss_pixels = match reused_pixels {
+            Some(n) => n,
+            None => self.count_sss_pixels(&mut f, t)?,
+        };
         let method = if sss_pixels > 0 && inputs.scatters {
             s.method
         } else {
@@ -793,7 +892,7 @@ impl Renderer {
                 projection: [
                     s.height as f32 / (2.0 * (0.5 * s.fov_y).tan()),
                     self.metres_per_unit * 1000.0,
-                    0.0,
+                    s.progressive.map_or(0.0, |p| p.rotation_offset()),
                     0.0,
                 ],
                 params: [
@@ -843,13 +942,45 @@ impl Renderer {
                 exposure: [s.exposure, 0.0, 0.0, 0.0],
             }),
         );
+        // Progressive: this frame's output joins the running mean (weight
+        // 1/(n+1) for sample n), and the mean is what composite shows.
+        let shown = match (s.progressive, &t.accum) {
+            (Some(p), accum) => {
+                let Some((mean_texture, mean)) = accum[p.slot].as_ref() else {
+                    return Err(GpuError::Readback("no progressive target".into()));
+                };
+                let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("accumulate"),
+                    layout: &self.accumulate_layout,
+                    entries: &[tex(1, t.view(scattered.target))],
+                });
+                let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("accumulate"),
+                    color_attachments: &[Some(color_attachment(mean, p.frame > 0))],
+                    timestamp_writes: f.timer.render("accumulate", w * h, 0),
+                    ..Default::default()
+                });
+                pass.set_pipeline(&self.accumulate_pipeline);
+                pass.set_bind_group(0, &bg, &[]);
+                let c = 1.0 / (p.frame as f64 + 1.0);
+                pass.set_blend_constant(wgpu::Color {
+                    r: c,
+                    g: c,
+                    b: c,
+                    a: c,
+                });
+                pass.draw(0..3, 0..1);
+                (mean_texture, mean)
+            }
+            (None, _) => (t.texture(scattered.target), t.view(scattered.target)),
+        };
         let output_view = t.output.create_view(&Default::default());
         let cbg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("composite"),
             layout: &self.composite_layout,
             entries: &[
                 buf(0, &cu),
-                tex(1, t.view(scattered.target)),
+                tex(1, shown.1),
                 tex(2, &t.specular),
                 tex(3, &t.albedo),
                 tex(4, t.view(HdrTarget::Diffuse)),
@@ -873,7 +1004,7 @@ impl Renderer {
         let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(&t.output, 4)];
         if want_diffuse {
             wanted.push((t.texture(HdrTarget::Diffuse), 8));
-            wanted.push((t.texture(scattered.target), 8));
+            wanted.push((shown.0, 8));
         }
         let mut bytes = ctx.checked("frame", || {
             readback(ctx, encoder, &wanted, s.width, s.height)
@@ -930,6 +1061,7 @@ impl Renderer {
             sss_gpu_ms,
             reference_cpu_ms,
             profile_uploaded: false,
+            scene_reused: reused_pixels.is_some(),
             target_bytes: t.bytes,
             triangles: lod.index_count as u64 / 3,
             width: s.width,
@@ -937,6 +1069,7 @@ impl Renderer {
             adapter: self.adapter_name(),
         };
         self.shadow_key = Some((light_clip, lod_index));
+        self.scene_key = Some((scene_key, sss_pixels));
         Ok((image, diffuse, stats))
     }
 }
@@ -1068,6 +1201,8 @@ struct Pipelines {
     shadow_pipeline: wgpu::RenderPipeline,
     composite_layout: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
+    accumulate_layout: wgpu::BindGroupLayout,
+    accumulate_pipeline: wgpu::RenderPipeline,
     classify_layout: wgpu::BindGroupLayout,
     classify_pipeline: wgpu::RenderPipeline,
     sss: SssPipelines,

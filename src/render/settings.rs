@@ -166,6 +166,40 @@ pub struct RenderSettings {
     /// The environment's irradiance / π as order-2 SH
     /// ([`super::environment::Environment::irradiance_sh`]).
     pub environment_sh: [[f32; 3]; 9],
+    /// Progressive refinement (the editor, once input stops): this frame
+    /// is one more sample of a running mean; `None` renders it alone.
+    pub progressive: Option<Progressive>,
+}
+
+/// One frame of progressive refinement: its SSS result joins the running
+/// mean in accumulator `slot` (0: A, 1: B of a comparison) as sample
+/// `frame` (0 starts a new mean), with the stochastic methods' per-pixel
+/// rotations offset by `frame` × the golden ratio's fraction of a turn (a
+/// rank-1 sequence: each new frame lands in the widest gap left by the
+/// ones before). Frame 0 is the same image as a frame rendered alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progressive {
+    pub slot: usize,
+    pub frame: u32,
+}
+
+impl Progressive {
+    /// Fraction of a turn added to every pixel's sample rotation.
+    pub fn rotation_offset(&self) -> f32 {
+        const GOLDEN_FRACTION: f64 = 0.618_033_988_749_895;
+        (self.frame as f64 * GOLDEN_FRACTION).fract() as f32
+    }
+}
+
+impl RenderSettings {
+    /// Whether frames of these settings differ only by their random
+    /// rotations, so that a mean over frames converges: `burley` (rotated
+    /// sample disks) and `separable` with stochastic axis rotation.
+    pub fn is_stochastic(&self) -> bool {
+        !self.deterministic
+            && (self.method == Method::Burley
+                || (self.method == Method::Separable && self.separable_rotation))
+    }
 }
 
 /// The specular model (its own buffer; never blurred).
@@ -243,6 +277,7 @@ impl Default for RenderSettings {
             penumbra: true,
             separable_rotation: false,
             environment_sh: default_environment_sh(),
+            progressive: None,
         }
     }
 }
@@ -273,6 +308,9 @@ pub struct FrameStats {
     /// Whether this frame uploaded the profile's tables, patterns and
     /// kernels (false while the profile is unchanged).
     pub profile_uploaded: bool,
+    /// Progressive refinement past its first frame: nothing the scene
+    /// pass depends on changed, so shadow, scene and classify were skipped.
+    pub scene_reused: bool,
     /// GPU memory of the frame's render targets (bytes).
     pub target_bytes: u64,
     /// Triangles drawn (of the level of detail the frame chose).
