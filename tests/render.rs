@@ -647,3 +647,33 @@ fn surface_maps_swapped_in_render_like_maps_built_in() {
         .count();
     assert!(changed > 500, "only {changed} pixels differ without maps");
 }
+
+/// The editor bakes only the tables a method reads
+/// (`ProfileInputs::for_method`): every method renders the same pixels
+/// from those as from the full inputs, so no placeholder is ever read.
+#[test]
+fn a_methods_own_tables_render_like_the_full_inputs() {
+    let mut r = renderer();
+    let preset = Preset::default_skin();
+    let profile = preset.build_profile().unwrap();
+    for method in [
+        Method::None,
+        Method::Burley,
+        Method::Separable,
+        Method::Gaussians,
+        Method::Preintegrated,
+    ] {
+        let counts = (21, 17);
+        let full =
+            ProfileInputs::for_look(&preset.profile, profile.as_ref(), method, counts, 7).unwrap();
+        let own = ProfileInputs::for_method(&preset.profile, profile.as_ref(), method, counts, 7)
+            .unwrap();
+        let s = small_frame(method);
+        let (a, _) = r.render(&full, &s).unwrap();
+        let (b, _) = r.render(&own, &s).unwrap();
+        assert!(
+            a == b,
+            "{method:?}: the method's own tables render differently"
+        );
+    }
+}

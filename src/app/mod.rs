@@ -89,6 +89,13 @@ pub struct EditorApp {
     maps_window: Option<PathBuf>,
     /// The last viewport frame, and how many have arrived.
     last_frame: Option<(image::RgbaImage, u64)>,
+    /// How far the last frame had got (preview, refining, converged).
+    quality: Option<viewport::Quality>,
+    /// When the mouse wheel last zoomed (zooming is live input too).
+    last_wheel: Option<std::time::Instant>,
+    /// SCATTERLAB_FRAME_LOG: a line per viewport frame and UI frame
+    /// (`tools/measure_live.sh` reads it).
+    frame_log: Option<std::io::LineWriter<std::fs::File>>,
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
     b_curves: Option<(BCurvesKey, BCurves)>,
@@ -152,6 +159,19 @@ impl EditorApp {
             units_prompt: None,
             maps_window: None,
             last_frame: None,
+            quality: None,
+            last_wheel: None,
+            frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
+                std::fs::File::create(&p)
+                    .map_err(|e| {
+                        eprintln!(
+                            "warning: SCATTERLAB_FRAME_LOG {}: {e}",
+                            PathBuf::from(&p).display()
+                        )
+                    })
+                    .ok()
+                    .map(std::io::LineWriter::new)
+            }),
             allow_close: false,
             preview_textures: None,
             b_curves: None,
@@ -192,6 +212,11 @@ impl EditorApp {
     }
 
     /// Whether the viewport has rendered everything asked of it.
+    /// How far the last viewport frame had got.
+    pub fn viewport_quality(&self) -> Option<viewport::Quality> {
+        self.quality
+    }
+
     pub fn viewport_idle(&self) -> bool {
         self.viewport
             .as_ref()
@@ -445,9 +470,22 @@ impl EditorApp {
         self.shortcuts(&ctx);
         self.poll_workers();
 
-        egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
-        egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        // Panels draw no background of their own: the window's clear colour
+        // is the panel colour (`EframeApp::clear_color`). On lavapipe the
+        // UI's frame is fill-bound (1500×900: 11 frames a second with the
+        // fills, measured by tools/measure_live.sh), and a cleared pixel
+        // costs nothing next to a blended one.
+        let style = ui.style().clone();
+        let bare = |f: egui::Frame| f.fill(egui::Color32::TRANSPARENT);
+        let side = bare(egui::Frame::side_top_panel(&style));
+        egui::Panel::top("menu")
+            .frame(side)
+            .show(ui, |ui| self.menu_bar(ui));
+        egui::Panel::bottom("status")
+            .frame(side)
+            .show(ui, |ui| self.status_bar(ui));
         egui::Panel::left("params")
+            .frame(side)
             .resizable(true)
             .default_size(360.0)
             .show(ui, |ui| {
@@ -457,13 +495,16 @@ impl EditorApp {
         self.refresh_curves();
         self.analysis.request(self.analysis_key());
         egui::Panel::right("plots")
+            .frame(side)
             .resizable(true)
             .default_size(420.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
             });
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
-        egui::CentralPanel::default().show(ui, |ui| self.viewport_panel(ui));
+        egui::CentralPanel::default()
+            .frame(bare(egui::Frame::central_panel(&style)))
+            .show(ui, |ui| self.viewport_panel(ui));
         self.dialogs(&ctx);
         // One undo step per gesture: commit once no button is held and no
         // field is being typed into.
@@ -477,6 +518,10 @@ impl EditorApp {
         }
         self.ui_ms = ui_ms;
         self.report_timings();
+        if let Some(log) = self.frame_log.as_mut() {
+            use std::io::Write;
+            let _ = writeln!(log, "{:.3} ui {ui_ms:.1}", unix_seconds());
+        }
     }
 
     /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1
@@ -926,6 +971,7 @@ impl EditorApp {
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
+                self.last_wheel = Some(std::time::Instant::now());
                 // Zoom from a close-up of a pore to the whole mesh in a
                 // corner, whatever its size.
                 v.camera_distance_m = (v.camera_distance_m * (-scroll * 0.002).exp())
@@ -949,7 +995,19 @@ impl EditorApp {
                 }
             }
         };
+        // Live input: anything dragged (the orbit, a slider, a panel edge)
+        // or the wheel in the last quarter second. Previews while it lasts;
+        // the full frame, refined, once it stops.
+        let wheel_recent = self
+            .last_wheel
+            .is_some_and(|t| t.elapsed() < std::time::Duration::from_millis(250));
+        if wheel_recent {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(260));
+        }
+        let interactive = ui.ctx().dragged_id().is_some() || wheel_recent;
         let req = viewport::Request {
+            interactive,
             a: viewport::Look::of(&self.doc.preset),
             b,
             show_b: self.show_b && self.ui_state.compare != CompareMode::Off,
@@ -977,8 +1035,25 @@ impl EditorApp {
                         stats,
                         wall_ms,
                         note,
-                        ..
+                        quality,
+                        seq,
                     } => {
+                        if let Some(log) = self.frame_log.as_mut() {
+                            use std::io::Write;
+                            let _ = writeln!(
+                                log,
+                                "{:.3} frame {} {}x{} seq={seq} render_ms={wall_ms:.1}",
+                                unix_seconds(),
+                                match quality {
+                                    viewport::Quality::Preview { .. } => "preview",
+                                    viewport::Quality::Refining { .. } => "refining",
+                                    viewport::Quality::Converged { .. } => "converged",
+                                },
+                                image.width(),
+                                image.height(),
+                            );
+                        }
+                        self.quality = Some(quality);
                         let ci = egui::ColorImage::from_rgba_unmultiplied(
                             [image.width() as usize, image.height() as usize],
                             image.as_raw(),
@@ -996,8 +1071,9 @@ impl EditorApp {
                             }
                         }
                         self.frame_info = format!(
-                            "{} · {}×{} · {:.0} ms{}{} · {}",
+                            "{} · {} · {}×{} · {:.0} ms{}{} · {}",
                             stats.method,
+                            quality.describe(),
                             stats.width,
                             stats.height,
                             wall_ms,
@@ -1048,7 +1124,9 @@ impl EditorApp {
             }
         }
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
+        if self.texture.is_none() {
+            painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
+        }
         if let Some(t) = &self.texture {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             painter.image(t.id(), rect, uv, egui::Color32::WHITE);
@@ -1484,6 +1562,14 @@ impl EditorApp {
     }
 }
 
+/// Seconds since the Unix epoch (the frame log's clock, which
+/// `tools/measure_live.sh` shares through `date +%s.%N`).
+fn unix_seconds() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
+}
+
 /// A file name from a look's name.
 fn file_stem(name: &str) -> String {
     let s: String = name
@@ -1512,6 +1598,12 @@ struct EframeApp {
 }
 
 impl eframe::App for EframeApp {
+    /// The panels' colour: they draw no fill of their own (see
+    /// [`EditorApp::show`]).
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let app = &mut self.app;
         if self.exit_after_first_frame && app.has_viewport_frame() {

@@ -2,14 +2,24 @@
 //! only when the request changes; the UI shows its latest frame.
 //!
 //! The renderer runs on its own device on its own thread (not in
-//! egui_wgpu's paint callback): a frame with SSS takes 30–150 ms on
+//! egui_wgpu's paint callback): a full frame with SSS takes 0.2–0.7 s on
 //! lavapipe, and the UI thread must never wait for it. Requests are
 //! coalesced: the thread renders the newest request and drops the rest.
+//!
+//! Live while the artist works, exact when they stop: a request made
+//! while something is dragged ([`Request::interactive`]) renders at a
+//! fraction of the resolution, chosen from the frames before so that one
+//! takes about [`PREVIEW_BUDGET_MS`]; once input stops the thread renders
+//! the full resolution and then, for the stochastic methods, keeps adding
+//! frames with fresh sample rotations to a running mean
+//! ([`crate::render::Progressive`]) until the image stops changing
+//! ([`converged`]) or a new request arrives. docs/rendering.md has the
+//! frame rates and times measured by `tools/measure_live.sh`.
 
 use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
 use crate::render::{
-    FrameStats, GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer, Specular,
-    TexturingMode, Transmission,
+    FrameStats, GpuContext, Mesh, Method, ProfileInputs, Progressive, RenderSettings, Renderer,
+    Specular, TexturingMode, Transmission,
 };
 use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
@@ -60,8 +70,64 @@ pub struct Request {
     pub mesh: Option<PathBuf>,
     /// Units and map slots of `mesh` (the default head knows its own).
     pub mesh_settings: super::state::MeshSettings,
+    /// Made while the artist drags (a slider, the orbit, a panel): render
+    /// a quick preview, not the converged frame.
+    pub interactive: bool,
     /// Set by [`Viewport::request`]: which request a frame answers.
     pub seq: u64,
+}
+
+/// What a preview frame may take on the render thread (ms): 10 frames a
+/// second with room left for the UI's own frame.
+pub const PREVIEW_BUDGET_MS: f64 = 50.0;
+
+/// Progressive refinement stops here even if pixels still change.
+pub const MAX_REFINE_FRAMES: u32 = 64;
+
+/// How far a frame has got.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Quality {
+    /// While input goes on: 1/`divisor` of the viewport's resolution in
+    /// each direction.
+    Preview { divisor: f32 },
+    /// Full resolution; `frames` so far in the running mean, more to come.
+    Refining { frames: u32 },
+    /// Full resolution and final: the mean of `frames` stopped changing
+    /// (1 for a method without random rotations), `ms` after input stopped.
+    Converged { frames: u32, ms: f64 },
+}
+
+impl Quality {
+    /// For the status bar.
+    pub fn describe(&self) -> String {
+        match self {
+            Quality::Preview { divisor } if *divisor > 1.0 => {
+                format!("preview at 1/{divisor:.1} resolution while you work")
+            }
+            Quality::Preview { .. } => "preview while you work".into(),
+            Quality::Refining { frames } => format!("refining … {frames} frames"),
+            Quality::Converged { frames: 1, ms } => format!("converged in {:.1} s", ms / 1e3),
+            Quality::Converged { frames, ms } => {
+                format!("converged in {:.1} s ({frames} frames)", ms / 1e3)
+            }
+        }
+    }
+}
+
+/// Whether a running mean has stopped changing: from `prev` to `next`
+/// (8-bit sRGB frames) no more than 1 pixel in 1000 moved by more than
+/// one level in any channel. The mean's step is (x − mean)/(n + 1), so it
+/// drops under a level once n exceeds the per-frame noise in levels.
+pub fn converged(prev: &image::RgbaImage, next: &image::RgbaImage) -> bool {
+    if prev.dimensions() != next.dimensions() {
+        return false;
+    }
+    let moved = prev
+        .pixels()
+        .zip(next.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 1))
+        .count();
+    moved * 1000 <= prev.pixels().len()
 }
 
 /// What the editor needs to frame and scale a loaded mesh.
@@ -85,6 +151,7 @@ pub enum Reply {
         note: Option<String>,
         /// The request it answers.
         seq: u64,
+        quality: Quality,
     },
     Error(String),
     /// The mesh in the request was loaded (`None`: the default head).
@@ -143,13 +210,21 @@ impl Viewport {
         }
     }
 
-    /// Sends `req` unless it equals the last one sent (nothing changed:
-    /// nothing is rendered).
+    /// Sends `req` unless it shows what the last one sent showed (nothing
+    /// changed: nothing is rendered). Dragging what does not change the
+    /// frame (a scroll bar) sends nothing; the end of a drag that did
+    /// change it sends the full-quality request.
     pub fn request(&mut self, req: Request) {
         let mut req = req;
         req.seq = 0;
-        if self.last_sent.as_ref() == Some(&req) {
-            return;
+        if let Some(last) = &self.last_sent {
+            let same_frame = Request {
+                interactive: last.interactive,
+                ..req.clone()
+            } == *last;
+            if same_frame && (req.interactive || !last.interactive) {
+                return;
+            }
         }
         self.last_sent = Some(req.clone());
         self.seq += 1;
@@ -235,6 +310,12 @@ struct Worker {
     /// The default head whose surface maps are still to bake (after its
     /// first frame).
     pending_maps: Option<Mesh>,
+    /// Sides (A, B) without random rotations, kept through refinement.
+    kept: [Option<Side>; 2],
+    /// The preview's resolution divisor, adapted frame by frame.
+    divisor: Option<f32>,
+    /// What the last full-resolution first frame took (ms).
+    full_frame_ms: Option<f64>,
 }
 
 fn timings_on() -> bool {
@@ -253,7 +334,7 @@ impl Worker {
             return Ok(i.clone());
         }
         let profile = look.profile.build().map_err(|e| e.to_string())?;
-        let inputs = ProfileInputs::for_look(
+        let inputs = ProfileInputs::for_method(
             &look.profile,
             profile.as_ref(),
             m,
@@ -349,65 +430,168 @@ impl Worker {
         Ok(true)
     }
 
-    fn frame(
-        &mut self,
-        req: &Request,
-    ) -> Result<(image::RgbaImage, FrameStats, Option<String>), String> {
-        let (w, h) = req.size;
+    /// Renders `req` at the quality `pass` asks for: A alone, or A and B
+    /// composed as the compare mode shows them. Returns the image, A's
+    /// statistics, a note for the status bar, and whether any side is
+    /// stochastic (more refinement frames would change it).
+    fn frame(&mut self, req: &Request, pass: Pass) -> Result<Rendered, String> {
+        let (full_w, full_h) = req.size;
+        let (w, h) = match pass {
+            Pass::Preview(d) => (
+                ((full_w as f32 / d).round() as u32).max(16),
+                ((full_h as f32 / d).round() as u32).max(16),
+            ),
+            Pass::Refine(_) => (full_w, full_h),
+        };
+        let mut notes: Vec<String> = Vec::new();
+        // The ground truth takes seconds to minutes: while the artist
+        // works, `burley` stands in for it (and says so).
+        let settings = |look: &Look, size, notes: &mut Vec<String>| {
+            let mut s = render_settings(look, &req.view, size);
+            if matches!(pass, Pass::Preview(_)) && s.method == Method::Reference {
+                s.method = Method::Burley;
+                notes.push("burley while you work, the ground truth when you stop".into());
+            }
+            s
+        };
         let a_look = if req.show_b {
             req.b.as_ref().map(|b| &b.0).unwrap_or(&req.a)
         } else {
             &req.a
         };
-        let a_settings = render_settings(a_look, &req.view, (w, h));
-        let a_inputs = self.inputs(a_look, a_settings.method)?;
-        let b = match (&req.b, req.show_b) {
-            (Some((look, mode, split)), false) if *mode != CompareMode::Off => {
-                let size = if *mode == CompareMode::SideBySide {
-                    ((w / 2).max(16), h)
-                } else {
-                    (w, h)
-                };
-                let s = render_settings(look, &req.view, size);
-                Some((self.inputs(look, s.method)?, s, *mode, *split))
+        let b = match &req.b {
+            Some((look, mode, split)) if !req.show_b && *mode != CompareMode::Off => {
+                Some((look, *mode, *split))
             }
             _ => None,
         };
-        let renderer = self.renderer.as_mut().ok_or("no renderer")?;
-        let Some((b_inputs, b_settings, mode, split)) = b else {
-            let (img, stats) = renderer
-                .render(&a_inputs, &a_settings)
-                .map_err(|e| e.to_string())?;
-            return Ok((img, stats, None));
+        let side_size = match b {
+            Some((_, CompareMode::SideBySide, _)) => ((w / 2).max(16), h),
+            _ => (w, h),
         };
-        let a_settings = RenderSettings {
-            width: b_settings.width,
-            ..a_settings
+        let a_settings = settings(a_look, side_size, &mut notes);
+        let a = self.render_side(0, a_look, a_settings, pass)?;
+        let Some((b_look, mode, split)) = b else {
+            notes.dedup();
+            return Ok(Rendered {
+                image: a.image,
+                stats: a.stats,
+                note: (!notes.is_empty()).then(|| notes.join(" · ")),
+                stochastic: a.stochastic,
+            });
         };
-        let (a_img, stats) = renderer
-            .render(&a_inputs, &a_settings)
-            .map_err(|e| e.to_string())?;
-        let (b_img, _) = renderer
-            .render(&b_inputs, &b_settings)
-            .map_err(|e| e.to_string())?;
+        let b_settings = settings(b_look, side_size, &mut notes);
+        let bside = self.render_side(1, b_look, b_settings, pass)?;
         use crate::render::compare;
-        Ok(match mode {
-            CompareMode::Split => (compare::split_view(&a_img, &b_img, split), stats, None),
+        let image = match mode {
+            CompareMode::Split => compare::split_view(&a.image, &bside.image, split),
             CompareMode::Difference => {
-                let (d, scale) = compare::difference_view(&a_img, &b_img, None);
-                (
-                    d,
-                    stats,
-                    Some(format!("|A − B| heat map: white = {scale:.3}")),
-                )
+                let (d, scale) = compare::difference_view(&a.image, &bside.image, None);
+                notes.push(format!("|A − B| heat map: white = {scale:.3}"));
+                d
             }
             _ => {
-                let mut out = image::RgbaImage::new(a_img.width() * 2, a_img.height());
-                image::imageops::replace(&mut out, &a_img, 0, 0);
-                image::imageops::replace(&mut out, &b_img, a_img.width() as i64, 0);
-                (out, stats, None)
+                let mut out = image::RgbaImage::new(a.image.width() * 2, a.image.height());
+                image::imageops::replace(&mut out, &a.image, 0, 0);
+                image::imageops::replace(&mut out, &bside.image, a.image.width() as i64, 0);
+                out
             }
+        };
+        notes.dedup();
+        Ok(Rendered {
+            image,
+            stats: a.stats,
+            note: (!notes.is_empty()).then(|| notes.join(" · ")),
+            stochastic: a.stochastic || bside.stochastic,
         })
+    }
+
+    /// One side (`slot` 0: A, 1: B) of a frame. Refinement frames past the
+    /// first join the side's running mean; a side without random
+    /// rotations is rendered once and kept.
+    fn render_side(
+        &mut self,
+        slot: usize,
+        look: &Look,
+        settings: RenderSettings,
+        pass: Pass,
+    ) -> Result<Side, String> {
+        let stochastic = settings.is_stochastic();
+        if let (Pass::Refine(frame), false, Some(kept)) = (pass, stochastic, &self.kept[slot]) {
+            if frame > 0 {
+                return Ok(kept.clone());
+            }
+        }
+        let inputs = self.inputs(look, settings.method)?;
+        let settings = RenderSettings {
+            progressive: match pass {
+                Pass::Refine(frame) => Some(Progressive { slot, frame }),
+                Pass::Preview(_) => None,
+            },
+            ..settings
+        };
+        let renderer = self.renderer.as_mut().ok_or("no renderer")?;
+        let (image, stats) = renderer
+            .render(&inputs, &settings)
+            .map_err(|e| e.to_string())?;
+        let side = Side {
+            image,
+            stats,
+            stochastic,
+        };
+        self.kept[slot] = (!stochastic && matches!(pass, Pass::Refine(_))).then(|| side.clone());
+        Ok(side)
+    }
+}
+
+/// What a request is rendered as.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Pass {
+    /// A preview at 1/divisor of the resolution.
+    Preview(f32),
+    /// Full resolution, frame n of the running mean.
+    Refine(u32),
+}
+
+/// One side of a frame.
+#[derive(Clone)]
+struct Side {
+    image: image::RgbaImage,
+    stats: FrameStats,
+    stochastic: bool,
+}
+
+/// A composed frame.
+struct Rendered {
+    image: image::RgbaImage,
+    stats: FrameStats,
+    note: Option<String>,
+    stochastic: bool,
+}
+
+/// The request being refined once input stopped.
+struct Refine {
+    req: Request,
+    /// Frames in the running mean so far.
+    frames: u32,
+    /// The last frame sent (to see whether the mean still changes).
+    prev: Option<image::RgbaImage>,
+    /// When the request arrived (input stopped).
+    since: Instant,
+}
+
+/// The newest request waiting, without blocking; `Err` when the UI has
+/// gone.
+fn try_newest(rx: &Receiver<Request>) -> Result<Option<Request>, ()> {
+    let mut newest = None;
+    loop {
+        match rx.try_recv() {
+            Ok(r) => newest = Some(r),
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(newest),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return newest.map(Some).ok_or(());
+            }
+        }
     }
 }
 
@@ -420,12 +604,37 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         reframed: false,
         cache: Vec::new(),
         pending_maps: None,
+        kept: [None, None],
+        divisor: None,
+        full_frame_ms: None,
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
     let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
-    // Coalesce: render only the newest request.
-    while let Some(mut req) = super::analysis::recv_newest(&rx) {
+    let mut refine: Option<Refine> = None;
+    loop {
+        // Refining: take a new request if there is one, else add a frame.
+        // Otherwise wait for the next request. Either way only the newest.
+        let next = match &refine {
+            Some(_) => match try_newest(&rx) {
+                Ok(r) => r,
+                Err(()) => return,
+            },
+            None => match super::analysis::recv_newest(&rx) {
+                Some(r) => Some(r),
+                None => return,
+            },
+        };
+        let Some(mut req) = next else {
+            if let Some(r) = refine.as_mut() {
+                if !refine_step(&mut w, r, &tx) {
+                    refine = None;
+                }
+                wake();
+            }
+            continue;
+        };
+        refine = None;
         let t0 = Instant::now();
         let range = req.a.rendering.thickness_remap_mm.1 as f32;
         match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
@@ -459,39 +668,120 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
             }
             Ok(false) => {}
         }
-        let maps_pending = w.pending_maps.is_some();
-        if !send_frame(&mut w, &req, t0, maps_pending, &tx) {
-            return;
-        }
-        wake();
-        // The head is on screen; now the same view with its skin maps.
-        match w.apply_pending_maps() {
-            Ok(false) => {}
-            Ok(true) => {
-                if !send_frame(&mut w, &req, Instant::now(), false, &tx) {
-                    return;
-                }
-                wake();
+        if req.interactive && w.pending_maps.is_none() {
+            if !send_preview(&mut w, &req, t0, &tx) {
+                return;
             }
-            Err(e) => {
+            wake();
+            continue;
+        }
+        let mut r = Refine {
+            req,
+            frames: 0,
+            prev: None,
+            since: t0,
+        };
+        if w.pending_maps.is_some() {
+            // The head first, with neutral maps; then the same view with
+            // its skin maps, refined from there.
+            if !send_frame(&mut w, &r.req, Pass::Refine(0), t0, &tx, |_| {
+                Quality::Refining { frames: 1 }
+            }) {
+                return;
+            }
+            wake();
+            if let Err(e) = w.apply_pending_maps() {
                 let _ = tx.send(Reply::Error(e));
                 wake();
+                continue;
             }
         }
+        if refine_step(&mut w, &mut r, &tx) {
+            refine = Some(r);
+        }
+        wake();
     }
 }
 
-/// Renders `req` and sends the frame (or the error); false when the UI has
-/// gone.
+/// Renders a preview of `req` at the divisor that keeps a frame near
+/// [`PREVIEW_BUDGET_MS`], and adapts the divisor to what it took. False
+/// when the UI has gone.
+fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) -> bool {
+    // The first preview guesses from the last full frame: its time scales
+    // with the pixel count, so with the divisor squared.
+    let divisor = w.divisor.unwrap_or_else(|| {
+        w.full_frame_ms
+            .map_or(2.0, |ms| (ms / PREVIEW_BUDGET_MS).sqrt() as f32)
+            .clamp(1.0, 6.0)
+    });
+    let t1 = Instant::now();
+    let sent = send_frame(w, req, Pass::Preview(divisor), t0, tx, |_| {
+        Quality::Preview { divisor }
+    });
+    let ms = t1.elapsed().as_secs_f64() * 1e3;
+    // Halfway towards the divisor that would have met the budget.
+    let ideal = divisor * (ms / PREVIEW_BUDGET_MS).sqrt() as f32;
+    w.divisor = Some((0.5 * (divisor + ideal)).clamp(1.0, 6.0));
+    sent
+}
+
+/// Renders the next refinement frame of `r` and sends it. Returns whether
+/// more frames would still change the image (false: converged, failed, or
+/// the UI has gone).
+fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    let frame = r.frames;
+    let t1 = Instant::now();
+    let rendered = w.frame(&r.req, Pass::Refine(frame));
+    if frame == 0 {
+        w.full_frame_ms = Some(t1.elapsed().as_secs_f64() * 1e3);
+    }
+    let rendered = match rendered {
+        Ok(x) => x,
+        Err(e) => {
+            let _ = tx.send(Reply::Error(e));
+            return false;
+        }
+    };
+    r.frames += 1;
+    let done = !rendered.stochastic
+        || r.frames >= MAX_REFINE_FRAMES
+        || r.prev
+            .as_ref()
+            .is_some_and(|p| r.frames >= 3 && converged(p, &rendered.image));
+    let quality = if done {
+        Quality::Converged {
+            frames: r.frames,
+            ms: r.since.elapsed().as_secs_f64() * 1e3,
+        }
+    } else {
+        Quality::Refining { frames: r.frames }
+    };
+    if !done {
+        r.prev = Some(rendered.image.clone());
+    }
+    let reply = Reply::Frame {
+        image: rendered.image,
+        stats: Box::new(rendered.stats),
+        wall_ms: t1.elapsed().as_secs_f64() * 1e3,
+        note: rendered.note,
+        seq: r.req.seq,
+        quality,
+    };
+    tx.send(reply).is_ok() && !done
+}
+
+/// Renders `req` as `pass` and sends the frame (or the error); false when
+/// the UI has gone.
 fn send_frame(
     w: &mut Worker,
     req: &Request,
+    pass: Pass,
     t0: Instant,
-    maps_pending: bool,
     tx: &Sender<Reply>,
+    quality: impl Fn(&Rendered) -> Quality,
 ) -> bool {
     let t1 = Instant::now();
-    let frame = w.frame(req);
+    let frame = w.frame(req, pass);
     if timings_on() {
         eprintln!(
             "timing: render thread frame {:.2} s ({:.2} s since the request)",
@@ -500,11 +790,12 @@ fn send_frame(
         );
     }
     let reply = match frame {
-        Ok((image, stats, note)) => Reply::Frame {
-            image,
-            stats: Box::new(stats),
+        Ok(r) => Reply::Frame {
+            quality: quality(&r),
+            image: r.image,
+            stats: Box::new(r.stats),
             wall_ms: t0.elapsed().as_secs_f64() * 1e3,
-            note: note.or_else(|| maps_pending.then(|| "baking the head's skin maps…".into())),
+            note: r.note,
             seq: req.seq,
         },
         Err(e) => Reply::Error(e),

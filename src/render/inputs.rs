@@ -83,8 +83,23 @@ impl ProfileInputs {
         (samples, taps): (usize, usize),
         gaussian_taps: usize,
     ) -> Result<Self, ModelError> {
-        use crate::settings::ProfileSpec;
         let mut inputs = Self::new(profile, samples, taps)?;
+        inputs.finish_look(spec, profile, method, taps, gaussian_taps)?;
+        Ok(inputs)
+    }
+
+    /// What a look adds to a profile's inputs: the surface colour of
+    /// colourless kernels, Jimenez 2012's own kernel, the Gaussians.
+    fn finish_look(
+        &mut self,
+        spec: &crate::settings::ProfileSpec,
+        profile: &dyn RadialProfile,
+        method: super::Method,
+        taps: usize,
+        gaussian_taps: usize,
+    ) -> Result<(), ModelError> {
+        use crate::settings::ProfileSpec;
+        let inputs = self;
         // Kernels without a colour of their own (energy-conserving blurs,
         // total reflectance 1) leave the colour to the surface, as in the
         // engines: the default skin's albedo stands in for a colour map.
@@ -101,6 +116,30 @@ impl ProfileInputs {
             inputs.set_gaussians(&gaussian_terms(spec, profile)?);
             inputs.gaussian_taps = gaussian_taps;
         }
+        Ok(())
+    }
+
+    /// As [`ProfileInputs::for_look`], baking only the tables `method`
+    /// reads: the importance-sampled separable kernel (about 45 ms for the
+    /// default skin) for `separable`, the pre-integrated and penumbra tables
+    /// (25 ms) for `preintegrated`. The others hold neutral placeholders of
+    /// the same sizes, so these inputs must not render another method. The
+    /// editor's live viewport uses it: a dragged slider rebuilds the inputs
+    /// every frame.
+    pub fn for_method(
+        spec: &crate::settings::ProfileSpec,
+        profile: &dyn RadialProfile,
+        method: super::Method,
+        (samples, taps): (usize, usize),
+        gaussian_taps: usize,
+    ) -> Result<Self, ModelError> {
+        use super::Method;
+        let tables = Tables {
+            separable: method == Method::Separable,
+            preintegrated: method == Method::Preintegrated,
+        };
+        let mut inputs = Self::with_tables(profile, samples, taps, tables)?;
+        inputs.finish_look(spec, profile, method, taps, gaussian_taps)?;
         Ok(inputs)
     }
 
@@ -109,6 +148,23 @@ impl ProfileInputs {
         profile: &dyn RadialProfile,
         samples: usize,
         taps: usize,
+    ) -> Result<Self, ModelError> {
+        Self::with_tables(
+            profile,
+            samples,
+            taps,
+            Tables {
+                separable: true,
+                preintegrated: true,
+            },
+        )
+    }
+
+    fn with_tables(
+        profile: &dyn RadialProfile,
+        samples: usize,
+        taps: usize,
+        tables: Tables,
     ) -> Result<Self, ModelError> {
         let sampling = BurleySampling::default();
         let (gpu_samples, low_samples) = burley_patterns(profile, samples, sampling)?;
@@ -142,30 +198,49 @@ impl ProfileInputs {
                 [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
             }))
             .collect();
-        let kernel = SeparableKernel::importance_sampled(profile, taps)?;
-        let separable_depth_sigma_mm = rms_width_mm(&kernel);
-        let taps = gpu_taps(&kernel);
+        let (taps, separable_depth_sigma_mm) = if tables.separable {
+            let kernel = SeparableKernel::importance_sampled(profile, taps)?;
+            (gpu_taps(&kernel), rms_width_mm(&kernel))
+        } else {
+            // One tap of weight 1 at the centre: the identity blur.
+            (
+                vec![GpuTap {
+                    weight_offset: [1.0, 1.0, 1.0, 0.0],
+                }],
+                0.0,
+            )
+        };
         let lut_layout = crate::model::lut::LutLayout {
             width: 64,
             height: 64,
             curvature_radius_min_mm: 2.0,
             curvature_radius_max_mm: 200.0,
         };
-        let preintegrated_lut = crate::model::lut::Lut::bake(profile, lut_layout)?
-            .d
-            .iter()
-            .enumerate()
-            .map(|(k, v)| {
-                let lit = lut_layout.n_dot_l(k % lut_layout.width).max(0.0);
-                [0, 1, 2].map(|c| (v[c] - lit) as f32)
-            })
-            .map(|d| [d[0], d[1], d[2], 1.0])
-            .collect();
         let penumbra_layout = crate::model::lut::ShadowLayout::default();
-        let penumbra_lut = crate::model::lut::bake_shadow(profile, penumbra_layout)?
-            .iter()
-            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
-            .collect();
+        let (preintegrated_lut, penumbra_lut) = if tables.preintegrated {
+            let d = crate::model::lut::Lut::bake(profile, lut_layout)?
+                .d
+                .iter()
+                .enumerate()
+                .map(|(k, v)| {
+                    let lit = lut_layout.n_dot_l(k % lut_layout.width).max(0.0);
+                    [0, 1, 2].map(|c| (v[c] - lit) as f32)
+                })
+                .map(|d| [d[0], d[1], d[2], 1.0])
+                .collect();
+            let penumbra = crate::model::lut::bake_shadow(profile, penumbra_layout)?
+                .iter()
+                .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+                .collect();
+            (d, penumbra)
+        } else {
+            // Zero: D(θ, κ) − saturate(N·L) of a profile that does not
+            // scatter, and an unscattered shadow; never read by the others.
+            (
+                vec![[0.0, 0.0, 0.0, 1.0]; lut_layout.width * lut_layout.height],
+                vec![[0.0, 0.0, 0.0, 1.0]; penumbra_layout.width * penumbra_layout.height],
+            )
+        };
         let radii = profile.radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION);
         let normal_blend = radii.map(|r| (r / (r + 1.0)) as f32);
         let transmittance_range_mm = r_max as f32;
@@ -391,6 +466,13 @@ impl ProfileInputs {
 }
 
 /// A separable kernel's taps as the GPU reads them: rgb weight, offset (mm).
+/// Which of the expensive tables [`ProfileInputs::with_tables`] bakes.
+#[derive(Debug, Clone, Copy)]
+struct Tables {
+    separable: bool,
+    preintegrated: bool,
+}
+
 fn gpu_taps(kernel: &SeparableKernel) -> Vec<GpuTap> {
     kernel
         .taps
