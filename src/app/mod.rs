@@ -19,7 +19,7 @@ const STORAGE_KEY: &str = "scatterlab_ui";
 
 /// What a file dialog is for.
 #[derive(Debug, Clone, PartialEq)]
-enum DialogKind {
+pub enum DialogKind {
     Open,
     SaveAs,
     Export(Format),
@@ -30,6 +30,24 @@ enum DialogKind {
     Map(usize),
 }
 
+impl DialogKind {
+    /// The folder memory this dialog shares (`UiState::folders`).
+    fn folder_key(&self) -> &'static str {
+        match self {
+            DialogKind::Open | DialogKind::SaveAs | DialogKind::CompareB => "preset",
+            DialogKind::Export(_) => "export",
+            DialogKind::Mesh => "mesh",
+            DialogKind::Environment => "environment",
+            DialogKind::Map(_) => "map",
+        }
+    }
+
+    /// Whether the dialog writes files (and must ask before replacing).
+    fn writes(&self) -> bool {
+        matches!(self, DialogKind::SaveAs | DialogKind::Export(_))
+    }
+}
+
 #[derive(Debug, Clone)]
 struct FileDialog {
     kind: DialogKind,
@@ -37,6 +55,33 @@ struct FileDialog {
     /// Export only: what the target will not hold exactly
     /// (`export::export_notes`, computed on a thread: fits take a while).
     notes: Option<Vec<String>>,
+}
+
+/// A write that would replace files, waiting for the artist.
+#[derive(Debug, Clone)]
+struct Overwrite {
+    kind: DialogKind,
+    path: PathBuf,
+    existing: Vec<PathBuf>,
+}
+
+/// What the viewport shows while comparing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AbView {
+    /// Both, as the compare mode shows them (split, side by side, |A − B|).
+    Both,
+    A,
+    B,
+}
+
+/// Where the editor drew the viewport and its neighbours (UI tests).
+#[derive(Debug, Clone)]
+pub struct ViewportLayout {
+    pub viewport: Option<egui::Rect>,
+    /// Compare labels: text and plate.
+    pub labels: Vec<(String, egui::Rect)>,
+    pub params: Option<egui::Rect>,
+    pub plots: Option<egui::Rect>,
 }
 
 /// An action waiting for the unsaved-changes prompt.
@@ -72,12 +117,18 @@ pub struct EditorApp {
     status: String,
     dialog: Option<FileDialog>,
     pending: Option<Pending>,
+    /// Run after the Save As dialog saves (Save in the unsaved-changes
+    /// prompt of a look that has no file yet).
+    after_save: Option<Pending>,
+    /// Files a Save As or export would replace, waiting for a yes.
+    overwrite: Option<Overwrite>,
     exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
     /// The open export dialog's notes, while they are being computed.
     export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// An HDR environment map loading on its own thread.
     environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
-    show_b: bool,
+    /// While comparing: both as the mode shows them, or one side alone.
+    pub ab: AbView,
     mesh: Option<PathBuf>,
     /// The loaded mesh's size and framing (from the render thread).
     mesh_info: Option<viewport::MeshInfo>,
@@ -87,6 +138,11 @@ pub struct EditorApp {
     units_prompt: Option<PathBuf>,
     /// The map slots window, open for this mesh.
     maps_window: Option<PathBuf>,
+    /// Where the viewport was drawn, and the compare labels on it.
+    viewport_rect: Option<egui::Rect>,
+    compare_labels: Vec<(String, egui::Rect)>,
+    /// The side panels' rects (the viewport must stay between them).
+    panel_rects: [Option<egui::Rect>; 2],
     /// The last viewport frame, and how many have arrived.
     last_frame: Option<(image::RgbaImage, u64)>,
     /// How far the last frame had got (preview, refining, converged).
@@ -105,6 +161,8 @@ pub struct EditorApp {
         Option<egui::TextureHandle>,
         egui::TextureHandle,
     )>,
+    /// Where the profile plot was drawn (its legend goes under it).
+    pub plot_rect: Option<egui::Rect>,
     /// UI time of the last frame outside the viewport (ms).
     pub ui_ms: f64,
     /// When the editor was created, and whether the first UI frame and the
@@ -149,16 +207,22 @@ impl EditorApp {
                     .into(),
             dialog: None,
             pending: None,
+            after_save: None,
+            overwrite: None,
             exports: Vec::new(),
             export_notes: None,
             environment_load: None,
-            show_b: false,
+            ab: AbView::Both,
             mesh: None,
             mesh_info: None,
             framed_for: None,
             units_prompt: None,
             maps_window: None,
             last_frame: None,
+            viewport_rect: None,
+            plot_rect: None,
+            compare_labels: Vec::new(),
+            panel_rects: [None, None],
             quality: None,
             last_wheel: None,
             frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
@@ -212,6 +276,30 @@ impl EditorApp {
     }
 
     /// Whether the viewport has rendered everything asked of it.
+    /// The viewport's rect, the compare labels drawn on it (text, rect),
+    /// and the left and right panels' rects, as last drawn.
+    pub fn viewport_layout(&self) -> ViewportLayout {
+        ViewportLayout {
+            viewport: self.viewport_rect,
+            labels: self.compare_labels.clone(),
+            params: self.panel_rects[0],
+            plots: self.panel_rects[1],
+        }
+    }
+
+    /// The names of A (the look's method) and B (a method or a preset).
+    fn side_names(&self) -> (String, String) {
+        let a = self.doc.preset.rendering.method.label().to_string();
+        let b = match &self.ui_state.compare_b {
+            CompareB::Method(m) => m.label().to_string(),
+            CompareB::Preset(p) => p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
+        };
+        (a, b)
+    }
+
     /// How far the last viewport frame had got.
     pub fn viewport_quality(&self) -> Option<viewport::Quality> {
         self.quality
@@ -308,9 +396,18 @@ impl EditorApp {
             Ok(()) => {
                 self.ui_state.add_recent(path);
                 self.status = format!("Saved {}", path.display());
+                // Save, then what the unsaved-changes prompt was for.
+                if let Some(action) = self.after_save.take() {
+                    self.run_pending(action);
+                }
             }
             Err(e) => self.status = format!("Error: {e}"),
         }
+    }
+
+    /// Whether the editor may close now (Quit answered).
+    pub fn close_allowed(&self) -> bool {
+        self.allow_close
     }
 
     /// Runs `action` now, or asks first if there are unsaved changes.
@@ -334,11 +431,21 @@ impl EditorApp {
     }
 
     fn open_dialog(&mut self, kind: DialogKind) {
+        // Where this kind of dialog was last used, else the look's folder,
+        // else the working directory.
         let dir = self
-            .doc
-            .path
-            .as_ref()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .ui_state
+            .folders
+            .get(kind.folder_key())
+            .filter(|d| d.is_dir())
+            .cloned()
+            .or_else(|| {
+                self.doc
+                    .path
+                    .as_ref()
+                    .and_then(|p| p.parent().map(Path::to_path_buf))
+                    .filter(|d| !d.as_os_str().is_empty())
+            })
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
         let name = match &kind {
@@ -453,12 +560,19 @@ impl EditorApp {
         if open {
             self.open_dialog(DialogKind::Open);
         }
-        // Space toggles A/B while comparing (unless typing in a field).
-        if toggle
-            && ctx.memory(|m| m.focused().is_none())
-            && self.ui_state.compare != CompareMode::Off
-        {
-            self.show_b = !self.show_b;
+        // Space flips between B alone and A alone in every compare mode
+        // (from the mode's own view it shows B first); Escape goes back to
+        // the mode's view. Not while typing in a field.
+        let escape = ctx.input(|i| i.key_pressed(Key::Escape));
+        if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {
+            if toggle {
+                self.ab = match self.ab {
+                    AbView::B => AbView::A,
+                    AbView::Both | AbView::A => AbView::B,
+                };
+            } else if escape {
+                self.ab = AbView::Both;
+            }
         }
     }
 
@@ -484,28 +598,35 @@ impl EditorApp {
         egui::Panel::bottom("status")
             .frame(side)
             .show(ui, |ui| self.status_bar(ui));
-        egui::Panel::left("params")
+        let params = egui::Panel::left("params")
             .frame(side)
             .resizable(true)
             .default_size(360.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.params_panel(ui));
             });
+        self.panel_rects[0] = Some(params.response.rect);
         // Edits above change the preset; the plots below use it this frame.
         self.refresh_curves();
         self.analysis.request(self.analysis_key());
-        egui::Panel::right("plots")
+        let plots = egui::Panel::right("plots")
             .frame(side)
             .resizable(true)
             .default_size(420.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
             });
+        self.panel_rects[1] = Some(plots.response.rect);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
         egui::CentralPanel::default()
             .frame(bare(egui::Frame::central_panel(&style)))
             .show(ui, |ui| self.viewport_panel(ui));
         self.dialogs(&ctx);
+        if self.allow_close {
+            // Quit answered (Save or Discard): close now, not at the next
+            // frame, which may never come without input.
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
         // One undo step per gesture: commit once no button is held and no
         // field is being typed into.
         if !ctx.input(|i| i.pointer.any_down()) && ctx.memory(|m| m.focused().is_none()) {
@@ -649,6 +770,9 @@ impl EditorApp {
                     ui.close();
                 }
                 if ui.button("Default head").clicked() {
+                    if self.mesh.is_some() {
+                        self.status = "Loading the default head …".into();
+                    }
                     self.mesh = None;
                     ui.close();
                 }
@@ -819,13 +943,12 @@ impl EditorApp {
             crate::render::RenderSettings::default().camera_distance_m,
             |i| i.framing_distance_m,
         );
-        let compare_b_label = match &self.ui_state.compare_b {
-            CompareB::Method(m) => format!("method {}", m.label()),
-            CompareB::Preset(p) => format!("preset {}", p.display()),
-        };
-        ui.horizontal(|ui| {
+        let (a_name, b_name) = self.side_names();
+        // Wraps onto more rows where the viewport is narrow, so the
+        // viewport below never grows past its panel.
+        ui.horizontal_wrapped(|ui| {
             ui.label("Compare").on_hover_text(
-                "A is the current look; B another method or preset. Space toggles A/B.",
+                "A is the current look; B another method or preset. Space flips between A alone and B alone; Escape, or the mode again, shows both.",
             );
             for (m, name) in [
                 (CompareMode::Off, "off"),
@@ -833,10 +956,16 @@ impl EditorApp {
                 (CompareMode::SideBySide, "side by side"),
                 (CompareMode::Difference, "difference"),
             ] {
-                ui.selectable_value(&mut self.ui_state.compare, m, name);
+                if ui
+                    .selectable_label(self.ui_state.compare == m && self.ab == AbView::Both, name)
+                    .clicked()
+                {
+                    self.ui_state.compare = m;
+                    self.ab = AbView::Both;
+                }
             }
             if self.ui_state.compare != CompareMode::Off {
-                ui.menu_button(format!("B: {compare_b_label}"), |ui| {
+                ui.menu_button(format!("B: {b_name}"), |ui| {
                     for m in crate::settings::rendering::MethodId::ALL {
                         if ui.button(m.label()).clicked() {
                             self.ui_state.compare_b = CompareB::Method(m);
@@ -851,13 +980,17 @@ impl EditorApp {
                 if self.ui_state.compare == CompareMode::Split {
                     ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"));
                 }
-                let label = if self.show_b {
-                    "showing B"
-                } else {
-                    "showing A"
-                };
-                ui.toggle_value(&mut self.show_b, label)
-                    .on_hover_text("Space");
+                for (side, name) in [(AbView::A, "A alone"), (AbView::B, "B alone")] {
+                    if ui
+                        .selectable_label(self.ab == side, name)
+                        .on_hover_text(format!(
+                            "Space flips between A alone and B alone (A: {a_name}, B: {b_name})."
+                        ))
+                        .clicked()
+                    {
+                        self.ab = if self.ab == side { AbView::Both } else { side };
+                    }
+                }
             }
         });
         let mut open_environment = false;
@@ -950,7 +1083,15 @@ impl EditorApp {
             self.open_dialog(DialogKind::Environment);
         }
         let avail = ui.available_size();
-        let (rect, response) = ui.allocate_exact_size(avail, egui::Sense::click_and_drag());
+        let (rect, _) = ui.allocate_exact_size(avail, egui::Sense::hover());
+        // The panels' resize handles reach a few points into the viewport:
+        // leave them to the panels, so the edges stay grabbable.
+        let grab = ui.style().interaction.resize_grab_radius_side + 2.0;
+        let response = ui.interact(
+            rect.shrink2(egui::vec2(grab, 0.0)),
+            ui.scope_id().with("viewport"),
+            egui::Sense::click_and_drag(),
+        );
         // Orbit (left drag), light (right drag or shift+drag), pan (middle drag), zoom (wheel).
         let v = &mut self.ui_state.view;
         let d = response.drag_delta();
@@ -984,7 +1125,7 @@ impl EditorApp {
             ((rect.width() * ppp) as u32).clamp(16, 4096),
             ((rect.height() * ppp) as u32).clamp(16, 4096),
         );
-        let b = if self.ui_state.compare == CompareMode::Off {
+        let b = if self.ui_state.compare == CompareMode::Off || self.ab == AbView::A {
             None
         } else {
             match viewport::b_look(&self.doc.preset, &self.ui_state.compare_b) {
@@ -1010,7 +1151,7 @@ impl EditorApp {
             interactive,
             a: viewport::Look::of(&self.doc.preset),
             b,
-            show_b: self.show_b && self.ui_state.compare != CompareMode::Off,
+            show_b: self.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
             view: self.ui_state.view,
             size,
             mesh: self.mesh.clone(),
@@ -1179,22 +1320,69 @@ impl EditorApp {
             }
             _ => None,
         };
+        // Each side labelled on its own half, on a dark plate so that it
+        // reads over skin.
+        self.compare_labels.clear();
         if self.ui_state.compare != CompareMode::Off {
-            let tag = if self.show_b { "B" } else { "A" };
-            let text = match self.ui_state.compare {
-                CompareMode::Split if !self.show_b => "A | B".into(),
-                CompareMode::SideBySide if !self.show_b => "A    B".into(),
-                CompareMode::Difference if !self.show_b => "|A − B|".into(),
-                _ => tag.to_string(),
-            };
-            painter.text(
-                rect.left_top() + egui::vec2(8.0, 8.0),
-                egui::Align2::LEFT_TOP,
-                text,
-                egui::FontId::proportional(18.0),
-                egui::Color32::WHITE,
-            );
+            let (a_name, b_name) = self.side_names();
+            let (a, b) = (format!("A · {a_name}"), format!("B · {b_name}"));
+            let top = rect.top() + 8.0;
+            let labels: Vec<(String, egui::Pos2, egui::Align2)> =
+                match (self.ab, self.ui_state.compare) {
+                    (AbView::A, _) => vec![(
+                        a,
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                    (AbView::B, _) => vec![(
+                        b,
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                    (_, CompareMode::SideBySide) => vec![
+                        (
+                            a,
+                            egui::pos2(rect.left() + 8.0, top),
+                            egui::Align2::LEFT_TOP,
+                        ),
+                        (
+                            b,
+                            egui::pos2(rect.center().x + 8.0, top),
+                            egui::Align2::LEFT_TOP,
+                        ),
+                    ],
+                    (_, CompareMode::Split) => {
+                        let x = rect.left() + self.ui_state.split * rect.width();
+                        vec![
+                            (a, egui::pos2(x - 8.0, top), egui::Align2::RIGHT_TOP),
+                            (b, egui::pos2(x + 8.0, top), egui::Align2::LEFT_TOP),
+                        ]
+                    }
+                    _ => vec![(
+                        format!("|A − B| · A {a_name} · B {b_name}"),
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                };
+            for (text, pos, align) in labels {
+                let galley = painter.layout_no_wrap(
+                    text.clone(),
+                    egui::FontId::proportional(15.0),
+                    egui::Color32::WHITE,
+                );
+                let mut r = align.anchor_size(pos, galley.size()).expand(4.0);
+                // Keep the plate inside the viewport.
+                r = r.translate(egui::vec2(
+                    (rect.left() + 2.0 - r.left()).max(0.0)
+                        - (r.right() - rect.right() + 2.0).max(0.0),
+                    0.0,
+                ));
+                painter.rect_filled(r, 4.0, egui::Color32::from_black_alpha(150));
+                painter.galley(r.min + egui::vec2(4.0, 4.0), galley, egui::Color32::WHITE);
+                self.compare_labels.push((text, r));
+            }
         }
+        self.viewport_rect = Some(rect);
         if let Some(l) = label {
             painter.text(
                 rect.center_bottom() - egui::vec2(0.0, 12.0),
@@ -1397,6 +1585,7 @@ impl EditorApp {
     fn dialogs(&mut self, ctx: &egui::Context) {
         self.units_prompt(ctx);
         self.maps_window(ctx);
+        self.overwrite_prompt(ctx);
         if let Some(pending) = self.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
@@ -1421,10 +1610,16 @@ impl EditorApp {
                 });
             match modal.inner {
                 Some(0) => {
-                    self.save();
                     self.pending = None;
-                    if !self.doc.is_dirty() {
-                        self.run_pending(pending);
+                    if self.doc.path.is_none() {
+                        // No file yet: Save As first, then carry on.
+                        self.after_save = Some(pending);
+                        self.open_dialog(DialogKind::SaveAs);
+                    } else {
+                        self.save();
+                        if !self.doc.is_dirty() {
+                            self.run_pending(pending);
+                        }
                     }
                 }
                 Some(1) => {
@@ -1535,10 +1730,85 @@ impl EditorApp {
                 }
             });
         });
+        if close && !accept && dialog.kind == DialogKind::SaveAs {
+            // Cancelled: nothing saved, so nothing to carry on with.
+            self.after_save = None;
+        }
         if accept {
             let path = PathBuf::from(dialog.path.trim());
             close = true;
-            match dialog.kind {
+            if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
+                self.ui_state
+                    .folders
+                    .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
+            }
+            let existing: Vec<PathBuf> = match &dialog.kind {
+                DialogKind::SaveAs => vec![path.clone()],
+                DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
+                _ => Vec::new(),
+            }
+            .into_iter()
+            .filter(|p| p.exists())
+            .collect();
+            if dialog.kind.writes() && !existing.is_empty() {
+                self.overwrite = Some(Overwrite {
+                    kind: dialog.kind.clone(),
+                    path,
+                    existing,
+                });
+            } else {
+                self.write_or_open(dialog.kind.clone(), path, &mut close);
+            }
+        }
+        self.dialog = if close { None } else { Some(dialog) };
+    }
+
+    /// Asks before a Save As or export replaces files; Replace writes,
+    /// Cancel goes back to the dialog at the same path.
+    fn overwrite_prompt(&mut self, ctx: &egui::Context) {
+        let Some(o) = self.overwrite.clone() else {
+            return;
+        };
+        let modal =
+            egui::Modal::new(egui::Id::unique("scatterlab_overwrite_prompt")).show(ctx, |ui| {
+                ui.heading("Replace existing files?");
+                for p in &o.existing {
+                    ui.label(format!("{} exists.", p.display()));
+                }
+                let mut choice = None;
+                ui.horizontal(|ui| {
+                    if ui.button("Replace").clicked() {
+                        choice = Some(true);
+                    }
+                    if ui.button("Cancel").clicked() {
+                        choice = Some(false);
+                    }
+                });
+                choice
+            });
+        match modal.inner {
+            Some(true) => {
+                self.overwrite = None;
+                let mut close = true;
+                self.write_or_open(o.kind, o.path, &mut close);
+            }
+            Some(false) => {
+                self.overwrite = None;
+                self.dialog = Some(FileDialog {
+                    kind: o.kind,
+                    path: o.path.display().to_string(),
+                    notes: None,
+                });
+            }
+            None => {}
+        }
+    }
+
+    /// What a file dialog's OK does with `path`; `close` false keeps the
+    /// dialog open (a preset B that does not load).
+    fn write_or_open(&mut self, kind: DialogKind, path: PathBuf, close: &mut bool) {
+        {
+            match kind {
                 DialogKind::Open => self.guarded(Pending::Open(path)),
                 DialogKind::SaveAs => self.save_as(&path),
                 DialogKind::Export(f) => self.export(f, path),
@@ -1546,7 +1816,7 @@ impl EditorApp {
                     Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
                     Err(e) => {
                         self.status = format!("Error: {e}");
-                        close = false;
+                        *close = false;
                     }
                 },
                 DialogKind::Mesh => self.mesh = Some(path),
@@ -1558,7 +1828,6 @@ impl EditorApp {
                 }
             }
         }
-        self.dialog = if close { None } else { Some(dialog) };
     }
 }
 

@@ -6,7 +6,7 @@ use super::analysis::Curves;
 use super::state::{CompareB, CompareMode, OverlayModel, PlotQuantity};
 use super::EditorApp;
 use egui::Color32;
-use egui_plot::{Legend, Line, Plot, PlotPoints, Points, VLine};
+use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
 
 const CHANNEL_COLORS: [Color32; 3] = [
     Color32::from_rgb(230, 70, 60),
@@ -27,14 +27,107 @@ fn value(curves: &Curves, q: PlotQuantity, i: usize, c: usize, log: bool) -> Opt
     }
 }
 
+/// Decades a log axis shows below the smallest channel's value at its
+/// 99.7 % energy radius: the tail that still carries energy, and one more.
+const LOG_DECADES_BELOW_TAIL: f64 = 1.0;
+
+/// Decades a log axis shows below the largest value at most.
+const LOG_DECADES_MAX: f64 = 8.0;
+
+/// The lowest log10 value a log axis shows for `curves`: one decade under
+/// the smallest channel's value at its 99.7 % energy radius, and at most
+/// eight decades under the peak. A Gaussian-sum or Jimenez tail falls to
+/// 10⁻⁴⁷ within the plotted radii; below this it carries no energy an
+/// artist can see, and would squash the useful range into a corner.
+pub fn log_floor(curves: &Curves, q: PlotQuantity) -> Option<f64> {
+    let logs =
+        |c: usize| (0..curves.radius_mm.len()).filter_map(move |i| value(curves, q, i, c, true));
+    let peak = (0..3).flat_map(logs).fold(f64::NEG_INFINITY, f64::max);
+    if !peak.is_finite() {
+        return None;
+    }
+    let tail = (0..3)
+        .filter_map(|c| {
+            // The first plotted radius at or past the channel's 99.7 % radius.
+            let i = curves
+                .radius_mm
+                .iter()
+                .position(|r| *r >= curves.radius_997_mm[c])?;
+            value(curves, q, i, c, true)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let floor = if tail.is_finite() {
+        tail - LOG_DECADES_BELOW_TAIL
+    } else {
+        peak - LOG_DECADES_MAX
+    };
+    Some(floor.max(peak - LOG_DECADES_MAX))
+}
+
 /// The series the main plot draws, per channel: (radius mm, value) points
-/// (exposed for tests: what the plot shows).
+/// (exposed for tests: what the plot shows). On a log axis, points below
+/// [`log_floor`] are left out.
 pub fn series(curves: &Curves, q: PlotQuantity, log: bool) -> [Vec<[f64; 2]>; 3] {
+    let floor = if log { log_floor(curves, q) } else { None };
     [0, 1, 2].map(|c| {
         (0..curves.radius_mm.len())
             .filter_map(|i| value(curves, q, i, c, log).map(|v| [curves.radius_mm[i], v]))
+            .filter(|p| floor.is_none_or(|f| p[1] >= f))
             .collect()
     })
+}
+
+/// How a legend entry's line is drawn.
+#[derive(Clone, Copy)]
+enum Stroke {
+    Solid,
+    Dashed,
+    Dotted,
+    Stem,
+}
+
+/// One legend entry: a short line in the entry's colour, then its name.
+/// The legend sits under the plot, never over the curves.
+fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(24.0, 12.0), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    let y = rect.center().y;
+    let line = egui::Stroke::new(2.0, color);
+    match stroke {
+        Stroke::Solid => {
+            painter.line_segment(
+                [egui::pos2(rect.left(), y), egui::pos2(rect.right(), y)],
+                line,
+            );
+        }
+        Stroke::Dashed => {
+            for k in 0..3 {
+                let x = rect.left() + 9.0 * k as f32;
+                painter.line_segment([egui::pos2(x, y), egui::pos2(x + 5.0, y)], line);
+            }
+        }
+        Stroke::Dotted => {
+            for k in 0..5 {
+                painter.circle_filled(
+                    egui::pos2(rect.left() + 2.0 + 5.0 * k as f32, y),
+                    1.2,
+                    color,
+                );
+            }
+        }
+        Stroke::Stem => {
+            let x = rect.center().x;
+            painter.line_segment(
+                [
+                    egui::pos2(x, rect.bottom()),
+                    egui::pos2(x, rect.top() + 3.0),
+                ],
+                line,
+            );
+            painter.circle_filled(egui::pos2(x, rect.top() + 3.0), 3.0, color);
+        }
+    }
+    ui.label(name);
 }
 
 pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
@@ -142,6 +235,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         }
         _ => None,
     };
+    let mut plot_rect = None;
     match &app.curves {
         Some(Ok(curves)) => {
             let lines = series(curves, q, log);
@@ -152,9 +246,8 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
                 .map(|a| a.taps.clone())
                 .unwrap_or_default();
             let r997 = curves.radius_997_mm;
-            Plot::new("profile_plot")
+            let plot = Plot::new("profile_plot")
                 .height(280.0)
-                .legend(Legend::default())
                 .x_axis_label("radius (mm)")
                 .y_axis_label(if log {
                     format!("log10 value ({unit})")
@@ -213,6 +306,24 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
                         }
                     }
                 });
+            plot_rect = Some(plot.response.rect);
+            // The legend: R, G, B in that order, then what else is drawn,
+            // the fit by its name; under the plot, off the curves.
+            ui.horizontal_wrapped(|ui| {
+                for c in 0..3 {
+                    legend_entry(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
+                }
+                legend_entry(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
+                if let Some(Ok(o)) = &overlay {
+                    legend_entry(ui, Color32::GRAY, Stroke::Dashed, &o.label);
+                }
+                if let Some((label, _)) = &b_series {
+                    legend_entry(ui, Color32::GRAY, Stroke::Dotted, label);
+                }
+                if show_taps && !log && !taps.is_empty() {
+                    legend_entry(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
+                }
+            });
             ui.label(format!(
                 "Total reflectance {:.3} / {:.3} / {:.3} · 99.7 % radius {:.2} / {:.2} / {:.2} mm",
                 curves.total[0], curves.total[1], curves.total[2], r997[0], r997[1], r997[2]
@@ -228,6 +339,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
             });
         }
     }
+    app.plot_rect = plot_rect;
     if let Some(spec) = apply {
         let mut p = app.doc.preset.clone();
         p.profile = spec;

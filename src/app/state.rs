@@ -245,6 +245,9 @@ pub struct UiState {
     pub environment_file: Option<PathBuf>,
     /// Units and map slots of each mesh the artist has loaded, by path.
     pub meshes: std::collections::BTreeMap<PathBuf, MeshSettings>,
+    /// The folder each kind of file dialog was last used in ("preset",
+    /// "export", "mesh", "environment", "map"): it opens there again.
+    pub folders: std::collections::BTreeMap<String, PathBuf>,
 }
 
 impl Default for UiState {
@@ -262,6 +265,7 @@ impl Default for UiState {
             last_preset: None,
             environment_file: None,
             meshes: Default::default(),
+            folders: Default::default(),
         }
     }
 }

@@ -243,6 +243,30 @@ pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
     })
 }
 
+/// Every file [`export`] writes for `format` at `out`: `out`, then its
+/// companion if the format has one (Unreal's Python, the shadow table, the
+/// transmittance strip). The editor asks before replacing any of them.
+pub fn planned_paths(format: Format, out: &Path) -> Vec<PathBuf> {
+    let companion_path = match format {
+        Format::Unreal => {
+            let py = companion(out, "", "py");
+            Some(if py == out {
+                companion(out, "_unreal", "py")
+            } else {
+                py
+            })
+        }
+        Format::LutPng | Format::LutExr => Some(companion(out, "_shadow", format.extension())),
+        Format::ProfileExr | Format::ProfilePng => {
+            Some(companion(out, "_transmittance", format.extension()))
+        }
+        _ => None,
+    };
+    std::iter::once(out.to_owned())
+        .chain(companion_path)
+        .collect()
+}
+
 /// Writes `preset` in `format` to `out` (and any companion files); returns
 /// every path written. `source` is the preset's file, for the header.
 pub fn export(
@@ -253,7 +277,9 @@ pub fn export(
 ) -> Result<Vec<PathBuf>, ExportError> {
     preset.validate()?;
     let prov = Provenance::new(preset, source);
-    let mut written = vec![out.to_owned()];
+    let written = planned_paths(format, out);
+    // The companion file, where the format has one.
+    let second = || written.get(1).cloned().unwrap_or_else(|| out.to_owned());
     match format {
         Format::Ron => {
             let text = format!("// Exported: {}.\n{}", prov.line(), preset.to_ron());
@@ -269,14 +295,7 @@ pub fn export(
         Format::Unreal => {
             let (text, py) = (unreal_struct(preset)?, unreal_python(preset, &prov)?);
             write(out, text.as_bytes())?;
-            let py_path = companion(out, "", "py");
-            let py_path = if py_path == out {
-                companion(out, "_unreal", "py")
-            } else {
-                py_path
-            };
-            write(&py_path, py.as_bytes())?;
-            written.push(py_path);
+            write(&second(), py.as_bytes())?;
         }
         Format::Hlsl | Format::Glsl | Format::Wgsl => {
             let lang = match format {
@@ -288,14 +307,10 @@ pub fn export(
         }
         Format::SamplesJson => write(out, samples_json(preset, &prov)?.as_bytes())?,
         Format::LutPng | Format::LutExr => {
-            let shadow = companion(out, "_shadow", format.extension());
-            images::write_luts(preset, &prov, format == Format::LutExr, out, &shadow)?;
-            written.push(shadow);
+            images::write_luts(preset, &prov, format == Format::LutExr, out, &second())?;
         }
         Format::ProfileExr | Format::ProfilePng => {
-            let strip = companion(out, "_transmittance", format.extension());
-            images::write_profile(preset, &prov, format == Format::ProfileExr, out, &strip)?;
-            written.push(strip);
+            images::write_profile(preset, &prov, format == Format::ProfileExr, out, &second())?;
         }
         Format::Blender => write(out, blender_python(preset, &prov)?.as_bytes())?,
         Format::Materialx => write(out, materialx_document(preset, &prov)?.as_bytes())?,
