@@ -589,6 +589,12 @@ impl EditorApp {
         // UI's frame is fill-bound (1500×900: 11 frames a second with the
         // fills, measured by tools/measure_live.sh), and a cleared pixel
         // costs nothing next to a blended one.
+        // The side panels never take more than 30 % and 33 % of the window:
+        // wide rows scroll inside them (ScrollArea::both) instead of
+        // widening them, so the viewport keeps at least 37 % (470 points
+        // of a 1280-point window) and compare views fit.
+        let width = ui.ctx().content_rect().width();
+        let max_side = [0.30 * width, 0.33 * width];
         let style = ui.style().clone();
         let bare = |f: egui::Frame| f.fill(egui::Color32::TRANSPARENT);
         let side = bare(egui::Frame::side_top_panel(&style));
@@ -602,8 +608,9 @@ impl EditorApp {
             .frame(side)
             .resizable(true)
             .default_size(360.0)
+            .max_size(max_side[0])
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.params_panel(ui));
+                egui::ScrollArea::both().show(ui, |ui| self.params_panel(ui));
             });
         self.panel_rects[0] = Some(params.response.rect);
         // Edits above change the preset; the plots below use it this frame.
@@ -613,8 +620,9 @@ impl EditorApp {
             .frame(side)
             .resizable(true)
             .default_size(420.0)
+            .max_size(max_side[1])
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
+                egui::ScrollArea::both().show(ui, |ui| plots::show(ui, self));
             });
         self.panel_rects[1] = Some(plots.response.rect);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -965,6 +973,9 @@ impl EditorApp {
                 }
             }
             if self.ui_state.compare != CompareMode::Off {
+                // B and its controls on a row of their own: a widget that
+                // overflows a row widens everything under it.
+                ui.end_row();
                 ui.menu_button(format!("B: {b_name}"), |ui| {
                     for m in crate::settings::rendering::MethodId::ALL {
                         if ui.button(m.label()).clicked() {
@@ -978,7 +989,9 @@ impl EditorApp {
                     }
                 });
                 if self.ui_state.compare == CompareMode::Split {
-                    ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"));
+                    ui.spacing_mut().slider_width = 90.0;
+                    ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"))
+                        .on_hover_text("Where the split line sits: A left of it, B right.");
                 }
                 for (side, name) in [(AbView::A, "A alone"), (AbView::B, "B alone")] {
                     if ui
@@ -1901,7 +1914,13 @@ impl eframe::App for EframeApp {
 
 /// Opens the editor window on `preset` (else the last preset, else the
 /// embedded default skin).
-pub fn run(preset: Option<PathBuf>, exit_after_first_frame: bool) -> anyhow::Result<()> {
+/// `compare`: open comparing in this mode, B the look with this method
+/// (`None`: B as last time).
+pub fn run(
+    preset: Option<PathBuf>,
+    exit_after_first_frame: bool,
+    compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
+) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let initial = match &preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
@@ -1921,10 +1940,16 @@ pub fn run(preset: Option<PathBuf>, exit_after_first_frame: bool) -> anyhow::Res
         "scatterlab",
         options,
         Box::new(move |cc| {
-            let ui_state: UiState = cc
+            let mut ui_state: UiState = cc
                 .storage
                 .and_then(|s| eframe::get_value(s, STORAGE_KEY))
                 .unwrap_or_default();
+            if let Some((mode, b)) = compare {
+                ui_state.compare = mode;
+                if let Some(m) = b {
+                    ui_state.compare_b = CompareB::Method(m);
+                }
+            }
             let initial = initial.or_else(|| {
                 let p = ui_state.last_preset.clone()?;
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))

@@ -45,7 +45,8 @@ pub fn rgb(
     speed: f64,
     swatch: bool,
 ) -> bool {
-    ui.horizontal(|ui| {
+    // Wraps in a narrow panel rather than widening it.
+    ui.horizontal_wrapped(|ui| {
         ui.label(label).on_hover_text(tip);
         let mut changed = false;
         for (c, x) in v.iter_mut().enumerate() {

@@ -40,6 +40,13 @@ pub enum Command {
         /// test; with SCATTERLAB_TIMINGS=1 it prints the start-up times).
         #[arg(long, hide = true)]
         exit_after_first_frame: bool,
+        /// Open comparing the look (A) with B in this view.
+        #[arg(long, value_enum)]
+        compare: Option<CompareArg>,
+        /// With --compare: B is the look rendered with this method
+        /// (default: what B was last time).
+        #[arg(long, value_enum, requires = "compare")]
+        compare_b: Option<MethodArg>,
     },
     /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
     Profile {
@@ -365,6 +372,14 @@ fn to_method(m: MethodArg) -> crate::render::Method {
     }
 }
 
+/// The editor's compare views (`edit --compare`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CompareArg {
+    Split,
+    SideBySide,
+    Difference,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
     None,
@@ -504,13 +519,35 @@ pub enum EncodingArg {
 /// Runs a parsed command; `None` prints the default profile.
 pub fn run(cli: Cli) -> Result<()> {
     let Some(command) = cli.command else {
-        return crate::app::run(None, false);
+        return crate::app::run(None, false, None);
     };
     match command {
         Command::Edit {
             preset,
             exit_after_first_frame,
-        } => crate::app::run(preset, exit_after_first_frame),
+            compare,
+            compare_b,
+        } => {
+            use crate::app::state::CompareMode;
+            use crate::settings::rendering::MethodId;
+            let compare = compare.map(|c| {
+                let mode = match c {
+                    CompareArg::Split => CompareMode::Split,
+                    CompareArg::SideBySide => CompareMode::SideBySide,
+                    CompareArg::Difference => CompareMode::Difference,
+                };
+                let b = compare_b.map(|m| match m {
+                    MethodArg::None => MethodId::None,
+                    MethodArg::Burley => MethodId::Burley,
+                    MethodArg::Separable => MethodId::Separable,
+                    MethodArg::Gaussians => MethodId::Gaussians,
+                    MethodArg::Preintegrated => MethodId::Preintegrated,
+                    MethodArg::Reference => MethodId::Reference,
+                });
+                (mode, b)
+            });
+            crate::app::run(preset, exit_after_first_frame, compare)
+        }
         Command::Profile { model, radii, json } => profile(&model, radii, json),
         Command::Sample(SampleCommand::Burley {
             shape,
