@@ -622,7 +622,9 @@ impl EditorApp {
             .default_size(420.0)
             .max_size(max_side[1])
             .show(ui, |ui| {
-                egui::ScrollArea::both().show(ui, |ui| plots::show(ui, self));
+                // Vertical only: the plot takes the panel's width (its rows
+                // wrap rather than widen it).
+                egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
             });
         self.panel_rects[1] = Some(plots.response.rect);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;

@@ -178,7 +178,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
     let mut apply = None;
     match &overlay {
         Some(Ok(o)) => {
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 ui.label(format!(
                     "{}: relative L2 error of r·R(r) R {:.2} %, G {:.2} %, B {:.2} %",
                     o.label,
@@ -400,4 +400,53 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
     ))
     .on_hover_text("Light through a slab of thickness d (left thin, right thick), shown in sRGB.");
     ui.image((strip.id(), egui::vec2(384.0, 24.0)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::gaussian::GaussianSum;
+
+    /// d'Eon 2007's normalised Gaussian G(v, r) = e^(−r²/2v)/(2πv) holds
+    /// 1 − e^(−r²/2v) of its energy within r, so its 99.7 % radius is
+    /// √(−2v ln 0.003) and r·R there is r₉₉₇ · 0.003/(2πv) (closed form,
+    /// not the model code). Three channels of variance 4, 1 and 0.05 mm²:
+    /// the log axis stops one decade under the lowest of those (the red
+    /// channel's, 10^−3.089), not at the blue channel's 10^−300 tail.
+    #[test]
+    fn log_axis_stops_a_decade_under_the_tail() {
+        let variances = [4.0, 1.0, 0.05];
+        let terms: Vec<(f64, [f64; 3])> = (0..3)
+            .map(|c| {
+                let mut w = [0.0; 3];
+                w[c] = 1.0;
+                (variances[c], w)
+            })
+            .collect();
+        let sum = GaussianSum::new(&terms).unwrap();
+        let curves = Curves::of(&sum, None);
+        let tail = variances
+            .map(|v: f64| {
+                let r997 = (-2.0 * v * 0.003f64.ln()).sqrt();
+                (r997 * 0.003 / (2.0 * std::f64::consts::PI * v)).log10()
+            })
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        assert!((tail + 3.089).abs() < 1e-3, "{tail}");
+        let floor = log_floor(&curves, PlotQuantity::RTimesR).unwrap();
+        // The first plotted radius at or past r₉₉₇: within 0.05 decade.
+        assert!((floor - (tail - 1.0)).abs() < 0.05, "floor {floor}");
+        let shown = series(&curves, PlotQuantity::RTimesR, true);
+        let lowest = shown
+            .iter()
+            .flatten()
+            .map(|p| p[1])
+            .fold(f64::INFINITY, f64::min);
+        assert!(lowest >= floor && lowest < floor + 0.5, "lowest {lowest}");
+        // Unclamped, the narrow blue channel runs hundreds of decades down.
+        let raw = (0..curves.radius_mm.len())
+            .filter_map(|i| value(&curves, PlotQuantity::RTimesR, i, 2, true))
+            .fold(f64::INFINITY, f64::min);
+        assert!(raw < -50.0, "{raw}");
+    }
 }
