@@ -89,6 +89,17 @@ enum Stroke {
 /// One legend entry: a short line in the entry's colour, then its name.
 /// The legend sits under the plot, never over the curves.
 fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
+    // The line and its name stay together: start a row if both do not fit.
+    let text = egui::WidgetText::from(name).into_galley(
+        ui,
+        Some(egui::TextWrapMode::Extend),
+        f32::INFINITY,
+        egui::TextStyle::Body,
+    );
+    let needed = 24.0 + 2.0 * ui.spacing().item_spacing.x + text.size().x;
+    if ui.available_size_before_wrap().x < needed {
+        ui.end_row();
+    }
     let (rect, _) = ui.allocate_exact_size(egui::vec2(24.0, 12.0), egui::Sense::hover());
     let painter = ui.painter_at(rect);
     let y = rect.center().y;
@@ -127,7 +138,8 @@ fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
             painter.circle_filled(egui::pos2(x, rect.top() + 3.0), 3.0, color);
         }
     }
-    ui.label(name);
+    // Whole: an entry that does not fit moves to the next row.
+    ui.add(egui::Label::new(name).wrap_mode(egui::TextWrapMode::Extend));
 }
 
 pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {

@@ -81,6 +81,9 @@ pub struct Request {
 /// second with room left for the UI's own frame.
 pub const PREVIEW_BUDGET_MS: f64 = 50.0;
 
+/// The preview's resolution divisors (per axis).
+const PREVIEW_DIVISORS: [f32; 9] = [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0];
+
 /// Progressive refinement stops here even if pixels still change.
 pub const MAX_REFINE_FRAMES: u32 = 64;
 
@@ -709,11 +712,17 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
 fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) -> bool {
     // The first preview guesses from the last full frame: its time scales
     // with the pixel count, so with the divisor squared.
-    let divisor = w.divisor.unwrap_or_else(|| {
+    let estimate = w.divisor.unwrap_or_else(|| {
         w.full_frame_ms
             .map_or(2.0, |ms| (ms / PREVIEW_BUDGET_MS).sqrt() as f32)
             .clamp(1.0, 6.0)
     });
+    // A few fixed steps, so that the preview's render targets keep their
+    // size from frame to frame instead of being made anew for each.
+    let divisor = PREVIEW_DIVISORS
+        .into_iter()
+        .min_by(|a, b| (a - estimate).abs().total_cmp(&(b - estimate).abs()))
+        .unwrap_or(estimate);
     let t1 = Instant::now();
     let sent = send_frame(w, req, Pass::Preview(divisor), t0, tx, |_| {
         Quality::Preview { divisor }
@@ -721,7 +730,7 @@ fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) 
     let ms = t1.elapsed().as_secs_f64() * 1e3;
     // Halfway towards the divisor that would have met the budget.
     let ideal = divisor * (ms / PREVIEW_BUDGET_MS).sqrt() as f32;
-    w.divisor = Some((0.5 * (divisor + ideal)).clamp(1.0, 6.0));
+    w.divisor = Some((0.5 * (estimate + ideal)).clamp(1.0, 6.0));
     sent
 }
 
