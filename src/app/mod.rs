@@ -853,10 +853,22 @@ impl EditorApp {
             } else {
                 ui.visuals().text_color()
             };
-            ui.colored_label(color, &self.status);
+            // The viewport's line on the right, whole; the status message
+            // in what is left, cut short (full text on hover) rather than
+            // written over it in a narrow window.
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.label(format!("{} · UI {:.1} ms", self.frame_info, self.ui_ms))
-                    .on_hover_text("Viewport: method, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
+                ui.add(
+                    egui::Label::new(format!("{} · UI {:.1} ms", self.frame_info, self.ui_ms))
+                        .wrap_mode(egui::TextWrapMode::Extend),
+                )
+                    .on_hover_text("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    ui.add(
+                        egui::Label::new(egui::RichText::new(&self.status).color(color))
+                            .truncate(),
+                    )
+                    .on_hover_text(&self.status);
+                });
             });
         });
     }

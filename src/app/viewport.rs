@@ -477,7 +477,8 @@ impl Worker {
         let Some((b_look, mode, split)) = b else {
             notes.dedup();
             return Ok(Rendered {
-                image: a.image,
+                image: a.image.clone(),
+                sides: vec![a.image],
                 stats: a.stats,
                 note: (!notes.is_empty()).then(|| notes.join(" · ")),
                 stochastic: a.stochastic,
@@ -503,6 +504,7 @@ impl Worker {
         notes.dedup();
         Ok(Rendered {
             image,
+            sides: vec![a.image, bside.image],
             stats: a.stats,
             note: (!notes.is_empty()).then(|| notes.join(" · ")),
             stochastic: a.stochastic || bside.stochastic,
@@ -567,6 +569,9 @@ struct Side {
 /// A composed frame.
 struct Rendered {
     image: image::RgbaImage,
+    /// Each side's own frame (A, and B when comparing): convergence is
+    /// judged on these, not on a difference view that magnifies noise.
+    sides: Vec<image::RgbaImage>,
     stats: FrameStats,
     note: Option<String>,
     stochastic: bool,
@@ -577,8 +582,8 @@ struct Refine {
     req: Request,
     /// Frames in the running mean so far.
     frames: u32,
-    /// The last frame sent (to see whether the mean still changes).
-    prev: Option<image::RgbaImage>,
+    /// The sides of the last frame (to see whether the means still change).
+    prev: Option<Vec<image::RgbaImage>>,
     /// When the request arrived (input stopped).
     since: Instant,
 }
@@ -754,9 +759,11 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
     r.frames += 1;
     let done = !rendered.stochastic
         || r.frames >= MAX_REFINE_FRAMES
-        || r.prev
-            .as_ref()
-            .is_some_and(|p| r.frames >= 3 && converged(p, &rendered.image));
+        || r.prev.as_ref().is_some_and(|p| {
+            r.frames >= 3
+                && p.len() == rendered.sides.len()
+                && p.iter().zip(&rendered.sides).all(|(a, b)| converged(a, b))
+        });
     let quality = if done {
         Quality::Converged {
             frames: r.frames,
@@ -766,7 +773,7 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
         Quality::Refining { frames: r.frames }
     };
     if !done {
-        r.prev = Some(rendered.image.clone());
+        r.prev = Some(rendered.sides);
     }
     let reply = Reply::Frame {
         image: rendered.image,
