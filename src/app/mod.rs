@@ -401,7 +401,12 @@ impl EditorApp {
                     self.run_pending(action);
                 }
             }
-            Err(e) => self.status = format!("Error: {e}"),
+            Err(e) => {
+                // Not saved: the quit (or open) it was for does not happen,
+                // now or after some later save.
+                self.after_save = None;
+                self.status = format!("Error: {e}");
+            }
         }
     }
 
