@@ -372,22 +372,7 @@ impl Renderer {
             return;
         }
         let device = &self.ctx.device;
-        let make = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let make = |label, format, usage| target_texture(device, label, (w, h), format, usage);
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let mut bytes = 0u64;
         let mut make = |label, format: wgpu::TextureFormat, usage| {
@@ -451,22 +436,15 @@ impl Renderer {
             return;
         }
         let (w, h) = t.size;
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("progressive mean"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: HDR,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+        let texture = target_texture(
+            device,
+            "progressive mean",
+            (w, h),
+            HDR,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        );
         t.bytes += HDR.block_copy_size(None).unwrap_or(8) as u64 * w as u64 * h as u64;
         let view = texture.create_view(&Default::default());
         t.accum[slot] = Some((texture, view));
@@ -1072,6 +1050,30 @@ impl Renderer {
         self.scene_key = Some((scene_key, sss_pixels));
         Ok((image, diffuse, stats))
     }
+}
+
+/// A 2D, single-sample, single-mip render target of `size`.
+fn target_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 /// Uploads a mesh's five surface maps (albedo, normal, roughness, mask,
