@@ -1,4 +1,4 @@
-// Classification (seed 000 §4's skip mask: SSSS_STRENGTH_SOURCE / Subsurface
+// Classification (the engines' skip mask: SSSS_STRENGTH_SOURCE / Subsurface
 // Mask): a fullscreen pass that writes stencil 1 where the SSS mask exceeds
 // 1/255 (the pipeline replaces the stencil of every fragment that survives)
 // and counts those pixels. Every SSS pass then tests stencil = 1, so it

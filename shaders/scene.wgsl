@@ -1,5 +1,5 @@
 // Scene pass: lights the mesh and writes the separate buffers the SSS
-// methods read (seed 000 §4: specular is never blurred).
+// methods read (as every engine does: specular is never blurred).
 //   target 0: diffuse irradiance × albedo^pre (rgb), SSS mask (a)
 //   target 1: specular radiance (rgb)
 //   target 2: albedo^post (rgb), coverage 1 (a)

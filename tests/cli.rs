@@ -323,7 +323,7 @@ fn lut_preintegrated_reproduces_seed_reference() {
     std::fs::remove_file(&png).unwrap();
 }
 
-/// Burley transmittance A/4·(e^(−sd) + 3e^(−sd/3)) (Golubev 2018, seed 000 §5-2).
+/// Burley transmittance A/4·(e^(−sd) + 3e^(−sd/3)) (Golubev 2018).
 #[test]
 fn transmittance_matches_closed_form() {
     let v = json(&[

@@ -4,7 +4,7 @@
 //! and every model within the accuracy docs/accuracy.md states. The
 //! references are independent of the code under test (closed forms written
 //! out again from the papers, adaptive quadrature at 10⁻¹²); the full sweep
-//! is `scatterlab stress --cases 400` in release.
+//! is `scatterlab stress --long` in release.
 
 use scatterlab::model::stress::{model_names, run};
 

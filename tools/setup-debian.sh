@@ -13,6 +13,16 @@
 # dpkg it only says what it would need.
 set -euo pipefail
 
+# The test command runs rustfmt and clippy first: add them to a toolchain
+# installed without them (rustup's minimal profile).
+if command -v rustup >/dev/null 2>&1; then
+    for c in rustfmt clippy; do
+        if ! cargo "${c/rustfmt/fmt}" --version >/dev/null 2>&1; then
+            rustup component add "$c"
+        fi
+    done
+fi
+
 if ! command -v dpkg >/dev/null 2>&1; then
     echo "tools/setup-debian.sh: not a Debian system; make sure a Vulkan driver, Xvfb and Python 3.11 with venv are installed" >&2
     exit 0

@@ -167,10 +167,14 @@ pub enum Command {
     /// independent references: worst relative errors of R, the CDF and the
     /// inverse CDF, kernel normalisation, and the count of NaN/Inf.
     Stress {
-        /// Random parameter sets per model (the costly layered stacks get
-        /// 1/16 of them, slabs 1/2); edges are drawn one time in five.
-        #[arg(long, default_value_t = 400)]
+        /// Random parameter sets per model (multipole slabs get 1/6 of
+        /// them, layered stacks 1/24, at least 2); edges are drawn one time
+        /// in five. The default takes about two minutes on 2 cores.
+        #[arg(long, default_value_t = crate::model::stress::DEFAULT_CASES, conflicts_with = "long")]
         cases: usize,
+        /// The long sweep: 400 cases per model (about 20 CPU-minutes).
+        #[arg(long)]
+        long: bool,
         #[arg(long, default_value_t = 2026)]
         seed: u64,
         /// Only this model (burley, gaussians, jimenez2012, artist, dipole,
@@ -639,10 +643,18 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Stress {
             cases,
+            long,
             seed,
             model,
             json,
-        } => stress(cases, seed, model.as_deref(), json),
+        } => {
+            let cases = if long {
+                crate::model::stress::LONG_CASES
+            } else {
+                cases
+            };
+            stress(cases, seed, model.as_deref(), json)
+        }
         Command::Export {
             preset,
             format,
@@ -1232,7 +1244,22 @@ fn stress(cases: usize, seed: u64, model: Option<&str>, json: bool) -> Result<()
     if let Some(m) = model.filter(|m| !names.contains(m)) {
         bail!("--model {m}: unknown; known: {}", names.join(", "));
     }
-    let report = crate::model::stress::run(cases, seed, model);
+    // Progress on stderr, about every 5 %: the sweep takes minutes.
+    let started = std::time::Instant::now();
+    let last = std::sync::Mutex::new(0usize);
+    let report = crate::model::stress::run_with_progress(cases, seed, model, |done, total| {
+        let step = (total / 20).max(1);
+        let Ok(mut last) = last.lock() else {
+            return;
+        };
+        if done == total || done >= *last + step {
+            *last = done;
+            eprintln!(
+                "stress: {done}/{total} cases, {:.0} s",
+                started.elapsed().as_secs_f64()
+            );
+        }
+    });
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

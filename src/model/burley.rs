@@ -1,10 +1,10 @@
 //! Burley normalized diffusion (Christensen & Burley 2015), parameterised as
 //! Unity HDRP does it: a volume albedo A and a scattering distance d = 1/s
-//! per channel (Golubev 2018; seed 000 §4-3, seed 001).
+//! per channel (Christensen & Burley 2015; Golubev 2018).
 //!
 //! R(r) = A·s·(e^(−sr) + e^(−sr/3)) / (8πr)                    [mm⁻²]
 //! ∫2πr R dr = A;  P(r) = 1 − e^(−sr)/4 − 3e^(−sr/3)/4 (Golubev 2018)
-//! T(d) = A/4·(e^(−sd) + 3e^(−sd/3))                          (seed 000 §5-2)
+//! T(d) = A/4·(e^(−sd) + 3e^(−sd/3))                          (Christensen & Burley 2015; Golubev 2018 §translucency)
 
 use super::{check_range, check_rgb, check_xi, rgb_map, ModelError, RadialProfile, Rgb};
 use std::f64::consts::PI;
@@ -223,7 +223,7 @@ impl RadialProfile for Burley {
         })
     }
 
-    /// Closed form A/4·(e^(−sd) + 3e^(−sd/3)) (Golubev 2018, seed 000 §5-2).
+    /// Closed form A/4·(e^(−sd) + 3e^(−sd/3)) (Golubev 2018).
     fn transmittance(&self, thickness_mm: f64) -> Rgb {
         rgb_map(|c| {
             let x = (-self.shape_per_mm[c] * thickness_mm.max(0.0) / 3.0).exp();
@@ -267,7 +267,7 @@ const GOLDEN_SQUARED: f64 = 2.618_033_988_749_895;
 ///
 /// r = (3/s)·ln((1 + G^(−1/3) + G^(1/3)) / (4u)),  G = 1 + 4u(2u + √(1 + 4u²)),  u = 1 − ξ.
 ///
-/// The logarithm is the natural one: seed 000 prints log₂, which does not
+/// The logarithm is the natural one: the survey we started from prints log₂, which does not
 /// invert P (see the test `log2_reading_of_seed_000_does_not_invert_the_cdf`).
 /// For ξ < ½ the argument is 1 + O(ξ), so the difference is formed
 /// analytically (G − G(ξ=0) and G^(1/3) − φ² without cancellation) and fed
@@ -372,7 +372,7 @@ mod tests {
     use crate::model::quad;
 
     fn skin() -> Burley {
-        // Unity HDRP default skin scattering distance, seed 000 §4-3-2.
+        // Unity HDRP default skin scattering distance, as Golubev 2018 ships it in HDRP.
         Burley::from_scattering_distance([0.9, 0.5, 0.3], [0.756_862_8, 0.321_568_64, 0.2]).unwrap()
     }
 
@@ -404,7 +404,7 @@ mod tests {
         }
     }
 
-    /// Transmittance closed form (seed 000) against direct 2D quadrature.
+    /// Transmittance closed form (Christensen & Burley 2015; Golubev 2018) against direct 2D quadrature.
     #[test]
     fn transmittance_closed_form_matches_quadrature() {
         let p = skin();

@@ -1,5 +1,5 @@
 //! The dipole diffusion model in its corrected form (Mikkelsen 2009 §2.6,
-//! eq. 30, as in Donner & Jensen 2005; seed 002).
+//! eq. 30, as in Donner & Jensen 2005; Mikkelsen 2009).
 //!
 //! σ′t = σa + σ′s, α′ = σ′s/σ′t, σtr = √(3σa σ′t), D = 1/(3σ′t),
 //! z_r = 1/σ′t, z_v = z_r + 4AD, A = (1 + F_dr)/(1 − F_dr),
@@ -34,7 +34,7 @@ pub fn fresnel_dielectric(eta_t_over_i: f64, cos_i: f64) -> f64 {
     0.5 * (rs * rs + rp * rp)
 }
 
-/// Internal diffuse Fresnel reflectance by quadrature, seed 002 eq. 21
+/// Internal diffuse Fresnel reflectance by quadrature, Mikkelsen 2009 eq. 21
 /// (with its 1/π): light inside a medium of relative index η = n_in/n_out
 /// reflected back at the boundary, F_dr = 2∫₀¹ F_r(μ) μ dμ.
 pub fn fdr_exact(eta: f64) -> f64 {
@@ -65,7 +65,7 @@ pub fn fdr(eta: f64) -> f64 {
     }
 }
 
-/// Boundary mismatch A = (1 + F_dr)/(1 − F_dr) (seed 002 eq. 23).
+/// Boundary mismatch A = (1 + F_dr)/(1 − F_dr) (Mikkelsen 2009 eq. 23).
 pub fn boundary_a(eta: f64) -> f64 {
     let f = fdr(eta);
     (1.0 + f) / (1.0 - f)

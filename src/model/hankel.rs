@@ -1,6 +1,6 @@
 //! Zeroth-order Hankel transforms on log-spaced grids (FFTLog, Hamilton
 //! 2000), used to invert the 2D Fourier transform of radially symmetric
-//! profiles: f(r) = 1/(2π) ∫₀^∞ F(k) J₀(kr) k dk (seed 002 eq. 34–36).
+//! profiles: f(r) = 1/(2π) ∫₀^∞ F(k) J₀(kr) k dk (Mikkelsen 2009 eq. 34–36).
 //!
 //! With κ = ln k, ρ = ln r and a bias a, u(κ) = F(e^κ)·e^(aκ) and the kernel
 //! K(t) = e^((2−a)t) J₀(e^t), f(e^ρ)·2π·e^((2−a)ρ) = ∫u(κ)K(κ+ρ)dκ: a

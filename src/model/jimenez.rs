@@ -6,7 +6,7 @@
 //! Gaussian ("directly bounced light, accounted by the strength"), with the
 //! radius scaled per channel by 1/(0.001 + falloff). The kernel is
 //! S(Δx) = strength·R(Δx/(0.001+falloff)) + (1 − strength)·δ(Δx)
-//! (seed 000 §4-2). As a radial profile that is a sum of Gaussians with
+//! (Jimenez 2012). As a radial profile that is a sum of Gaussians with
 //! variances v_k(0.001+falloff)² and weights strength·w_k/Σw, plus a Dirac
 //! delta of weight 1 − strength: an energy-conserving blur (total 1).
 
@@ -14,9 +14,9 @@ use super::gaussian::{GaussianSum, Term, DEON_SKIN};
 use super::separable::{SeparableKernel, Tap};
 use super::{check_range, check_rgb, rgb_map, ModelError, Rgb};
 
-/// Unreal and the demo's default Subsurface Color / SSS Strength (seed 000).
+/// Unreal's and the Jimenez 2012 demo's default Subsurface Color / SSS Strength.
 pub const DEFAULT_STRENGTH: Rgb = [0.48, 0.41, 0.28];
-/// Unreal and the demo's default Falloff Color / SSS Falloff (seed 000).
+/// Unreal's and the Jimenez 2012 demo's default Falloff Color / SSS Falloff.
 pub const DEFAULT_FALLOFF: Rgb = [1.0, 0.37, 0.3];
 
 /// Tap counts the renderer supports (odd, so that offset 0 exists).

@@ -1,5 +1,5 @@
 //! Pre-integrated skin lookup tables (Penner & Borshukov 2011), with the
-//! improved ring integral of seed 000 §4-1 and FaceWorks' encodings.
+//! improved ring integral of Penner 2011 and FaceWorks' encodings.
 //!
 //! D(θ, c) = ∫₀^{2c} 2π R_N(r) r·cos⁺θᵢ dr / ∫₀^{2c} 2π R_N(r) r dr, with the
 //! ring parameterisation r = 2c|sin(x/2)|, dr/dx = c·cos(x/2) and

@@ -1,5 +1,5 @@
 //! The multipole for slabs and stacks of slabs (Mikkelsen 2009 §2.7,
-//! Donner & Jensen 2005; seed 002).
+//! Donner & Jensen 2005; Mikkelsen 2009).
 //!
 //! One slab of thickness s between media of index η_above and η_below holds
 //! 2n + 1 dipoles at (eqs. 31–32, z up, surface at 0)
@@ -398,7 +398,7 @@ fn truncate_noise(values: &mut [f64]) {
 }
 
 /// Frequency-space reflectance of slabs stacked top-down over `base`
-/// (seed 002 §2.7.2–2.7.3).
+/// (Mikkelsen 2009 §2.7.2–2.7.3).
 fn combine(slabs: &[MultipoleSlab], base: Option<&super::dipole::Dipole>, c: usize, k: f64) -> f64 {
     // (R⁺, T⁺, R⁻, T⁻) of the part of the stack built so far.
     let mut acc: Option<[f64; 4]> = None;
@@ -537,7 +537,7 @@ mod tests {
         }
     }
 
-    /// As the slab thickens the multipole converges to the dipole (seed 002 §2.7.1).
+    /// As the slab thickens the multipole converges to the dipole (Mikkelsen 2009 §2.7.1).
     #[test]
     fn thick_slab_converges_to_dipole() {
         let d = Dipole::new(skin1(), 1.3).unwrap();
@@ -603,7 +603,7 @@ mod tests {
         }
     }
 
-    /// Donner & Jensen 2006 fig. 4a stack (seed 002 Table 3): 6 mm of
+    /// Donner & Jensen 2006 fig. 4a stack (Mikkelsen 2009 Table 3): 6 mm of
     /// σa = 0.005, σ′s = 1.3 over σa = 0.01, σ′s = 1.0, η = 1.4. Its total
     /// lies between the two layers' own semi-infinite totals, and a stack
     /// of identical index-matched layers reproduces the semi-infinite dipole.

@@ -1,5 +1,5 @@
 //! Disk sample patterns for the screen-space Burley method (Golubev 2018,
-//! seed 001 "Sampling the Diffusion Profile"): radii by the inverse CDF of
+//! Golubev 2018 "Sampling the Diffusion Profile"): radii by the inverse CDF of
 //! the channel with the longest scattering distance at ξᵢ = (i + ½)/N,
 //! angles by the golden angle (Fibonacci) or the Hammersley radical
 //! inverse, and per-channel weights R_c(r)/pdf(r) so that

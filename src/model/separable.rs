@@ -1,4 +1,4 @@
-//! Separable kernels (Jimenez et al. 2015, seed 004).
+//! Separable kernels (Jimenez et al. 2015, Jimenez et al. 2015).
 //!
 //! - The pre-integrated kernel a_p(x) = ∫R(√(x²+y²)) dy of any radial
 //!   profile (§4, eq. 4–5): exact for additively separable irradiance such

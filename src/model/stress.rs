@@ -55,7 +55,7 @@ pub struct ModelStress {
     /// Worst |Σ taps − 1| over the separable kernels.
     pub worst_kernel_norm: f64,
     pub worst_kernel_at: String,
-    /// Wall-clock time of the model's sweep (s).
+    /// CPU time of the model's cases (s), summed over the threads.
     pub seconds: f64,
 }
 
@@ -406,7 +406,7 @@ fn gaussians_case(rng: &mut Rng) -> Case {
 }
 
 /// Jimenez 2012: d'Eon's red terms 2–6 with variances × (0.001 + falloff)²
-/// and weights strength·w/Σw (seed 000 §4-2).
+/// and weights strength·w/Σw (Jimenez 2012).
 fn jimenez_case(rng: &mut Rng) -> Case {
     let (s, f) = (rng.rgb(0.0, 1.0, false), rng.rgb(0.0, 1.0, false));
     let sum_w: f64 = DEON_SKIN[1..].iter().map(|t| t.1[0]).sum();
@@ -603,7 +603,7 @@ const MODELS: [ModelSweep; 8] = [
     },
     ModelSweep {
         name: "jimenez2012",
-        reference: "closed form (d'Eon terms scaled, seed 000 §4-2)",
+        reference: "closed form (d'Eon terms scaled, Jimenez 2012)",
         generate: |r, _| jimenez_case(r),
         cost: 1,
         kernel_every: 1,
@@ -633,14 +633,14 @@ const MODELS: [ModelSweep; 8] = [
         name: "multipole-slab",
         reference: "(is the closed form)",
         generate: |r, _| slab_case(r),
-        cost: 2,
+        cost: 6,
         kernel_every: 8,
     },
     ModelSweep {
         name: "multipole-stack",
         reference: "one-slab real-space dipole sum (bulk: 0.001–0.999 energy)",
         generate: |r, _| stack_case(r),
-        cost: 16,
+        cost: 24,
         kernel_every: 4,
     },
 ];
@@ -650,38 +650,132 @@ pub fn model_names() -> Vec<&'static str> {
     MODELS.iter().map(|m| m.name).collect()
 }
 
+/// The default `random_cases`: about two minutes on 2 cores in release
+/// (the multipole slab takes about 14 s a case, the stack about 10).
+pub const DEFAULT_CASES: usize = 48;
+
+/// `scatterlab stress --long`: the full sweep (about 20 CPU-minutes).
+pub const LONG_CASES: usize = 400;
+
 /// Runs the sweep: `random_cases` parameter sets per model (fewer for the
-/// costly stacks), deterministic for a seed; `only` restricts it to one
-/// model by name.
+/// costly stacks), deterministic for a seed whatever the thread count;
+/// `only` restricts it to one model by name. Cases run in parallel
+/// (rayon); `progress` is called after each with (done, total).
 pub fn run(random_cases: usize, seed: u64, only: Option<&str>) -> StressReport {
-    let models = MODELS
+    run_with_progress(random_cases, seed, only, |_, _| {})
+}
+
+/// As [`run`], reporting progress.
+pub fn run_with_progress(
+    random_cases: usize,
+    seed: u64,
+    only: Option<&str>,
+    progress: impl Fn(usize, usize) + Sync,
+) -> StressReport {
+    use rayon::prelude::*;
+    let chosen: Vec<(usize, &ModelSweep)> = MODELS
         .iter()
         .enumerate()
         .filter(|(_, m)| only.is_none_or(|o| o == m.name))
-        .map(|(k, m)| {
-            let mut rng = Rng(seed ^ (k as u64).wrapping_mul(0xA076_1D64_78BD_642F));
+        .collect();
+    // Every (model, case) pair, costliest models first so that their long
+    // cases start early and the cores finish together.
+    let mut jobs: Vec<(usize, usize)> = chosen
+        .iter()
+        .enumerate()
+        .flat_map(|(j, (_, m))| (0..(random_cases / m.cost).max(2)).map(move |i| (j, i)))
+        .collect();
+    jobs.sort_by_key(|&(j, i)| (std::cmp::Reverse(chosen[j].1.cost), j, i));
+    let total = jobs.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let mut tallies: Vec<(usize, usize, ModelStress)> = jobs
+        .par_iter()
+        // One case a job: cases run from 1 ms to 14 s, and only single
+        // jobs can be stolen by an idle core.
+        .with_max_len(1)
+        .map(|&(j, i)| {
+            let (k, m) = chosen[j];
+            // Each case its own stream: the same cases whatever the order.
+            let mut rng = Rng(seed
+                ^ (k as u64).wrapping_mul(0xA076_1D64_78BD_642F)
+                ^ (i as u64).wrapping_mul(0xE703_7ED1_A0B4_28DB));
+            rng.next_u64();
             let mut t = Tally::new(m.name, m.reference);
             let start = std::time::Instant::now();
-            for i in 0..(random_cases / m.cost).max(2) {
-                let case = (m.generate)(&mut rng, i);
-                t.stress.cases += 1;
-                extremes(&case, &mut t);
-                check_r(&case, &mut t);
-                check_cdf(&case, &mut t);
-                check_inverse(&case, &mut t, &mut rng);
-                if i % m.kernel_every == 0 {
-                    check_kernels(&case, &mut t);
-                }
+            let case = (m.generate)(&mut rng, i);
+            t.stress.cases = 1;
+            extremes(&case, &mut t);
+            check_r(&case, &mut t);
+            check_cdf(&case, &mut t);
+            check_inverse(&case, &mut t, &mut rng);
+            if i % m.kernel_every == 0 {
+                check_kernels(&case, &mut t);
             }
             t.stress.seconds = start.elapsed().as_secs_f64();
-            t.stress
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress(n, total);
+            (j, i, t.stress)
         })
         .collect();
+    // Merged in case order: the report does not depend on the schedule.
+    tallies.sort_by_key(|&(j, i, _)| (j, i));
+    let mut models: Vec<ModelStress> = chosen
+        .iter()
+        .map(|(_, m)| Tally::new(m.name, m.reference).stress)
+        .collect();
+    for (j, _, t) in tallies {
+        models[j].absorb(t);
+    }
     StressReport {
         seed,
         random_cases_per_model: random_cases,
         cdf_floor: CDF_FLOOR,
         models,
+    }
+}
+
+impl ModelStress {
+    /// Adds a later case's tally: counts add, each worst keeps the larger
+    /// (the earlier on a tie) with where it happened, the first NaN's
+    /// place stays the first.
+    fn absorb(&mut self, o: ModelStress) {
+        self.cases += o.cases;
+        self.evaluations += o.evaluations;
+        if self.non_finite == 0 && o.non_finite > 0 {
+            self.non_finite_at = o.non_finite_at;
+        }
+        self.non_finite += o.non_finite;
+        let keep = |slot: &mut f64, at: &mut String, v: f64, v_at: String| {
+            if v > *slot {
+                *slot = v;
+                *at = v_at;
+            }
+        };
+        keep(
+            &mut self.worst_r_rel,
+            &mut self.worst_r_at,
+            o.worst_r_rel,
+            o.worst_r_at,
+        );
+        keep(
+            &mut self.worst_cdf_rel,
+            &mut self.worst_cdf_at,
+            o.worst_cdf_rel,
+            o.worst_cdf_at,
+        );
+        keep(
+            &mut self.worst_inverse_rel,
+            &mut self.worst_inverse_at,
+            o.worst_inverse_rel,
+            o.worst_inverse_at,
+        );
+        keep(
+            &mut self.worst_kernel_norm,
+            &mut self.worst_kernel_at,
+            o.worst_kernel_norm,
+            o.worst_kernel_at,
+        );
+        self.seconds += o.seconds;
     }
 }
 

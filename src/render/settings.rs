@@ -110,7 +110,7 @@ impl Default for BurleySampling {
     }
 }
 
-/// Where the albedo is applied (d'Eon 2007; seed 000 §2).
+/// Where the albedo is applied (d'Eon 2007).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexturingMode {
     PostScatter,

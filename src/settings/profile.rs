@@ -9,7 +9,7 @@ use crate::model::separable::ArtistTwoGaussian;
 use crate::model::{measured, ModelError, RadialProfile, Rgb};
 use serde::{Deserialize, Serialize};
 
-/// Unity HDRP's default skin scattering distance (mm), seed 000 §4-3-2.
+/// Unity HDRP's default skin scattering distance (mm), as Golubev 2018 ships it in HDRP.
 pub const UNITY_DEFAULT_SKIN_DISTANCE_MM: Rgb = [0.756_862_8, 0.321_568_64, 0.2];
 
 /// A diffusion profile model with its parameters.
@@ -251,7 +251,7 @@ pub struct MultipoleSpec {
 
 impl Default for MultipoleSpec {
     fn default() -> Self {
-        // Donner & Jensen 2006 fig. 4a (seed 002 Table 3).
+        // Donner & Jensen 2006 fig. 4a (Mikkelsen 2009 Table 3).
         Self {
             layers: vec![
                 LayerSpec {

@@ -7,7 +7,7 @@ use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::renderer::HdrTarget;
 
-/// Follow-surface strength of the Jimenez 2012 demo kernel (seed 000's
+/// Follow-surface strength of the Jimenez 2012 demo kernel (the demo's
 /// SSSS_FOLLOW_SURFACE lerp towards the centre, per mm of depth
 /// difference). Every other kernel uses Jimenez 2015 eq. 7's weight
 /// e^(−Δz²/2σ²) with its own σ (see [`follow_surface`]).
