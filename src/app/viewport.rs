@@ -19,9 +19,8 @@
 use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
 use crate::render::{
     FrameStats, GpuContext, Mesh, Method, ProfileInputs, Progressive, RenderSettings, Renderer,
-    Specular, TexturingMode, Transmission,
+    Specular,
 };
-use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
 use std::path::PathBuf;
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -29,17 +28,6 @@ use std::time::Instant;
 
 /// d'Eon's 7-tap Gaussian kernel (the renderer's default).
 const GAUSSIAN_TAPS: usize = crate::render::inputs::GAUSSIAN_TAPS;
-
-pub fn method(id: MethodId) -> Method {
-    match id {
-        MethodId::None => Method::None,
-        MethodId::Burley => Method::Burley,
-        MethodId::Separable => Method::Separable,
-        MethodId::Gaussians => Method::Gaussians,
-        MethodId::Preintegrated => Method::Preintegrated,
-        MethodId::Reference => Method::Reference,
-    }
-}
 
 /// One side of a comparison: a look and the method it is rendered with.
 #[derive(Debug, Clone, PartialEq)]
@@ -268,11 +256,8 @@ pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> Ren
     RenderSettings {
         width: w,
         height: h,
-        method: method(r.method),
-        texturing: match r.texturing {
-            TexturingId::PreAndPostScatter => TexturingMode::PreAndPostScatter,
-            TexturingId::PostScatter => TexturingMode::PostScatter,
-        },
+        method: r.method,
+        texturing: r.texturing,
         camera_yaw: view.camera_yaw,
         camera_pitch: view.camera_pitch,
         camera_distance_m: view.camera_distance_m,
@@ -281,11 +266,7 @@ pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> Ren
         light_elevation: view.light_elevation,
         light_intensity: view.light_intensity,
         exposure: view.exposure,
-        transmission: match r.transmission {
-            TransmissionId::Off => Transmission::Off,
-            TransmissionId::ThinObject => Transmission::ThinObject,
-            TransmissionId::ThickObject => Transmission::ThickObject,
-        },
+        transmission: r.transmission,
         transmission_tint: r.transmission_tint.map(|v| v as f32),
         lod: r.lod,
         specular: Specular::DualGgx {

@@ -14,6 +14,7 @@ use crate::model::units::{
     BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE,
 };
 use crate::model::{check_radius, RadialProfile, Rgb, DEFAULT_ENERGY_FRACTION};
+use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::ProfileSpec;
 use anyhow::{bail, Context, Result};
 use args::{parse_color, parse_list, Color, ModelArgs, NumberList};
@@ -46,7 +47,7 @@ pub enum Command {
         /// With --compare: B is the look rendered with this method
         /// (default: what B was last time).
         #[arg(long, value_enum, requires = "compare")]
-        compare_b: Option<MethodArg>,
+        compare_b: Option<MethodId>,
     },
     /// R(r), r·R(r), CDF, total reflectance and 99.7 % radius of a profile.
     Profile {
@@ -95,7 +96,7 @@ pub enum Command {
         #[command(flatten)]
         model: ModelArgs,
         #[arg(long, value_enum, default_value = "burley")]
-        method: MethodArg,
+        method: MethodId,
         #[arg(long, default_value_t = 512)]
         width: u32,
         #[arg(long, default_value_t = 512)]
@@ -118,7 +119,7 @@ pub enum Command {
         view: ViewArgs,
         /// Render a second method and show both, split at --split.
         #[arg(long, value_enum)]
-        compare: Option<MethodArg>,
+        compare: Option<MethodId>,
         /// Divider position for --compare (0–1 of the width).
         #[arg(long, default_value_t = 0.5)]
         split: f32,
@@ -211,10 +212,10 @@ pub struct ViewArgs {
     #[arg(long, allow_hyphen_values = true, default_value_t = 20.0)]
     pub light_elevation: f32,
     #[arg(long, value_enum, default_value = "thin")]
-    pub transmission: TransmissionArg,
+    pub transmission: TransmissionId,
     /// Texturing mode.
     #[arg(long, value_enum, default_value = "pre-and-post")]
-    pub texturing: TexturingArg,
+    pub texturing: TexturingId,
     /// Camera distance from the face (m); default: the distance at which
     /// the mesh's height fills the view (0.574 m for the default head).
     #[arg(long, value_name = "M")]
@@ -351,47 +352,12 @@ pub enum SamplingArg {
     Golubev,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum TransmissionArg {
-    Off,
-    Thin,
-    Thick,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum TexturingArg {
-    PostScatter,
-    PreAndPost,
-}
-
-fn to_method(m: MethodArg) -> crate::render::Method {
-    use crate::render::Method;
-    match m {
-        MethodArg::None => Method::None,
-        MethodArg::Burley => Method::Burley,
-        MethodArg::Separable => Method::Separable,
-        MethodArg::Gaussians => Method::Gaussians,
-        MethodArg::Preintegrated => Method::Preintegrated,
-        MethodArg::Reference => Method::Reference,
-    }
-}
-
 /// The editor's compare views (`edit --compare`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum CompareArg {
     Split,
     SideBySide,
     Difference,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum MethodArg {
-    None,
-    Burley,
-    Separable,
-    Gaussians,
-    Preintegrated,
-    Reference,
 }
 
 #[cfg(test)]
@@ -533,22 +499,13 @@ pub fn run(cli: Cli) -> Result<()> {
             compare_b,
         } => {
             use crate::app::state::CompareMode;
-            use crate::settings::rendering::MethodId;
             let compare = compare.map(|c| {
                 let mode = match c {
                     CompareArg::Split => CompareMode::Split,
                     CompareArg::SideBySide => CompareMode::SideBySide,
                     CompareArg::Difference => CompareMode::Difference,
                 };
-                let b = compare_b.map(|m| match m {
-                    MethodArg::None => MethodId::None,
-                    MethodArg::Burley => MethodId::Burley,
-                    MethodArg::Separable => MethodId::Separable,
-                    MethodArg::Gaussians => MethodId::Gaussians,
-                    MethodArg::Preintegrated => MethodId::Preintegrated,
-                    MethodArg::Reference => MethodId::Reference,
-                });
-                (mode, b)
+                (mode, compare_b)
             });
             crate::app::run(preset, exit_after_first_frame, compare)
         }
@@ -939,18 +896,16 @@ fn write_png(path: &std::path::Path, w: usize, h: usize, rgb8: Vec<u8>) -> Resul
 #[allow(clippy::too_many_arguments)]
 fn render(
     model: &ModelArgs,
-    method: MethodArg,
+    method: MethodId,
     (width, height): (u32, u32),
     (samples, taps): (usize, usize),
     deterministic: bool,
     out: &std::path::Path,
     stats_path: Option<&std::path::Path>,
     view: &ViewArgs,
-    (compare, split, diff, fixed_scale): (Option<MethodArg>, f32, bool, Option<f32>),
+    (compare, split, diff, fixed_scale): (Option<MethodId>, f32, bool, Option<f32>),
 ) -> Result<()> {
-    use crate::render::{
-        GpuContext, ProfileInputs, RenderSettings, Renderer, TexturingMode, Transmission,
-    };
+    use crate::render::{GpuContext, ProfileInputs, RenderSettings, Renderer};
     crate::model::check_range("width", width as f64, 16.0, 8192.0, " px")?;
     crate::model::check_range("height", height as f64, 16.0, 8192.0, " px")?;
     if let Some(d) = view.camera_distance {
@@ -967,7 +922,7 @@ fn render(
     let mut inputs = ProfileInputs::for_look(
         &spec,
         p.as_ref(),
-        to_method(method),
+        method,
         (samples, taps),
         view.gaussian_taps,
     )?;
@@ -996,7 +951,7 @@ fn render(
     let settings = RenderSettings {
         width,
         height,
-        method: to_method(method),
+        method,
         deterministic,
         camera_yaw: view.camera_yaw.to_radians(),
         camera_distance_m: view
@@ -1006,15 +961,8 @@ fn render(
         mesh_lod: !view.no_lod,
         light_azimuth: view.light_azimuth.to_radians(),
         light_elevation: view.light_elevation.to_radians(),
-        transmission: match view.transmission {
-            TransmissionArg::Off => Transmission::Off,
-            TransmissionArg::Thin => Transmission::ThinObject,
-            TransmissionArg::Thick => Transmission::ThickObject,
-        },
-        texturing: match view.texturing {
-            TexturingArg::PostScatter => TexturingMode::PostScatter,
-            TexturingArg::PreAndPost => TexturingMode::PreAndPostScatter,
-        },
+        transmission: view.transmission,
+        texturing: view.texturing,
         environment_sh,
         separable_rotation: view.separable_rotation,
         point_light_distance_m: view.point_light,
@@ -1027,14 +975,14 @@ fn render(
     }
     let other = match (compare, diff) {
         (Some(m), _) => Some(m),
-        (None, true) => Some(MethodArg::Reference),
+        (None, true) => Some(MethodId::Reference),
         (None, false) => None,
     };
     let mut diff_scale = None;
     if let Some(m) = other {
         crate::model::check_range("split", split as f64, 0.0, 1.0, "")?;
         let b_settings = RenderSettings {
-            method: to_method(m),
+            method: m,
             ..settings.clone()
         };
         let (b, _) = renderer.render(&inputs, &b_settings)?;

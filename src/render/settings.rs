@@ -1,37 +1,11 @@
 //! What a frame looks like and what it reports.
 
-/// Screen-space SSS methods implemented so far.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    /// Plain diffuse, the baseline.
-    None,
-    /// Golubev 2018 importance-sampled disk.
-    Burley,
-    /// Jimenez 2012 two-pass separable blur.
-    Separable,
-    /// The profile as a sum of Gaussians, each blurred in two depth-aware 1D
-    /// passes (d'Eon 2007 in screen space, Jimenez 2009): 12 passes for 6.
-    Gaussians,
-    /// Penner 2011 pre-integrated skin: D(θ, curvature) from a lookup table
-    /// in the scene pass, no screen-space pass.
-    Preintegrated,
-    /// Brute-force convolution with the exact profile on a dense polar grid
-    /// (48 rings at the dominant channel's quantiles × 48 angles): ground truth.
-    Reference,
-}
-
-impl Method {
-    pub fn id(self) -> &'static str {
-        match self {
-            Method::None => "none",
-            Method::Burley => "burley",
-            Method::Separable => "separable",
-            Method::Reference => "reference",
-            Method::Gaussians => "gaussians",
-            Method::Preintegrated => "preintegrated",
-        }
-    }
-}
+/// The method, texturing and transmission choices are the settings' own
+/// enums: one definition each, for presets, the command line and the
+/// renderer.
+pub use crate::settings::rendering::{
+    MethodId as Method, TexturingId as TexturingMode, TransmissionId as Transmission,
+};
 
 /// How `burley` places and weighs its samples. [`BurleySampling::GOLUBEV`]
 /// is Golubev 2018 as published (radii at the widest channel's quantiles
@@ -108,13 +82,6 @@ impl Default for BurleySampling {
     fn default() -> Self {
         Self::IMPROVED
     }
-}
-
-/// Where the albedo is applied (d'Eon 2007).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TexturingMode {
-    PostScatter,
-    PreAndPostScatter,
 }
 
 /// What one frame looks like.
@@ -213,16 +180,6 @@ pub enum Specular {
     },
     /// Kelemen/Szirmay-Kalos with a Beckmann lobe (d'Eon 2007).
     Kelemen { roughness: f32 },
-}
-
-/// Light transmitted through thin parts (ears, nostrils).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Transmission {
-    Off,
-    /// Baked thickness, shadowing shared with the front face (Jimenez 2010).
-    ThinObject,
-    /// max(baked, shadow-map) thickness, unshadowed (Golubev 2018).
-    ThickObject,
 }
 
 /// Irradiance for test scenes: lit normally, a step at world x = 0, or a

@@ -7,15 +7,30 @@
 use crate::model::{check_range, check_rgb, ModelError, Rgb};
 use serde::{Deserialize, Serialize};
 
-/// Screen-space SSS method (the renderer's `Method`, as a preset names it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+/// Screen-space SSS method: the one definition, used by presets (serde),
+/// the command line (`clap::ValueEnum`: `--method burley`) and the
+/// renderer (`render::Method` is this type).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
+)]
 pub enum MethodId {
+    /// Plain diffuse, the baseline.
     None,
+    /// Golubev 2018 importance-sampled disk.
     #[default]
     Burley,
+    /// Jimenez 2012 two-pass separable blur (Jimenez et al. 2015's
+    /// pre-integrated kernel for every profile but Jimenez 2012's own).
     Separable,
+    /// The profile as a sum of Gaussians, each blurred in two depth-aware 1D
+    /// passes (d'Eon 2007 in screen space, Jimenez 2009): 12 passes for 6.
     Gaussians,
+    /// Penner 2011 pre-integrated skin: D(θ, curvature) from a lookup table
+    /// in the scene pass, no screen-space pass.
     Preintegrated,
+    /// The ground truth: the profile integrated over the whole SSS surface
+    /// in object space on the CPU (`render::ground_truth`); seconds to
+    /// minutes a frame.
     Reference,
 }
 
@@ -29,6 +44,18 @@ impl MethodId {
         MethodId::Reference,
     ];
 
+    /// The name the command line and reports use.
+    pub fn id(self) -> &'static str {
+        match self {
+            MethodId::None => "none",
+            MethodId::Burley => "burley",
+            MethodId::Separable => "separable",
+            MethodId::Reference => "reference",
+            MethodId::Gaussians => "gaussians",
+            MethodId::Preintegrated => "preintegrated",
+        }
+    }
+
     pub fn label(self) -> &'static str {
         match self {
             MethodId::None => "none (no scattering)",
@@ -41,24 +68,36 @@ impl MethodId {
     }
 }
 
-/// Where the albedo is applied (Unity's `texturingMode`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+/// Where the albedo is applied (Unity's `texturingMode`; d'Eon 2007): the
+/// one definition (presets, `--texturing`, `render::TexturingMode`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
+)]
 pub enum TexturingId {
     /// √albedo before and after scattering (Unity 0): softer texture.
     #[default]
+    #[value(name = "pre-and-post")]
     PreAndPostScatter,
     /// Albedo after scattering only (Unity 1): keeps scanned detail sharp.
     PostScatter,
 }
 
-/// Light through thin parts (Unity's `transmissionMode` plus off).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+/// Light through thin parts (Unity's `transmissionMode` plus off): the one
+/// definition (presets, `--transmission`, `render::Transmission`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
+)]
 pub enum TransmissionId {
+    /// No transmitted light.
     Off,
-    /// Baked thickness, shadowed with the front face (Unity 1, "Thin Object").
+    /// Baked thickness, shadowed with the front face (Unity 1, "Thin
+    /// Object"; Jimenez 2010).
     #[default]
+    #[value(name = "thin")]
     ThinObject,
-    /// max(baked, shadow-map) thickness (Unity 0, "Thick Object").
+    /// max(baked, shadow-map) thickness, unshadowed (Unity 0, "Thick
+    /// Object"; Golubev 2018).
+    #[value(name = "thick")]
     ThickObject,
 }
 
