@@ -1005,23 +1005,7 @@ fn render(
     crate::fsutil::write_atomic(out, &bytes)
         .with_context(|| format!("{}: cannot write", out.display()))?;
     if let Some(path) = stats_path {
-        let j = json!({
-            "method": stats.method,
-            "passes": stats.passes,
-            "samples_per_sss_pixel": stats.samples_per_sss_pixel,
-            "sss_pixels": stats.sss_pixels,
-            "sss_samples": stats.sss_samples,
-            "lod_skipped_pixels": stats.lod_skipped_pixels,
-            "sss_gpu_ms": stats.sss_gpu_ms,
-            "reference_cpu_ms": stats.reference_cpu_ms,
-            "profile_uploaded": stats.profile_uploaded,
-            "target_bytes": stats.target_bytes,
-            "triangles": stats.triangles,
-            "width": stats.width,
-            "height": stats.height,
-            "adapter": stats.adapter,
-        });
-        crate::fsutil::write_atomic(path, serde_json::to_string_pretty(&j)?.as_bytes())
+        crate::fsutil::write_atomic(path, serde_json::to_string_pretty(&stats)?.as_bytes())
             .with_context(|| format!("{}: cannot write", path.display()))?;
     }
     println!(

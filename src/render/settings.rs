@@ -239,9 +239,10 @@ impl Default for RenderSettings {
     }
 }
 
-/// What a frame did: the proof that skipped work was skipped.
+/// What a frame did: the proof that skipped work was skipped
+/// (`render --stats` writes it as JSON, field by field).
 #[cfg(feature = "gpu")]
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct FrameStats {
     pub method: &'static str,
     /// Every pass the frame ran, in order.
