@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! Every WGSL module the renderer builds parses and validates with naga.
 
 #[test]
@@ -28,10 +29,22 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
     let sources = scatterlab::render::renderer::shader_sources();
     // (WGSL module, WGSL struct, Rust size)
     let twins = [
-        ("scene", "SceneUniforms", std::mem::size_of::<SceneUniforms>()),
-        ("sss_burley", "SssUniforms", std::mem::size_of::<SssUniforms>()),
+        (
+            "scene",
+            "SceneUniforms",
+            std::mem::size_of::<SceneUniforms>(),
+        ),
+        (
+            "sss_burley",
+            "SssUniforms",
+            std::mem::size_of::<SssUniforms>(),
+        ),
         ("sss_burley", "Sample", std::mem::size_of::<GpuSample>()),
-        ("sss_separable", "SssUniforms", std::mem::size_of::<SssUniforms>()),
+        (
+            "sss_separable",
+            "SssUniforms",
+            std::mem::size_of::<SssUniforms>(),
+        ),
         ("sss_separable", "Tap", std::mem::size_of::<GpuTap>()),
         (
             "composite",
