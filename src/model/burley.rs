@@ -4,7 +4,7 @@
 //!
 //! R(r) = A·s·(e^(−sr) + e^(−sr/3)) / (8πr)                    [mm⁻²]
 //! ∫2πr R dr = A;  P(r) = 1 − e^(−sr)/4 − 3e^(−sr/3)/4 (Golubev 2018)
-//! T(d) = A/4·(e^(−sd) + 3e^(−sd/3))                          (Christensen & Burley 2015; Golubev 2018 §translucency)
+//! T(d) = A/4·(e^(−sd) + 3e^(−sd/3))                          (Christensen & Burley 2015; Golubev 2018)
 
 use super::{check_range, check_rgb, check_xi, rgb_map, ModelError, RadialProfile, Rgb};
 use std::f64::consts::PI;

@@ -4,7 +4,7 @@
 //! Every model is a [`RadialProfile`]: a radially symmetric diffuse
 //! reflectance profile R(r) per RGB channel, in mm⁻², with its total diffuse
 //! reflectance ∫2πr R(r) dr, its radial CDF and inverse CDF, and the
-//! thin-slab transmittance T(d) = ∫2πr R(√(r²+d²)) dr (Christensen & Burley 2015; Golubev 2018 §translucency).
+//! thin-slab transmittance T(d) = ∫2πr R(√(r²+d²)) dr (Christensen & Burley 2015; Golubev 2018).
 
 /// Implements [`RadialProfile`] for a wrapper by forwarding every method
 /// to the inner profile in `$field`.
@@ -253,7 +253,7 @@ pub trait RadialProfile: Send + Sync + std::fmt::Debug {
     }
 
     /// Thin-slab transmittance T(d) = ∫₀^∞ 2πr R(√(r²+d²)) dr per channel
-    /// (Christensen & Burley 2015; Golubev 2018 §translucency). With ρ = √(r²+d²) this is ∫_d^∞ 2πρ R(ρ) dρ, i.e.
+    /// (Christensen & Burley 2015; Golubev 2018). With ρ = √(r²+d²) this is ∫_d^∞ 2πρ R(ρ) dρ, i.e.
     /// total × tail(d) (the Dirac part only counts at d = 0).
     fn transmittance(&self, thickness_mm: f64) -> Rgb {
         let total = self.total_reflectance();
