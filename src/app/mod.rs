@@ -1666,6 +1666,13 @@ impl EditorApp {
         self.units_prompt(ctx);
         self.maps_window(ctx);
         self.overwrite_prompt(ctx);
+        self.unsaved_prompt(ctx);
+        self.file_dialog(ctx);
+    }
+
+    /// The unsaved-changes prompt for a pending open, new or quit: Save
+    /// (Save As first for a look without a file), Discard, Cancel.
+    fn unsaved_prompt(&mut self, ctx: &egui::Context) {
         if let Some(pending) = self.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
@@ -1710,6 +1717,11 @@ impl EditorApp {
                 None => {}
             }
         }
+    }
+
+    /// The open file dialog: a path field, the folder's matching files,
+    /// OK and Cancel.
+    fn file_dialog(&mut self, ctx: &egui::Context) {
         let Some(mut dialog) = self.dialog.clone() else {
             return;
         };
@@ -1815,32 +1827,38 @@ impl EditorApp {
             self.after_save = None;
         }
         if accept {
-            let path = PathBuf::from(dialog.path.trim());
             close = true;
-            if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
-                self.ui_state
-                    .folders
-                    .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
-            }
-            let existing: Vec<PathBuf> = match &dialog.kind {
-                DialogKind::SaveAs => vec![path.clone()],
-                DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
-                _ => Vec::new(),
-            }
-            .into_iter()
-            .filter(|p| p.exists())
-            .collect();
-            if dialog.kind.writes() && !existing.is_empty() {
-                self.overwrite = Some(Overwrite {
-                    kind: dialog.kind.clone(),
-                    path,
-                    existing,
-                });
-            } else {
-                self.write_or_open(dialog.kind.clone(), path, &mut close);
-            }
+            self.accept_dialog(&dialog, &mut close);
         }
         self.dialog = if close { None } else { Some(dialog) };
+    }
+
+    /// OK in a file dialog: remember its folder, then write, open or load
+    /// — or first ask, where a Save As or export would replace files.
+    fn accept_dialog(&mut self, dialog: &FileDialog, close: &mut bool) {
+        let path = PathBuf::from(dialog.path.trim());
+        if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
+            self.ui_state
+                .folders
+                .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
+        }
+        let existing: Vec<PathBuf> = match &dialog.kind {
+            DialogKind::SaveAs => vec![path.clone()],
+            DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
+            _ => Vec::new(),
+        }
+        .into_iter()
+        .filter(|p| p.exists())
+        .collect();
+        if dialog.kind.writes() && !existing.is_empty() {
+            self.overwrite = Some(Overwrite {
+                kind: dialog.kind.clone(),
+                path,
+                existing,
+            });
+        } else {
+            self.write_or_open(dialog.kind.clone(), path, close);
+        }
     }
 
     /// Asks before a Save As or export replaces files; Replace writes,
