@@ -14,6 +14,12 @@ const CHANNEL_COLORS: [Color32; 3] = [
     Color32::from_rgb(70, 120, 230),
 ];
 
+/// The fitted overlay of the last analysis, or why there is none.
+type FitOverlay = Option<Result<super::analysis::Overlay, String>>;
+
+/// A label and its three channels' points.
+type NamedSeries = (String, [Vec<[f64; 2]>; 3]);
+
 /// The plotted value of channel `c` at point `i` (log axes plot log10).
 fn value(curves: &Curves, q: PlotQuantity, i: usize, c: usize, log: bool) -> Option<f64> {
     let v = match q {
@@ -143,7 +149,52 @@ fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
 }
 
 pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
-    let s = &mut app.ui_state;
+    controls_ui(ui, &mut app.ui_state);
+    let s = &app.ui_state;
+    let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
+    let unit = match q {
+        PlotQuantity::R => "1/mm²",
+        PlotQuantity::RTimesR => "1/mm",
+    };
+    let overlay = app
+        .latest
+        .as_ref()
+        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == s.overlay)
+        .and_then(|a| a.overlay.clone());
+    let apply = overlay_status_ui(ui, &overlay, s.overlay);
+    let b_series = compared_preset_series(ui, app, q, log);
+    let plot_rect = match &app.curves {
+        Some(Ok(curves)) => Some(profile_plot_ui(
+            ui,
+            app,
+            curves,
+            (&overlay, &b_series),
+            (q, log, show_taps, unit),
+        )),
+        Some(Err(e)) => {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+            None
+        }
+        None => {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("computing the layered profile …");
+            });
+            None
+        }
+    };
+    app.plot_rect = plot_rect;
+    if let Some(spec) = apply {
+        let mut p = app.doc.preset.clone();
+        p.profile = spec;
+        app.doc.replace(p);
+    }
+    ui.separator();
+    previews_ui(ui, app);
+}
+
+/// The plot's controls: r·R(r) or R(r), log, taps, the fitted overlay.
+fn controls_ui(ui: &mut egui::Ui, s: &mut super::state::UiState) {
     ui.heading("Profile");
     ui.horizontal(|ui| {
         ui.selectable_value(&mut s.plot_quantity, PlotQuantity::RTimesR, "r·R(r)")
@@ -177,18 +228,17 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
                 "A model fitted to the current profile (least squares on r·R(r)), drawn dashed.",
             );
     });
-    let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
-    let unit = match q {
-        PlotQuantity::R => "1/mm²",
-        PlotQuantity::RTimesR => "1/mm",
-    };
-    let overlay = app
-        .latest
-        .as_ref()
-        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == s.overlay)
-        .and_then(|a| a.overlay.clone());
+}
+
+/// The overlay fit's error and its "Use fit" button (returns the fit's
+/// look when pressed), or why there is none, or a spinner while fitting.
+fn overlay_status_ui(
+    ui: &mut egui::Ui,
+    overlay: &FitOverlay,
+    chosen: OverlayModel,
+) -> Option<crate::settings::ProfileSpec> {
     let mut apply = None;
-    match &overlay {
+    match overlay {
         Some(Ok(o)) => {
             ui.horizontal_wrapped(|ui| {
                 ui.label(format!(
@@ -210,7 +260,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         Some(Err(e)) => {
             ui.colored_label(ui.visuals().error_fg_color, format!("fit: {e}"));
         }
-        None if s.overlay != OverlayModel::None => {
+        None if chosen != OverlayModel::None => {
             ui.horizontal(|ui| {
                 ui.spinner();
                 ui.label("fitting …");
@@ -218,8 +268,18 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         }
         None => {}
     }
-    // B of a preset comparison, on the same radii (dotted).
-    let b_series = match (&app.ui_state.compare, &app.ui_state.compare_b, &app.curves) {
+    apply
+}
+
+/// B's curves when B is a preset file (dotted on the plot), cached by its
+/// file and the plot range; a warning where it cannot be overlaid.
+fn compared_preset_series(
+    ui: &mut egui::Ui,
+    app: &mut EditorApp,
+    q: PlotQuantity,
+    log: bool,
+) -> Option<NamedSeries> {
+    match (&app.ui_state.compare, &app.ui_state.compare_b, &app.curves) {
         (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
         (_, CompareB::Preset(path), Some(Ok(curves))) => {
             let r_max = curves.radius_mm.last().copied();
@@ -246,118 +306,114 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
             }
         }
         _ => None,
-    };
-    let mut plot_rect = None;
-    match &app.curves {
-        Some(Ok(curves)) => {
-            let lines = series(curves, q, log);
-            let taps = app
-                .latest
-                .as_ref()
-                .filter(|a| a.key.profile == app.doc.preset.profile)
-                .map(|a| a.taps.clone())
-                .unwrap_or_default();
-            let r997 = curves.radius_997_mm;
-            let plot = Plot::new("profile_plot")
-                .height(280.0)
-                .x_axis_label("radius (mm)")
-                .y_axis_label(if log {
-                    format!("log10 value ({unit})")
-                } else {
-                    unit.to_string()
-                })
-                .show(ui, |plot| {
-                    for c in 0..3 {
-                        let name = ["R", "G", "B"][c];
-                        plot.line(
-                            Line::new(name, PlotPoints::from(lines[c].clone()))
-                                .color(CHANNEL_COLORS[c])
-                                .width(2.0),
-                        );
-                        plot.vline(
-                            VLine::new("99.7 % energy radius", r997[c])
-                                .color(CHANNEL_COLORS[c].gamma_multiply(0.6))
-                                .style(egui_plot::LineStyle::dotted_dense()),
-                        );
-                    }
-                    if let Some(Ok(o)) = &overlay {
-                        let ol = series(&o.curves, q, log);
-                        for c in 0..3 {
-                            plot.line(
-                                Line::new(o.label.clone(), PlotPoints::from(ol[c].clone()))
-                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.7))
-                                    .style(egui_plot::LineStyle::dashed_loose()),
-                            );
-                        }
-                    }
-                    if let Some((label, b)) = &b_series {
-                        for c in 0..3 {
-                            plot.line(
-                                Line::new(label.clone(), PlotPoints::from(b[c].clone()))
-                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.5))
-                                    .style(egui_plot::LineStyle::dotted_loose()),
-                            );
-                        }
-                    }
-                    if show_taps && !log && !taps.is_empty() {
-                        // Scale the weights into the plot's range.
-                        let peak = lines.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
-                        let wmax = taps.iter().flat_map(|t| t.weight).fold(1e-12, f64::max);
-                        for c in 0..3 {
-                            let pts: Vec<[f64; 2]> = taps
-                                .iter()
-                                .filter(|t| t.offset_mm >= 0.0)
-                                .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
-                                .collect();
-                            plot.points(
-                                Points::new("separable taps (scaled)", PlotPoints::from(pts))
-                                    .stems(0.0)
-                                    .radius(3.0)
-                                    .color(CHANNEL_COLORS[c].gamma_multiply(0.5)),
-                            );
-                        }
-                    }
-                });
-            plot_rect = Some(plot.response.rect);
-            // The legend: R, G, B in that order, then what else is drawn,
-            // the fit by its name; under the plot, off the curves.
-            ui.horizontal_wrapped(|ui| {
+    }
+}
+
+/// The profile plot with its 99.7 % radii, the overlay, B and the taps,
+/// the legend under it and the totals; returns where the plot went.
+fn profile_plot_ui(
+    ui: &mut egui::Ui,
+    app: &EditorApp,
+    curves: &Curves,
+    (overlay, b_series): (&FitOverlay, &Option<NamedSeries>),
+    (q, log, show_taps, unit): (PlotQuantity, bool, bool, &str),
+) -> egui::Rect {
+    let lines = series(curves, q, log);
+    let taps = app
+        .latest
+        .as_ref()
+        .filter(|a| a.key.profile == app.doc.preset.profile)
+        .map(|a| a.taps.clone())
+        .unwrap_or_default();
+    let r997 = curves.radius_997_mm;
+    let plot = Plot::new("profile_plot")
+        .height(280.0)
+        .x_axis_label("radius (mm)")
+        .y_axis_label(if log {
+            format!("log10 value ({unit})")
+        } else {
+            unit.to_string()
+        })
+        .show(ui, |plot| {
+            for c in 0..3 {
+                let name = ["R", "G", "B"][c];
+                plot.line(
+                    Line::new(name, PlotPoints::from(lines[c].clone()))
+                        .color(CHANNEL_COLORS[c])
+                        .width(2.0),
+                );
+                plot.vline(
+                    VLine::new("99.7 % energy radius", r997[c])
+                        .color(CHANNEL_COLORS[c].gamma_multiply(0.6))
+                        .style(egui_plot::LineStyle::dotted_dense()),
+                );
+            }
+            if let Some(Ok(o)) = &overlay {
+                let ol = series(&o.curves, q, log);
                 for c in 0..3 {
-                    legend_entry(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
+                    plot.line(
+                        Line::new(o.label.clone(), PlotPoints::from(ol[c].clone()))
+                            .color(CHANNEL_COLORS[c].gamma_multiply(0.7))
+                            .style(egui_plot::LineStyle::dashed_loose()),
+                    );
                 }
-                legend_entry(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
-                if let Some(Ok(o)) = &overlay {
-                    legend_entry(ui, Color32::GRAY, Stroke::Dashed, &o.label);
+            }
+            if let Some((label, b)) = &b_series {
+                for c in 0..3 {
+                    plot.line(
+                        Line::new(label.clone(), PlotPoints::from(b[c].clone()))
+                            .color(CHANNEL_COLORS[c].gamma_multiply(0.5))
+                            .style(egui_plot::LineStyle::dotted_loose()),
+                    );
                 }
-                if let Some((label, _)) = &b_series {
-                    legend_entry(ui, Color32::GRAY, Stroke::Dotted, label);
+            }
+            if show_taps && !log && !taps.is_empty() {
+                // Scale the weights into the plot's range.
+                let peak = lines.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
+                let wmax = taps.iter().flat_map(|t| t.weight).fold(1e-12, f64::max);
+                for c in 0..3 {
+                    let pts: Vec<[f64; 2]> = taps
+                        .iter()
+                        .filter(|t| t.offset_mm >= 0.0)
+                        .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
+                        .collect();
+                    plot.points(
+                        Points::new("separable taps (scaled)", PlotPoints::from(pts))
+                            .stems(0.0)
+                            .radius(3.0)
+                            .color(CHANNEL_COLORS[c].gamma_multiply(0.5)),
+                    );
                 }
-                if show_taps && !log && !taps.is_empty() {
-                    legend_entry(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
-                }
-            });
-            ui.label(format!(
-                "Total reflectance {:.3} / {:.3} / {:.3} · 99.7 % radius {:.2} / {:.2} / {:.2} mm",
-                curves.total[0], curves.total[1], curves.total[2], r997[0], r997[1], r997[2]
-            ));
+            }
+        });
+    let plot_rect = plot.response.rect;
+    // The legend: R, G, B in that order, then what else is drawn,
+    // the fit by its name; under the plot, off the curves.
+    ui.horizontal_wrapped(|ui| {
+        for c in 0..3 {
+            legend_entry(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
         }
-        Some(Err(e)) => {
-            ui.colored_label(ui.visuals().error_fg_color, e);
+        legend_entry(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
+        if let Some(Ok(o)) = &overlay {
+            legend_entry(ui, Color32::GRAY, Stroke::Dashed, &o.label);
         }
-        None => {
-            ui.horizontal(|ui| {
-                ui.spinner();
-                ui.label("computing the layered profile …");
-            });
+        if let Some((label, _)) = &b_series {
+            legend_entry(ui, Color32::GRAY, Stroke::Dotted, label);
         }
-    }
-    app.plot_rect = plot_rect;
-    if let Some(spec) = apply {
-        let mut p = app.doc.preset.clone();
-        p.profile = spec;
-        app.doc.replace(p);
-    }
-    ui.separator();
+        if show_taps && !log && !taps.is_empty() {
+            legend_entry(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
+        }
+    });
+    ui.label(format!(
+        "Total reflectance {:.3} / {:.3} / {:.3} · 99.7 % radius {:.2} / {:.2} / {:.2} mm",
+        curves.total[0], curves.total[1], curves.total[2], r997[0], r997[1], r997[2]
+    ));
+    plot_rect
+}
+
+/// The pre-integrated table and the transmittance strip of the last
+/// analysis (uploaded once per result).
+fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     // Borrowed, not cloned per frame: only `preview_textures` changes below.
     let Some(a) = app
         .latest
