@@ -1391,7 +1391,11 @@ impl EditorApp {
         }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
-            (_, Some(s)) if s > 0.3 || self.texture.is_none() => {
+            // Not while dragging: previews keep coming, and the wait runs
+            // from the drag's first request (the status bar says "preview").
+            (_, Some(s))
+                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.texture.is_none() =>
+            {
                 Some(format!("rendering … {s:.1} s"))
             }
             _ => None,

@@ -209,19 +209,28 @@ impl Viewport {
         let mut req = req;
         req.seq = 0;
         if let Some(last) = &self.last_sent {
-            let same_frame = Request {
-                interactive: last.interactive,
-                ..req.clone()
-            } == *last;
-            if same_frame && (req.interactive || !last.interactive) {
+            // Compared in place (a look can be a large layered stack: no
+            // clone per UI frame just to compare).
+            let interactive = req.interactive;
+            req.interactive = last.interactive;
+            let same_frame = req == *last;
+            req.interactive = interactive;
+            if same_frame && (interactive || !last.interactive) {
                 return;
             }
         }
         self.last_sent = Some(req.clone());
         self.seq += 1;
         req.seq = self.seq;
+        let interactive = req.interactive;
         if self.tx.send(req).is_ok() {
-            self.busy_since.get_or_insert_with(Instant::now);
+            if interactive {
+                self.busy_since.get_or_insert_with(Instant::now);
+            } else {
+                // The full frame is waited for from now, not from the start
+                // of a drag whose previews kept the viewport busy.
+                self.busy_since = Some(Instant::now());
+            }
         }
     }
 
