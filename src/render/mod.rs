@@ -11,11 +11,15 @@ pub mod context;
 pub mod environment;
 #[cfg(feature = "gpu")]
 mod frame;
+#[cfg(feature = "gpu")]
+mod framing;
 mod gltf_mesh;
 pub mod gpu_types;
 pub mod ground_truth;
 pub mod inputs;
 pub mod mesh;
+#[cfg(feature = "gpu")]
+mod passes;
 #[cfg(feature = "gpu")]
 pub mod pipelines;
 pub mod procedural;
@@ -29,6 +33,8 @@ pub mod scene_cpu;
 pub mod settings;
 #[cfg(feature = "gpu")]
 mod sss;
+#[cfg(feature = "gpu")]
+mod targets;
 pub mod textures;
 #[cfg(feature = "gpu")]
 pub mod timing;

@@ -43,6 +43,21 @@ pub(super) fn buffer_entry(
     }
 }
 
+/// A uniform buffer entry whose binding must hold a `T` (its Rust twin):
+/// wgpu checks every bind group against the size.
+pub(super) fn uniform_entry<T>(binding: u32, stages: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<T>() as u64),
+        },
+        count: None,
+    }
+}
+
 pub(super) const FULLSCREEN: &str = include_str!("../../shaders/fullscreen.wgsl");
 
 pub(super) const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");

@@ -150,3 +150,11 @@ pub(super) fn readback(
     }
     Ok(out)
 }
+
+/// Rows of Rgba16Float texels (8 bytes each, little-endian halves) as f32 RGBA.
+pub(super) fn rgba_halves(bytes: &[u8]) -> Vec<[f32; 4]> {
+    bytes
+        .chunks_exact(8)
+        .map(|px| [0, 1, 2, 3].map(|k| half_to_f32(u16::from_le_bytes([px[2 * k], px[2 * k + 1]]))))
+        .collect()
+}

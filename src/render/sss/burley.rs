@@ -7,7 +7,7 @@
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
-use crate::render::renderer::HdrTarget;
+use crate::render::targets::HdrTarget;
 
 pub(in crate::render) fn encode(
     f: &mut FrameEncoder,

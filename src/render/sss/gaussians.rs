@@ -6,7 +6,7 @@
 use super::separable::{self, Into};
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::FrameEncoder;
-use crate::render::renderer::HdrTarget;
+use crate::render::targets::HdrTarget;
 
 pub(in crate::render) fn encode(
     f: &mut FrameEncoder,

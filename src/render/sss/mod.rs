@@ -13,7 +13,7 @@ use super::frame::FrameEncoder;
 use super::gpu_types::SssUniforms;
 use super::pipelines::{buffer_entry, fullscreen_pipeline, texture_entry, Output, Stencil, HDR};
 use super::profile_gpu::ProfileGpu;
-use super::renderer::{HdrTarget, Targets};
+use super::targets::{HdrTarget, Targets};
 use super::settings::Method;
 
 /// Layouts and pipelines of the SSS passes, built once with the renderer:

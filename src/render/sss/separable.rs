@@ -5,7 +5,7 @@
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
-use crate::render::renderer::HdrTarget;
+use crate::render::targets::HdrTarget;
 
 /// Follow-surface strength of the Jimenez 2012 demo kernel (the demo's
 /// SSSS_FOLLOW_SURFACE lerp towards the centre, per mm of depth
