@@ -2,7 +2,10 @@
 // the ACES filmic curve (Narkowicz 2015 fit); the sRGB target encodes.
 
 struct CompositeUniforms {
-    exposure: vec4<f32>,   // x: exposure multiplier
+    exposure: f32,   // multiplier
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
 };
 
 @group(0) @binding(0) var<uniform> c: CompositeUniforms;
@@ -32,10 +35,10 @@ fn fs_composite(in: FullscreenOut) -> @location(0) vec4<f32> {
     let ad = textureLoad(albedo_tex, p, 0);
     if (ad.a <= 0.0) {
         // Background: a dim studio grey.
-        return vec4<f32>(aces(vec3<f32>(0.05, 0.055, 0.06) * c.exposure.x), 1.0);
+        return vec4<f32>(aces(vec3<f32>(0.05, 0.055, 0.06) * c.exposure), 1.0);
     }
     let hdr = d.rgb * ad.rgb + sp.rgb;
-    return vec4<f32>(aces(hdr * c.exposure.x), 1.0);
+    return vec4<f32>(aces(hdr * c.exposure), 1.0);
 }
 
 // Progressive refinement: the method's output joins the running mean of

@@ -6,27 +6,64 @@
 //   target 3: linear view depth in world units
 // Twin of `render::gpu_types::SceneUniforms`.
 
+// Modes, beside their Rust twins in render/gpu_types.rs.
+const TRANSMISSION_OFF: u32 = 0u;
+const TRANSMISSION_THIN: u32 = 1u;
+const TRANSMISSION_THICK: u32 = 2u;
+const PATTERN_LIT: u32 = 0u;
+const PATTERN_STEP: u32 = 1u;
+const PATTERN_CHECKERBOARD: u32 = 2u;
+const SPECULAR_DUAL_GGX: u32 = 0u;
+const SPECULAR_KELEMEN: u32 = 1u;
+const MAP_MODULATES: u32 = 0u;
+const MAP_ABSOLUTE: u32 = 1u;
+
+// Lengths in world units unless named otherwise; each field is documented
+// on its twin.
 struct SceneUniforms {
     clip_from_world: mat4x4<f32>,
     view_from_world: mat4x4<f32>,
+    light_clip_from_world: mat4x4<f32>,
     camera_position: vec4<f32>,
-    light_direction: vec4<f32>,   // xyz: towards a directional light (unit); point light: xyz position (world), w = 1
+    light_direction: vec4<f32>,   // xyz: towards a directional light (unit); point light: xyz position, w = 1
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
     surface_albedo: vec4<f32>,    // rgb: the look's colour (total reflectance), linear
-    params: vec4<f32>,            // x: pre-scatter exponent (0 or 0.5), y: roughness of lobe 0, z: F0, w: roughness of lobe 1
-    light_clip_from_world: mat4x4<f32>,
-    shadow: vec4<f32>,            // x: 1/shadow map size, y: depth bias, z: normal offset (world units)
-    pattern: vec4<f32>,           // x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units)
-    preintegrated: vec4<f32>,     // x: 1 = pre-integrated method; y, z: curvature (1/mm) at the LUT's first/last row
-    transmission: vec4<f32>,      // x: 0 off, 1 thin, 2 thick; y: table range (mm); z: table size; w: mm per world unit
     transmission_tint: vec4<f32>,
-    specular: vec4<f32>,          // x: lobe mix (Unreal's dual GGX), y: 1 = Kelemen/Szirmay-Kalos instead
-    surface: vec4<f32>,           // x: albedo map absolute (1) or x2 modulation (0); y: roughness map absolute (1) or x2 scale (0); z: thickness map range (mm), 0 = per vertex; w: detail-normal strength
-    preintegrated_normals: vec4<f32>, // xyz: per-channel blend of the detail normal to the smooth one; w: 1 = penumbra table on
-    penumbra: vec4<f32>,          // x, y: 1/width (1/mm) at the table's first/last row; z: PCF footprint (mm) facing the light
+    normal_blend: vec4<f32>,      // rgb: per-channel blend of the detail normal to the smooth one (preintegrated)
     environment_sh: array<vec4<f32>, 9>, // rgb: irradiance/π of the environment, order-2 SH (render::environment)
-    light_range: vec4<f32>,       // point light: x, y: shadow near/far (world units), z: distance at which light_radiance is reached
-    eyes: array<vec4<f32>, 2>,    // eyeballs: xyz centre (world units), w radius (0 = none)
+    eyes: array<vec4<f32>, 2>,    // eyeballs: xyz centre, w radius (0 = none)
+    pre_scatter_exponent: f32,    // 0 or 0.5
+    roughness0: f32,
+    specular_f0: f32,
+    roughness1: f32,
+    lobe_mix: f32,                // Unreal's dual GGX
+    specular_model: u32,          // SPECULAR_*
+    pattern: u32,                 // PATTERN_*
+    pattern_period: f32,
+    shadow_texel: f32,            // 1 / shadow map size
+    shadow_depth_bias: f32,
+    shadow_normal_offset: f32,
+    shadow_depth_range: f32,      // of the orthographic light projection
+    light_near: f32,              // point light: shadow near/far planes
+    light_far: f32,
+    light_reference_distance: f32, // point light: where light_radiance is reached
+    pad0: f32,
+    transmission_mode: u32,       // TRANSMISSION_*
+    transmittance_range_mm: f32,
+    transmittance_entries: u32,
+    mm_per_unit: f32,
+    preintegrated: u32,           // 1 = the pre-integrated method
+    lut_curvature_first: f32,     // 1/mm at the LUT's first and last rows
+    lut_curvature_last: f32,
+    penumbra_on: u32,
+    albedo_map_mode: u32,         // MAP_*
+    roughness_map_mode: u32,      // MAP_*
+    thickness_map_range_mm: f32,  // 0 = per-vertex thickness
+    detail_normal_strength: f32,
+    penumbra_inv_width_first: f32, // 1/mm at the penumbra table's first and last rows
+    penumbra_inv_width_last: f32,
+    pcf_footprint_mm: f32,        // facing the light
+    pad1: f32,
 };
 
 // The eye at `world` (material 1), drawn from the direction d to the
@@ -68,7 +105,7 @@ fn light_at(world: vec3<f32>) -> vec4<f32> {
     }
     let d = u.light_direction.xyz - world;
     let r2 = max(dot(d, d), 1e-8);
-    return vec4<f32>(d * inverseSqrt(r2), u.light_range.z * u.light_range.z / r2);
+    return vec4<f32>(d * inverseSqrt(r2), u.light_reference_distance * u.light_reference_distance / r2);
 }
 
 // Light clip space → (uv, depth) of the shadow map; a point light's map is
@@ -81,10 +118,10 @@ fn light_space(p: vec4<f32>) -> vec3<f32> {
 // Distance from the light along its axis (world units) of a shadow-map depth.
 fn light_linear_depth(z: f32) -> f32 {
     if (u.light_direction.w < 0.5) {
-        return z * u.shadow.w;
+        return z * u.shadow_depth_range;
     }
-    let n = u.light_range.x;
-    let f = u.light_range.y;
+    let n = u.light_near;
+    let f = u.light_far;
     return n * f / (f - z * (f - n));
 }
 
@@ -122,8 +159,8 @@ fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
 @group(0) @binding(13) var shadow_depth: texture_2d<f32>;
 
 fn transmittance_at(d_mm: f32) -> vec3<f32> {
-    let n = u.transmission.z;
-    let t = clamp(d_mm / u.transmission.y, 0.0, 1.0) * (n - 1.0);
+    let n = f32(u.transmittance_entries);
+    let t = clamp(d_mm / u.transmittance_range_mm, 0.0, 1.0) * (n - 1.0);
     let i = min(u32(t), u32(n) - 2u);
     return mix(transmittance[i].rgb, transmittance[i + 1u].rgb, t - f32(i));
 }
@@ -136,22 +173,22 @@ fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
     let texel = clamp(vec2<i32>(q.xy * size), vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1));
     let occluder = textureLoad(shadow_depth, texel, 0).r;
     let depth = light_linear_depth(q.z) - light_linear_depth(occluder);
-    return max(depth, 0.0) * u.transmission.w;
+    return max(depth, 0.0) * u.mm_per_unit;
 }
 
 // PCF on the light's orthographic depth map: 3×3 bilinear comparison taps
 // one texel apart, a tent filter over a 4×4-texel footprint.
 fn shadow_factor(world: vec3<f32>, n: vec3<f32>) -> f32 {
-    let q = light_space(u.light_clip_from_world * vec4<f32>(world + n * u.shadow.z, 1.0));
+    let q = light_space(u.light_clip_from_world * vec4<f32>(world + n * u.shadow_normal_offset, 1.0));
     let uv = q.xy;
     if (uv.x <= 0.0 || uv.x >= 1.0 || uv.y <= 0.0 || uv.y >= 1.0) {
         return 1.0;
     }
-    let depth = q.z - u.shadow.y;
+    let depth = q.z - u.shadow_depth_bias;
     var lit = 0.0;
     for (var y = -1; y <= 1; y = y + 1) {
         for (var x = -1; x <= 1; x = x + 1) {
-            let o = vec2<f32>(f32(x), f32(y)) * u.shadow.x;
+            let o = vec2<f32>(f32(x), f32(y)) * u.shadow_texel;
             lit = lit + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, depth);
         }
     }
@@ -251,11 +288,11 @@ fn kelemen(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) ->
 // column to 1 at its last: deep shadow stays black, open light stays
 // white, and the colour fringe across the penumbra is kept.
 fn scattered_shadow(lit: f32, n_dot_l: f32) -> vec3<f32> {
-    if (u.penumbra.z <= 0.0) {
+    if (u.pcf_footprint_mm <= 0.0) {
         return vec3<f32>(lit);
     }
-    let width = u.penumbra.z / max(n_dot_l, 0.05);
-    let y = clamp((1.0 / width - u.penumbra.x) / (u.penumbra.y - u.penumbra.x), 0.0, 1.0);
+    let width = u.pcf_footprint_mm / max(n_dot_l, 0.05);
+    let y = clamp((1.0 / width - u.penumbra_inv_width_first) / (u.penumbra_inv_width_last - u.penumbra_inv_width_first), 0.0, 1.0);
     let lo = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(0.0, y), 0.0).rgb;
     let hi = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(1.0, y), 0.0).rgb;
     let v = textureSampleLevel(penumbra_lut, lut_sampler, vec2<f32>(lit, y), 0.0).rgb;
@@ -274,17 +311,17 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     // Tangent frame (glTF/MikkTSpace convention: B = w N × T).
     var n = ng;
     let t_raw = i.tangent.xyz - ng * dot(ng, i.tangent.xyz);
-    if (dot(t_raw, t_raw) > 1e-12 && u.surface.w > 0.0) {
+    if (dot(t_raw, t_raw) > 1e-12 && u.detail_normal_strength > 0.0) {
         let t = normalize(t_raw);
         let b = cross(ng, t) * select(1.0, -1.0, i.tangent.w < 0.0);
-        let d = vec3<f32>(normal_tex.xy * u.surface.w, max(normal_tex.z, 1e-3));
+        let d = vec3<f32>(normal_tex.xy * u.detail_normal_strength, max(normal_tex.z, 1e-3));
         n = normalize(t * d.x + b * d.y + ng * d.z);
     }
     let v = normalize(u.camera_position.xyz - i.world);
     let light = light_at(i.world);
     let l = light.xyz;
     let light_radiance = u.light_radiance.rgb * light.w;
-    var albedo = select(u.surface_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.surface.x > 0.5);
+    var albedo = select(u.surface_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.albedo_map_mode == MAP_ABSOLUTE);
     var mask = clamp(mask_tex, 0.0, 1.0);
     var cornea = 0.0;
     if (i.material > 0.5 && i.material < 1.5) {
@@ -296,10 +333,10 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         albedo = vec3<f32>(0.85, 0.8, 0.7);
         mask = 0.0;
     }
-    let rough_scale = select(2.0 * rough_tex, rough_tex / max(u.params.y, 1e-3), u.surface.y > 0.5);
-    var r0 = clamp(u.params.y * rough_scale, 0.02, 1.0);
-    var r1 = clamp(u.params.w * rough_scale, 0.02, 1.0);
-    var f0 = u.params.z;
+    let rough_scale = select(2.0 * rough_tex, rough_tex / max(u.roughness0, 1e-3), u.roughness_map_mode == MAP_ABSOLUTE);
+    var r0 = clamp(u.roughness0 * rough_scale, 0.02, 1.0);
+    var r1 = clamp(u.roughness1 * rough_scale, 0.02, 1.0);
+    var f0 = u.specular_f0;
     if (i.material > 0.5 && i.material < 1.5) {
         // The wet eye: a sharp highlight, glossier on the cornea (tear
         // film, n = 1.376: F0 = 0.025).
@@ -308,39 +345,39 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         f0 = 0.025;
     }
     var thickness = i.thickness;
-    if (u.surface.z > 0.0) {
-        thickness = thickness_tex * u.surface.z;
+    if (u.thickness_map_range_mm > 0.0) {
+        thickness = thickness_tex * u.thickness_map_range_mm;
     }
     // Irradiance/π: the directional light plus the SH environment.
     let shadow = shadow_factor(i.world, ng);
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = environment_irradiance(n);
     var irradiance = light_radiance * nl / PI + hemi;
-    if (u.preintegrated.x > 0.5 && mask > 1.0 / 255.0) {
+    if (u.preintegrated == 1u && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
         // saturate(N·L), each channel with its own normal (the detail normal
         // bent back towards the smooth one as far as that channel scatters),
         // and the penumbra table scatters the shadow edge.
-        let curv = clamp((i.curvature - u.preintegrated.y) / (u.preintegrated.z - u.preintegrated.y), 0.0, 1.0);
-        let k = u.preintegrated_normals.xyz;
+        let curv = clamp((i.curvature - u.lut_curvature_first) / (u.lut_curvature_last - u.lut_curvature_first), 0.0, 1.0);
+        let k = u.normal_blend.xyz;
         let nr = normalize(mix(n, ng, k.x));
         let ngr = normalize(mix(n, ng, k.y));
         let nb = normalize(mix(n, ng, k.z));
         let lut_at = preintegrated_d(dot(nr, l), dot(ngr, l), dot(nb, l), curv);
         var s3 = vec3<f32>(shadow);
-        if (u.preintegrated_normals.w > 0.5) {
+        if (u.penumbra_on == 1u) {
             s3 = scattered_shadow(shadow, max(dot(ng, l), 0.0));
         }
         irradiance = light_radiance * lut_at * s3 / PI + hemi;
     }
-    if (u.transmission.x > 0.5 && mask > 0.0) {
+    if (u.transmission_mode != TRANSMISSION_OFF && mask > 0.0) {
         // Light through the back face (Jimenez 2010; Golubev 2018): thin
         // objects share the front's shadow; thick ones take max(baked,
         // shadow-map) thickness and are not shadowed by themselves.
         let back = max(-dot(ng, l), 0.0);
         var d = thickness;
         var reach = back;
-        if (u.transmission.x > 1.5) {
+        if (u.transmission_mode == TRANSMISSION_THICK) {
             d = max(d, shadow_thickness_mm(i.world));
         } else if (back > 0.0) {
             // Thin objects take the shadow of the face the light enters:
@@ -352,25 +389,25 @@ fn fs_main(i: VertexOut) -> TargetsOut {
             // alone, as before, looked up the slab's own shadow: a back-lit
             // 1 mm slab got nothing (test
             // thin_transmission_lights_a_back_lit_slab_by_t_of_t).
-            let entry = i.world - ng * (thickness / u.transmission.w);
+            let entry = i.world - ng * (thickness / u.mm_per_unit);
             reach = back * shadow_factor(entry, -ng);
         }
         irradiance = irradiance + light_radiance * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
     }
     // Test patterns (issue 5's plane scenes): flat irradiance of light_radiance/π.
-    if (u.pattern.x > 0.5 && u.pattern.x < 1.5) {
+    if (u.pattern == PATTERN_STEP) {
         irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, i.world.x > 0.0);
-    } else if (u.pattern.x > 1.5) {
-        let cell = floor(i.world.xy / u.pattern.y);
+    } else if (u.pattern == PATTERN_CHECKERBOARD) {
+        let cell = floor(i.world.xy / u.pattern_period);
         irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, (i32(cell.x) + i32(cell.y)) % 2 == 0);
     }
-    let pre = select(0.0, u.params.x, mask > 0.0);
+    let pre = select(0.0, u.pre_scatter_exponent, mask > 0.0);
     var o: TargetsOut;
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
     // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
-    var spec = mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.specular.x);
-    if (u.specular.y > 0.5) {
+    var spec = mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.lobe_mix);
+    if (u.specular_model == SPECULAR_KELEMEN) {
         spec = kelemen(n, v, l, r0, f0);
     }
     o.specular = vec4<f32>(light_radiance * spec * shadow, 1.0);

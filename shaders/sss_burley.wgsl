@@ -16,15 +16,25 @@ struct Sample {
 @group(0) @binding(4) var<storage, read> profile_lut: array<vec4<f32>>;
 // [0]: samples taken, [1]: pixels convolved, [2]: pixels skipped by the LOD.
 @group(0) @binding(5) var<storage, read_write> counters: array<atomic<u32>, 4>;
-// x: samples of the low-LOD pattern stored after the main one; y: filter
-// radius (mm, the widest channel's 0.997 radius); z: LOD on (1) or off (0);
-// w: sampling flags, bit 0 R2 rotation, bit 1 centre weight, bit 2 bilinear
-// (render/settings.rs BurleySampling::shader_flags).
-@group(0) @binding(6) var<uniform> lod: vec4<f32>;
+// Sampling flags (render/settings.rs BurleySampling::shader_flags), beside
+// their Rust twins in render/gpu_types.rs.
+const SAMPLING_R2_ROTATION: u32 = 1u;
+const SAMPLING_CENTRE_WEIGHT: u32 = 2u;
+const SAMPLING_BILINEAR: u32 = 4u;
+
+// The discrete LOD and the sampling flags. Twin of
+// `render::gpu_types::BurleyUniforms`.
+struct BurleyUniforms {
+    low_count: u32,          // samples of the low-LOD pattern stored after the main one
+    filter_radius_mm: f32,   // the widest channel's 0.997 radius
+    lod_on: u32,
+    flags: u32,              // SAMPLING_* bits
+};
+@group(0) @binding(6) var<uniform> lod: BurleyUniforms;
 
 fn profile_rr(r_mm: f32) -> vec3<f32> {
-    let n = s.params.w;
-    let t = sqrt(clamp(r_mm / s.params.z, 0.0, 1.0)) * (n - 1.0);
+    let n = f32(s.lut_entries);
+    let t = sqrt(clamp(r_mm / s.lut_radius_mm, 0.0, 1.0)) * (n - 1.0);
     let i = min(u32(t), u32(n) - 2u);
     let f = t - f32(i);
     return mix(profile_lut[i].rgb, profile_lut[i + 1u].rgb, f);
@@ -32,8 +42,8 @@ fn profile_rr(r_mm: f32) -> vec3<f32> {
 
 // The CDF per channel (the table's second half).
 fn profile_cdf(r_mm: f32) -> vec3<f32> {
-    let n = s.params.w;
-    let t = sqrt(clamp(r_mm / s.params.z, 0.0, 1.0)) * (n - 1.0);
+    let n = f32(s.lut_entries);
+    let t = sqrt(clamp(r_mm / s.lut_radius_mm, 0.0, 1.0)) * (n - 1.0);
     let i = min(u32(t), u32(n) - 2u);
     let f = t - f32(i);
     let o = u32(n);
@@ -79,23 +89,23 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     // Discrete LOD (Golubev 2018): no convolution when the disk fits in a
     // pixel, the short pattern when it fits in a 4×4 footprint.
     var first = 0u;
-    var n = u32(s.params.x);
-    let radius_px = lod.y * ppm;
-    if (lod.z > 0.5) {
+    var n = s.sample_count;
+    let radius_px = lod.filter_radius_mm * ppm;
+    if (lod.lod_on == 1u) {
         if (radius_px < 1.0) {
             atomicAdd(&counters[2], 1u);
             return centre;
         }
         if (radius_px < 4.0) {
             first = n;
-            n = u32(lod.x);
+            n = lod.low_count;
         }
     }
     atomicAdd(&counters[1], 1u);
-    let flags = u32(lod.w);
+    let flags = lod.flags;
     var rotation = 0.0;
-    if (s.params.y < 0.5) {
-        if ((flags & 1u) != 0u) {
+    if (s.deterministic == 0u) {
+        if ((flags & SAMPLING_R2_ROTATION) != 0u) {
             rotation = 6.28318531 * rotation_turns(r2(p));
         } else {
             rotation = 6.28318531 * rotation_turns(hash(vec2<u32>(p)));
@@ -106,7 +116,7 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     // samples inside it would land on the centre pixel and are skipped.
     var r_centre = 0.0;
     var w_centre = vec3<f32>(0.0);
-    if ((flags & 2u) != 0u) {
+    if ((flags & SAMPLING_CENTRE_WEIGHT) != 0u) {
         r_centre = 0.5641896 / ppm;
         w_centre = profile_cdf(r_centre);
     }
@@ -124,12 +134,12 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
         let q = p + vec2<i32>(round(off));
         var c = load_diffuse(q);
         var coverage = select(0.0, 1.0, c.a > 1.0 / 255.0);
-        if ((flags & 4u) != 0u) {
+        if ((flags & SAMPLING_BILINEAR) != 0u) {
             // Bilinear at the exact offset instead of the nearest pixel.
             c = sss_bilinear(vec2<f32>(p) + vec2<f32>(0.5) + off);
             coverage = c.a;
         }
-        let dz_mm = (load_depth(q) - z) * s.projection.y;
+        let dz_mm = (load_depth(q) - z) * s.mm_per_unit;
         let rho = sqrt(smp.radius_mm * smp.radius_mm + dz_mm * dz_mm);
         // R(ρ)/pdf(r): r·R(ρ)/ρ divided by the planar density, times the
         // share of the fetch that lands on SSS pixels.

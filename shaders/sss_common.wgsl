@@ -1,11 +1,20 @@
 // Shared by the screen-space SSS passes. Twin of `render::gpu_types::SssUniforms`.
 
 struct SssUniforms {
-    size: vec4<f32>,        // x: width, y: height, z: 1/width, w: 1/height
-    projection: vec4<f32>,  // x: pixels per world unit at depth 1 (height / (2 tan(fovy/2))), y: mm per world unit, z: rotation offset (turns) of this progressive-refinement frame
-    params: vec4<f32>,      // x: sample count, y: deterministic (1) or rotated (0), z: lut radius max (mm), w: lut size
-    direction: vec4<f32>,   // xy: blur direction for separable passes, z: follow surface (> 0: 2012 lerp per mm; < 0: −1/(2σ²) of Jimenez 2015 eq. 7), w: 1 = stochastic axis rotation
-    weight: vec4<f32>,      // rgb: output multiplier (a Gaussian's weight when accumulating; 1 otherwise)
+    size: vec2<f32>,                    // pixels
+    inv_size: vec2<f32>,
+    pixels_per_unit_at_depth_1: f32,    // height / (2 tan(fovy/2))
+    mm_per_unit: f32,
+    rotation_offset_turns: f32,         // of this progressive-refinement frame
+    deterministic: u32,                 // 1: no per-pixel rotation (tests)
+    sample_count: u32,                  // samples or taps
+    lut_radius_mm: f32,                 // the profile table's largest radius
+    lut_entries: u32,
+    follow_surface: f32,                // > 0: 2012 lerp per mm; < 0: −1/(2σ²) of Jimenez 2015 eq. 7
+    direction: vec2<f32>,               // a separable pass's blur direction
+    rotate_axis: u32,                   // 1 = stochastic axis rotation
+    pad0: u32,
+    weight: vec4<f32>,                  // rgb: output multiplier (a Gaussian's weight when accumulating; 1 otherwise)
 };
 
 @group(0) @binding(0) var<uniform> s: SssUniforms;
@@ -14,18 +23,18 @@ struct SssUniforms {
 @group(0) @binding(2) var depth_tex: texture_2d<f32>;
 
 fn load_diffuse(p: vec2<i32>) -> vec4<f32> {
-    let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size.xy) - vec2<i32>(1));
+    let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size) - vec2<i32>(1));
     return textureLoad(diffuse_tex, c, 0);
 }
 
 fn load_depth(p: vec2<i32>) -> f32 {
-    let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size.xy) - vec2<i32>(1));
+    let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size) - vec2<i32>(1));
     return textureLoad(depth_tex, c, 0).r;
 }
 
 // Pixels per millimetre on a surface at view depth z (world units).
 fn pixels_per_mm(z: f32) -> f32 {
-    return s.projection.x / (max(z, 1e-6) * s.projection.y);
+    return s.pixels_per_unit_at_depth_1 / (max(z, 1e-6) * s.mm_per_unit);
 }
 
 // A per-pixel hash in [0, 1) (PCG), for random rotations.
@@ -39,5 +48,5 @@ fn hash(p: vec2<u32>) -> f32 {
 // A pixel's random rotation (turns) for this frame: the hash, offset by
 // the progressive-refinement frame's rank-1 step (0 for a lone frame).
 fn rotation_turns(h: f32) -> f32 {
-    return fract(h + s.projection.z);
+    return fract(h + s.rotation_offset_turns);
 }

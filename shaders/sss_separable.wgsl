@@ -4,7 +4,7 @@
 // discontinuities.
 
 struct Tap {
-    weight: vec4<f32>,   // rgb weight, a: offset (mm)
+    weight_offset: vec4<f32>,   // rgb weight, a: offset (mm)
 };
 
 @group(0) @binding(3) var<storage, read> taps: array<Tap>;
@@ -17,20 +17,20 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         return centre;
     }
     let z = load_depth(p);
-    // Stochastic axis rotation (Jimenez 2015 §6; direction.w = 1): both
+    // Stochastic axis rotation (Jimenez 2015 §6; rotate_axis = 1): both
     // passes turn their axes by the same per-pixel angle, trading the
     // kernel's banding for noise; the taps then read the nearest texel.
     var axis = s.direction.xy;
-    let rotate = s.direction.w > 0.5;
+    let rotate = s.rotate_axis == 1u;
     if (rotate) {
         let a = 6.28318531 * rotation_turns(hash(vec2<u32>(p)));
         axis = vec2<f32>(axis.x * cos(a) - axis.y * sin(a), axis.x * sin(a) + axis.y * cos(a));
     }
     let step = axis * pixels_per_mm(z) * centre.a;
-    let n = u32(s.params.x);
-    var acc = centre.rgb * taps[0].weight.rgb;
+    let n = s.sample_count;
+    var acc = centre.rgb * taps[0].weight_offset.rgb;
     for (var i = 1u; i < n; i = i + 1u) {
-        let t = taps[i].weight;
+        let t = taps[i].weight_offset;
         // Linear interpolation along the blur axis between the two nearest
         // texels (what the demo's bilinear sampler does).
         let off = step * t.a;
@@ -48,14 +48,14 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         if (min(c0.a, c1.a) <= 1.0 / 255.0) {
             c = select(c1, c0, c0.a > c1.a);
         }
-        let dz_mm = abs(mix(load_depth(q0), load_depth(q1), f) - z) * s.projection.y;
+        let dz_mm = abs(mix(load_depth(q0), load_depth(q1), f) - z) * s.mm_per_unit;
         // Follow the surface: across a depth difference the tap's weight
-        // moves to the centre. direction.z > 0: the Jimenez 2012 demo's
+        // moves to the centre. follow_surface > 0: the Jimenez 2012 demo's
         // lerp, strength per mm; < 0: −1/(2σ²) of Jimenez 2015 eq. 7's
         // e^(−Δz²/2σ²) with the kernel's σ.
-        var k = clamp(s.direction.z * dz_mm, 0.0, 1.0);
-        if (s.direction.z < 0.0) {
-            k = 1.0 - exp(s.direction.z * dz_mm * dz_mm);
+        var k = clamp(s.follow_surface * dz_mm, 0.0, 1.0);
+        if (s.follow_surface < 0.0) {
+            k = 1.0 - exp(s.follow_surface * dz_mm * dz_mm);
         }
         var col = mix(c.rgb, centre.rgb, k);
         if (c.a <= 1.0 / 255.0) {

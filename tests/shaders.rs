@@ -17,51 +17,77 @@ fn every_shader_validates_with_naga() {
     }
 }
 
+fn parsed(module_name: &str) -> naga::Module {
+    let sources = scatterlab::render::renderer::shader_sources();
+    let src = &sources
+        .iter()
+        .find(|(n, _)| *n == module_name)
+        .unwrap_or_else(|| panic!("no module {module_name}"))
+        .1;
+    naga::front::wgsl::parse_str(src).unwrap()
+}
+
 /// Every uniform and storage struct the Rust side uploads has the size of
-/// its WGSL twin as naga lays it out (WGSL's alignment rules, not ours):
-/// a field added on one side only, or padded differently, fails here
-/// before it garbles a frame.
+/// its WGSL twin as naga lays it out (WGSL's alignment rules, not ours),
+/// and the same fields, by name, in the same order, at the same byte
+/// offsets: a field added, renamed or moved on one side only, or padded
+/// differently, fails here before it garbles a frame.
 #[test]
 fn every_gpu_struct_matches_its_wgsl_twin() {
     use scatterlab::render::gpu_types::{
-        CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms,
+        BurleyUniforms, CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms,
     };
-    let sources = scatterlab::render::renderer::shader_sources();
-    // (WGSL module, WGSL struct, Rust size)
-    let twins = [
+    type Fields = &'static [(&'static str, usize)];
+    // (WGSL module, WGSL struct, Rust size, Rust fields)
+    let twins: [(&str, &str, usize, Fields); 7] = [
         (
             "scene",
             "SceneUniforms",
             std::mem::size_of::<SceneUniforms>(),
+            SceneUniforms::FIELDS,
         ),
         (
             "sss_burley",
             "SssUniforms",
             std::mem::size_of::<SssUniforms>(),
+            SssUniforms::FIELDS,
         ),
-        ("sss_burley", "Sample", std::mem::size_of::<GpuSample>()),
+        (
+            "sss_burley",
+            "BurleyUniforms",
+            std::mem::size_of::<BurleyUniforms>(),
+            BurleyUniforms::FIELDS,
+        ),
+        (
+            "sss_burley",
+            "Sample",
+            std::mem::size_of::<GpuSample>(),
+            GpuSample::FIELDS,
+        ),
         (
             "sss_separable",
             "SssUniforms",
             std::mem::size_of::<SssUniforms>(),
+            SssUniforms::FIELDS,
         ),
-        ("sss_separable", "Tap", std::mem::size_of::<GpuTap>()),
+        (
+            "sss_separable",
+            "Tap",
+            std::mem::size_of::<GpuTap>(),
+            GpuTap::FIELDS,
+        ),
         (
             "composite",
             "CompositeUniforms",
             std::mem::size_of::<CompositeUniforms>(),
+            CompositeUniforms::FIELDS,
         ),
     ];
-    for (module_name, struct_name, rust_size) in twins {
-        let src = &sources
-            .iter()
-            .find(|(n, _)| *n == module_name)
-            .unwrap_or_else(|| panic!("no module {module_name}"))
-            .1;
-        let module = naga::front::wgsl::parse_str(src).unwrap();
+    for (module_name, struct_name, rust_size, rust_fields) in twins {
+        let module = parsed(module_name);
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
-        let (handle, _) = module
+        let (handle, ty) = module
             .types
             .iter()
             .find(|(_, t)| t.name.as_deref() == Some(struct_name))
@@ -71,5 +97,82 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
             "{module_name}::{struct_name}: WGSL {} bytes, Rust twin {rust_size}",
             layouter[handle].size
         );
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("{module_name}::{struct_name} is not a struct");
+        };
+        let wgsl: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        let rust: Vec<(String, usize)> = rust_fields
+            .iter()
+            .map(|(n, o)| (n.to_string(), *o))
+            .collect();
+        assert_eq!(
+            wgsl, rust,
+            "{module_name}::{struct_name}: WGSL fields (left) vs the Rust twin's (right)"
+        );
     }
+}
+
+/// Every mode constant a shader compares against has the value of its
+/// Rust twin in `render::gpu_types`, read from naga's constant arena.
+#[test]
+fn every_wgsl_mode_constant_matches_its_rust_twin() {
+    use scatterlab::render::gpu_types as g;
+    let twins: [(&str, &[(&str, u32)]); 2] = [
+        (
+            "scene",
+            &[
+                ("TRANSMISSION_OFF", g::TRANSMISSION_OFF),
+                ("TRANSMISSION_THIN", g::TRANSMISSION_THIN),
+                ("TRANSMISSION_THICK", g::TRANSMISSION_THICK),
+                ("PATTERN_LIT", g::PATTERN_LIT),
+                ("PATTERN_STEP", g::PATTERN_STEP),
+                ("PATTERN_CHECKERBOARD", g::PATTERN_CHECKERBOARD),
+                ("SPECULAR_DUAL_GGX", g::SPECULAR_DUAL_GGX),
+                ("SPECULAR_KELEMEN", g::SPECULAR_KELEMEN),
+                ("MAP_MODULATES", g::MAP_MODULATES),
+                ("MAP_ABSOLUTE", g::MAP_ABSOLUTE),
+            ],
+        ),
+        (
+            "sss_burley",
+            &[
+                ("SAMPLING_R2_ROTATION", g::SAMPLING_R2_ROTATION),
+                ("SAMPLING_CENTRE_WEIGHT", g::SAMPLING_CENTRE_WEIGHT),
+                ("SAMPLING_BILINEAR", g::SAMPLING_BILINEAR),
+            ],
+        ),
+    ];
+    for (module_name, consts) in twins {
+        let module = parsed(module_name);
+        for (name, rust) in consts {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(*name))
+                .unwrap_or_else(|| panic!("{module_name}: no const {name}"));
+            let wgsl = match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                ref e => panic!("{module_name}::{name} is {e:?}, not a u32 literal"),
+            };
+            assert_eq!(
+                wgsl, *rust,
+                "{module_name}::{name}: WGSL {wgsl}, Rust {rust}"
+            );
+        }
+    }
+    // The flags' bits are the ones BurleySampling packs.
+    let all = scatterlab::render::BurleySampling {
+        antithetic: false,
+        mis: false,
+        r2_rotation: true,
+        bilinear: true,
+        centre_weight: true,
+    };
+    assert_eq!(
+        all.shader_flags(),
+        g::SAMPLING_R2_ROTATION | g::SAMPLING_CENTRE_WEIGHT | g::SAMPLING_BILINEAR
+    );
 }

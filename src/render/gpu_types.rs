@@ -1,97 +1,215 @@
-//! Rust twins of the WGSL uniform and storage structs. Each has explicit
-//! padding (vec4 slots) and a size assertion; the comment names its twin.
+//! Rust twins of the WGSL uniform and storage structs, and the WGSL
+//! constants beside them. Scalars are named and packed four to a row,
+//! modes are `u32`; each struct has a size assertion here and its field
+//! names and offsets checked against naga's layout of its twin
+//! (`tests/shaders.rs`).
 
 use bytemuck::{Pod, Zeroable};
 
-/// Twin of `SceneUniforms` in `shaders/scene.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct SceneUniforms {
-    pub clip_from_world: [[f32; 4]; 4],
-    pub view_from_world: [[f32; 4]; 4],
-    pub camera_position: [f32; 4],
-    /// xyz: towards a directional light; for a point light (w = 1) its
-    /// position in world units.
-    pub light_direction: [f32; 4],
-    pub light_radiance: [f32; 4],
-    pub surface_albedo: [f32; 4],
-    /// x: pre-scatter exponent, y: roughness of lobe 0, z: F0, w: roughness of lobe 1.
-    pub params: [f32; 4],
-    pub light_clip_from_world: [[f32; 4]; 4],
-    /// x: 1/shadow map size, y: depth bias, z: normal offset (world units).
-    pub shadow: [f32; 4],
-    /// x: 0 lit scene, 1 step in world x, 2 checkerboard; y: period (world units).
-    pub pattern: [f32; 4],
-    /// x: 1 for the pre-integrated method; y, z: curvature 1/c (1/mm) at the
-    /// LUT's first and last rows.
-    pub preintegrated: [f32; 4],
-    /// x: 0 off, 1 thin object, 2 thick object; y: table range (mm);
-    /// z: table size; w: mm per world unit.
-    pub transmission: [f32; 4],
-    /// rgb: transmission tint.
-    pub transmission_tint: [f32; 4],
-    /// x: lobe mix of the dual GGX, y: 1 = Kelemen/Szirmay-Kalos lobe.
-    pub specular: [f32; 4],
-    /// x: albedo map absolute (1) or ×2 modulation of surface_albedo (0);
-    /// y: roughness map absolute (1) or ×2 scale (0); z: thickness map
-    /// range (mm), 0 = per-vertex bake; w: detail-normal strength.
-    pub surface: [f32; 4],
-    /// `preintegrated`: xyz: per-channel blend of the detail normal back to
-    /// the smooth one; w: 1 = penumbra table on.
-    pub preintegrated_normals: [f32; 4],
-    /// Penumbra table: x, y: 1/width (1/mm) at its first and last rows;
-    /// z: the PCF footprint (mm) on a surface facing the light.
-    pub penumbra: [f32; 4],
-    /// The environment's irradiance / π as nine SH coefficients (rgb each),
-    /// in `environment::sh9`'s order.
-    pub environment_sh: [[f32; 4]; 9],
-    /// Point light: x, y: shadow near/far (world units); z: the distance
-    /// at which the light delivers `light_radiance`.
-    pub light_range: [f32; 4],
-    /// The eyeballs (material 1): xyz centre (world units), w radius; a
-    /// radius of 0 means none. The shader draws sclera, iris, pupil and a
-    /// glossy cornea from the direction to the centre.
-    pub eyes: [[f32; 4]; 2],
+/// Declares a `#[repr(C)]` Pod struct uploaded to the GPU and lists each
+/// field's name and byte offset in `FIELDS`, which `tests/shaders.rs`
+/// compares with its WGSL twin as naga lays it out.
+macro_rules! gpu_struct {
+    ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $field:ident : $ty:ty,)* }) => {
+        $(#[$m])*
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy, Pod, Zeroable)]
+        pub struct $name { $($(#[$fm])* pub $field: $ty,)* }
+        impl $name {
+            /// Each field's name and byte offset (its WGSL twin must match).
+            pub const FIELDS: &'static [(&'static str, usize)] =
+                &[$((stringify!($field), std::mem::offset_of!($name, $field)),)*];
+        }
+    };
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 26 * 16);
 
-/// Twin of `SssUniforms` in `shaders/sss_common.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct SssUniforms {
-    pub size: [f32; 4],
-    pub projection: [f32; 4],
-    pub params: [f32; 4],
-    pub direction: [f32; 4],
-    /// rgb: output multiplier (a Gaussian's weight when accumulating).
-    pub weight: [f32; 4],
+/// `SceneUniforms::transmission_mode` (`TRANSMISSION_*` in `shaders/scene.wgsl`).
+pub const TRANSMISSION_OFF: u32 = 0;
+pub const TRANSMISSION_THIN: u32 = 1;
+pub const TRANSMISSION_THICK: u32 = 2;
+/// `SceneUniforms::pattern` (`PATTERN_*` in `shaders/scene.wgsl`).
+pub const PATTERN_LIT: u32 = 0;
+pub const PATTERN_STEP: u32 = 1;
+pub const PATTERN_CHECKERBOARD: u32 = 2;
+/// `SceneUniforms::specular_model` (`SPECULAR_*` in `shaders/scene.wgsl`).
+pub const SPECULAR_DUAL_GGX: u32 = 0;
+pub const SPECULAR_KELEMEN: u32 = 1;
+/// `SceneUniforms::albedo_map_mode` and `roughness_map_mode`
+/// (`MAP_*` in `shaders/scene.wgsl`).
+pub const MAP_MODULATES: u32 = 0;
+pub const MAP_ABSOLUTE: u32 = 1;
+/// `BurleyUniforms::flags` bits (`SAMPLING_*` in `shaders/sss_burley.wgsl`;
+/// [`super::BurleySampling::shader_flags`]).
+pub const SAMPLING_R2_ROTATION: u32 = 1;
+pub const SAMPLING_CENTRE_WEIGHT: u32 = 2;
+pub const SAMPLING_BILINEAR: u32 = 4;
+
+gpu_struct! {
+    /// Twin of `SceneUniforms` in `shaders/scene.wgsl`: the camera, the
+    /// light and the look for the shadow and scene passes. Lengths in world
+    /// units unless named otherwise.
+    pub struct SceneUniforms {
+        pub clip_from_world: [[f32; 4]; 4],
+        pub view_from_world: [[f32; 4]; 4],
+        /// The shadow map's clip transform.
+        pub light_clip_from_world: [[f32; 4]; 4],
+        /// xyz: the eye; w = 1.
+        pub camera_position: [f32; 4],
+        /// xyz: towards a directional light (w = 0), or a point light's
+        /// position (w = 1).
+        pub light_direction: [f32; 4],
+        /// rgb: irradiance at normal incidence.
+        pub light_radiance: [f32; 4],
+        /// rgb: the look's colour (total reflectance), linear.
+        pub surface_albedo: [f32; 4],
+        /// rgb: transmission tint.
+        pub transmission_tint: [f32; 4],
+        /// rgb, `preintegrated`: per-channel blend of the detail normal back
+        /// to the smooth one (Penner 2011).
+        pub normal_blend: [f32; 4],
+        /// The environment's irradiance / π as nine SH coefficients (rgb
+        /// each), in `environment::sh9`'s order.
+        pub environment_sh: [[f32; 4]; 9],
+        /// The eyeballs (material 1): xyz centre, w radius (0 = none). The
+        /// shader draws sclera, iris, pupil and a glossy cornea from the
+        /// direction to the centre.
+        pub eyes: [[f32; 4]; 2],
+        /// 0 post-scatter texturing, 0.5 pre- and post-scatter.
+        pub pre_scatter_exponent: f32,
+        /// Specular lobe 0's roughness.
+        pub roughness0: f32,
+        pub specular_f0: f32,
+        /// Specular lobe 1's roughness (the dual GGX; = lobe 0 for Kelemen).
+        pub roughness1: f32,
+        /// Lobe 1's share of the dual GGX.
+        pub lobe_mix: f32,
+        /// `SPECULAR_*`.
+        pub specular_model: u32,
+        /// `PATTERN_*`: the lit scene, or a test pattern of irradiance.
+        pub pattern: u32,
+        /// The checkerboard's period.
+        pub pattern_period: f32,
+        /// 1 / shadow map size.
+        pub shadow_texel: f32,
+        /// Depth bias (light clip depth).
+        pub shadow_depth_bias: f32,
+        /// Normal offset (one shadow texel).
+        pub shadow_normal_offset: f32,
+        /// Depth range of the orthographic light projection.
+        pub shadow_depth_range: f32,
+        /// Point light: the shadow's near and far planes, and the distance
+        /// at which the light delivers `light_radiance`.
+        pub light_near: f32,
+        pub light_far: f32,
+        pub light_reference_distance: f32,
+        pub pad0: f32,
+        /// `TRANSMISSION_*`.
+        pub transmission_mode: u32,
+        /// The transmittance table's range (mm) and entries.
+        pub transmittance_range_mm: f32,
+        pub transmittance_entries: u32,
+        pub mm_per_unit: f32,
+        /// 1 for the `preintegrated` method.
+        pub preintegrated: u32,
+        /// Curvature 1/r (1/mm) at the LUT's first and last rows.
+        pub lut_curvature_first: f32,
+        pub lut_curvature_last: f32,
+        /// 1 = Penner's penumbra table on.
+        pub penumbra_on: u32,
+        /// `MAP_*`: albedo map absolute, or ×2 modulation of `surface_albedo`.
+        pub albedo_map_mode: u32,
+        /// `MAP_*`: roughness map absolute, or ×2 scale.
+        pub roughness_map_mode: u32,
+        /// Thickness map range (mm); 0 = the per-vertex bake.
+        pub thickness_map_range_mm: f32,
+        pub detail_normal_strength: f32,
+        /// Penumbra table: 1/width (1/mm) at its first and last rows.
+        pub penumbra_inv_width_first: f32,
+        pub penumbra_inv_width_last: f32,
+        /// The PCF footprint (mm) on a surface facing the light.
+        pub pcf_footprint_mm: f32,
+        pub pad1: f32,
+    }
+}
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 17 * 16 + 8 * 16);
+
+gpu_struct! {
+    /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`: what every
+    /// screen-space SSS pass reads.
+    pub struct SssUniforms {
+        /// Pixels.
+        pub size: [f32; 2],
+        pub inv_size: [f32; 2],
+        /// Pixels per world unit at depth 1: height / (2 tan(fov_y / 2)).
+        pub pixels_per_unit_at_depth_1: f32,
+        pub mm_per_unit: f32,
+        /// The progressive-refinement frame's rotation offset (turns).
+        pub rotation_offset_turns: f32,
+        /// 1: no per-pixel rotation (tests).
+        pub deterministic: u32,
+        /// Samples (`burley`) or taps (`separable`).
+        pub sample_count: u32,
+        /// The profile table's largest radius (mm) and entries.
+        pub lut_radius_mm: f32,
+        pub lut_entries: u32,
+        /// Follow surface: > 0, the 2012 lerp per mm; < 0, −1/(2σ²) of
+        /// Jimenez 2015 eq. 7.
+        pub follow_surface: f32,
+        /// A separable pass's blur direction (pixels).
+        pub direction: [f32; 2],
+        /// 1 = stochastic axis rotation (Jimenez 2015 §6).
+        pub rotate_axis: u32,
+        pub pad0: u32,
+        /// rgb: output multiplier (a Gaussian's weight when accumulating).
+        pub weight: [f32; 4],
+    }
 }
 const _: () = assert!(std::mem::size_of::<SssUniforms>() == 80);
 
-/// Twin of `Sample` in `shaders/sss_burley.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct GpuSample {
-    pub radius_mm: f32,
-    pub angle: f32,
-    pub inv_pdf: f32,
-    pub pad: f32,
+gpu_struct! {
+    /// Twin of `BurleyUniforms` in `shaders/sss_burley.wgsl`: the discrete
+    /// LOD and the sampling flags.
+    pub struct BurleyUniforms {
+        /// Samples of the low-LOD pattern stored after the main one.
+        pub low_count: u32,
+        /// The widest channel's 0.997 radius (mm): the disk the LOD sizes.
+        pub filter_radius_mm: f32,
+        /// 1 = LOD on.
+        pub lod_on: u32,
+        /// `SAMPLING_*` bits.
+        pub flags: u32,
+    }
+}
+const _: () = assert!(std::mem::size_of::<BurleyUniforms>() == 16);
+
+gpu_struct! {
+    /// Twin of `Sample` in `shaders/sss_burley.wgsl`.
+    pub struct GpuSample {
+        pub radius_mm: f32,
+        pub angle: f32,
+        pub inv_pdf: f32,
+        pub pad: f32,
+    }
 }
 const _: () = assert!(std::mem::size_of::<GpuSample>() == 16);
 
-/// Twin of `Tap` in `shaders/sss_separable.wgsl`: rgb weight, a = offset (mm).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct GpuTap {
-    pub weight_offset: [f32; 4],
+gpu_struct! {
+    /// Twin of `Tap` in `shaders/sss_separable.wgsl`: rgb weight, a = offset (mm).
+    pub struct GpuTap {
+        pub weight_offset: [f32; 4],
+    }
 }
 const _: () = assert!(std::mem::size_of::<GpuTap>() == 16);
 
-/// Twin of `CompositeUniforms` in `shaders/composite.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct CompositeUniforms {
-    pub exposure: [f32; 4],
+gpu_struct! {
+    /// Twin of `CompositeUniforms` in `shaders/composite.wgsl`.
+    pub struct CompositeUniforms {
+        /// Exposure multiplier.
+        pub exposure: f32,
+        pub pad0: f32,
+        pub pad1: f32,
+        pub pad2: f32,
+    }
 }
 const _: () = assert!(std::mem::size_of::<CompositeUniforms>() == 16);
 

@@ -45,7 +45,10 @@ pub(super) fn buffer_entry(
 
 /// A uniform buffer entry whose binding must hold a `T` (its Rust twin):
 /// wgpu checks every bind group against the size.
-pub(super) fn uniform_entry<T>(binding: u32, stages: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+pub(super) fn uniform_entry<T>(
+    binding: u32,
+    stages: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: stages,

@@ -14,7 +14,7 @@ use super::mesh::Mesh;
 use super::passes::classify::ClassifyPass;
 use super::passes::composite::CompositePass;
 use super::passes::scene::{ScenePass, SurfaceMaps};
-use super::passes::shadow::{ShadowPass, SHADOW_SIZE};
+use super::passes::shadow::ShadowPass;
 use super::passes::{counter_buffers, pick_lod, MeshLod};
 pub use super::pipelines::shader_sources;
 use super::profile_gpu::ProfileGpu;
@@ -28,6 +28,7 @@ use super::sss::{self, SssFrame, SssPipelines};
 use super::targets::{HdrTarget, Targets};
 use super::textures::MeshTextures;
 use super::timing::{PassStats, PassTimer};
+use bytemuck::Zeroable;
 use glam::Vec3;
 
 /// Per-profile resources and the scene bind group that refers to them.
@@ -76,8 +77,7 @@ impl Renderer {
         let maps = SurfaceMaps::upload(&ctx, &mesh.textures)?;
         let (shadow, scene, classify, sss, composite) = ctx.checked("pipeline creation", || {
             let device = &ctx.device;
-            let sources: std::collections::HashMap<_, _> =
-                shader_sources().into_iter().collect();
+            let sources: std::collections::HashMap<_, _> = shader_sources().into_iter().collect();
             let module = |name: &'static str| {
                 device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(name),
@@ -229,6 +229,16 @@ impl Renderer {
         }
     }
 
+    /// The SSS pixels counted by the last frame if its scene, depth,
+    /// stencil and classification can be reused: a progressive frame past
+    /// the first changes only the rotations.
+    fn reusable_scene(&self, key: &SceneKey, s: &RenderSettings) -> Option<u64> {
+        match (&self.scene_key, s.progressive) {
+            (Some((last, pixels)), Some(p)) if p.frame > 0 && last == key => Some(*pixels),
+            _ => None,
+        }
+    }
+
     /// Records and submits the frame's passes, then reads it back.
     fn encode_and_read(
         &mut self,
@@ -255,12 +265,7 @@ impl Renderer {
             lod: lod_index,
             profile: profile.gpu.key,
         };
-        // A progressive frame past the first changes only the rotations:
-        // the scene's targets and stencil from the frame before still hold.
-        let reused_pixels = match (&self.scene_key, s.progressive) {
-            (Some((key, pixels)), Some(p)) if p.frame > 0 && *key == scene_key => Some(*pixels),
-            _ => None,
-        };
+        let reused_pixels = self.reusable_scene(&scene_key, s);
         ctx.queue
             .write_buffer(&self.scene.uniforms, 0, bytemuck::bytes_of(&scene_u));
         let mut f = FrameEncoder::new(&ctx.device, PassTimer::new(ctx));
@@ -293,30 +298,17 @@ impl Renderer {
             lod: s.lod,
             rotate_separable: s.separable_rotation && !s.deterministic,
         };
-        let mut reference_cpu_ms = None;
-        if method == Method::Reference {
-            let io = sss::reference::Io {
-                diffuse: t.texture(HdrTarget::Diffuse),
-                linear_depth: &t.linear_depth_texture,
-                linear_depth_format: ctx.linear_depth_format,
-                shadow_map: &self.shadow.texture,
-                shadow_size: SHADOW_SIZE,
-                ping: t.texture(HdrTarget::Ping),
-            };
+        let reference_cpu_ms = if method == Method::Reference {
             // The scene pass must be on the GPU before it is read back.
             ctx.queue.submit([f.take().finish()]);
-            let timing = sss::reference::scatter(
-                ctx,
-                &self.mesh,
-                &io,
-                &scene_u,
-                camera.view,
-                s,
-                inputs,
-                &mut self.reference_cache,
-            )?;
-            reference_cpu_ms = Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms);
-        }
+            let io = sss::reference::Io::new(ctx, t, &self.shadow);
+            let (mesh, cache) = (&self.mesh, &mut self.reference_cache);
+            let timing =
+                sss::reference::scatter(ctx, mesh, &io, &scene_u, camera.view, s, inputs, cache)?;
+            Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms)
+        } else {
+            None
+        };
         let scattered = sss::encode(method, &mut f, &self.sss, &io);
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
@@ -324,9 +316,11 @@ impl Renderer {
             Some(p) => self.composite.accumulate(&mut f, t, p, scattered.target)?,
             None => (t.texture(scattered.target), t.view(scattered.target)),
         };
-        let exposure = [s.exposure, 0.0, 0.0, 0.0];
-        self.composite
-            .encode(&mut f, t, shown.1, CompositeUniforms { exposure });
+        let composite = CompositeUniforms {
+            exposure: s.exposure,
+            ..Zeroable::zeroed()
+        };
+        self.composite.encode(&mut f, t, shown.1, composite);
         let FrameEncoder {
             mut encoder,
             mut timer,
@@ -341,23 +335,14 @@ impl Renderer {
             want_diffuse.then_some(diffuse_textures),
             (s.width, s.height),
         )?;
-        let measured = scattered
-            .counted_pass
-            .and_then(|_| read_u32x4(ctx, &counters_read));
-        let spp = scattered.samples_per_pixel;
-        let (sss_samples, lod_skipped_pixels) = match measured {
-            Some(c) => (c[0] as u64, c[2] as u64),
-            None => (sss_pixels * spp as u64, 0),
-        };
-        if let Some(label) = scattered.counted_pass {
-            timer.set_samples(label, sss_samples);
-        }
+        let (sss_samples, lod_skipped_pixels) =
+            sss_counts(ctx, &scattered, &counters_read, sss_pixels, &mut timer);
         let passes = timer.finish(ctx);
         let stats = FrameStats {
             method: s.method.id(),
             sss_gpu_ms: sss_gpu_ms(&passes),
             passes,
-            samples_per_sss_pixel: spp,
+            samples_per_sss_pixel: scattered.samples_per_pixel,
             sss_pixels,
             sss_samples,
             lod_skipped_pixels,
@@ -379,27 +364,44 @@ impl Renderer {
 /// and direction ([`SssFrame::uniforms`]).
 fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32) -> SssUniforms {
     SssUniforms {
-        size: [
-            s.width as f32,
-            s.height as f32,
-            1.0 / s.width as f32,
-            1.0 / s.height as f32,
-        ],
-        projection: [
-            s.height as f32 / (2.0 * (0.5 * s.fov_y).tan()),
-            metres_per_unit * 1000.0,
-            s.progressive.map_or(0.0, |p| p.rotation_offset()),
-            0.0,
-        ],
-        params: [
-            0.0,
-            if s.deterministic { 1.0 } else { 0.0 },
-            inputs.lut_radius_mm,
-            LUT_SIZE as f32,
-        ],
-        direction: [0.0; 4],
+        size: [s.width as f32, s.height as f32],
+        inv_size: [1.0 / s.width as f32, 1.0 / s.height as f32],
+        pixels_per_unit_at_depth_1: s.height as f32 / (2.0 * (0.5 * s.fov_y).tan()),
+        mm_per_unit: metres_per_unit * 1000.0,
+        rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
+        deterministic: s.deterministic as u32,
+        sample_count: 0,
+        lut_radius_mm: inputs.lut_radius_mm,
+        lut_entries: LUT_SIZE as u32,
+        follow_surface: 0.0,
+        direction: [0.0; 2],
+        rotate_axis: 0,
+        pad0: 0,
         weight: [1.0; 4],
     }
+}
+
+/// Samples the SSS passes took and pixels the LOD skipped: the GPU's
+/// counters where a pass counted them (and that pass's sample count in the
+/// timer), else pixels × the method's samples per pixel.
+fn sss_counts(
+    ctx: &GpuContext,
+    scattered: &sss::Scattered,
+    counters_read: &wgpu::Buffer,
+    sss_pixels: u64,
+    timer: &mut PassTimer,
+) -> (u64, u64) {
+    let measured = scattered
+        .counted_pass
+        .and_then(|_| read_u32x4(ctx, counters_read));
+    let counts = match measured {
+        Some(c) => (c[0] as u64, c[2] as u64),
+        None => (sss_pixels * scattered.samples_per_pixel as u64, 0),
+    };
+    if let Some(label) = scattered.counted_pass {
+        timer.set_samples(label, counts.0);
+    }
+    counts
 }
 
 /// Sum of the SSS passes' GPU times, where every one was timed.
@@ -429,9 +431,7 @@ fn read_frame(
         wanted.push((unscattered, 8));
         wanted.push((shown, 8));
     }
-    let mut bytes = ctx.checked("frame", || {
-        readback(ctx, encoder, &wanted, width, height)
-    })??;
+    let mut bytes = ctx.checked("frame", || readback(ctx, encoder, &wanted, width, height))??;
     let diffuse = if diffuse.is_some() {
         let out = rgba_halves(&bytes.pop().unwrap_or_default());
         let unscattered = rgba_halves(&bytes.pop().unwrap_or_default());

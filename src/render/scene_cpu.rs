@@ -15,7 +15,7 @@
 //! Checked against the GPU's own diffuse target on the visible pixels:
 //! `scene_twin_matches_the_scene_pass` in tests/render_physics.rs.
 
-use super::gpu_types::SceneUniforms;
+use super::gpu_types::{SceneUniforms, MAP_ABSOLUTE, PATTERN_CHECKERBOARD, PATTERN_STEP};
 use super::ground_truth::SurfaceIrradiance;
 use super::mesh::Mesh;
 use super::textures::TextureImage;
@@ -81,7 +81,7 @@ impl<'a> SceneIrradiance<'a> {
         }
         let d = l.truncate() - world;
         let r2 = d.length_squared().max(1e-8);
-        let z = self.u.light_range[2];
+        let z = self.u.light_reference_distance;
         (d / r2.sqrt(), z * z / r2)
     }
 
@@ -96,17 +96,18 @@ impl<'a> SceneIrradiance<'a> {
     }
 
     fn shadow_factor(&self, world: Vec3, n: Vec3) -> f32 {
-        let s = self.u.shadow;
-        let q = self.light_space(self.light_clip * (world + n * s[2]).extend(1.0));
+        let u = &self.u;
+        let q =
+            self.light_space(self.light_clip * (world + n * u.shadow_normal_offset).extend(1.0));
         let uv = Vec2::new(q.x, q.y);
         if uv.x <= 0.0 || uv.x >= 1.0 || uv.y <= 0.0 || uv.y >= 1.0 {
             return 1.0;
         }
-        let depth = q.z - s[1];
+        let depth = q.z - u.shadow_depth_bias;
         let mut lit = 0.0;
         for y in -1..=1 {
             for x in -1..=1 {
-                let o = Vec2::new(x as f32, y as f32) * s[0];
+                let o = Vec2::new(x as f32, y as f32) * u.shadow_texel;
                 lit += self.shadow.compare(uv + o, depth);
             }
         }
@@ -185,11 +186,12 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
             + Vec4::from(v[2].tangent) * w[2];
         let mut n = ng;
         let t_raw = tangent.truncate() - ng * ng.dot(tangent.truncate());
-        if t_raw.length_squared() > 1e-12 && u.surface[3] > 0.0 {
+        if t_raw.length_squared() > 1e-12 && u.detail_normal_strength > 0.0 {
             let nt = sample(&maps.normal, uv, false).truncate() * 2.0 - Vec3::ONE;
             let t = t_raw.normalize();
             let bt = ng.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
-            let d = Vec3::new(nt.x * u.surface[3], nt.y * u.surface[3], nt.z.max(1e-3));
+            let strength = u.detail_normal_strength;
+            let d = Vec3::new(nt.x * strength, nt.y * strength, nt.z.max(1e-3));
             n = (t * d.x + bt * d.y + ng * d.z).normalize_or_zero();
         }
         let (l, falloff) = self.light_at(world);
@@ -199,14 +201,14 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
             u.light_radiance[2],
         ) * falloff;
         let pi = std::f32::consts::PI;
-        let mut irradiance = if u.pattern[0] > 0.5 && u.pattern[0] < 1.5 {
+        let mut irradiance = if u.pattern == PATTERN_STEP {
             if world.x > 0.0 {
                 radiance / pi
             } else {
                 Vec3::ZERO
             }
-        } else if u.pattern[0] > 1.5 {
-            let cell = (Vec2::new(world.x, world.y) / u.pattern[1]).floor();
+        } else if u.pattern == PATTERN_CHECKERBOARD {
+            let cell = (Vec2::new(world.x, world.y) / u.pattern_period).floor();
             if (cell.x as i32 + cell.y as i32) % 2 == 0 {
                 radiance / pi
             } else {
@@ -221,10 +223,10 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
             };
             radiance * (nl * shadow) / pi + self.environment(n)
         };
-        let pre = u.params[0];
+        let pre = u.pre_scatter_exponent;
         if pre > 0.0 {
             let tex = sample(&maps.albedo, uv, true).truncate();
-            let albedo = if u.surface[0] > 0.5 {
+            let albedo = if u.albedo_map_mode == MAP_ABSOLUTE {
                 tex
             } else {
                 Vec3::new(

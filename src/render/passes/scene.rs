@@ -6,12 +6,15 @@
 use super::super::context::{GpuContext, GpuError};
 use super::super::frame::{buf, color_attachment, tex, FrameEncoder};
 use super::super::framing::{CameraLight, Framing};
-use super::super::gpu_types::SceneUniforms;
+use super::super::gpu_types::{
+    SceneUniforms, MAP_ABSOLUTE, MAP_MODULATES, PATTERN_CHECKERBOARD, PATTERN_LIT, PATTERN_STEP,
+    SPECULAR_DUAL_GGX, SPECULAR_KELEMEN, TRANSMISSION_OFF, TRANSMISSION_THICK, TRANSMISSION_THIN,
+};
 use super::super::inputs::ProfileInputs;
 use super::super::pipelines::{buffer_entry, scene_pipeline, uniform_entry};
 use super::super::profile_gpu::ProfileGpu;
-use super::super::settings::{IrradiancePattern, RenderSettings, Specular, TexturingMode,
-    Transmission,
+use super::super::settings::{
+    IrradiancePattern, RenderSettings, Specular, TexturingMode, Transmission,
 };
 use super::super::sss;
 use super::super::targets::{HdrTarget, Targets};
@@ -19,12 +22,16 @@ use super::super::textures::{self, AlbedoMode, MeshTextures, RoughnessMode, Text
 use super::shadow::{ShadowPass, SHADOW_SIZE};
 use super::{depth_attachment, MeshLod};
 
-/// A mesh's five surface maps on the GPU and their `SceneUniforms::surface`
-/// modes.
+/// A mesh's five surface maps on the GPU and how the scene reads them.
 pub(in crate::render) struct SurfaceMaps {
     /// Albedo, normal, roughness, mask and thickness.
     views: [wgpu::TextureView; 5],
-    modes: [f32; 4],
+    /// `MAP_*`: [`SceneUniforms::albedo_map_mode`].
+    albedo_mode: u32,
+    /// `MAP_*`: [`SceneUniforms::roughness_map_mode`].
+    roughness_mode: u32,
+    /// The thickness map's range (mm); 0: none (the per-vertex bake).
+    thickness_range_mm: f32,
 }
 
 impl SurfaceMaps {
@@ -67,14 +74,19 @@ impl SurfaceMaps {
         let views = ctx.checked("surface maps", || {
             slots.map(|(label, img, format)| upload(img, format, label))
         })?;
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let modes = [
-            flag(maps.albedo_mode == AlbedoMode::Absolute),
-            flag(maps.roughness_mode == RoughnessMode::Absolute),
-            maps.thickness.as_ref().map_or(0.0, |t| t.1),
-            1.0,
-        ];
-        Ok(Self { views, modes })
+        let mode = |absolute: bool| {
+            if absolute {
+                MAP_ABSOLUTE
+            } else {
+                MAP_MODULATES
+            }
+        };
+        Ok(Self {
+            views,
+            albedo_mode: mode(maps.albedo_mode == AlbedoMode::Absolute),
+            roughness_mode: mode(maps.roughness_mode == RoughnessMode::Absolute),
+            thickness_range_mm: maps.thickness.as_ref().map_or(0.0, |t| t.1),
+        })
     }
 }
 
@@ -243,79 +255,84 @@ impl ScenePass {
         let rad = framing.radius;
         let mm_per_unit = 1000.0 * framing.metres_per_unit;
         let point = framing.point_light(s);
-        let pre = match s.texturing {
-            TexturingMode::PostScatter => 0.0,
-            TexturingMode::PreAndPostScatter => 0.5,
+        let rgb0 = |[r, g, b]: [f32; 3]| [r, g, b, 0.0];
+        let (roughness0, roughness1, lobe_mix, specular_model) = match s.specular {
+            Specular::DualGgx {
+                roughness0,
+                roughness1,
+                lobe_mix,
+            } => (roughness0, roughness1, lobe_mix, SPECULAR_DUAL_GGX),
+            Specular::Kelemen { roughness } => (roughness, roughness, 0.0, SPECULAR_KELEMEN),
         };
-        let [ar, ag, ab] = inputs.surface_albedo;
-        let [tr, tg, tb] = s.transmission_tint;
-        let [nr, ng, nb] = inputs.normal_blend;
-        let modes = self.maps.modes;
+        let (pattern, pattern_period) = match s.pattern {
+            IrradiancePattern::Lit => (PATTERN_LIT, 0.0),
+            IrradiancePattern::Step => (PATTERN_STEP, 0.0),
+            IrradiancePattern::Checkerboard { period_mm } => {
+                (PATTERN_CHECKERBOARD, period_mm / mm_per_unit)
+            }
+        };
+        let (preintegrated, lut_curvature_first, lut_curvature_last) =
+            sss::preintegrated::uniforms(s.method, &inputs.lut_layout);
+        let maps = &self.maps;
         SceneUniforms {
             clip_from_world: (cl.projection * cl.view).to_cols_array_2d(),
             view_from_world: cl.view.to_cols_array_2d(),
+            light_clip_from_world: cl.light_clip.to_cols_array_2d(),
             camera_position: cl.eye.extend(1.0).into(),
             light_direction: match &point {
                 Some(p) => p.position.extend(1.0).into(),
                 None => cl.light.extend(0.0).into(),
             },
-            light_range: match &point {
-                Some(p) => [p.near, p.far, p.distance, 0.0],
-                None => [0.0; 4],
-            },
             light_radiance: [s.light_intensity; 4],
-            surface_albedo: [ar, ag, ab, 0.0],
-            params: match s.specular {
-                Specular::DualGgx {
-                    roughness0,
-                    roughness1,
-                    ..
-                } => [pre, roughness0, s.specular_f0, roughness1],
-                Specular::Kelemen { roughness } => [pre, roughness, s.specular_f0, roughness],
-            },
-            specular: match s.specular {
-                Specular::DualGgx { lobe_mix, .. } => [lobe_mix, 0.0, 0.0, 0.0],
-                Specular::Kelemen { .. } => [0.0, 1.0, 0.0, 0.0],
-            },
-            light_clip_from_world: cl.light_clip.to_cols_array_2d(),
-            // Bias: a texel of depth slope; normal offset: one shadow texel in world units.
-            shadow: [
-                1.0 / SHADOW_SIZE as f32,
-                2.0 / SHADOW_SIZE as f32,
-                2.0 * rad / SHADOW_SIZE as f32,
-                // Depth range of the orthographic light projection (world units).
-                4.0 * rad - 0.01 * rad,
-            ],
-            transmission: [
-                match s.transmission {
-                    Transmission::Off => 0.0,
-                    Transmission::ThinObject => 1.0,
-                    Transmission::ThickObject => 2.0,
-                },
-                inputs.transmittance_range_mm,
-                inputs.transmittance.len() as f32,
-                mm_per_unit,
-            ],
-            transmission_tint: [tr, tg, tb, 0.0],
-            preintegrated: sss::preintegrated::uniforms(s.method, &inputs.lut_layout),
-            preintegrated_normals: [nr, ng, nb, if s.penumbra { 1.0 } else { 0.0 }],
-            surface: [modes[0], modes[1], modes[2], s.detail_normal_strength],
-            environment_sh: s.environment_sh.map(|c| [c[0], c[1], c[2], 0.0]),
+            surface_albedo: rgb0(inputs.surface_albedo),
+            transmission_tint: rgb0(s.transmission_tint),
+            normal_blend: rgb0(inputs.normal_blend),
+            environment_sh: s.environment_sh.map(rgb0),
             eyes: framing.eyes,
-            penumbra: [
-                1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
-                1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
-                // The PCF's 4-texel footprint, in mm.
-                4.0 * 2.0 * rad / SHADOW_SIZE as f32 * 1000.0 * framing.metres_per_unit,
-                0.0,
-            ],
-            pattern: match s.pattern {
-                IrradiancePattern::Lit => [0.0; 4],
-                IrradiancePattern::Step => [1.0, 0.0, 0.0, 0.0],
-                IrradiancePattern::Checkerboard { period_mm } => {
-                    [2.0, period_mm / mm_per_unit, 0.0, 0.0]
-                }
+            pre_scatter_exponent: match s.texturing {
+                TexturingMode::PostScatter => 0.0,
+                TexturingMode::PreAndPostScatter => 0.5,
             },
+            roughness0,
+            specular_f0: s.specular_f0,
+            roughness1,
+            lobe_mix,
+            specular_model,
+            pattern,
+            pattern_period,
+            // Bias: a texel of depth slope; normal offset: one shadow
+            // texel in world units.
+            shadow_texel: 1.0 / SHADOW_SIZE as f32,
+            shadow_depth_bias: 2.0 / SHADOW_SIZE as f32,
+            shadow_normal_offset: 2.0 * rad / SHADOW_SIZE as f32,
+            shadow_depth_range: 4.0 * rad - 0.01 * rad,
+            light_near: point.as_ref().map_or(0.0, |p| p.near),
+            light_far: point.as_ref().map_or(0.0, |p| p.far),
+            light_reference_distance: point.as_ref().map_or(0.0, |p| p.distance),
+            pad0: 0.0,
+            transmission_mode: match s.transmission {
+                Transmission::Off => TRANSMISSION_OFF,
+                Transmission::ThinObject => TRANSMISSION_THIN,
+                Transmission::ThickObject => TRANSMISSION_THICK,
+            },
+            transmittance_range_mm: inputs.transmittance_range_mm,
+            transmittance_entries: inputs.transmittance.len() as u32,
+            mm_per_unit,
+            preintegrated,
+            lut_curvature_first,
+            lut_curvature_last,
+            penumbra_on: s.penumbra as u32,
+            albedo_map_mode: maps.albedo_mode,
+            roughness_map_mode: maps.roughness_mode,
+            thickness_map_range_mm: maps.thickness_range_mm,
+            detail_normal_strength: s.detail_normal_strength,
+            penumbra_inv_width_first: 1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
+            penumbra_inv_width_last: 1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
+            // The PCF's 4-texel footprint, in mm.
+            pcf_footprint_mm: 4.0 * 2.0 * rad / SHADOW_SIZE as f32
+                * 1000.0
+                * framing.metres_per_unit,
+            pad1: 0.0,
         }
     }
 }

@@ -7,6 +7,7 @@
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
+use crate::render::gpu_types::BurleyUniforms;
 use crate::render::targets::HdrTarget;
 
 pub(in crate::render) fn encode(
@@ -16,19 +17,15 @@ pub(in crate::render) fn encode(
 ) -> Scattered {
     let gpu = io.profile;
     let (samples, n, label) = (&gpu.burley_samples, gpu.burley_count, "sss burley");
-    let u = f.uniform(
-        "sss uniforms",
-        bytemuck::bytes_of(&io.uniforms(n as f32, [0.0; 4])),
-    );
-    let use_lod = io.lod;
+    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&io.uniforms(n)));
     let lod = f.uniform(
-        "lod",
-        bytemuck::cast_slice(&[
-            gpu.low_count as f32,
-            gpu.filter_radius_mm,
-            if use_lod { 1.0 } else { 0.0 },
-            gpu.burley_flags as f32,
-        ]),
+        "burley uniforms",
+        bytemuck::bytes_of(&BurleyUniforms {
+            low_count: gpu.low_count,
+            filter_radius_mm: gpu.filter_radius_mm,
+            lod_on: io.lod as u32,
+            flags: gpu.burley_flags,
+        }),
     );
     let t = io.targets;
     let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {

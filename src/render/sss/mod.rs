@@ -10,11 +10,13 @@ pub(super) mod reference;
 pub(super) mod separable;
 
 use super::frame::FrameEncoder;
-use super::gpu_types::SssUniforms;
-use super::pipelines::{buffer_entry, fullscreen_pipeline, texture_entry, Output, Stencil, HDR};
+use super::gpu_types::{BurleyUniforms, SssUniforms};
+use super::pipelines::{
+    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
+};
 use super::profile_gpu::ProfileGpu;
-use super::targets::{HdrTarget, Targets};
 use super::settings::Method;
+use super::targets::{HdrTarget, Targets};
 
 /// Layouts and pipelines of the SSS passes, built once with the renderer:
 /// switching methods or editing the profile never recompiles a shader.
@@ -30,12 +32,11 @@ pub(super) struct SssPipelines {
 impl SssPipelines {
     pub fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
         let storage = wgpu::BufferBindingType::Storage { read_only: true };
-        let uniform = wgpu::BufferBindingType::Uniform;
         let frag = wgpu::ShaderStages::FRAGMENT;
         let burley_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sss burley"),
             entries: &[
-                buffer_entry(0, uniform, frag),
+                uniform_entry::<SssUniforms>(0, frag),
                 texture_entry(1),
                 texture_entry(2),
                 buffer_entry(3, storage, frag),
@@ -45,13 +46,13 @@ impl SssPipelines {
                     wgpu::BufferBindingType::Storage { read_only: false },
                     frag,
                 ),
-                buffer_entry(6, uniform, frag),
+                uniform_entry::<BurleyUniforms>(6, frag),
             ],
         });
         let separable_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sss separable"),
             entries: &[
-                buffer_entry(0, uniform, frag),
+                uniform_entry::<SssUniforms>(0, frag),
                 texture_entry(1),
                 texture_entry(2),
                 buffer_entry(3, storage, frag),
@@ -94,7 +95,7 @@ pub(super) struct SssFrame<'t> {
     /// Pixels whose mask exceeds 1/255 (from the classify pass).
     pub sss_pixels: u64,
     /// Uniforms common to every pass; each pass sets the sample count and
-    /// direction.
+    /// (separable) the direction, follow-surface term and axis rotation.
     pub uniforms: SssUniforms,
     /// GPU counters: samples taken, pixels convolved, pixels skipped by the LOD.
     pub counters: &'t wgpu::Buffer,
@@ -104,12 +105,12 @@ pub(super) struct SssFrame<'t> {
 }
 
 impl SssFrame<'_> {
-    pub fn uniforms(&self, count: f32, direction: [f32; 4]) -> SssUniforms {
-        let mut u = self.uniforms;
-        u.params[0] = count;
-        u.direction = direction;
-        u.weight = [1.0; 4];
-        u
+    /// The shared uniforms with `count` samples or taps.
+    pub fn uniforms(&self, count: u32) -> SssUniforms {
+        SssUniforms {
+            sample_count: count,
+            ..self.uniforms
+        }
     }
 }
 

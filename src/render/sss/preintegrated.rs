@@ -6,17 +6,13 @@
 use crate::model::lut::LutLayout;
 use crate::render::settings::Method;
 
-/// `SceneUniforms::preintegrated`: x = 1 for this method; y, z: the
-/// curvature 1/r (1/mm) of the table's first and last rows.
-pub(in crate::render) fn uniforms(method: Method, layout: &LutLayout) -> [f32; 4] {
-    [
-        if method == Method::Preintegrated {
-            1.0
-        } else {
-            0.0
-        },
+/// `SceneUniforms::preintegrated` (1 for this method) and the curvature
+/// 1/r (1/mm) of the table's first and last rows
+/// (`lut_curvature_first`, `lut_curvature_last`).
+pub(in crate::render) fn uniforms(method: Method, layout: &LutLayout) -> (u32, f32, f32) {
+    (
+        (method == Method::Preintegrated) as u32,
         1.0 / layout.curvature_radius(0) as f32,
         1.0 / layout.curvature_radius(layout.height - 1) as f32,
-        0.0,
-    ]
+    )
 }

@@ -11,8 +11,10 @@
 use crate::render::gpu_types::SceneUniforms;
 use crate::render::ground_truth::Cloud;
 use crate::render::mesh::Mesh;
+use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
 use crate::render::readback::{f32_to_half, half_to_f32, readback};
 use crate::render::scene_cpu::{SceneIrradiance, ShadowMap};
+use crate::render::targets::{HdrTarget, Targets};
 use crate::render::{GpuContext, GpuError, ProfileInputs, RenderSettings};
 use glam::{Mat4, Vec3, Vec4};
 use std::sync::Arc;
@@ -48,6 +50,19 @@ pub(in crate::render) struct Io<'a> {
     pub shadow_map: &'a wgpu::Texture,
     pub shadow_size: u32,
     pub ping: &'a wgpu::Texture,
+}
+
+impl<'a> Io<'a> {
+    pub fn new(ctx: &GpuContext, t: &'a Targets, shadow: &'a ShadowPass) -> Self {
+        Self {
+            diffuse: t.texture(HdrTarget::Diffuse),
+            linear_depth: &t.linear_depth_texture,
+            linear_depth_format: ctx.linear_depth_format,
+            shadow_map: &shadow.texture,
+            shadow_size: SHADOW_SIZE,
+            ping: t.texture(HdrTarget::Ping),
+        }
+    }
 }
 
 /// Everything in the scene uniforms but the camera: the irradiance does

@@ -5,6 +5,7 @@
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
+use crate::render::gpu_types::SssUniforms;
 use crate::render::targets::HdrTarget;
 
 /// Follow-surface strength of the Jimenez 2012 demo kernel (the demo's
@@ -13,7 +14,7 @@ use crate::render::targets::HdrTarget;
 /// e^(−Δz²/2σ²) with its own σ (see [`follow_surface`]).
 const FOLLOW_SURFACE: f32 = 0.5;
 
-/// `SssUniforms::direction.z` for a kernel of depth σ (mm): the 2012
+/// `SssUniforms::follow_surface` for a kernel of depth σ (mm): the 2012
 /// lerp strength (positive) for σ = 0, else −1/(2σ²), which the shader
 /// turns into a lerp towards the centre by 1 − e^(−Δz²/2σ²), so the weight
 /// a tap loses across a depth step stays at the centre (energy is kept).
@@ -70,10 +71,13 @@ pub(in crate::render) fn blur_xy(
         ),
     ];
     for (dir, from, to, label, weight, pipeline, load) in passes {
-        let rotate = if io.rotate_separable { 1.0 } else { 0.0 };
-        let follow = follow_surface(depth_sigma_mm);
-        let mut u = io.uniforms(taps.1 as f32, [dir[0], dir[1], follow, rotate]);
-        u.weight = [weight[0], weight[1], weight[2], 1.0];
+        let u = SssUniforms {
+            direction: dir,
+            follow_surface: follow_surface(depth_sigma_mm),
+            rotate_axis: io.rotate_separable as u32,
+            weight: [weight[0], weight[1], weight[2], 1.0],
+            ..io.uniforms(taps.1)
+        };
         let u = f.uniform("sss uniforms", bytemuck::bytes_of(&u));
         let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
