@@ -123,10 +123,13 @@ fn burley_conserves_energy_and_blurs() {
     let mut r = renderer();
     let inp = inputs();
     let base = RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            light_intensity: 2.0,
+            ..Default::default()
+        },
         width: 192,
         height: 192,
         deterministic: true,
-        light_intensity: 2.0,
         ..Default::default()
     };
     let (none, _) = r
@@ -229,13 +232,16 @@ fn transmission_reddens_a_back_lit_ear() {
     let mut r = renderer();
     let inp = inputs();
     let base = RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            camera_yaw_rad: 60f32.to_radians(),
+            light_azimuth_rad: 200f32.to_radians(),
+            light_elevation_rad: 10f32.to_radians(),
+            ..Default::default()
+        },
         width: 160,
         height: 160,
         method: Method::None,
         deterministic: true,
-        camera_yaw: 60f32.to_radians(),
-        light_azimuth: 200f32.to_radians(),
-        light_elevation: 10f32.to_radians(),
         ..Default::default()
     };
     let (off, _) = r
@@ -291,12 +297,15 @@ fn sss_work_is_counted_and_skipped() {
     inp.set_burley(profile.as_ref(), 21, BurleySampling::GOLUBEV)
         .unwrap();
     let s = RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            camera_yaw_rad: 0.0,
+            camera_pitch_rad: 0.0,
+            camera_distance_m: 0.15,
+            ..Default::default()
+        },
         width: 128,
         height: 96,
         method: Method::Burley,
-        camera_yaw: 0.0,
-        camera_pitch: 0.0,
-        camera_distance_m: 0.15,
         deterministic: true,
         ..Default::default()
     };
@@ -373,10 +382,13 @@ fn burley_lod_cuts_samples_on_far_shots() {
     inp.set_burley(p.as_ref(), 21, BurleySampling::GOLUBEV)
         .unwrap();
     let shot = |distance: f32, lod: bool| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            camera_distance_m: distance,
+            ..Default::default()
+        },
         width: 128,
         height: 128,
         method: Method::Burley,
-        camera_distance_m: distance,
         deterministic: true,
         lod,
         ..Default::default()
@@ -411,7 +423,10 @@ fn shadow_map_is_redrawn_only_when_the_light_moves() {
     let inp = inputs();
     let s = small_frame(Method::None);
     let moved = RenderSettings {
-        light_azimuth: s.light_azimuth + 0.5,
+        view: scatterlab::settings::OrbitView {
+            light_azimuth_rad: s.view.light_azimuth_rad + 0.5,
+            ..s.clone().view
+        },
         ..s.clone()
     };
     let names =
@@ -489,13 +504,16 @@ fn sss_changes_only_masked_pixels() {
     let mut inp = inputs();
     inp.set_gaussians(&scatterlab::model::gaussian::DEON_SKIN);
     let s = |method| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            camera_distance_m: 0.2,
+            ..Default::default()
+        },
         width: 160,
         height: 160,
         method,
         deterministic: true,
         // Close enough that the eyes cover pixels, and that every method
         // draws the finest level of detail (`reference` always does).
-        camera_distance_m: 0.2,
         ..Default::default()
     };
     let (base, mask, _) = r.render_with_diffuse(&inp, &s(Method::None)).unwrap();
@@ -543,7 +561,10 @@ fn a_distant_point_light_matches_the_directional_one() {
     };
     let (directional, _) = r.render(&inp, &s).unwrap();
     let far = RenderSettings {
-        point_light_distance_m: Some(50.0),
+        view: scatterlab::settings::OrbitView {
+            point_light_distance_m: Some(50.0),
+            ..s.clone().view
+        },
         ..s.clone()
     };
     let (point, _) = r.render(&inp, &far).unwrap();
@@ -561,7 +582,10 @@ fn a_distant_point_light_matches_the_directional_one() {
     };
     assert!(rmse < 0.01, "far point light differs: RMSE {rmse}");
     let near = RenderSettings {
-        point_light_distance_m: Some(0.3),
+        view: scatterlab::settings::OrbitView {
+            point_light_distance_m: Some(0.3),
+            ..s.view
+        },
         ..s
     };
     let (close, _) = r.render(&inp, &near).unwrap();
@@ -576,9 +600,12 @@ fn mesh_level_of_detail_follows_the_projected_size() {
     let mut r = renderer();
     let inp = inputs();
     let s = |width, height, distance| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            camera_distance_m: distance,
+            ..Default::default()
+        },
         width,
         height,
-        camera_distance_m: distance,
         method: Method::None,
         deterministic: true,
         ..Default::default()

@@ -23,12 +23,15 @@ fn settings(method: Method) -> RenderSettings {
         height: 64,
         method,
         texturing: TexturingMode::PostScatter,
-        camera_yaw: 0.0,
-        camera_pitch: 0.0,
-        // Height spans SPAN_MM·64/256 mm: distance = half height / tan(fov/2).
-        camera_distance_m: 0.5 * SPAN_MM * 64.0 / WIDTH as f32 / (0.5 * fov).tan() / 1000.0,
-        fov_y: fov,
-        light_intensity: std::f32::consts::PI,
+        view: scatterlab::settings::OrbitView {
+            camera_yaw_rad: 0.0,
+            camera_pitch_rad: 0.0,
+            // Height spans SPAN_MM·64/256 mm: distance = half height / tan(fov/2).
+            camera_distance_m: 0.5 * SPAN_MM * 64.0 / WIDTH as f32 / (0.5 * fov).tan() / 1000.0,
+            fov_y_rad: fov,
+            light_intensity: std::f32::consts::PI,
+            ..Default::default()
+        },
         deterministic: true,
         pattern: IrradiancePattern::Step,
         ..Default::default()
@@ -267,10 +270,13 @@ fn every_method_keeps_mean_radiance_on_a_uniformly_lit_plane() {
     inputs.set_gaussians(&DEON_SKIN);
     let mut r = plane_renderer();
     let lit = |method| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            light_azimuth_rad: 0.0,
+            light_elevation_rad: 0.0,
+            ..settings(method).view
+        },
         pattern: IrradiancePattern::Lit,
         // Light and camera both on the plane's normal: N·L = 1 everywhere.
-        light_azimuth: 0.0,
-        light_elevation: 0.0,
         deterministic: false,
         ..settings(method)
     };
@@ -408,16 +414,19 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
         (Transmission::Off, Method::Reference, "ground truth"),
     ] {
         let s = RenderSettings {
+            view: scatterlab::settings::OrbitView {
+                camera_yaw_rad: 0.0,
+                camera_pitch_rad: 0.0,
+                camera_distance_m: 0.08,
+                light_azimuth_rad: std::f32::consts::PI,
+                light_elevation_rad: 0.0,
+                light_intensity: std::f32::consts::PI,
+                ..Default::default()
+            },
             width: 64,
             height: 64,
             method,
             texturing: TexturingMode::PostScatter,
-            camera_yaw: 0.0,
-            camera_pitch: 0.0,
-            camera_distance_m: 0.08,
-            light_azimuth: std::f32::consts::PI,
-            light_elevation: 0.0,
-            light_intensity: std::f32::consts::PI,
             environment_sh: [[0.0; 3]; 9],
             transmission: mode,
             transmission_tint: [1.0; 3],
@@ -469,13 +478,16 @@ fn scene_twin_matches_the_scene_pass() {
         (TexturingMode::PostScatter, 1.0),
     ] {
         let s = |method| RenderSettings {
+            view: scatterlab::settings::OrbitView {
+                light_azimuth_rad: 0.8,
+                light_elevation_rad: 0.4,
+                ..Default::default()
+            },
             width: 128,
             height: 128,
             method,
             texturing,
             detail_normal_strength: detail,
-            light_azimuth: 0.8,
-            light_elevation: 0.4,
             deterministic: true,
             ..Default::default()
         };
@@ -527,9 +539,12 @@ fn ground_truth_keeps_a_jimenez_looks_energy() {
     let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
     let mut r = plane_renderer();
     let lit = |method| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            light_azimuth_rad: 0.0,
+            light_elevation_rad: 0.0,
+            ..settings(method).view
+        },
         pattern: IrradiancePattern::Lit,
-        light_azimuth: 0.0,
-        light_elevation: 0.0,
         ..settings(method)
     };
     let mean = |d: &[[f32; 4]]| {

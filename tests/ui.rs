@@ -235,7 +235,7 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
         (info.framing_distance_m - want).abs() < 1e-4,
         "{info:?} vs {want}"
     );
-    assert!((h.state().ui_state.view.camera_distance_m - want).abs() < 1e-4);
+    assert!((h.state().ui_state.view.orbit.camera_distance_m - want).abs() < 1e-4);
     let frame_after = |h: &mut Harness<'_, EditorApp>, what: &str| -> image::RgbaImage {
         let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
         step_until(h, what, |a| {
@@ -707,7 +707,7 @@ fn space_flips_a_and_b_in_every_mode() {
 fn panel_edges_stay_grabbable() {
     let mut h = harness(false);
     h.run_steps(3);
-    let yaw = h.state().ui_state.view.camera_yaw;
+    let yaw = h.state().ui_state.view.orbit.camera_yaw_rad;
     let drag = |h: &mut Harness<'_, EditorApp>, from: egui::Pos2, dx: f32| {
         h.hover_at(from);
         h.step();
@@ -739,7 +739,7 @@ fn panel_edges_stay_grabbable() {
         after.width()
     );
     assert_eq!(
-        h.state().ui_state.view.camera_yaw,
+        h.state().ui_state.view.orbit.camera_yaw_rad,
         yaw,
         "the viewport orbited"
     );

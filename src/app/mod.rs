@@ -967,7 +967,7 @@ impl EditorApp {
     fn viewport_panel(&mut self, ui: &mut egui::Ui) {
         // Camera distance that frames the mesh (Reset view, zoom limits).
         let framing = self.mesh_info.map_or(
-            crate::render::RenderSettings::default().camera_distance_m,
+            crate::settings::OrbitView::default().camera_distance_m,
             |i| i.framing_distance_m,
         );
         self.compare_toolbar_ui(ui);
@@ -1107,14 +1107,14 @@ impl EditorApp {
                 open_environment = true;
             }
             ui.add(
-                egui::DragValue::new(&mut v.light_intensity)
+                egui::DragValue::new(&mut v.orbit.light_intensity)
                     .range(0.0..=50.0)
                     .speed(0.05)
                     .prefix("light "),
             )
             .on_hover_text("Irradiance of the key light (linear).");
             ui.add(
-                egui::DragValue::new(&mut v.exposure)
+                egui::DragValue::new(&mut v.orbit.exposure)
                     .range(0.01..=20.0)
                     .speed(0.01)
                     .prefix("exposure "),
@@ -1126,12 +1126,9 @@ impl EditorApp {
                 )
                 .clicked()
             {
-                *v = state::ViewState {
-                    environment: v.environment,
-                    environment_map_sh: v.environment_map_sh,
-                    environment_intensity: v.environment_intensity,
+                v.orbit = crate::settings::OrbitView {
                     camera_distance_m: framing,
-                    ..state::ViewState::default()
+                    ..Default::default()
                 };
             }
             if let Some(p) = self.mesh.clone() {
@@ -1172,15 +1169,16 @@ impl EditorApp {
         if response.dragged_by(egui::PointerButton::Secondary)
             || (shift && response.dragged_by(egui::PointerButton::Primary))
         {
-            v.light_azimuth -= d.x * 0.01;
-            v.light_elevation = (v.light_elevation - d.y * 0.01).clamp(-1.5, 1.5);
+            v.orbit.light_azimuth_rad -= d.x * 0.01;
+            v.orbit.light_elevation_rad =
+                (v.orbit.light_elevation_rad - d.y * 0.01).clamp(-1.5, 1.5);
         } else if response.dragged_by(egui::PointerButton::Primary) {
-            v.camera_yaw -= d.x * 0.01;
-            v.camera_pitch = (v.camera_pitch + d.y * 0.01).clamp(-1.4, 1.4);
+            v.orbit.camera_yaw_rad -= d.x * 0.01;
+            v.orbit.camera_pitch_rad = (v.orbit.camera_pitch_rad + d.y * 0.01).clamp(-1.4, 1.4);
         } else if response.dragged_by(egui::PointerButton::Middle) {
-            let k = v.camera_distance_m / rect.height().max(1.0) * 0.55;
-            v.pan_m[0] -= d.x * k;
-            v.pan_m[1] += d.y * k;
+            let k = v.orbit.camera_distance_m / rect.height().max(1.0) * 0.55;
+            v.orbit.camera_pan_m[0] -= d.x * k;
+            v.orbit.camera_pan_m[1] += d.y * k;
         }
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
@@ -1188,7 +1186,7 @@ impl EditorApp {
                 self.last_wheel = Some(std::time::Instant::now());
                 // Zoom from a close-up of a pore to the whole mesh in a
                 // corner, whatever its size.
-                v.camera_distance_m = (v.camera_distance_m * (-scroll * 0.002).exp())
+                v.orbit.camera_distance_m = (v.orbit.camera_distance_m * (-scroll * 0.002).exp())
                     .clamp(0.15 * framing, 8.0 * framing);
             }
         }
@@ -1310,8 +1308,8 @@ impl EditorApp {
                 let key = (p.clone(), info.metres_per_unit);
                 let first_head = self.framed_for.is_none() && p.is_none();
                 if self.framed_for.as_ref() != Some(&key) && !first_head {
-                    self.ui_state.view.camera_distance_m = info.framing_distance_m;
-                    self.ui_state.view.pan_m = [0.0; 2];
+                    self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
+                    self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
                 }
                 self.framed_for = Some(key);
                 if let Some(p) = &p {

@@ -150,37 +150,23 @@ impl Default for CompareB {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct ViewState {
-    pub camera_yaw: f32,
-    pub camera_pitch: f32,
-    pub camera_distance_m: f32,
-    /// Camera target offset in the view plane (m).
-    pub pan_m: [f32; 2],
-    pub light_azimuth: f32,
-    pub light_elevation: f32,
-    pub light_intensity: f32,
+    /// Camera, key light and exposure (radians and metres), as the
+    /// renderer and the command line take them.
+    pub orbit: crate::settings::OrbitView,
     pub environment: EnvironmentChoice,
     /// The loaded HDR map's irradiance as order-2 SH (kept, so a restart
     /// lights the head the same way without the file).
     pub environment_map_sh: Option<[[f32; 3]; 9]>,
     pub environment_intensity: f32,
-    pub exposure: f32,
 }
 
 impl Default for ViewState {
     fn default() -> Self {
-        let r = crate::render::RenderSettings::default();
         Self {
-            camera_yaw: r.camera_yaw,
-            camera_pitch: r.camera_pitch,
-            camera_distance_m: r.camera_distance_m,
-            pan_m: [0.0; 2],
-            light_azimuth: r.light_azimuth,
-            light_elevation: r.light_elevation,
-            light_intensity: r.light_intensity,
+            orbit: Default::default(),
             environment: EnvironmentChoice::Studio,
             environment_map_sh: None,
             environment_intensity: 1.0,
-            exposure: r.exposure,
         }
     }
 }

@@ -19,7 +19,6 @@
 use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
 use crate::render::{
     FrameStats, GpuContext, Mesh, Method, ProfileInputs, Progressive, RenderSettings, Renderer,
-    Specular,
 };
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
 use std::path::PathBuf;
@@ -251,42 +250,17 @@ impl Viewport {
     }
 }
 
-/// Renderer settings for a look and view.
-pub fn render_settings(look: &Look, view: &ViewState, (w, h): (u32, u32)) -> RenderSettings {
-    let r = &look.rendering;
-    let base = RenderSettings::default();
+/// Renderer settings for a look and view ([`RenderSettings::for_look`]
+/// with the view's environment).
+pub fn render_settings(look: &Look, view: &ViewState, size: (u32, u32)) -> RenderSettings {
+    let studio = RenderSettings::default().environment_sh;
     let env = match view.environment {
-        EnvironmentChoice::Studio => base.environment_sh,
+        EnvironmentChoice::Studio => studio,
         EnvironmentChoice::Black => [[0.0; 3]; 9],
-        EnvironmentChoice::Map => view.environment_map_sh.unwrap_or(base.environment_sh),
+        EnvironmentChoice::Map => view.environment_map_sh.unwrap_or(studio),
     }
     .map(|c| c.map(|v| v * view.environment_intensity));
-    let sp = &r.specular;
-    RenderSettings {
-        width: w,
-        height: h,
-        method: r.method,
-        texturing: r.texturing,
-        camera_yaw: view.camera_yaw,
-        camera_pitch: view.camera_pitch,
-        camera_distance_m: view.camera_distance_m,
-        camera_pan_m: view.pan_m,
-        light_azimuth: view.light_azimuth,
-        light_elevation: view.light_elevation,
-        light_intensity: view.light_intensity,
-        exposure: view.exposure,
-        transmission: r.transmission,
-        transmission_tint: r.transmission_tint.map(|v| v as f32),
-        lod: r.lod,
-        specular: Specular::DualGgx {
-            roughness0: (sp.roughness * sp.lobe0_roughness_multiplier).min(1.0) as f32,
-            roughness1: (sp.roughness * sp.lobe1_roughness_multiplier).min(1.0) as f32,
-            lobe_mix: sp.lobe_mix as f32,
-        },
-        specular_f0: r.f0() as f32,
-        environment_sh: env,
-        ..base
-    }
+    RenderSettings::for_look(&look.rendering, view.orbit, env, size)
 }
 
 /// The renderer and what it was last given, on the render thread.
@@ -388,7 +362,8 @@ impl Worker {
         self.mesh_info = Some(MeshInfo {
             size: mesh_data.head_size(),
             metres_per_unit: mesh_data.metres_per_unit,
-            framing_distance_m: mesh_data.framing_distance_m(RenderSettings::default().fov_y),
+            framing_distance_m: mesh_data
+                .framing_distance_m(crate::settings::OrbitView::default().fov_y_rad),
         });
         self.pending_maps = bake_later.then_some(mesh_data);
         if timings_on() {
@@ -659,8 +634,8 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
                     // so a stale camera never shows. A change of maps
                     // alone keeps the artist's view.
                     if w.reframed {
-                        req.view.camera_distance_m = info.framing_distance_m;
-                        req.view.pan_m = [0.0; 2];
+                        req.view.orbit.camera_distance_m = info.framing_distance_m;
+                        req.view.orbit.camera_pan_m = [0.0; 2];
                     }
                 }
             }

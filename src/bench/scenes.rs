@@ -1,6 +1,7 @@
 //! The fixed scenes and the method configurations `bench` measures.
 
 use crate::render::{BurleySampling, IrradiancePattern, Method, RenderSettings, Transmission};
+use crate::settings::OrbitView;
 
 /// What a scene renders.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,12 +34,15 @@ pub fn plane_settings(size: (u32, u32), pattern: IrradiancePattern) -> RenderSet
     RenderSettings {
         width: size.0,
         height: size.1,
-        camera_yaw: 0.0,
-        camera_pitch: 0.0,
-        camera_distance_m: half_height_mm / (0.5 * fov_y).tan() / 1000.0,
-        fov_y,
+        view: OrbitView {
+            camera_yaw_rad: 0.0,
+            camera_pitch_rad: 0.0,
+            camera_distance_m: half_height_mm / (0.5 * fov_y).tan() / 1000.0,
+            fov_y_rad: fov_y,
+            light_intensity: std::f32::consts::PI,
+            ..OrbitView::default()
+        },
         pattern,
-        light_intensity: std::f32::consts::PI,
         transmission: Transmission::Off,
         // Every method on the surface the ground truth integrates.
         mesh_lod: false,
@@ -50,10 +54,13 @@ fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> R
     RenderSettings {
         width: size.0,
         height: size.1,
-        camera_yaw: yaw_deg.to_radians(),
-        camera_distance_m: distance_m,
-        light_azimuth: light.0.to_radians(),
-        light_elevation: light.1.to_radians(),
+        view: OrbitView {
+            camera_yaw_rad: yaw_deg.to_radians(),
+            camera_distance_m: distance_m,
+            light_azimuth_rad: light.0.to_radians(),
+            light_elevation_rad: light.1.to_radians(),
+            ..OrbitView::default()
+        },
         // Every method on the surface the ground truth integrates.
         mesh_lod: false,
         ..RenderSettings::default()

@@ -83,7 +83,8 @@ fn masked_plane(fraction: f32, settings: &RenderSettings) -> Mesh {
     let mut plane = Mesh::plane(200.0, 0.001);
     // Visible half-width on the plane (mm) → the u range on screen.
     let aspect = settings.width as f32 / settings.height as f32;
-    let half_w_mm = settings.camera_distance_m * 1000.0 * (0.5 * settings.fov_y).tan() * aspect;
+    let half_w_mm =
+        settings.view.camera_distance_m * 1000.0 * (0.5 * settings.view.fov_y_rad).tan() * aspect;
     let (u0, u1) = (0.5 - half_w_mm / 200.0, 0.5 + half_w_mm / 200.0);
     // 0 % and 100 % are the whole plane (the mask is filtered, so a cut at
     // the screen's edge would bleed a column).

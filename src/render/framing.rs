@@ -41,16 +41,17 @@ impl Framing {
     /// clip transform around the mesh's bounding sphere.
     pub fn camera_and_light(&self, s: &RenderSettings) -> CameraLight {
         let aspect = s.width as f32 / s.height as f32;
-        let dist = s.camera_distance_m / self.metres_per_unit;
-        let dir = orbit_direction(s.camera_yaw, s.camera_pitch);
+        let v = &s.view;
+        let dist = v.camera_distance_m / self.metres_per_unit;
+        let dir = orbit_direction(v.camera_yaw_rad, v.camera_pitch_rad);
         let right = Vec3::Y.cross(dir).normalize_or_zero();
         let up = dir.cross(right);
         let target = self.centre
-            + (right * s.camera_pan_m[0] + up * s.camera_pan_m[1]) / self.metres_per_unit;
+            + (right * v.camera_pan_m[0] + up * v.camera_pan_m[1]) / self.metres_per_unit;
         let eye = target + dist * dir;
         let view = Mat4::look_at_rh(eye, target, Vec3::Y);
-        let projection = Mat4::perspective_rh(s.fov_y, aspect, 0.05 * dist, 10.0 * dist);
-        let light = orbit_direction(s.light_azimuth, s.light_elevation);
+        let projection = Mat4::perspective_rh(v.fov_y_rad, aspect, 0.05 * dist, 10.0 * dist);
+        let light = orbit_direction(v.light_azimuth_rad, v.light_elevation_rad);
         let rad = self.radius;
         let up = if light.y.abs() > 0.99 {
             Vec3::Z
@@ -81,11 +82,11 @@ impl Framing {
 
     /// The point light, or `None` for a directional light.
     pub fn point_light(&self, s: &RenderSettings) -> Option<PointLight> {
-        let metres = s.point_light_distance_m?;
+        let metres = s.view.point_light_distance_m?;
         let rad = self.radius;
         // At least just outside the bounding sphere.
         let distance = (metres / self.metres_per_unit).max(1.05 * rad);
-        let dir = orbit_direction(s.light_azimuth, s.light_elevation);
+        let dir = orbit_direction(s.view.light_azimuth_rad, s.view.light_elevation_rad);
         Some(PointLight {
             position: self.centre + dir * distance,
             distance,
@@ -96,8 +97,8 @@ impl Framing {
 
     /// Pixels per world unit at the orbit's centre.
     pub fn pixels_per_unit(&self, s: &RenderSettings) -> f32 {
-        let dist = s.camera_distance_m / self.metres_per_unit;
-        s.height as f32 / (2.0 * (0.5 * s.fov_y).tan() * dist)
+        let dist = s.view.camera_distance_m / self.metres_per_unit;
+        s.height as f32 / (2.0 * (0.5 * s.view.fov_y_rad).tan() * dist)
     }
 }
 

@@ -317,7 +317,7 @@ impl Renderer {
             None => (t.texture(scattered.target), t.view(scattered.target)),
         };
         let composite = CompositeUniforms {
-            exposure: s.exposure,
+            exposure: s.view.exposure,
             ..Zeroable::zeroed()
         };
         self.composite.encode(&mut f, t, shown.1, composite);
@@ -366,7 +366,7 @@ fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32
     SssUniforms {
         size: [s.width as f32, s.height as f32],
         inv_size: [1.0 / s.width as f32, 1.0 / s.height as f32],
-        pixels_per_unit_at_depth_1: s.height as f32 / (2.0 * (0.5 * s.fov_y).tan()),
+        pixels_per_unit_at_depth_1: s.height as f32 / (2.0 * (0.5 * s.view.fov_y_rad).tan()),
         mm_per_unit: metres_per_unit * 1000.0,
         rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
         deterministic: s.deterministic as u32,

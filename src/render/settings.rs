@@ -6,6 +6,7 @@
 pub use crate::settings::rendering::{
     MethodId as Method, TexturingId as TexturingMode, TransmissionId as Transmission,
 };
+use crate::settings::{OrbitView, RenderingSpec};
 
 /// How `burley` places and weighs its samples. [`BurleySampling::GOLUBEV`]
 /// is Golubev 2018 as published (radii at the widest channel's quantiles
@@ -91,23 +92,8 @@ pub struct RenderSettings {
     pub height: u32,
     pub method: Method,
     pub texturing: TexturingMode,
-    /// Camera orbit around the head: yaw and pitch (radians), distance (m).
-    pub camera_yaw: f32,
-    pub camera_pitch: f32,
-    pub camera_distance_m: f32,
-    pub fov_y: f32,
-    /// Camera target offset from the mesh's centre along the view's right
-    /// and up axes (m).
-    pub camera_pan_m: [f32; 2],
-    /// Direction towards the light: azimuth and elevation (radians); a
-    /// point light sits in that direction from the mesh's centre.
-    pub light_azimuth: f32,
-    pub light_elevation: f32,
-    pub light_intensity: f32,
-    /// Directional, or a point light at this distance (m) from the centre;
-    /// `light_intensity` is its irradiance at that distance.
-    pub point_light_distance_m: Option<f32>,
-    pub exposure: f32,
+    /// Camera and light ([`OrbitView`]: radians and metres).
+    pub view: OrbitView,
     /// Turns off per-pixel random rotation (for tests).
     pub deterministic: bool,
     /// Lighting, or a flat irradiance test pattern.
@@ -159,6 +145,57 @@ impl Progressive {
 }
 
 impl RenderSettings {
+    /// The one way from a look's rendering settings and a view to a frame's
+    /// settings, for the editor, the command line and the bench. Every
+    /// field of the spec is named: a new one does not compile until it is
+    /// placed here or marked as read elsewhere.
+    pub fn for_look(
+        rendering: &RenderingSpec,
+        view: OrbitView,
+        environment_sh: [[f32; 3]; 9],
+        (width, height): (u32, u32),
+    ) -> Self {
+        let RenderingSpec {
+            method,
+            // Burley's pattern and the separable kernel are profile inputs
+            // (`ProfileInputs::for_method`), not frame settings.
+            samples: _,
+            taps: _,
+            lod,
+            texturing,
+            transmission,
+            // Read where a thickness map is loaded (`app`'s mesh settings).
+            thickness_remap_mm: _,
+            transmission_tint,
+            ior: _,
+            // Unity's export scale (`model::units::UnityProfile`); a mesh's
+            // own units come with the mesh.
+            world_scale_m_per_unit: _,
+            specular,
+        } = rendering;
+        Self {
+            width,
+            height,
+            method: *method,
+            texturing: *texturing,
+            view,
+            transmission: *transmission,
+            transmission_tint: transmission_tint.map(|v| v as f32),
+            lod: *lod,
+            specular: Specular::DualGgx {
+                roughness0: (specular.roughness * specular.lobe0_roughness_multiplier).min(1.0)
+                    as f32,
+                roughness1: (specular.roughness * specular.lobe1_roughness_multiplier).min(1.0)
+                    as f32,
+                lobe_mix: specular.lobe_mix as f32,
+            },
+            // From the IOR (Fresnel at normal incidence).
+            specular_f0: rendering.f0() as f32,
+            environment_sh,
+            ..Self::default()
+        }
+    }
+
     /// Whether frames of these settings differ only by their random
     /// rotations, so that a mean over frames converges: `burley` (rotated
     /// sample disks) and `separable` with stochastic axis rotation.
@@ -204,16 +241,7 @@ impl Default for RenderSettings {
             height: 512,
             method: Method::Burley,
             texturing: TexturingMode::PreAndPostScatter,
-            camera_yaw: 0.35,
-            camera_pitch: 0.05,
-            camera_distance_m: 0.55,
-            fov_y: 30f32.to_radians(),
-            camera_pan_m: [0.0; 2],
-            light_azimuth: 1.25,
-            light_elevation: 0.35,
-            light_intensity: 3.2,
-            point_light_distance_m: None,
-            exposure: 1.0,
+            view: OrbitView::default(),
             deterministic: false,
             pattern: IrradiancePattern::Lit,
             transmission: Transmission::ThinObject,

@@ -6,7 +6,9 @@ pub mod library;
 pub mod preset;
 pub mod profile;
 pub mod rendering;
+pub mod view;
 
 pub use preset::{Preset, PresetError};
 pub use profile::ProfileSpec;
 pub use rendering::RenderingSpec;
+pub use view::OrbitView;

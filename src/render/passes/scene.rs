@@ -283,7 +283,7 @@ impl ScenePass {
                 Some(p) => p.position.extend(1.0).into(),
                 None => cl.light.extend(0.0).into(),
             },
-            light_radiance: [s.light_intensity; 4],
+            light_radiance: [s.view.light_intensity; 4],
             surface_albedo: rgb0(inputs.surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
             normal_blend: rgb0(inputs.normal_blend),

@@ -122,7 +122,7 @@ pub(in crate::render) fn scatter(
         let mut hs = std::collections::hash_map::DefaultHasher::new();
         k.hash(&mut hs);
         bytemuck::bytes_of(scene).hash(&mut hs);
-        (w, h, s.fov_y.to_bits()).hash(&mut hs);
+        (w, h, s.view.fov_y_rad.to_bits()).hash(&mut hs);
         hs.finish()
     };
     if let Some(Cache {
@@ -219,7 +219,7 @@ pub(in crate::render) fn scatter(
     // Each SSS pixel's point on the surface, from its linear view depth.
     let t0 = Instant::now();
     let world_from_view = view.inverse();
-    let tan = (0.5 * s.fov_y).tan();
+    let tan = (0.5 * s.view.fov_y_rad).tan();
     let aspect = w as f32 / h as f32;
     let mm = 1000.0 * mesh.metres_per_unit;
     let mut pixels = Vec::new();

@@ -1,0 +1,47 @@
+//! `scatterlab edit` (and no subcommand): the editor.
+
+use crate::settings::rendering::MethodId;
+use anyhow::Result;
+use clap::ValueEnum;
+use std::path::PathBuf;
+
+#[derive(Debug, Default, clap::Args)]
+pub struct EditArgs {
+    /// The preset (.ron) to open; default: the last one, else the embedded skin.
+    #[arg(long, value_name = "FILE.ron")]
+    pub preset: Option<PathBuf>,
+    /// Close the window once the head has been shown (start-up smoke
+    /// test; with SCATTERLAB_TIMINGS=1 it prints the start-up times).
+    #[arg(long, hide = true)]
+    pub exit_after_first_frame: bool,
+    /// Open comparing the look (A) with B in this view.
+    #[arg(long, value_enum)]
+    pub compare: Option<CompareArg>,
+    /// With --compare: B is the look rendered with this method
+    /// (default: what B was last time).
+    #[arg(long, value_enum, requires = "compare")]
+    pub compare_b: Option<MethodId>,
+}
+
+/// The editor's compare views (`edit --compare`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CompareArg {
+    Split,
+    SideBySide,
+    Difference,
+}
+
+impl EditArgs {
+    pub fn run(self) -> Result<()> {
+        use crate::app::state::CompareMode;
+        let compare = self.compare.map(|c| {
+            let mode = match c {
+                CompareArg::Split => CompareMode::Split,
+                CompareArg::SideBySide => CompareMode::SideBySide,
+                CompareArg::Difference => CompareMode::Difference,
+            };
+            (mode, self.compare_b)
+        });
+        crate::app::run(self.preset, self.exit_after_first_frame, compare)
+    }
+}

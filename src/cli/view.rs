@@ -1,0 +1,307 @@
+//! The render's view and look flags, and the one place where the command
+//! line's degrees become the [`OrbitView`]'s radians.
+
+use super::args::{parse_color, Color};
+use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
+use crate::settings::{OrbitView, RenderingSpec};
+use anyhow::Result;
+use clap::ValueEnum;
+use std::path::PathBuf;
+
+/// Camera, light, mesh and maps of a render. Angles are degrees here and
+/// converted once, in [`ViewArgs::orbit`].
+#[derive(Debug, Clone, clap::Args)]
+pub struct ViewArgs {
+    /// Camera orbit angle around the head (degrees; 0 = front).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20.0)]
+    pub camera_yaw: f32,
+    /// Direction to the light: azimuth (degrees; 0 = from the camera's front, 180 = behind the head).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 72.0)]
+    pub light_azimuth: f32,
+    /// Direction to the light: elevation (degrees).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20.0)]
+    pub light_elevation: f32,
+    /// Camera elevation above the head's centre (degrees; default 2.9).
+    #[arg(long, allow_hyphen_values = true)]
+    pub camera_pitch: Option<f32>,
+    /// Vertical field of view (degrees; default 30).
+    #[arg(long)]
+    pub fov: Option<f32>,
+    /// Irradiance of the key light at normal incidence (default 3.2).
+    #[arg(long, allow_hyphen_values = true)]
+    pub light_intensity: Option<f32>,
+    /// Exposure multiplier before tonemapping (default 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// Camera distance from the face (m); default: the distance at which
+    /// the mesh's height fills the view (0.574 m for the default head).
+    #[arg(long, value_name = "M")]
+    pub camera_distance: Option<f32>,
+    /// Render this mesh (OBJ, glTF .gltf or .glb) instead of the default
+    /// head. It needs UVs; OBJ groups named `eyes`/`teeth` are kept out of
+    /// the scattering; glTF textures come from its first material.
+    #[arg(long, value_name = "FILE")]
+    pub mesh: Option<PathBuf>,
+    /// Scale of --mesh: metres per unit (Unity's worldScale convention).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub metres_per_unit: f32,
+    /// Albedo (colour) map, sRGB PNG/JPEG; replaces the mesh's.
+    #[arg(long = "albedo", id = "albedo_map", value_name = "IMG")]
+    pub albedo: Option<PathBuf>,
+    /// Tangent-space normal map (OpenGL convention: green up).
+    #[arg(long, value_name = "IMG")]
+    pub normal: Option<PathBuf>,
+    /// Roughness map (grey, or the red channel), roughness of the first lobe.
+    #[arg(long, value_name = "IMG")]
+    pub roughness: Option<PathBuf>,
+    /// SSS mask (grey): black keeps texels out of every SSS pass.
+    #[arg(long, value_name = "IMG")]
+    pub mask: Option<PathBuf>,
+    /// Thickness map (grey): white = --thickness-range-mm, for transmission.
+    #[arg(long, value_name = "IMG")]
+    pub thickness: Option<PathBuf>,
+    /// Environment light: an equirectangular map (Radiance .hdr, or PNG/JPEG
+    /// as sRGB), projected to spherical harmonics; default: a studio sky.
+    #[arg(long, value_name = "FILE.hdr")]
+    pub environment: Option<PathBuf>,
+    /// Multiplier of the environment's radiance.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub environment_intensity: f32,
+    /// A point light at this distance (m) from the head's centre, in the
+    /// --light-azimuth/--light-elevation direction, instead of a
+    /// directional light; it delivers the usual irradiance at that distance
+    /// and falls off with the inverse square (perspective shadow map).
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub point_light: Option<f32>,
+    /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
+    #[arg(long)]
+    pub separable_rotation: bool,
+    /// `burley` sampling: `improved` (MIS across the channels, R2
+    /// rotations, an exact centre weight) or `golubev` (Golubev 2018 as
+    /// published); `bench` measures both.
+    #[arg(long, value_enum, default_value = "improved")]
+    pub burley_sampling: SamplingArg,
+    /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
+    /// kernel, 13 follows edges more closely at about twice the cost).
+    #[arg(long, default_value_t = 7)]
+    pub gaussian_taps: usize,
+    /// Render this many identical frames and report the last one's stats:
+    /// the steady state of the editor, where the shadow map and the
+    /// profile's tables are reused.
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Flip the maps given with --albedo/--normal/--roughness/--mask/
+    /// --thickness vertically (v → 1 − v): for maps made with V up
+    /// (OpenGL's bottom-left origin) on a glTF, or the other way round.
+    #[arg(long)]
+    pub flip_v: bool,
+    /// Thickness (mm) that a white texel of --thickness stands for
+    /// (default: the look's `rendering.thickness_remap_mm`, 5 mm).
+    #[arg(long, allow_negative_numbers = true)]
+    pub thickness_range_mm: Option<f32>,
+}
+
+impl ViewArgs {
+    /// The mesh to render, with any textures named on the command line.
+    /// `thickness_range_mm`: what a white texel of a thickness map stands
+    /// for when --thickness-range-mm is not given.
+    pub fn load_mesh(&self, thickness_range_mm: f32) -> anyhow::Result<crate::render::Mesh> {
+        use crate::render::textures::{self, AlbedoMode, RoughnessMode, TextureSlot};
+        use crate::render::Mesh;
+        crate::model::check_range(
+            "metres_per_unit",
+            self.metres_per_unit as f64,
+            1e-6,
+            1e3,
+            " m/unit",
+        )?;
+        let thickness_range_mm = self.thickness_range_mm.unwrap_or(thickness_range_mm);
+        crate::model::check_range(
+            "thickness_range_mm",
+            thickness_range_mm as f64,
+            1e-3,
+            1e4,
+            " mm",
+        )?;
+        let mut mesh = match &self.mesh {
+            Some(path) => {
+                let mesh = Mesh::load(path, self.metres_per_unit)?;
+                if let Some(w) = mesh.head_size().scale_warning(self.metres_per_unit) {
+                    eprintln!("warning: {}: {w}", path.display());
+                }
+                mesh
+            }
+            None => Mesh::default_head()?,
+        };
+        let flip = self.flip_v;
+        let load = |p: &std::path::Path, slot| -> anyhow::Result<textures::TextureImage> {
+            let mut t = textures::load(p, slot)?;
+            if flip {
+                t.flip_v();
+            }
+            Ok(t)
+        };
+        let maps = std::sync::Arc::make_mut(&mut mesh.textures);
+        if let Some(p) = &self.albedo {
+            maps.albedo = load(p, TextureSlot::Albedo)?;
+            maps.albedo_mode = AlbedoMode::Absolute;
+        }
+        if let Some(p) = &self.normal {
+            maps.normal = load(p, TextureSlot::Normal)?;
+        }
+        if let Some(p) = &self.roughness {
+            maps.roughness = load(p, TextureSlot::Roughness)?;
+            maps.roughness_mode = RoughnessMode::Absolute;
+        }
+        if let Some(p) = &self.mask {
+            maps.mask = load(p, TextureSlot::Mask)?;
+        }
+        if let Some(p) = &self.thickness {
+            maps.thickness = Some((load(p, TextureSlot::Thickness)?, thickness_range_mm));
+        }
+        Ok(mesh)
+    }
+}
+
+impl ViewArgs {
+    /// The view these flags describe: degrees to radians here and nowhere
+    /// else; `framing_distance_m` when no --camera-distance is given.
+    pub fn orbit(&self, framing_distance_m: impl FnOnce(f32) -> f32) -> Result<OrbitView> {
+        let d = OrbitView::default();
+        let fov_y_rad = self.fov.map_or(d.fov_y_rad, f32::to_radians);
+        if let Some(fov) = self.fov {
+            crate::model::check_range("fov", fov as f64, 1.0, 170.0, "°")?;
+        }
+        if let Some(d) = self.camera_distance {
+            crate::model::check_range("camera_distance", d as f64, 0.05, 1000.0, " m")?;
+        }
+        if let Some(d) = self.point_light {
+            crate::model::check_range("point_light", d as f64, 1e-3, 1e4, " m")?;
+        }
+        if let Some(v) = self.light_intensity {
+            crate::model::check_range("light_intensity", v as f64, 0.0, 1e4, "")?;
+        }
+        if let Some(v) = self.exposure {
+            crate::model::check_range("exposure", v as f64, 1e-4, 1e4, "")?;
+        }
+        if let Some(v) = self.camera_pitch {
+            crate::model::check_range("camera_pitch", v as f64, -89.0, 89.0, "°")?;
+        }
+        Ok(OrbitView {
+            camera_yaw_rad: self.camera_yaw.to_radians(),
+            camera_pitch_rad: self
+                .camera_pitch
+                .map_or(d.camera_pitch_rad, f32::to_radians),
+            camera_distance_m: match self.camera_distance {
+                Some(m) => m,
+                None => framing_distance_m(fov_y_rad),
+            },
+            camera_pan_m: d.camera_pan_m,
+            fov_y_rad,
+            light_azimuth_rad: self.light_azimuth.to_radians(),
+            light_elevation_rad: self.light_elevation.to_radians(),
+            light_intensity: self.light_intensity.unwrap_or(d.light_intensity),
+            point_light_distance_m: self.point_light,
+            exposure: self.exposure.unwrap_or(d.exposure),
+        })
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplingArg {
+    Improved,
+    Golubev,
+}
+
+/// The look's rendering settings (`RenderingSpec`, a preset's `rendering`
+/// section): each flag overrides the preset's value (the defaults without
+/// --preset), so that every field of a look can be set here.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct LookArgs {
+    /// SSS method (default: the preset's, else burley).
+    #[arg(long, value_enum)]
+    pub method: Option<MethodId>,
+    /// Burley disk samples (default: the preset's, else 21).
+    #[arg(long)]
+    pub samples: Option<usize>,
+    /// Separable kernel taps, odd (default: the preset's, else 17).
+    #[arg(long)]
+    pub taps: Option<usize>,
+    /// Turn off the levels of detail: Burley's discrete LOD and the mesh's
+    /// coarse level (always the finest mesh, as `reference` draws).
+    #[arg(long)]
+    pub no_lod: bool,
+    /// Transmission (default: the preset's, else thin).
+    #[arg(long, value_enum)]
+    pub transmission: Option<TransmissionId>,
+    /// Linear RGB multiplier of transmitted light (default 1,1,1).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub transmission_tint: Option<Color>,
+    /// Texturing mode (default: the preset's, else pre-and-post).
+    #[arg(long, value_enum)]
+    pub texturing: Option<TexturingId>,
+    /// Index of refraction of the surface: the specular F0 (default 1.4).
+    #[arg(long)]
+    pub ior: Option<f64>,
+    /// The dual-lobe specular's material roughness, 0–1 (default 0.55).
+    #[arg(long)]
+    pub specular_roughness: Option<f64>,
+    /// Multiplier of the sharper lobe's roughness (Unreal's Roughness0, default 0.75).
+    #[arg(long)]
+    pub lobe0_roughness_multiplier: Option<f64>,
+    /// Multiplier of the broader lobe's roughness (Unreal's Roughness1, default 1.30).
+    #[arg(long)]
+    pub lobe1_roughness_multiplier: Option<f64>,
+    /// Weight of the broader lobe, 0–1 (Unreal's LobeMix, default 0.85).
+    #[arg(long)]
+    pub lobe_mix: Option<f64>,
+    /// Metres per scene unit the look's engine exports assume (Unity's
+    /// world scale; default 1).
+    #[arg(long)]
+    pub world_scale: Option<f64>,
+}
+
+impl LookArgs {
+    /// `base` (the preset's rendering settings) with every given flag
+    /// applied, validated (errors name the field under `rendering.`).
+    pub fn apply(&self, base: RenderingSpec) -> Result<RenderingSpec> {
+        let RenderingSpec {
+            method,
+            samples,
+            taps,
+            lod,
+            texturing,
+            transmission,
+            thickness_remap_mm,
+            transmission_tint,
+            ior,
+            world_scale_m_per_unit,
+            specular,
+        } = base;
+        let r = RenderingSpec {
+            method: self.method.unwrap_or(method),
+            samples: self.samples.unwrap_or(samples),
+            taps: self.taps.unwrap_or(taps),
+            lod: lod && !self.no_lod,
+            texturing: self.texturing.unwrap_or(texturing),
+            transmission: self.transmission.unwrap_or(transmission),
+            // Set with --thickness-range-mm where a thickness map is given.
+            thickness_remap_mm,
+            transmission_tint: self.transmission_tint.map_or(transmission_tint, |c| c.0),
+            ior: self.ior.unwrap_or(ior),
+            world_scale_m_per_unit: self.world_scale.unwrap_or(world_scale_m_per_unit),
+            specular: crate::settings::rendering::DualLobeSpec {
+                roughness: self.specular_roughness.unwrap_or(specular.roughness),
+                lobe0_roughness_multiplier: self
+                    .lobe0_roughness_multiplier
+                    .unwrap_or(specular.lobe0_roughness_multiplier),
+                lobe1_roughness_multiplier: self
+                    .lobe1_roughness_multiplier
+                    .unwrap_or(specular.lobe1_roughness_multiplier),
+                lobe_mix: self.lobe_mix.unwrap_or(specular.lobe_mix),
+            },
+        };
+        r.validate()?;
+        Ok(r)
+    }
+}
