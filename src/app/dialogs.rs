@@ -1,0 +1,456 @@
+//! The editor's windows and prompts: a mesh's units, its maps, unsaved
+//! changes, the file dialog and the overwrite prompt.
+
+use super::*;
+
+impl EditorApp {
+    /// Asks for a mesh's units: metres per unit with common choices, a
+    /// live height readout and a suggestion from the bounds (a head is
+    /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
+    /// the camera frames it) and is remembered for the file.
+    pub(super) fn units_prompt(&mut self, ctx: &egui::Context) {
+        let Some(path) = self.units_prompt.clone() else {
+            return;
+        };
+        let Some(info) = self.mesh_info else {
+            return;
+        };
+        let size = info.size;
+        let h = size.height_units.max(1e-9);
+        let current = self
+            .ui_state
+            .meshes
+            .get(&path)
+            .map_or(1.0, |m| m.metres_per_unit);
+        let mut mpu = current;
+        let mut open = true;
+        let mut done = false;
+        egui::Window::new("Mesh units")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
+            .open(&mut open)
+            .show(ctx, |ui| {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                ui.label(format!("{name} is {h:.4} units tall."));
+                ui.horizontal(|ui| {
+                    for (label, v) in [
+                        ("m", 1.0),
+                        ("dm", 0.1),
+                        ("cm", 0.01),
+                        ("mm", 0.001),
+                        ("inch", 0.0254),
+                    ] {
+                        ui.selectable_value(&mut mpu, v, label);
+                    }
+                });
+                let speed = mpu * 0.01;
+                ui.add(
+                    egui::DragValue::new(&mut mpu)
+                        .range(1e-6..=1e3)
+                        .speed(speed)
+                        .max_decimals(6)
+                        .suffix(" m/unit"),
+                )
+                .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
+                let height_cm = h * mpu * 100.0;
+                let (lo, hi) = PLAUSIBLE_HEIGHT_M;
+                let mut text = format!("Head height = {height_cm:.1} cm");
+                let mut plausible = (100.0 * lo..=100.0 * hi).contains(&height_cm);
+                if let Some(c) = size.cranium_units {
+                    let across_cm = c * mpu * 100.0;
+                    let (lo, hi) = PLAUSIBLE_CRANIUM_M;
+                    text += &format!(", the head {across_cm:.1} cm across");
+                    plausible = (100.0 * lo..=100.0 * hi).contains(&across_cm);
+                }
+                let hover = format!(
+                    "Across: the mean of the head's width (ears included) and depth (nose included) above the neck; an adult's is about {:.0} cm.",
+                    100.0 * CRANIUM_M
+                );
+                if plausible {
+                    ui.label(text).on_hover_text(hover);
+                } else {
+                    ui.colored_label(
+                        egui::Color32::from_rgb(240, 170, 60),
+                        format!("{text}: not a head's size"),
+                    )
+                    .on_hover_text(hover);
+                }
+                let suggested = size.suggest_metres_per_unit();
+                let label = match size.cranium_units {
+                    Some(c) => format!(
+                        "Use {suggested} m/unit ({:.1} cm across, {:.1} cm tall)",
+                        c * suggested * 100.0,
+                        h * suggested * 100.0
+                    ),
+                    None => format!("Use {suggested} m/unit ({:.1} cm tall)", h * suggested * 100.0),
+                };
+                if ui
+                    .button(label)
+                    .on_hover_text(match size.cranium_units {
+                        Some(_) => "The units that make the head an adult's size (a common unit when one is within 20 %).",
+                        None => "No head found above a neck: a common unit that makes the mesh 18–40 cm tall, or the exact scale for 25 cm.",
+                    })
+                    .clicked()
+                {
+                    mpu = suggested;
+                }
+                if ui.button("OK").clicked() {
+                    done = true;
+                }
+            });
+        if mpu != current || !self.ui_state.meshes.contains_key(&path) {
+            self.ui_state
+                .meshes
+                .entry(path.clone())
+                .or_default()
+                .metres_per_unit = mpu;
+        }
+        if done || !open {
+            self.units_prompt = None;
+        }
+    }
+
+    /// The loaded mesh's map slots: for each, the file (or the mesh's own
+    /// map), a V-flip for maps whose V runs up, and the texels' encoding.
+    /// Changes apply at once (the mesh reloads with them) and are
+    /// remembered for the file.
+    pub(super) fn maps_window(&mut self, ctx: &egui::Context) {
+        use crate::render::textures::{MapSlot, TextureSlot, SLOTS};
+        let Some(path) = self.maps_window.clone() else {
+            return;
+        };
+        let mut settings = self.ui_state.meshes.get(&path).cloned().unwrap_or_default();
+        let mut open = true;
+        let mut choose = None;
+        egui::Window::new("Mesh maps")
+            .collapsible(false)
+            .resizable(false)
+            .open(&mut open)
+            .show(ctx, |ui| {
+                egui::Grid::new("mesh_maps").num_columns(5).show(ui, |ui| {
+                    for (k, slot) in SLOTS.into_iter().enumerate() {
+                        let m = &mut settings.maps[k];
+                        let label = match slot {
+                            TextureSlot::Albedo => "Albedo",
+                            TextureSlot::Normal => "Normal",
+                            TextureSlot::Roughness => "Roughness",
+                            TextureSlot::Mask => "SSS mask",
+                            TextureSlot::Thickness => "Thickness",
+                        };
+                        ui.label(label);
+                        let file = m.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+                            || "the mesh's own".to_string(),
+                            |n| n.to_string_lossy().into_owned(),
+                        );
+                        if ui
+                            .button(format!("{label}: {file}"))
+                            .on_hover_text("Choose a PNG or JPEG that replaces this map.")
+                            .clicked()
+                        {
+                            choose = Some(k);
+                        }
+                        if ui
+                            .add_enabled(m.path.is_some(), egui::Button::new("Clear"))
+                            .on_hover_text("Back to the mesh's own map.")
+                            .clicked()
+                        {
+                            m.path = None;
+                        }
+                        ui.checkbox(&mut m.flip_v, format!("{label}: flip V"))
+                            .on_hover_text("For maps made with V up (OpenGL's bottom-left origin) on a mesh with glTF's top-left origin, or the other way round.");
+                        egui::ComboBox::from_id_salt(("map_space", k))
+                            .selected_text(if m.srgb { "sRGB" } else { "linear" })
+                            .show_ui(ui, |ui| {
+                                ui.selectable_value(&mut m.srgb, true, "sRGB");
+                                ui.selectable_value(&mut m.srgb, false, "linear");
+                            })
+                            .response
+                            .on_hover_text(format!(
+                                "How the file's texels are encoded ({} is usual for this map).",
+                                if MapSlot::default_for(slot).srgb { "sRGB" } else { "linear" }
+                            ));
+                        ui.end_row();
+                    }
+                });
+            });
+        if self.ui_state.meshes.get(&path) != Some(&settings) {
+            self.ui_state.meshes.insert(path.clone(), settings);
+        }
+        if let Some(k) = choose {
+            self.open_dialog(DialogKind::Map(k));
+        }
+        if !open {
+            self.maps_window = None;
+        }
+    }
+
+    pub(super) fn dialogs(&mut self, ctx: &egui::Context) {
+        self.units_prompt(ctx);
+        self.maps_window(ctx);
+        self.overwrite_prompt(ctx);
+        self.unsaved_prompt(ctx);
+        self.file_dialog(ctx);
+    }
+
+    /// The unsaved-changes prompt for a pending open, new or quit: Save
+    /// (Save As first for a look without a file), Discard, Cancel.
+    pub(super) fn unsaved_prompt(&mut self, ctx: &egui::Context) {
+        if let Some(pending) = self.pending.clone() {
+            let modal =
+                egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
+                    ui.heading("Unsaved changes");
+                    ui.label(format!(
+                        "\"{}\" has changes that are not saved.",
+                        self.doc.preset.name
+                    ));
+                    let mut choice = None;
+                    ui.horizontal(|ui| {
+                        if ui.button("Save").clicked() {
+                            choice = Some(0);
+                        }
+                        if ui.button("Discard changes").clicked() {
+                            choice = Some(1);
+                        }
+                        if ui.button("Cancel").clicked() {
+                            choice = Some(2);
+                        }
+                    });
+                    choice
+                });
+            match modal.inner {
+                Some(0) => {
+                    self.pending = None;
+                    if self.doc.path.is_none() {
+                        // No file yet: Save As first, then carry on.
+                        self.after_save = Some(pending);
+                        self.open_dialog(DialogKind::SaveAs);
+                    } else {
+                        self.save();
+                        if !self.doc.is_dirty() {
+                            self.run_pending(pending);
+                        }
+                    }
+                }
+                Some(1) => {
+                    self.pending = None;
+                    self.run_pending(pending);
+                }
+                Some(_) => self.pending = None,
+                None => {}
+            }
+        }
+    }
+
+    /// The open file dialog: a path field, the folder's matching files,
+    /// OK and Cancel.
+    pub(super) fn file_dialog(&mut self, ctx: &egui::Context) {
+        let Some(mut dialog) = self.dialog.clone() else {
+            return;
+        };
+        if let Some(notes) = self.export_notes.as_ref().and_then(|rx| rx.try_recv().ok()) {
+            dialog.notes = Some(notes);
+            self.export_notes = None;
+        }
+        let title = match &dialog.kind {
+            DialogKind::Open => "Open preset".to_string(),
+            DialogKind::SaveAs => "Save preset as".into(),
+            DialogKind::Export(f) => format!("Export {}", f.id()),
+            DialogKind::CompareB => "Preset to compare against (B)".into(),
+            DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
+            DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
+            DialogKind::Map(k) => format!(
+                "{} map (.png, .jpg)",
+                crate::render::textures::SLOTS[*k].name()
+            ),
+        };
+        let mut close = false;
+        let mut accept = false;
+        egui::Modal::new(egui::Id::unique("scatterlab_file_dialog")).show(ctx, |ui| {
+            ui.heading(&title);
+            if let DialogKind::Export(_) = dialog.kind {
+                match &dialog.notes {
+                    Some(notes) => {
+                        for n in notes {
+                            ui.label(n);
+                        }
+                    }
+                    None => {
+                        ui.horizontal(|ui| {
+                            ui.spinner();
+                            ui.label("Estimating how closely the target holds this look …");
+                        });
+                    }
+                }
+                ui.separator();
+            }
+            let r = ui.add(egui::TextEdit::singleline(&mut dialog.path).desired_width(520.0));
+            if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+                accept = true;
+            }
+            // The folder's matching files, to click.
+            let p = PathBuf::from(&dialog.path);
+            let dir = if p.is_dir() {
+                p.clone()
+            } else {
+                p.parent().map(Path::to_path_buf).unwrap_or_default()
+            };
+            let exts: &[&str] = match dialog.kind {
+                DialogKind::Mesh => &["obj", "gltf", "glb"],
+                DialogKind::Environment => &["hdr"],
+                DialogKind::Map(_) => &["png", "jpg", "jpeg"],
+                DialogKind::Export(f) => &[f.extension()],
+                _ => &["ron"],
+            };
+            egui::ScrollArea::vertical()
+                .max_height(240.0)
+                .show(ui, |ui| {
+                    if let Some(parent) = dir.parent() {
+                        if ui.button("[up] ..").clicked() {
+                            dialog.path = parent.display().to_string();
+                        }
+                    }
+                    let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
+                        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+                        .unwrap_or_default();
+                    entries.sort();
+                    for e in entries {
+                        let name = e
+                            .file_name()
+                            .map(|n| n.to_string_lossy().into_owned())
+                            .unwrap_or_default();
+                        if name.starts_with('.') {
+                            continue;
+                        }
+                        let is_dir = e.is_dir();
+                        let matches = e
+                            .extension()
+                            .and_then(|x| x.to_str())
+                            .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()));
+                        if is_dir {
+                            if ui.button(format!("{name}/")).clicked() {
+                                dialog.path = e.display().to_string();
+                            }
+                        } else if matches && ui.button(&name).clicked() {
+                            dialog.path = e.display().to_string();
+                        }
+                    }
+                });
+            ui.horizontal(|ui| {
+                if ui.button("OK").clicked() {
+                    accept = true;
+                }
+                if ui.button("Cancel").clicked() {
+                    close = true;
+                }
+            });
+        });
+        if close && !accept && dialog.kind == DialogKind::SaveAs {
+            // Cancelled: nothing saved, so nothing to carry on with.
+            self.after_save = None;
+        }
+        if accept {
+            close = true;
+            self.accept_dialog(&dialog, &mut close);
+        }
+        self.dialog = if close { None } else { Some(dialog) };
+    }
+
+    /// OK in a file dialog: remember its folder, then write, open or load
+    /// — or first ask, where a Save As or export would replace files.
+    pub(super) fn accept_dialog(&mut self, dialog: &FileDialog, close: &mut bool) {
+        let path = PathBuf::from(dialog.path.trim());
+        if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
+            self.ui_state
+                .folders
+                .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
+        }
+        let existing: Vec<PathBuf> = match &dialog.kind {
+            DialogKind::SaveAs => vec![path.clone()],
+            DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
+            _ => Vec::new(),
+        }
+        .into_iter()
+        .filter(|p| p.exists())
+        .collect();
+        if dialog.kind.writes() && !existing.is_empty() {
+            self.overwrite = Some(Overwrite {
+                kind: dialog.kind.clone(),
+                path,
+                existing,
+            });
+        } else {
+            self.write_or_open(dialog.kind.clone(), path, close);
+        }
+    }
+
+    /// Asks before a Save As or export replaces files; Replace writes,
+    /// Cancel goes back to the dialog at the same path.
+    pub(super) fn overwrite_prompt(&mut self, ctx: &egui::Context) {
+        let Some(o) = self.overwrite.clone() else {
+            return;
+        };
+        let modal =
+            egui::Modal::new(egui::Id::unique("scatterlab_overwrite_prompt")).show(ctx, |ui| {
+                ui.heading("Replace existing files?");
+                for p in &o.existing {
+                    ui.label(format!("{} exists.", p.display()));
+                }
+                let mut choice = None;
+                ui.horizontal(|ui| {
+                    if ui.button("Replace").clicked() {
+                        choice = Some(true);
+                    }
+                    if ui.button("Cancel").clicked() {
+                        choice = Some(false);
+                    }
+                });
+                choice
+            });
+        match modal.inner {
+            Some(true) => {
+                self.overwrite = None;
+                let mut close = true;
+                self.write_or_open(o.kind, o.path, &mut close);
+            }
+            Some(false) => {
+                self.overwrite = None;
+                self.dialog = Some(FileDialog {
+                    kind: o.kind,
+                    path: o.path.display().to_string(),
+                    notes: None,
+                });
+            }
+            None => {}
+        }
+    }
+
+    /// What a file dialog's OK does with `path`; `close` false keeps the
+    /// dialog open (a preset B that does not load).
+    pub(super) fn write_or_open(&mut self, kind: DialogKind, path: PathBuf, close: &mut bool) {
+        {
+            match kind {
+                DialogKind::Open => self.guarded(Pending::Open(path)),
+                DialogKind::SaveAs => self.save_as(&path),
+                DialogKind::Export(f) => self.export(f, path),
+                DialogKind::CompareB => match Preset::load(&path) {
+                    Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
+                    Err(e) => {
+                        self.status = format!("Error: {e}");
+                        *close = false;
+                    }
+                },
+                DialogKind::Mesh => self.mesh = Some(path),
+                DialogKind::Environment => self.load_environment(path),
+                DialogKind::Map(k) => {
+                    if let Some(mesh) = self.mesh.clone() {
+                        self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,306 @@
+//! The editor's menu bar, status bar, keyboard shortcuts, dropped files
+//! and the parameters panel's frame (its rows are `params_ui`).
+
+use super::*;
+
+impl EditorApp {
+    pub(super) fn handle_drops(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        for path in dropped {
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or("")
+                .to_ascii_lowercase();
+            match ext.as_str() {
+                "ron" => self.guarded(Pending::Open(path)),
+                "obj" | "gltf" | "glb" => {
+                    self.status = format!("Loading mesh {} …", path.display());
+                    self.mesh = Some(path);
+                }
+                "hdr" => self.load_environment(path),
+                _ => {
+                    self.status = format!(
+                        "Error: {}: not a preset (.ron), mesh (.obj, .gltf, .glb) or environment (.hdr)",
+                        path.display()
+                    )
+                }
+            }
+        }
+    }
+
+    pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let cmd_shift = Modifiers::COMMAND | Modifiers::SHIFT;
+        let (redo, undo, redo_y, save_as, save, open, toggle) = ctx.input_mut(|i| {
+            (
+                i.consume_shortcut(&KeyboardShortcut::new(cmd_shift, Key::Z)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Z)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Y)),
+                i.consume_shortcut(&KeyboardShortcut::new(cmd_shift, Key::S)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::S)),
+                i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::O)),
+                i.key_pressed(Key::Space),
+            )
+        });
+        if redo || redo_y {
+            self.doc.redo();
+        } else if undo {
+            self.doc.undo();
+        }
+        if save_as {
+            self.open_dialog(DialogKind::SaveAs);
+        } else if save {
+            self.save();
+        }
+        if open {
+            self.open_dialog(DialogKind::Open);
+        }
+        // Space flips between B alone and A alone in every compare mode
+        // (from the mode's own view it shows B first); Escape goes back to
+        // the mode's view. Not while typing in a field.
+        let escape = ctx.input(|i| i.key_pressed(Key::Escape));
+        if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {
+            if toggle {
+                self.ab = match self.ab {
+                    AbView::B => AbView::A,
+                    AbView::Both | AbView::A => AbView::B,
+                };
+            } else if escape {
+                self.ab = AbView::Both;
+            }
+        }
+    }
+
+    pub(super) fn menu_bar(&mut self, ui: &mut egui::Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                ui.menu_button("New from preset", |ui| {
+                    for (file, _) in library::PRESETS {
+                        if let Ok(p) = library::load(file) {
+                            if ui.button(&p.name).on_hover_text(&p.source).clicked() {
+                                self.guarded(Pending::New(Box::new(p)));
+                                ui.close();
+                            }
+                        }
+                    }
+                });
+                if ui.button("Open…  (Ctrl+O)").clicked() {
+                    self.open_dialog(DialogKind::Open);
+                    ui.close();
+                }
+                ui.menu_button("Open recent", |ui| {
+                    if self.ui_state.recent.is_empty() {
+                        ui.label("(none)");
+                    }
+                    for p in self.ui_state.recent.clone() {
+                        if ui.button(p.display().to_string()).clicked() {
+                            self.guarded(Pending::Open(p));
+                            ui.close();
+                        }
+                    }
+                });
+                if ui.button("Save  (Ctrl+S)").clicked() {
+                    self.save();
+                    ui.close();
+                }
+                if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
+                    self.open_dialog(DialogKind::SaveAs);
+                    ui.close();
+                }
+                ui.separator();
+                if ui
+                    .button("Load mesh…")
+                    .on_hover_text("An OBJ or glTF with UVs, in metres.")
+                    .clicked()
+                {
+                    self.open_dialog(DialogKind::Mesh);
+                    ui.close();
+                }
+                if ui.button("Default head").clicked() {
+                    if self.mesh.is_some() {
+                        self.status = "Loading the default head …".into();
+                    }
+                    self.mesh = None;
+                    ui.close();
+                }
+                ui.separator();
+                if ui.button("Quit").clicked() {
+                    self.guarded(Pending::Quit);
+                    ui.close();
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                if ui
+                    .add_enabled(self.doc.can_undo(), egui::Button::new("Undo  (Ctrl+Z)"))
+                    .clicked()
+                {
+                    self.doc.undo();
+                }
+                if ui
+                    .add_enabled(
+                        self.doc.can_redo(),
+                        egui::Button::new("Redo  (Ctrl+Shift+Z)"),
+                    )
+                    .clicked()
+                {
+                    self.doc.redo();
+                }
+            });
+            ui.menu_button("Export", |ui| {
+                for f in Format::ALL {
+                    let tip = match f {
+                        Format::Unity => "HDRP DiffusionProfileSettings .asset",
+                        Format::Unreal => "SubsurfaceProfile struct text + Python",
+                        Format::Blender => "Principled BSDF Python snippet",
+                        Format::Materialx => "MaterialX OpenPBR Surface (.mtlx)",
+                        Format::Godot => "Godot 4 StandardMaterial3D (.tres); Godot's kernel is fixed, so the dialog states the error",
+                        Format::LutPng | Format::LutExr => {
+                            "pre-integrated and shadow tables (takes a few seconds)"
+                        }
+                        Format::ProfilePng | Format::ProfileExr => {
+                            "1D r·R(r) texture and transmittance strip"
+                        }
+                        Format::SamplesJson => "Burley sample pattern",
+                        Format::Ron => "scatterlab preset",
+                        _ => "separable kernel and Burley samples as arrays",
+                    };
+                    if ui.button(f.id()).on_hover_text(tip).clicked() {
+                        self.open_dialog(DialogKind::Export(f));
+                        ui.close();
+                    }
+                }
+            });
+            ui.separator();
+            let dirty = if self.doc.is_dirty() { " *" } else { "" };
+            ui.label(format!("{}{}", self.doc.preset.name, dirty))
+                .on_hover_text("* = unsaved changes");
+        });
+    }
+
+    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            if !self.exports.is_empty()
+                || self.analysis.busy()
+                || self.environment_load.is_some()
+            {
+                ui.spinner();
+            }
+            let color = if self.status.starts_with("Error") {
+                ui.visuals().error_fg_color
+            } else {
+                ui.visuals().text_color()
+            };
+            // The viewport's line on the right, whole; the status message
+            // in what is left, cut short (full text on hover) rather than
+            // written over it in a narrow window.
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.add(
+                    egui::Label::new(format!("{} · UI {:.1} ms", self.frame_info, self.ui_ms))
+                        .wrap_mode(egui::TextWrapMode::Extend),
+                )
+                    .on_hover_text("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    ui.add(
+                        egui::Label::new(egui::RichText::new(&self.status).color(color))
+                            .truncate(),
+                    )
+                    .on_hover_text(&self.status);
+                });
+            });
+        });
+    }
+
+    pub(super) fn params_panel(&mut self, ui: &mut egui::Ui) {
+        let p = &mut self.doc.preset;
+        ui.heading("Look");
+        ui.horizontal(|ui| {
+            ui.label("Name");
+            ui.text_edit_singleline(&mut p.name).on_hover_text(
+                "The look's name, used in exports (Unity m_Name, Unreal asset name).",
+            );
+        });
+        ui.separator();
+        params_ui::model_picker(ui, &mut p.profile);
+        params_ui::model_params(ui, &mut p.profile);
+        // The model's error, from the last build (never rebuilt per frame:
+        // layered stacks take seconds).
+        if let Some(Err(e)) = &self.curves {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        if let Err(e) = p.rendering.validate() {
+            ui.colored_label(ui.visuals().error_fg_color, e.to_string());
+        }
+        ui.separator();
+        egui::CollapsingHeader::new("Rendering")
+            .default_open(true)
+            .show(ui, |ui| params_ui::rendering(ui, &mut p.rendering));
+        ui.separator();
+        egui::CollapsingHeader::new("Engines (live)")
+            .default_open(true)
+            .show(ui, |ui| self.engine_readouts(ui));
+    }
+
+    pub(super) fn engine_readouts(&mut self, ui: &mut egui::Ui) {
+        use crate::model::units::{UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
+        let p = &self.doc.preset;
+        let burley = match &p.profile {
+            crate::settings::ProfileSpec::Burley(b) => {
+                b.build().map(|b| (b, 0.0)).map_err(|e| e.to_string())
+            }
+            _ => match self.latest.as_ref().filter(|a| a.key.profile == p.profile) {
+                Some(a) => a.burley_fit.clone().unwrap_or_else(|| Err("no fit".into())),
+                None => {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label("fitting Burley …");
+                    });
+                    return;
+                }
+            },
+        };
+        let (b, err) = match burley {
+            Ok(x) => x,
+            Err(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+                return;
+            }
+        };
+        if err > 0.0 {
+            ui.label(format!(
+                "Through a Burley fit (relative L2 error of r·R(r): {:.2} %)",
+                100.0 * err
+            ));
+        }
+        let f3 = |v: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+        if let Ok(u) = UnityProfile::from_burley(&b, p.rendering.world_scale_m_per_unit) {
+            ui.label("Unity HDRP")
+                .on_hover_text("DiffusionProfileSettings fields");
+            ui.monospace(format!(
+                "scatteringDistance  {}\nmultiplier          {:.4}\nworldScale          {:.4} m/unit\nalbedo (material)   {}",
+                f3(u.scattering_distance_color),
+                u.scattering_distance_multiplier,
+                u.world_scale_m_per_unit,
+                f3(b.albedo())
+            ));
+        }
+        if let Ok(u) = UnrealProfile::from_burley(&b, UNREAL_DEFAULT_WORLD_UNIT_SCALE) {
+            ui.label("Unreal")
+                .on_hover_text("SubsurfaceProfile (Burley, mean free path)");
+            ui.monospace(format!(
+                "SurfaceAlbedo         {}\nMeanFreePathColor     {}\nMeanFreePathDistance  {:.4} cm\nWorldUnitScale        {:.2}",
+                f3(u.surface_albedo),
+                f3(u.mean_free_path_color),
+                u.mean_free_path_distance_cm,
+                u.world_unit_scale
+            ));
+        }
+    }
+}

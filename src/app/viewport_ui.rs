@@ -1,0 +1,523 @@
+//! The viewport panel: its toolbars, the mouse's orbit, pan and zoom, the
+//! request each frame makes of the render thread, the replies, and the
+//! overlays and compare labels drawn over the frame.
+
+use super::*;
+
+impl EditorApp {
+    pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+        // Camera distance that frames the mesh (Reset view, zoom limits).
+        let framing = self.mesh_info.map_or(
+            crate::settings::OrbitView::default().camera_distance_m,
+            |i| i.framing_distance_m,
+        );
+        self.compare_toolbar_ui(ui);
+        self.view_toolbar_ui(ui, framing);
+        let avail = ui.available_size();
+        let (rect, _) = ui.allocate_exact_size(avail, egui::Sense::hover());
+        // The panels' resize handles reach a few points into the viewport:
+        // leave them to the panels, so the edges stay grabbable.
+        let grab = ui.style().interaction.resize_grab_radius_side + 2.0;
+        let response = ui.interact(
+            rect.shrink2(egui::vec2(grab, 0.0)),
+            ui.scope_id().with("viewport"),
+            egui::Sense::click_and_drag(),
+        );
+        self.viewport_input(ui, rect, &response, framing);
+        response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
+        let req = self.frame_request(ui, rect);
+        let valid =
+            self.doc.preset.rendering.validate().is_ok() && !matches!(self.curves, Some(Err(_)));
+        let replies = match self.viewport.as_mut() {
+            Some(vp) => {
+                if valid {
+                    vp.request(req);
+                }
+                vp.poll()
+            }
+            None => Vec::new(),
+        };
+        for reply in replies {
+            self.handle_reply(ui.ctx(), reply);
+        }
+        self.viewport_overlays_ui(ui, rect);
+    }
+
+    /// Compare mode, B, the split and A/B alone: rows that wrap.
+    pub(super) fn compare_toolbar_ui(&mut self, ui: &mut egui::Ui) {
+        let (a_name, b_name) = self.side_names();
+        // Wraps onto more rows where the viewport is narrow, so the
+        // viewport below never grows past its panel.
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Compare").on_hover_text(
+                "A is the current look; B another method or preset. Space flips between A alone and B alone; Escape, or the mode again, shows both.",
+            );
+            for (m, name) in [
+                (CompareMode::Off, "off"),
+                (CompareMode::Split, "split"),
+                (CompareMode::SideBySide, "side by side"),
+                (CompareMode::Difference, "difference"),
+            ] {
+                if ui
+                    .selectable_label(self.ui_state.compare == m && self.ab == AbView::Both, name)
+                    .clicked()
+                {
+                    self.ui_state.compare = m;
+                    self.ab = AbView::Both;
+                }
+            }
+            if self.ui_state.compare != CompareMode::Off {
+                // B and its controls on a row of their own: a widget that
+                // overflows a row widens everything under it.
+                ui.end_row();
+                ui.menu_button(format!("B: {b_name}"), |ui| {
+                    for m in crate::settings::rendering::MethodId::ALL {
+                        if ui.button(m.label()).clicked() {
+                            self.ui_state.compare_b = CompareB::Method(m);
+                            ui.close();
+                        }
+                    }
+                    if ui.button("a preset file…").clicked() {
+                        self.open_dialog(DialogKind::CompareB);
+                        ui.close();
+                    }
+                });
+                if self.ui_state.compare == CompareMode::Split {
+                    ui.spacing_mut().slider_width = 90.0;
+                    ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"))
+                        .on_hover_text("Where the split line sits: A left of it, B right.");
+                }
+                for (side, name) in [(AbView::A, "A alone"), (AbView::B, "B alone")] {
+                    if ui
+                        .selectable_label(self.ab == side, name)
+                        .on_hover_text(format!(
+                            "Space flips between A alone and B alone (A: {a_name}, B: {b_name})."
+                        ))
+                        .clicked()
+                    {
+                        self.ab = if self.ab == side { AbView::Both } else { side };
+                    }
+                }
+            }
+        });
+    }
+
+    /// Environment, light, exposure, Reset view, and a loaded mesh's
+    /// Units… and Maps…: rows that wrap. `framing`: the camera distance
+    /// that frames the mesh (m).
+    pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
+        let mut open_environment = false;
+        // Wraps onto a second row where the viewport is narrow.
+        ui.horizontal_wrapped(|ui| {
+            let v = &mut self.ui_state.view;
+            ui.label("Environment");
+            ui.selectable_value(
+                &mut v.environment,
+                state::EnvironmentChoice::Studio,
+                "studio sky",
+            );
+            ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black")
+                .on_hover_text("No environment light: the key light alone.");
+            if v.environment_map_sh.is_some() {
+                let name = self
+                    .ui_state
+                    .environment_file
+                    .as_ref()
+                    .and_then(|p| p.file_name())
+                    .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
+                let tip = self.ui_state.environment_file.as_ref().map_or(
+                    "The last HDR map loaded.".into(),
+                    |p| {
+                        format!(
+                            "{} (its irradiance, as order-2 spherical harmonics)",
+                            p.display()
+                        )
+                    },
+                );
+                ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Map, name)
+                    .on_hover_text(tip);
+            }
+            if ui
+                .button("HDR…")
+                .on_hover_text(
+                    "Light the head with an equirectangular Radiance .hdr map \
+                     (or drop one onto the window).",
+                )
+                .clicked()
+            {
+                open_environment = true;
+            }
+            ui.add(
+                egui::DragValue::new(&mut v.orbit.light_intensity)
+                    .range(0.0..=50.0)
+                    .speed(0.05)
+                    .prefix("light "),
+            )
+            .on_hover_text("Irradiance of the key light (linear).");
+            ui.add(
+                egui::DragValue::new(&mut v.orbit.exposure)
+                    .range(0.01..=20.0)
+                    .speed(0.01)
+                    .prefix("exposure "),
+            );
+            if ui
+                .button("Reset view")
+                .on_hover_text(
+                    "Camera, key light and exposure back to their defaults; the environment stays.",
+                )
+                .clicked()
+            {
+                v.orbit = crate::settings::OrbitView {
+                    camera_distance_m: framing,
+                    ..Default::default()
+                };
+            }
+            if let Some(p) = self.mesh.clone() {
+                if ui
+                    .button("Units…")
+                    .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
+                    .clicked()
+                {
+                    self.units_prompt = Some(p.clone());
+                }
+                if ui
+                    .button("Maps…")
+                    .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
+                    .clicked()
+                {
+                    self.maps_window = Some(p);
+                }
+            }
+        });
+        if open_environment {
+            self.open_dialog(DialogKind::Environment);
+        }
+    }
+
+    /// Orbit (left drag), light (right or Shift+drag), pan (middle drag)
+    /// and zoom (wheel, within 0.15–8× `framing`).
+    pub(super) fn viewport_input(
+        &mut self,
+        ui: &egui::Ui,
+        rect: egui::Rect,
+        response: &egui::Response,
+        framing: f32,
+    ) {
+        // Orbit (left drag), light (right drag or shift+drag), pan (middle drag), zoom (wheel).
+        let v = &mut self.ui_state.view;
+        let d = response.drag_delta();
+        let shift = ui.input(|i| i.modifiers.shift);
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || (shift && response.dragged_by(egui::PointerButton::Primary))
+        {
+            v.orbit.light_azimuth_rad -= d.x * 0.01;
+            v.orbit.light_elevation_rad =
+                (v.orbit.light_elevation_rad - d.y * 0.01).clamp(-1.5, 1.5);
+        } else if response.dragged_by(egui::PointerButton::Primary) {
+            v.orbit.camera_yaw_rad -= d.x * 0.01;
+            v.orbit.camera_pitch_rad = (v.orbit.camera_pitch_rad + d.y * 0.01).clamp(-1.4, 1.4);
+        } else if response.dragged_by(egui::PointerButton::Middle) {
+            let k = v.orbit.camera_distance_m / rect.height().max(1.0) * 0.55;
+            v.orbit.camera_pan_m[0] -= d.x * k;
+            v.orbit.camera_pan_m[1] += d.y * k;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                self.last_wheel = Some(std::time::Instant::now());
+                // Zoom from a close-up of a pore to the whole mesh in a
+                // corner, whatever its size.
+                v.orbit.camera_distance_m = (v.orbit.camera_distance_m * (-scroll * 0.002).exp())
+                    .clamp(0.15 * framing, 8.0 * framing);
+            }
+        }
+    }
+
+    /// What the viewport should show now, as a request for the render
+    /// thread (sent only if it differs from the last).
+    pub(super) fn frame_request(&mut self, ui: &egui::Ui, rect: egui::Rect) -> viewport::Request {
+        let ppp = ui.ctx().pixels_per_point();
+        let size = (
+            ((rect.width() * ppp) as u32).clamp(16, 4096),
+            ((rect.height() * ppp) as u32).clamp(16, 4096),
+        );
+        let b = if self.ui_state.compare == CompareMode::Off || self.ab == AbView::A {
+            None
+        } else {
+            match viewport::b_look(&self.doc.preset, &self.ui_state.compare_b) {
+                Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
+                Err(e) => {
+                    self.status = format!("Error: compare B: {e}");
+                    None
+                }
+            }
+        };
+        // Live input: anything dragged (the orbit, a slider, a panel edge)
+        // or the wheel in the last quarter second. Previews while it lasts;
+        // the full frame, refined, once it stops.
+        let wheel_recent = self
+            .last_wheel
+            .is_some_and(|t| t.elapsed() < std::time::Duration::from_millis(250));
+        if wheel_recent {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(260));
+        }
+        let interactive = ui.ctx().dragged_id().is_some() || wheel_recent;
+        let req = viewport::Request {
+            interactive,
+            a: viewport::Look::of(&self.doc.preset),
+            b,
+            show_b: self.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
+            view: self.ui_state.view,
+            size,
+            mesh: self.mesh.clone(),
+            seq: 0,
+            mesh_settings: self
+                .mesh
+                .as_ref()
+                .and_then(|p| self.ui_state.meshes.get(p))
+                .cloned()
+                .unwrap_or_default(),
+        };
+        req
+    }
+
+    /// One reply from the render thread: a frame to show, an error, or a
+    /// loaded mesh to frame.
+    pub(super) fn handle_reply(&mut self, ctx: &egui::Context, reply: viewport::Reply) {
+        match reply {
+            viewport::Reply::Frame {
+                image,
+                stats,
+                wall_ms,
+                note,
+                quality,
+                seq,
+            } => {
+                if let Some(log) = self.frame_log.as_mut() {
+                    use std::io::Write;
+                    let _ = writeln!(
+                        log,
+                        "{:.3} frame {} {}x{} seq={seq} render_ms={wall_ms:.1}",
+                        unix_seconds(),
+                        match quality {
+                            viewport::Quality::Preview { .. } => "preview",
+                            viewport::Quality::Refining { .. } => "refining",
+                            viewport::Quality::Converged { .. } => "converged",
+                        },
+                        image.width(),
+                        image.height(),
+                    );
+                }
+                self.quality = Some(quality);
+                let ci = egui::ColorImage::from_rgba_unmultiplied(
+                    [image.width() as usize, image.height() as usize],
+                    image.as_raw(),
+                );
+                let n = self.last_frame.as_ref().map_or(0, |f| f.1) + 1;
+                self.last_frame = Some((image, n));
+                match &mut self.texture {
+                    Some(t) => t.set(ci, egui::TextureOptions::LINEAR),
+                    None => {
+                        self.texture =
+                            Some(ctx.load_texture("viewport", ci, egui::TextureOptions::LINEAR))
+                    }
+                }
+                self.frame_info = format!(
+                    "{} · {} · {}×{} · {:.0} ms{}{} · {}",
+                    stats.method,
+                    quality.describe(),
+                    stats.width,
+                    stats.height,
+                    wall_ms,
+                    stats
+                        .sss_gpu_ms
+                        .map(|m| format!(" (SSS {m:.1} ms)"))
+                        .unwrap_or_default(),
+                    note.map(|n| format!(" · {n}")).unwrap_or_default(),
+                    stats.adapter
+                );
+            }
+            // The same request is not sent again (it would fail
+            // again); the next change renders.
+            viewport::Reply::Error(e) => self.status = format!("Error: viewport: {e}"),
+            viewport::Reply::MeshLoaded(p, info) => {
+                self.mesh_info = Some(info);
+                // Frame a mesh the artist loads, or new units of
+                // it; the default head at start-up keeps the
+                // remembered view.
+                let key = (p.clone(), info.metres_per_unit);
+                let first_head = self.framed_for.is_none() && p.is_none();
+                if self.framed_for.as_ref() != Some(&key) && !first_head {
+                    self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
+                    self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
+                }
+                self.framed_for = Some(key);
+                if let Some(p) = &p {
+                    if !self.ui_state.meshes.contains_key(p) {
+                        self.units_prompt = Some(p.clone());
+                    }
+                }
+                match &p {
+                    Some(p) => self.status = format!("Mesh {}", p.display()),
+                    // The first load of the default head is not news.
+                    // After a failed load the error stays readable.
+                    None if self.status.starts_with("Error") => {
+                        self.status.push_str(" (showing the default head)");
+                        self.mesh = None;
+                    }
+                    None if self.mesh.is_some() || self.status.starts_with("Loading") => {
+                        self.status = "Default head".into();
+                        self.mesh = None;
+                    }
+                    None => {}
+                }
+            }
+        }
+    }
+
+    /// What is drawn over the viewport: the frame, progress bars, the
+    /// compare labels and the rendering note.
+    pub(super) fn viewport_overlays_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
+        let painter = ui.painter_at(rect);
+        if self.texture.is_none() {
+            painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
+        }
+        if let Some(t) = &self.texture {
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            painter.image(t.id(), rect, uv, egui::Color32::WHITE);
+        }
+        let busy = self
+            .viewport
+            .as_ref()
+            .and_then(|v| v.busy_since)
+            .map(|t| t.elapsed().as_secs_f32());
+        // A progress bar at the viewport's bottom left, `lift` px up.
+        let progress = |ui: &mut egui::Ui, done: f32, text: String, lift: f32| {
+            let width = rect.width().min(360.0) - 16.0;
+            let area = egui::Rect::from_min_size(
+                rect.left_bottom() + egui::vec2(8.0, -lift),
+                egui::vec2(width, 24.0),
+            );
+            ui.put(
+                area,
+                egui::ProgressBar::new(done).text(text).desired_width(width),
+            );
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        };
+        if self.status.starts_with("Loading mesh") {
+            // The mesh loads and bakes thickness and curvature on the
+            // render thread; show how far the bake has got.
+            let done = crate::render::mesh::bake_fraction();
+            progress(
+                ui,
+                done,
+                "loading the mesh, baking thickness …".into(),
+                32.0,
+            );
+        }
+        if let (Some(_), Some((phase, done))) = (busy, crate::render::ground_truth::progress()) {
+            // `reference` is the ground truth, computed on the CPU on the
+            // render thread: tens of seconds for a full viewport. Above the
+            // "rendering … s" line.
+            let text = if phase == 1 {
+                "ground truth: irradiance over the surface …"
+            } else {
+                "ground truth: integrating each pixel …"
+            };
+            progress(ui, done, format!("{text} {:.0} %", 100.0 * done), 64.0);
+        }
+        let label = match (self.viewport.is_none(), busy) {
+            (true, _) => Some("viewport off".to_string()),
+            // Not while dragging: previews keep coming, and the wait runs
+            // from the drag's first request (the status bar says "preview").
+            (_, Some(s))
+                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.texture.is_none() =>
+            {
+                Some(format!("rendering … {s:.1} s"))
+            }
+            _ => None,
+        };
+        self.compare_labels_ui(&painter, rect);
+        self.viewport_rect = Some(rect);
+        if let Some(l) = label {
+            painter.text(
+                rect.center_bottom() - egui::vec2(0.0, 12.0),
+                egui::Align2::CENTER_BOTTOM,
+                l,
+                egui::FontId::proportional(14.0),
+                egui::Color32::LIGHT_GRAY,
+            );
+        }
+        if busy.is_some() {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+
+    /// Each side of a comparison labelled on its own half, on a dark plate
+    /// that reads over skin (kept for the UI tests: `viewport_layout`).
+    pub(super) fn compare_labels_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
+        self.compare_labels.clear();
+        if self.ui_state.compare != CompareMode::Off {
+            let (a_name, b_name) = self.side_names();
+            let (a, b) = (format!("A · {a_name}"), format!("B · {b_name}"));
+            let top = rect.top() + 8.0;
+            let labels: Vec<(String, egui::Pos2, egui::Align2)> =
+                match (self.ab, self.ui_state.compare) {
+                    (AbView::A, _) => vec![(
+                        a,
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                    (AbView::B, _) => vec![(
+                        b,
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                    (_, CompareMode::SideBySide) => vec![
+                        (
+                            a,
+                            egui::pos2(rect.left() + 8.0, top),
+                            egui::Align2::LEFT_TOP,
+                        ),
+                        (
+                            b,
+                            egui::pos2(rect.center().x + 8.0, top),
+                            egui::Align2::LEFT_TOP,
+                        ),
+                    ],
+                    (_, CompareMode::Split) => {
+                        let x = rect.left() + self.ui_state.split * rect.width();
+                        vec![
+                            (a, egui::pos2(x - 8.0, top), egui::Align2::RIGHT_TOP),
+                            (b, egui::pos2(x + 8.0, top), egui::Align2::LEFT_TOP),
+                        ]
+                    }
+                    _ => vec![(
+                        format!("|A − B| · A {a_name} · B {b_name}"),
+                        egui::pos2(rect.left() + 8.0, top),
+                        egui::Align2::LEFT_TOP,
+                    )],
+                };
+            for (text, pos, align) in labels {
+                let galley = painter.layout_no_wrap(
+                    text.clone(),
+                    egui::FontId::proportional(15.0),
+                    egui::Color32::WHITE,
+                );
+                let mut r = align.anchor_size(pos, galley.size()).expand(4.0);
+                // Keep the plate inside the viewport.
+                r = r.translate(egui::vec2(
+                    (rect.left() + 2.0 - r.left()).max(0.0)
+                        - (r.right() - rect.right() + 2.0).max(0.0),
+                    0.0,
+                ));
+                painter.rect_filled(r, 4.0, egui::Color32::from_black_alpha(150));
+                painter.galley(r.min + egui::vec2(4.0, 4.0), galley, egui::Color32::WHITE);
+                self.compare_labels.push((text, r));
+            }
+        }
+    }
+}
