@@ -1,0 +1,385 @@
+//! The editor's layout at small windows, A/B flipping, panel edges, and
+//! the dialogs and prompts that keep work from being lost.
+
+use super::*;
+
+/// Compare at 1280×720 and at the default window (1500×900), B the look
+/// without SSS: in split, side by side and difference the viewport stays
+/// between the side panels, inside the window; A and B are labelled on
+/// their own halves; and both halves of the frame show the head (skin on
+/// each side: before, at 1280×720 B was under the Profile panel).
+#[test]
+fn compare_fits_the_viewport_down_to_1280x720() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    use scatterlab::settings::rendering::MethodId;
+    for size in [[1280.0, 720.0], [1500.0, 900.0]] {
+        let mut h = harness_of(EditorApp::new(None, UiState::default(), None, true), size);
+        h.step();
+        step_until(&mut h, "the first frame", EditorApp::has_viewport_frame);
+        h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::None);
+        for mode in [
+            CompareMode::Split,
+            CompareMode::SideBySide,
+            CompareMode::Difference,
+        ] {
+            h.state_mut().ui_state.compare = mode;
+            h.run_steps(2);
+            step_until(&mut h, "the compared frame", |a| {
+                a.viewport_idle()
+                    && (mode != CompareMode::Difference || a.frame_info().contains("heat map"))
+            });
+            let l = h.state().viewport_layout();
+            let (vp, params, plots) = (l.viewport.unwrap(), l.params.unwrap(), l.plots.unwrap());
+            let what = format!("{size:?} {mode:?}: viewport {vp:?}, panels {params:?} {plots:?}");
+            assert!(vp.left() >= params.right() - 0.5, "{what}");
+            assert!(vp.right() <= plots.left() + 0.5, "{what}");
+            assert!(vp.right() <= size[0] && vp.bottom() <= size[1], "{what}");
+            assert!(
+                vp.width() > 0.3 * size[0],
+                "{what}: the viewport is too narrow"
+            );
+            for (text, r) in &l.labels {
+                assert!(vp.contains_rect(*r), "{what}: label {text} at {r:?}");
+            }
+            let (img, _) = h.state().viewport_frame().unwrap();
+            assert!(
+                (img.width() as f32 - vp.width()).abs() <= 1.5,
+                "{what}: frame {}×{}",
+                img.width(),
+                img.height()
+            );
+            if mode == CompareMode::Difference {
+                assert_eq!(l.labels.len(), 1, "{what}");
+                assert!(l.labels[0].0.contains("A burley") && l.labels[0].0.contains("B none"));
+                continue;
+            }
+            // A on the left half, B on the right (the split sits at 0.5).
+            assert_eq!(l.labels.len(), 2, "{what}");
+            let (a, b) = (&l.labels[0], &l.labels[1]);
+            assert!(
+                a.0.starts_with("A · burley") && b.0.starts_with("B · none"),
+                "{what}"
+            );
+            assert!(a.1.right() <= vp.center().x + 0.5, "{what}: A at {:?}", a.1);
+            assert!(b.1.left() >= vp.center().x - 0.5, "{what}: B at {:?}", b.1);
+            // Skin (red well above blue) on both halves of the frame.
+            let skin = |x0: u32, x1: u32| {
+                let n = (x0..x1)
+                    .flat_map(|x| (0..img.height()).map(move |y| (x, y)))
+                    .filter(|&(x, y)| {
+                        let p = img.get_pixel(x, y).0;
+                        p[0] > 90 && p[0] as i32 - p[2] as i32 > 30
+                    })
+                    .count();
+                n as f64 / ((x1 - x0) * img.height()) as f64
+            };
+            let half = img.width() / 2;
+            let (left, right) = (skin(0, half), skin(half, img.width()));
+            assert!(
+                left > 0.1 && right > 0.1,
+                "{what}: skin {left:.2} | {right:.2}"
+            );
+        }
+    }
+}
+
+/// Space flips between B alone and A alone in every compare mode, and
+/// Escape goes back to both (the labels say which). Before, side by side
+/// cycled side by side → B → side by side and never showed A.
+#[test]
+fn space_flips_a_and_b_in_every_mode() {
+    use scatterlab::app::state::CompareMode;
+    use scatterlab::app::AbView;
+    let mut h = harness(false);
+    h.step();
+    // Not comparing: Space does nothing.
+    h.key_press(Key::Space);
+    h.step();
+    assert_eq!(h.state().ab, AbView::Both);
+    let shown = |h: &Harness<'_, EditorApp>| -> Vec<String> {
+        let l = h.state().viewport_layout();
+        l.labels.iter().map(|(t, _)| t[..1].to_string()).collect()
+    };
+    for mode in [
+        CompareMode::Split,
+        CompareMode::SideBySide,
+        CompareMode::Difference,
+    ] {
+        h.state_mut().ui_state.compare = mode;
+        h.run_steps(2);
+        let both = shown(&h);
+        for expected in [AbView::B, AbView::A, AbView::B, AbView::A] {
+            h.key_press(Key::Space);
+            h.run_steps(2);
+            assert_eq!(h.state().ab, expected, "{mode:?}");
+            let tag = if expected == AbView::A { "A" } else { "B" };
+            assert_eq!(shown(&h), vec![tag.to_string()], "{mode:?}");
+        }
+        h.key_press(Key::Escape);
+        h.run_steps(2);
+        assert_eq!(h.state().ab, AbView::Both, "{mode:?}");
+        assert_eq!(shown(&h), both, "{mode:?}");
+    }
+}
+
+/// The side panels' edges stay grabbable: dragging the plots panel's left
+/// edge 60 points left widens it by about that, and the params panel's
+/// right edge likewise; the camera does not orbit (the viewport used to
+/// take the drag).
+#[test]
+fn panel_edges_stay_grabbable() {
+    let mut h = harness(false);
+    h.run_steps(3);
+    let yaw = h.state().ui_state.view.orbit.camera_yaw_rad;
+    let drag = |h: &mut Harness<'_, EditorApp>, from: egui::Pos2, dx: f32| {
+        h.hover_at(from);
+        h.step();
+        h.drag_at(from);
+        h.step();
+        for k in 1..=6 {
+            h.hover_at(from + egui::vec2(dx * k as f32 / 6.0, 0.0));
+            h.step();
+        }
+        h.drop_at(from + egui::vec2(dx, 0.0));
+        h.run_steps(2);
+    };
+    let plots = h.state().viewport_layout().plots.unwrap();
+    drag(&mut h, egui::pos2(plots.left(), plots.center().y), -60.0);
+    let after = h.state().viewport_layout().plots.unwrap();
+    assert!(
+        after.width() > plots.width() + 40.0,
+        "plots panel {} → {}",
+        plots.width(),
+        after.width()
+    );
+    let params = h.state().viewport_layout().params.unwrap();
+    drag(&mut h, egui::pos2(params.right(), params.center().y), 40.0);
+    let after = h.state().viewport_layout().params.unwrap();
+    assert!(
+        after.width() > params.width() + 25.0,
+        "params panel {} → {}",
+        params.width(),
+        after.width()
+    );
+    assert_eq!(
+        h.state().ui_state.view.orbit.camera_yaw_rad,
+        yaw,
+        "the viewport orbited"
+    );
+}
+
+/// A file dialog opens where that kind of dialog was last used (a mesh
+/// dialog in the mesh folder), remembered in `UiState` across runs.
+#[test]
+fn file_dialogs_remember_their_folder() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-folders-{}", std::process::id()));
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    let mut h = harness(false);
+    h.step();
+    file_menu(&mut h, "Load mesh…");
+    let start = path_field(&h).value().unwrap();
+    assert!(!start.starts_with(&meshes.display().to_string()), "{start}");
+    path_field(&h).set_text_value_accesskit(&meshes.join("head.obj").display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(2);
+    file_menu(&mut h, "Load mesh…");
+    let again = path_field(&h).value().unwrap();
+    assert!(again.starts_with(&meshes.display().to_string()), "{again}");
+    h.get_by_label("Cancel").click_accesskit();
+    h.run_steps(2);
+    // Remembered between runs: the stored state opens there too.
+    let stored = ron::to_string(&h.state().ui_state).unwrap();
+    let state: UiState = ron::from_str(&stored).unwrap();
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1500.0, 900.0]);
+    h.step();
+    file_menu(&mut h, "Load mesh…");
+    let next_run = path_field(&h).value().unwrap();
+    assert!(
+        next_run.starts_with(&meshes.display().to_string()),
+        "{next_run}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An export over an existing file asks first: Cancel leaves the file and
+/// goes back to the dialog; Replace writes it. Save As asks the same.
+#[test]
+fn export_and_save_as_ask_before_replacing() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-replace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("look.asset");
+    std::fs::write(&out, "old").unwrap();
+    let mut h = harness(false);
+    h.step();
+    h.get_by_label("Export").click_accesskit();
+    h.run_steps(3);
+    h.get_by_label("unity").click_accesskit();
+    h.run_steps(5);
+    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(4);
+    assert!(h.query_by_label("Replace existing files?").is_some());
+    h.get_by_label("Cancel").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
+    assert_eq!(path_field(&h).value().unwrap(), out.display().to_string());
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(4);
+    h.get_by_label("Replace").click_accesskit();
+    h.step();
+    step_until(&mut h, "the export", |a| a.status().starts_with("Exported"));
+    assert!(std::fs::read_to_string(&out)
+        .unwrap()
+        .contains("guid: b2686e09ec7aef44bad2843e4416f057"));
+
+    let preset = dir.join("look.ron");
+    std::fs::write(&preset, "old").unwrap();
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
+    h.run_steps(2);
+    path_field(&h).set_text_value_accesskit(&preset.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(4);
+    assert!(h.query_by_label("Replace existing files?").is_some());
+    assert_eq!(std::fs::read_to_string(&preset).unwrap(), "old");
+    h.get_by_label("Replace").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(
+        Preset::load(&preset).unwrap().name,
+        h.state().doc.preset.name
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Whether the editor told the window to close this frame.
+fn closing(h: &Harness<'_, EditorApp>) -> bool {
+    h.output()
+        .viewport_output
+        .get(&egui::ViewportId::ROOT)
+        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close))
+}
+
+/// Save in the quit prompt saves and closes the window (it saved and
+/// stayed open); for a look without a file it asks where, saves, closes.
+#[test]
+fn save_in_the_quit_prompt_saves_and_quits() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-quit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("look.ron");
+    Preset::default_skin().save(&path).unwrap();
+    let app = EditorApp::new(
+        None,
+        UiState::default(),
+        Some((Preset::load(&path).unwrap(), Some(path.clone()))),
+        false,
+    );
+    let mut h = harness_of(app, [1500.0, 900.0]);
+    h.step();
+    h.state_mut().doc.preset.name = "Edited".into();
+    h.run_steps(2);
+    file_menu(&mut h, "Quit");
+    assert!(h.query_by_label("Unsaved changes").is_some());
+    assert!(!h.state().close_allowed());
+    h.get_by_label("Save").click_accesskit();
+    h.step();
+    assert_eq!(Preset::load(&path).unwrap().name, "Edited");
+    assert!(h.state().close_allowed() && closing(&h));
+
+    // Untitled: Save asks where first.
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().doc.preset.name = "Untitled edit".into();
+    h.run_steps(2);
+    file_menu(&mut h, "Quit");
+    h.get_by_label("Save").click_accesskit();
+    h.run_steps(2);
+    assert!(!h.state().close_allowed());
+    let new = dir.join("new.ron");
+    path_field(&h).set_text_value_accesskit(&new.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.step();
+    assert_eq!(Preset::load(&new).unwrap().name, "Untitled edit");
+    assert!(h.state().close_allowed() && closing(&h));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The plot's legend: under the plot (never over the curves), R, G, B in
+/// that order, then the fit by its name (the default overlay, "Jimenez
+/// 2012 fit"). egui_plot's legend sat in the top right, alphabetical.
+#[test]
+fn legend_under_the_plot_in_rgb_order_naming_the_fit() {
+    let mut h = harness(false);
+    h.step();
+    step_until(&mut h, "the overlay fit", |a| a.latest.is_some());
+    h.run_steps(3);
+    let plot = h.state().plot_rect.expect("the plot");
+    let panel = h.state().viewport_layout().plots.unwrap();
+    let under = |h: &Harness<'_, EditorApp>, label: &str| -> egui::Rect {
+        let found: Vec<egui::Rect> = h
+            .get_all_by_label(label)
+            .map(|n| n.rect())
+            .filter(|r| r.top() >= plot.bottom() && r.left() >= panel.left())
+            .collect();
+        let all: Vec<egui::Rect> = h.get_all_by_label(label).map(|n| n.rect()).collect();
+        assert_eq!(
+            found.len(),
+            1,
+            "legend entry {label}: {found:?} of {all:?} (plot {plot:?})"
+        );
+        found[0]
+    };
+    let (r, g, b) = (under(&h, "R"), under(&h, "G"), under(&h, "B"));
+    assert!(
+        r.left() < g.left() && g.left() < b.left(),
+        "{r:?} {g:?} {b:?}"
+    );
+    under(&h, "Jimenez 2012 fit");
+    under(&h, "99.7 % energy radius");
+}
+
+/// While the orbit is dragged the viewport shows reduced-resolution
+/// previews; once released it renders the full size and refines it (burley
+/// rotates its samples) until it reports "converged" after more than one
+/// frame.
+#[test]
+fn the_viewport_previews_while_dragging_and_converges_after() {
+    use scatterlab::app::viewport::Quality;
+    let mut h = harness(true);
+    h.step();
+    step_until(&mut h, "the first converged frame", |a| {
+        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+    });
+    let vp = h.state().viewport_layout().viewport.unwrap();
+    let full = h.state().viewport_frame().unwrap().0.width();
+    let c = vp.center();
+    h.hover_at(c);
+    h.step();
+    h.drag_at(c);
+    h.step();
+    let mut x = c.x;
+    for _ in 0..3 {
+        x += 10.0;
+        h.hover_at(egui::pos2(x, c.y));
+        h.step();
+    }
+    // Still held: previews until it is released.
+    step_until(&mut h, "a preview", |a| {
+        matches!(a.viewport_quality(), Some(Quality::Preview { .. }))
+    });
+    let preview = h.state().viewport_frame().unwrap().0.width();
+    assert!(preview < full, "preview {preview} px wide, full {full}");
+    h.drop_at(egui::pos2(x, c.y));
+    h.step();
+    step_until(&mut h, "convergence", |a| {
+        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+    });
+    let Some(Quality::Converged { frames, .. }) = h.state().viewport_quality() else {
+        unreachable!()
+    };
+    assert!(frames > 1, "burley converged after {frames} frame(s)");
+    assert_eq!(h.state().viewport_frame().unwrap().0.width(), full);
+}
