@@ -506,6 +506,13 @@ fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
 
 /// Rendering and engine-side material settings.
 pub fn rendering(ui: &mut Ui, r: &mut RenderingSpec) {
+    method_ui(ui, r);
+    transmission_ui(ui, r);
+    specular_ui(ui, r);
+}
+
+/// The SSS method, its sample and tap counts, the LOD and the texturing.
+fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
     egui::ComboBox::from_label("Method")
         .selected_text(r.method.label())
         .show_ui(ui, |ui| {
@@ -551,6 +558,10 @@ pub fn rendering(ui: &mut Ui, r: &mut RenderingSpec) {
         })
         .response
         .on_hover_text("When the albedo texture is applied relative to the scattering.");
+}
+
+/// Transmission: the mode, a thickness map's remap and the tint.
+fn transmission_ui(ui: &mut Ui, r: &mut RenderingSpec) {
     egui::ComboBox::from_label("Transmission")
         .selected_text(match r.transmission {
             TransmissionId::Off => "off",
@@ -607,6 +618,11 @@ pub fn rendering(ui: &mut Ui, r: &mut RenderingSpec) {
         0.005,
         true,
     );
+}
+
+/// The surface's specular: IOR, the export world scale and Unreal's dual
+/// GGX lobes.
+fn specular_ui(ui: &mut Ui, r: &mut RenderingSpec) {
     scalar(
         ui,
         "IOR",

@@ -17,9 +17,11 @@ pub struct RenderArgs {
     pub model: ModelArgs,
     #[command(flatten)]
     pub look: LookArgs,
-    #[arg(long, default_value_t = 512)]
+    /// Pixels (16–8192).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub width: u32,
-    #[arg(long, default_value_t = 512)]
+    /// Pixels (16–8192).
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub height: u32,
     /// Turn off the per-pixel random rotation (reproducible images).
     #[arg(long)]
@@ -62,7 +64,6 @@ impl RenderArgs {
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
-        crate::model::check_range("frames", self.view.frames as f64, 1.0, 1000.0, "")?;
         let (mut image, mut stats) = renderer.render(&inputs, &settings)?;
         for _ in 1..self.view.frames {
             (image, stats) = renderer.render(&inputs, &settings)?;
@@ -80,8 +81,6 @@ impl RenderArgs {
     /// The look's rendering settings (the preset's, with the flags applied)
     /// and the profile's inputs for its method.
     fn profile_inputs(&self) -> Result<(ProfileInputs, RenderingSpec)> {
-        crate::model::check_range("width", self.width as f64, 16.0, 8192.0, " px")?;
-        crate::model::check_range("height", self.height as f64, 16.0, 8192.0, " px")?;
         let base = match &self.model.preset {
             Some(path) => Preset::load(path)?.rendering,
             None => RenderingSpec::default(),

@@ -88,7 +88,7 @@ pub struct ViewArgs {
     /// Render this many identical frames and report the last one's stats:
     /// the steady state of the editor, where the shadow map and the
     /// profile's tables are reused.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub frames: u32,
     /// Flip the maps given with --albedo/--normal/--roughness/--mask/
     /// --thickness vertically (v → 1 − v): for maps made with V up

@@ -53,7 +53,7 @@ impl BurleySampling {
     };
 
     /// Bit 0: R2 rotation, bit 1: centre weight, bit 2: bilinear (the
-    /// shader's `lod.w`).
+    /// shader's `BurleyUniforms::flags`).
     pub fn shader_flags(self) -> u32 {
         self.r2_rotation as u32 | (self.centre_weight as u32) << 1 | (self.bilinear as u32) << 2
     }

@@ -7,8 +7,51 @@
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
-use crate::render::gpu_types::BurleyUniforms;
+use crate::render::gpu_types::{BurleyUniforms, SssUniforms};
+use crate::render::pipelines::{
+    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
+};
 use crate::render::targets::HdrTarget;
+
+/// `burley`'s layout and pipeline (`fs_burley`, testing the stencil).
+pub(in crate::render) struct Pipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl Pipeline {
+    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
+        let storage = wgpu::BufferBindingType::Storage { read_only: true };
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss burley"),
+            entries: &[
+                uniform_entry::<SssUniforms>(0, frag),
+                texture_entry(1),
+                texture_entry(2),
+                buffer_entry(3, storage, frag),
+                buffer_entry(4, storage, frag),
+                buffer_entry(
+                    5,
+                    wgpu::BufferBindingType::Storage { read_only: false },
+                    frag,
+                ),
+                uniform_entry::<BurleyUniforms>(6, frag),
+            ],
+        });
+        Self {
+            pipeline: fullscreen_pipeline(
+                device,
+                module,
+                "fs_burley",
+                &layout,
+                Output::Replace(HDR),
+                Stencil::Test,
+            ),
+            layout,
+        }
+    }
+}
 
 pub(in crate::render) fn encode(
     f: &mut FrameEncoder,
@@ -30,7 +73,7 @@ pub(in crate::render) fn encode(
     let t = io.targets;
     let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
-        layout: &p.burley_layout,
+        layout: &p.burley.layout,
         entries: &[
             buf(0, &u),
             tex(1, t.view(HdrTarget::Diffuse)),
@@ -43,7 +86,7 @@ pub(in crate::render) fn encode(
     });
     f.fullscreen(
         Some(t.view(HdrTarget::Ping)),
-        &p.burley,
+        &p.burley.pipeline,
         &bg,
         label,
         (io.sss_pixels, io.sss_pixels * n as u64),

@@ -10,80 +10,24 @@ pub(super) mod reference;
 pub(super) mod separable;
 
 use super::frame::FrameEncoder;
-use super::gpu_types::{BurleyUniforms, SssUniforms};
-use super::pipelines::{
-    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
-};
+use super::gpu_types::SssUniforms;
 use super::profile_gpu::ProfileGpu;
 use super::settings::Method;
 use super::targets::{HdrTarget, Targets};
 
-/// Layouts and pipelines of the SSS passes, built once with the renderer:
-/// switching methods or editing the profile never recompiles a shader.
+/// The SSS methods' pipelines, built once with the renderer: switching
+/// methods or editing the profile never recompiles a shader. Each method's
+/// file builds its own (`gaussians` reuses `separable`'s).
 pub(super) struct SssPipelines {
-    pub burley_layout: wgpu::BindGroupLayout,
-    pub burley: wgpu::RenderPipeline,
-    pub separable_layout: wgpu::BindGroupLayout,
-    pub separable: wgpu::RenderPipeline,
-    /// The separable pass adding weight × result into its target (`gaussians`).
-    pub separable_add: wgpu::RenderPipeline,
+    pub burley: burley::Pipeline,
+    pub separable: separable::Pipelines,
 }
 
 impl SssPipelines {
     pub fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
-        let storage = wgpu::BufferBindingType::Storage { read_only: true };
-        let frag = wgpu::ShaderStages::FRAGMENT;
-        let burley_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sss burley"),
-            entries: &[
-                uniform_entry::<SssUniforms>(0, frag),
-                texture_entry(1),
-                texture_entry(2),
-                buffer_entry(3, storage, frag),
-                buffer_entry(4, storage, frag),
-                buffer_entry(
-                    5,
-                    wgpu::BufferBindingType::Storage { read_only: false },
-                    frag,
-                ),
-                uniform_entry::<BurleyUniforms>(6, frag),
-            ],
-        });
-        let separable_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sss separable"),
-            entries: &[
-                uniform_entry::<SssUniforms>(0, frag),
-                texture_entry(1),
-                texture_entry(2),
-                buffer_entry(3, storage, frag),
-            ],
-        });
-        let separable_module = module("sss_separable");
-        // Every SSS pass tests the classification's stencil.
-        let pass = |module, entry, layout, output| {
-            fullscreen_pipeline(device, module, entry, layout, output, Stencil::Test)
-        };
         Self {
-            burley: pass(
-                &module("sss_burley"),
-                "fs_burley",
-                &burley_layout,
-                Output::Replace(HDR),
-            ),
-            separable: pass(
-                &separable_module,
-                "fs_separable",
-                &separable_layout,
-                Output::Replace(HDR),
-            ),
-            separable_add: pass(
-                &separable_module,
-                "fs_separable",
-                &separable_layout,
-                Output::Add(HDR),
-            ),
-            burley_layout,
-            separable_layout,
+            burley: burley::Pipeline::new(device, &module("sss_burley")),
+            separable: separable::Pipelines::new(device, &module("sss_separable")),
         }
     }
 }

@@ -100,14 +100,6 @@ pub(in crate::render) fn scatter(
             ),
         });
     }
-    if !ctx.depth_copies {
-        return Err(GpuError::NoGroundTruth {
-            adapter: format!(
-                "\"{}\" ({:?})",
-                ctx.adapter_info.name, ctx.adapter_info.backend
-            ),
-        });
-    }
     let (w, h) = (s.width, s.height);
     let depth_bpp: u32 = match io.linear_depth_format {
         wgpu::TextureFormat::R32Float => 4,
@@ -165,50 +157,11 @@ pub(in crate::render) fn scatter(
     let mut build_ms = None;
     if cache.as_ref().is_none_or(|c| c.key != k) {
         let t0 = Instant::now();
-        let encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("shadow readback"),
-            });
-        let n = io.shadow_size;
-        let bytes = readback(ctx, encoder, &[(io.shadow_map, 4)], n, n)?
-            .pop()
-            .unwrap_or_default();
-        let shadow = Arc::new(ShadowMap {
-            size: n,
-            depth: bytes
-                .chunks_exact(4)
-                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect(),
-        });
-        let irr = SceneIrradiance::new(mesh, *scene, &shadow);
-        let mm = 1000.0 * mesh.metres_per_unit;
-        let positions: Vec<Vec3> = mesh
-            .vertices
-            .iter()
-            .map(|v| Vec3::from(v.position) * mm)
-            .collect();
-        let triangles: Vec<[u32; 3]> = mesh
-            .indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
-        let skin = |t: usize| {
-            let m = &mesh.vertices;
-            triangles[t].iter().all(|&i| m[i as usize].material < 0.5)
-        };
-        let cloud = Cloud::build(
-            &positions,
-            &triangles,
-            skin,
-            &irr,
-            (*inputs.ground_truth).clone(),
-            CELL_MM,
-        );
+        let (cloud, shadow) = build_cloud(ctx, mesh, io, scene, inputs)?;
         build_ms = Some(t0.elapsed().as_secs_f64() * 1e3);
         *cache = Some(Cache {
             key: k,
-            cloud: Arc::new(cloud),
+            cloud,
             shadow,
             frame: None,
         });
@@ -218,27 +171,14 @@ pub(in crate::render) fn scatter(
     };
     // Each SSS pixel's point on the surface, from its linear view depth.
     let t0 = Instant::now();
-    let world_from_view = view.inverse();
-    let tan = (0.5 * s.view.fov_y_rad).tan();
-    let aspect = w as f32 / h as f32;
-    let mm = 1000.0 * mesh.metres_per_unit;
-    let mut pixels = Vec::new();
-    let mut points = Vec::new();
-    for py in 0..h as usize {
-        for px in 0..w as usize {
-            let i = py * w as usize + px;
-            let alpha = half(&diffuse_bytes[8 * i..8 * i + 8], 3);
-            let z = depth_at(i);
-            if alpha <= 1.0 / 255.0 || !(z > 0.0) {
-                continue;
-            }
-            let x = ((px as f32 + 0.5) / w as f32 * 2.0 - 1.0) * tan * aspect;
-            let y = (1.0 - (py as f32 + 0.5) / h as f32 * 2.0) * tan;
-            let p = world_from_view * Vec4::new(x * z, y * z, -z, 1.0);
-            pixels.push((i, alpha));
-            points.push(p.truncate() * mm);
-        }
-    }
+    let (pixels, points) = surface_points(
+        |i| half(&diffuse_bytes[8 * i..8 * i + 8], 3),
+        depth_at,
+        (w, h),
+        view,
+        s.view.fov_y_rad,
+        1000.0 * mesh.metres_per_unit,
+    );
     let irr = SceneIrradiance::new(mesh, *scene, &c.shadow);
     let scattered = c.cloud.gather_all(&points, &irr);
     if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
@@ -251,6 +191,107 @@ pub(in crate::render) fn scatter(
         );
     }
     let gather_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let out = rgba_half_texels(pixels, scattered, (w, h));
+    write_ping(ctx, io.ping, &out, w, h);
+    c.frame = Some((frame_key, out));
+    Ok(Timing {
+        build_ms,
+        gather_ms,
+    })
+}
+
+/// The ground truth's irradiance cloud over the mesh's skin, lit as the
+/// scene pass lights it (the shadow map read back), and that shadow map.
+fn build_cloud(
+    ctx: &GpuContext,
+    mesh: &Mesh,
+    io: &Io,
+    scene: &SceneUniforms,
+    inputs: &ProfileInputs,
+) -> Result<(Arc<Cloud>, Arc<ShadowMap>), GpuError> {
+    let encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("shadow readback"),
+        });
+    let n = io.shadow_size;
+    let bytes = readback(ctx, encoder, &[(io.shadow_map, 4)], n, n)?
+        .pop()
+        .unwrap_or_default();
+    let shadow = Arc::new(ShadowMap {
+        size: n,
+        depth: bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect(),
+    });
+    let irr = SceneIrradiance::new(mesh, *scene, &shadow);
+    let mm = 1000.0 * mesh.metres_per_unit;
+    let positions: Vec<Vec3> = mesh
+        .vertices
+        .iter()
+        .map(|v| Vec3::from(v.position) * mm)
+        .collect();
+    let triangles: Vec<[u32; 3]> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    let skin = |t: usize| {
+        let m = &mesh.vertices;
+        triangles[t].iter().all(|&i| m[i as usize].material < 0.5)
+    };
+    let cloud = Cloud::build(
+        &positions,
+        &triangles,
+        skin,
+        &irr,
+        (*inputs.ground_truth).clone(),
+        CELL_MM,
+    );
+    Ok((Arc::new(cloud), shadow))
+}
+
+/// Each SSS pixel (index and mask) and its point on the surface (mm),
+/// from its linear view depth: pixels whose mask exceeds 1/255.
+fn surface_points(
+    mask_at: impl Fn(usize) -> f32,
+    depth_at: impl Fn(usize) -> f32,
+    (w, h): (u32, u32),
+    view: Mat4,
+    fov_y_rad: f32,
+    mm: f32,
+) -> (Vec<(usize, f32)>, Vec<Vec3>) {
+    let world_from_view = view.inverse();
+    let tan = (0.5 * fov_y_rad).tan();
+    let aspect = w as f32 / h as f32;
+    let mut pixels = Vec::new();
+    let mut points = Vec::new();
+    for py in 0..h as usize {
+        for px in 0..w as usize {
+            let i = py * w as usize + px;
+            let alpha = mask_at(i);
+            let z = depth_at(i);
+            if alpha <= 1.0 / 255.0 || !(z > 0.0) {
+                continue;
+            }
+            let x = ((px as f32 + 0.5) / w as f32 * 2.0 - 1.0) * tan * aspect;
+            let y = (1.0 - (py as f32 + 0.5) / h as f32 * 2.0) * tan;
+            let p = world_from_view * Vec4::new(x * z, y * z, -z, 1.0);
+            pixels.push((i, alpha));
+            points.push(p.truncate() * mm);
+        }
+    }
+    (pixels, points)
+}
+
+/// The scattered irradiance and mask of each pixel as Rgba16Float texels
+/// (0 elsewhere).
+fn rgba_half_texels(
+    pixels: Vec<(usize, f32)>,
+    scattered: Vec<[f32; 3]>,
+    (w, h): (u32, u32),
+) -> Vec<u8> {
     let mut out = vec![0u8; 8 * (w * h) as usize];
     for ((i, alpha), v) in pixels.into_iter().zip(scattered) {
         for (k, x) in [v[0], v[1], v[2], alpha].into_iter().enumerate() {
@@ -259,12 +300,7 @@ pub(in crate::render) fn scatter(
             out[8 * i + 2 * k + 1] = b[1];
         }
     }
-    write_ping(ctx, io.ping, &out, w, h);
-    c.frame = Some((frame_key, out));
-    Ok(Timing {
-        build_ms,
-        gather_ms,
-    })
+    out
 }
 
 fn write_ping(ctx: &GpuContext, ping: &wgpu::Texture, texels: &[u8], w: u32, h: u32) {

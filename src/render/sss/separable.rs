@@ -6,7 +6,53 @@
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::SssUniforms;
+use crate::render::pipelines::{
+    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
+};
 use crate::render::targets::HdrTarget;
+
+/// The 1D pass's layout and its two pipelines (`fs_separable`, testing the
+/// stencil): one replacing its target, one adding weight × result into it
+/// (`gaussians`).
+pub(in crate::render) struct Pipelines {
+    layout: wgpu::BindGroupLayout,
+    replace: wgpu::RenderPipeline,
+    add: wgpu::RenderPipeline,
+}
+
+impl Pipelines {
+    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss separable"),
+            entries: &[
+                uniform_entry::<SssUniforms>(0, frag),
+                texture_entry(1),
+                texture_entry(2),
+                buffer_entry(
+                    3,
+                    wgpu::BufferBindingType::Storage { read_only: true },
+                    frag,
+                ),
+            ],
+        });
+        let pass = |output| {
+            fullscreen_pipeline(
+                device,
+                module,
+                "fs_separable",
+                &layout,
+                output,
+                Stencil::Test,
+            )
+        };
+        Self {
+            replace: pass(Output::Replace(HDR)),
+            add: pass(Output::Add(HDR)),
+            layout,
+        }
+    }
+}
 
 /// Follow-surface strength of the Jimenez 2012 demo kernel (the demo's
 /// SSSS_FOLLOW_SURFACE lerp towards the centre, per mm of depth
@@ -47,8 +93,8 @@ pub(in crate::render) fn blur_xy(
 ) {
     let t = io.targets;
     let (weight, y_pipeline, y_load) = match into {
-        Into::Replace => ([1.0; 3], &p.separable, false),
-        Into::Add { weight, first } => (weight, &p.separable_add, !first),
+        Into::Replace => ([1.0; 3], &p.separable.replace, false),
+        Into::Add { weight, first } => (weight, &p.separable.add, !first),
     };
     let passes = [
         (
@@ -57,7 +103,7 @@ pub(in crate::render) fn blur_xy(
             HdrTarget::Ping,
             labels[0],
             [1.0; 3],
-            &p.separable,
+            &p.separable.replace,
             false,
         ),
         (
@@ -81,7 +127,7 @@ pub(in crate::render) fn blur_xy(
         let u = f.uniform("sss uniforms", bytemuck::bytes_of(&u));
         let bg = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
-            layout: &p.separable_layout,
+            layout: &p.separable.layout,
             entries: &[
                 buf(0, &u),
                 tex(1, t.view(from)),
