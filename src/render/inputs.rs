@@ -6,7 +6,7 @@ use super::gpu_types::{GpuSample, GpuTap};
 use super::settings::BurleySampling;
 use crate::model::sampling::{AngleSequence, SamplePattern};
 use crate::model::separable::SeparableKernel;
-use crate::model::{ModelError, RadialProfile};
+use crate::model::{ModelError, RadialProfile, Rgb};
 
 /// Per-profile GPU inputs, computed on the CPU and rebuilt only when the
 /// profile or the counts change.
@@ -475,6 +475,87 @@ pub fn gaussian_taps(sigma_mm: f32, n: usize) -> Vec<GpuTap> {
         .collect()
 }
 
+/// Rows of RGBA texels or entries, as uploaded.
+type RgbaTable = Vec<[f32; 4]>;
+
+/// r·R(r)/total per channel at r = r_max·t², t = i/(LUT_SIZE − 1), then
+/// the CDF at the same radii (Burley's weights and centre weight;
+/// `shaders/sss_burley.wgsl` reads both halves).
+fn profile_lut(profile: &dyn RadialProfile, r_max: f64, total: Rgb) -> RgbaTable {
+    (0..LUT_SIZE)
+        .map(|i| {
+            let t = i as f64 / (LUT_SIZE - 1) as f64;
+            let rr = profile.r_reflectance(r_max * t * t);
+            let n = |c: usize| {
+                if total[c] > 0.0 {
+                    (rr[c] / total[c]) as f32
+                } else {
+                    0.0
+                }
+            };
+            [n(0), n(1), n(2), 0.0]
+        })
+        // Then the CDF at the same radii (Burley's centre weight).
+        .chain((0..LUT_SIZE).map(|i| {
+            let t = i as f64 / (LUT_SIZE - 1) as f64;
+            let c = profile.cdf(r_max * t * t);
+            [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
+        }))
+        .collect()
+}
+
+/// Penner's D(θ, κ) − saturate(N·L) table and scattered-shadow table, or
+/// zeros when `bake` is off (a method that never reads them).
+fn penner_tables(
+    profile: &dyn RadialProfile,
+    bake: bool,
+    lut_layout: crate::model::lut::LutLayout,
+    penumbra_layout: crate::model::lut::ShadowLayout,
+) -> Result<(RgbaTable, RgbaTable), ModelError> {
+    Ok(if bake {
+        let d = crate::model::lut::Lut::bake(profile, lut_layout)?
+            .d
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let lit = lut_layout.n_dot_l(k % lut_layout.width).max(0.0);
+                [0, 1, 2].map(|c| (v[c] - lit) as f32)
+            })
+            .map(|d| [d[0], d[1], d[2], 1.0])
+            .collect();
+        let penumbra = crate::model::lut::bake_shadow(profile, penumbra_layout)?
+            .iter()
+            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
+            .collect();
+        (d, penumbra)
+    } else {
+        // Zero: D(θ, κ) − saturate(N·L) of a profile that does not
+        // scatter, and an unscattered shadow; never read by the others.
+        (
+            vec![[0.0, 0.0, 0.0, 1.0]; lut_layout.width * lut_layout.height],
+            vec![[0.0, 0.0, 0.0, 1.0]; penumbra_layout.width * penumbra_layout.height],
+        )
+    })
+}
+
+/// The thin-slab transmittance T(d)/total per channel at 64 thicknesses
+/// d = r_max·i/63 (`shaders/scene.wgsl` `transmittance_at`).
+fn transmittance_table(profile: &dyn RadialProfile, r_max: f64, total: Rgb) -> RgbaTable {
+    (0..64)
+        .map(|i| {
+            let t = profile.transmittance(r_max * i as f64 / 63.0);
+            let n = |c: usize| {
+                if total[c] > 0.0 {
+                    (t[c] / total[c]) as f32
+                } else {
+                    0.0
+                }
+            };
+            [n(0), n(1), n(2), 0.0]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -522,86 +603,4 @@ mod tests {
         assert!((var(31) - 1.0).abs() < (var(7) - 1.0).abs());
         assert!((var(31) - 1.0).abs() < 0.02, "{}", var(31));
     }
-}
-
-/// r·R(r)/total per channel at r = r_max·t², t = i/(LUT_SIZE − 1), then
-/// the CDF at the same radii (Burley's weights and centre weight;
-/// `shaders/sss_burley.wgsl` reads both halves).
-fn profile_lut(profile: &dyn RadialProfile, r_max: f64, total: crate::model::Rgb) -> Vec<[f32; 4]> {
-    (0..LUT_SIZE)
-        .map(|i| {
-            let t = i as f64 / (LUT_SIZE - 1) as f64;
-            let rr = profile.r_reflectance(r_max * t * t);
-            let n = |c: usize| {
-                if total[c] > 0.0 {
-                    (rr[c] / total[c]) as f32
-                } else {
-                    0.0
-                }
-            };
-            [n(0), n(1), n(2), 0.0]
-        })
-        // Then the CDF at the same radii (Burley's centre weight).
-        .chain((0..LUT_SIZE).map(|i| {
-            let t = i as f64 / (LUT_SIZE - 1) as f64;
-            let c = profile.cdf(r_max * t * t);
-            [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
-        }))
-        .collect()
-}
-
-/// Penner's D(θ, κ) − saturate(N·L) table and scattered-shadow table, or
-/// zeros when `bake` is off (a method that never reads them).
-fn penner_tables(
-    profile: &dyn RadialProfile,
-    bake: bool,
-    lut_layout: crate::model::lut::LutLayout,
-    penumbra_layout: crate::model::lut::ShadowLayout,
-) -> Result<(Vec<[f32; 4]>, Vec<[f32; 4]>), ModelError> {
-    Ok(if bake {
-        let d = crate::model::lut::Lut::bake(profile, lut_layout)?
-            .d
-            .iter()
-            .enumerate()
-            .map(|(k, v)| {
-                let lit = lut_layout.n_dot_l(k % lut_layout.width).max(0.0);
-                [0, 1, 2].map(|c| (v[c] - lit) as f32)
-            })
-            .map(|d| [d[0], d[1], d[2], 1.0])
-            .collect();
-        let penumbra = crate::model::lut::bake_shadow(profile, penumbra_layout)?
-            .iter()
-            .map(|v| [v[0] as f32, v[1] as f32, v[2] as f32, 1.0])
-            .collect();
-        (d, penumbra)
-    } else {
-        // Zero: D(θ, κ) − saturate(N·L) of a profile that does not
-        // scatter, and an unscattered shadow; never read by the others.
-        (
-            vec![[0.0, 0.0, 0.0, 1.0]; lut_layout.width * lut_layout.height],
-            vec![[0.0, 0.0, 0.0, 1.0]; penumbra_layout.width * penumbra_layout.height],
-        )
-    })
-}
-
-/// The thin-slab transmittance T(d)/total per channel at 64 thicknesses
-/// d = r_max·i/63 (`shaders/scene.wgsl` `transmittance_at`).
-fn transmittance_table(
-    profile: &dyn RadialProfile,
-    r_max: f64,
-    total: crate::model::Rgb,
-) -> Vec<[f32; 4]> {
-    (0..64)
-        .map(|i| {
-            let t = profile.transmittance(r_max * i as f64 / 63.0);
-            let n = |c: usize| {
-                if total[c] > 0.0 {
-                    (t[c] / total[c]) as f32
-                } else {
-                    0.0
-                }
-            };
-            [n(0), n(1), n(2), 0.0]
-        })
-        .collect()
 }
