@@ -98,7 +98,7 @@ fn eye_albedo(world: vec3<f32>) -> vec4<f32> {
 }
 
 // Direction towards the light from `world` (unit) and the radiance factor:
-// 1 for a directional light, inverse square (1 at light_range.z) for a point.
+// 1 for a directional light, inverse square (1 at light_reference_distance) for a point.
 fn light_at(world: vec3<f32>) -> vec4<f32> {
     if (u.light_direction.w < 0.5) {
         return vec4<f32>(u.light_direction.xyz, 1.0);

@@ -2,7 +2,6 @@
 
 struct SssUniforms {
     size: vec2<f32>,                    // pixels
-    inv_size: vec2<f32>,
     pixels_per_unit_at_depth_1: f32,    // height / (2 tan(fovy/2))
     mm_per_unit: f32,
     rotation_offset_turns: f32,         // of this progressive-refinement frame
@@ -14,6 +13,8 @@ struct SssUniforms {
     direction: vec2<f32>,               // a separable pass's blur direction
     rotate_axis: u32,                   // 1 = stochastic axis rotation
     pad0: u32,
+    pad1: u32,
+    pad2: u32,
     weight: vec4<f32>,                  // rgb: output multiplier (a Gaussian's weight when accumulating; 1 otherwise)
 };
 

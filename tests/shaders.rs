@@ -37,7 +37,7 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
     use scatterlab::render::gpu_types::{
         BurleyUniforms, CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms,
     };
-    type Fields = &'static [(&'static str, usize)];
+    type Fields = &'static [(&'static str, usize, &'static str)];
     // (WGSL module, WGSL struct, Rust size, Rust fields)
     let twins: [(&str, &str, usize, Fields); 7] = [
         (
@@ -100,18 +100,52 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
         let naga::TypeInner::Struct { members, .. } = &ty.inner else {
             panic!("{module_name}::{struct_name} is not a struct");
         };
-        let wgsl: Vec<(String, usize)> = members
+        let wgsl: Vec<(String, usize, String)> = members
             .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .map(|m| {
+                let ty = rust_spelling(&module, m.ty);
+                (m.name.clone().unwrap_or_default(), m.offset as usize, ty)
+            })
             .collect();
-        let rust: Vec<(String, usize)> = rust_fields
+        let rust: Vec<(String, usize, String)> = rust_fields
             .iter()
-            .map(|(n, o)| (n.to_string(), *o))
+            .map(|(n, o, t)| (n.to_string(), *o, t.replace(' ', "")))
             .collect();
         assert_eq!(
             wgsl, rust,
             "{module_name}::{struct_name}: WGSL fields (left) vs the Rust twin's (right)"
         );
+    }
+}
+
+/// How the Rust twin spells a WGSL member's type: `f32`, `u32`,
+/// `[f32;N]` for a vector, `[[f32;4];4]` for a matrix, `[T;N]` for an
+/// array (so an f32 on one side and a u32 on the other fails).
+fn rust_spelling(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
+    let scalar = |s: naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 4) => "f32".to_owned(),
+        (naga::ScalarKind::Uint, 4) => "u32".to_owned(),
+        (naga::ScalarKind::Sint, 4) => "i32".to_owned(),
+        other => format!("{other:?}"),
+    };
+    match &module.types[ty].inner {
+        naga::TypeInner::Scalar(s) => scalar(*s),
+        naga::TypeInner::Vector { size, scalar: s } => format!("[{};{}]", scalar(*s), *size as u8),
+        naga::TypeInner::Matrix {
+            columns,
+            rows,
+            scalar: s,
+        } => {
+            format!("[[{};{}];{}]", scalar(*s), *rows as u8, *columns as u8)
+        }
+        naga::TypeInner::Array {
+            base,
+            size: naga::ArraySize::Constant(n),
+            ..
+        } => {
+            format!("[{};{n}]", rust_spelling(module, *base))
+        }
+        other => format!("{other:?}"),
     }
 }
 

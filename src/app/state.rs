@@ -148,7 +148,7 @@ impl Default for CompareB {
 
 /// Camera and light, as the viewport's mouse controls change them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(from = "StoredViewState")]
 pub struct ViewState {
     /// Camera, key light and exposure (radians and metres), as the
     /// renderer and the command line take them.
@@ -167,6 +167,102 @@ impl Default for ViewState {
             environment: EnvironmentChoice::Studio,
             environment_map_sh: None,
             environment_intensity: 1.0,
+        }
+    }
+}
+
+/// A remembered [`ViewState`] as any version stored it: before the view
+/// became an [`crate::settings::OrbitView`] its fields sat here flat, in
+/// radians under names without `_rad` (`camera_yaw`, …, `pan_m`), and a
+/// state saved then still restores its camera and light.
+#[derive(Deserialize)]
+#[serde(default)]
+struct StoredViewState {
+    orbit: crate::settings::OrbitView,
+    environment: EnvironmentChoice,
+    environment_map_sh: Option<[[f32; 3]; 9]>,
+    environment_intensity: f32,
+    #[serde(deserialize_with = "present")]
+    camera_yaw: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    camera_pitch: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    camera_distance_m: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    pan_m: Option<[f32; 2]>,
+    #[serde(deserialize_with = "present")]
+    light_azimuth: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    light_elevation: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    light_intensity: Option<f32>,
+    #[serde(deserialize_with = "present")]
+    exposure: Option<f32>,
+}
+
+/// A field the old format wrote as a plain value (RON would want `Some(…)`
+/// for an `Option`); absent fields take the container's default, `None`.
+fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
+    d: D,
+) -> Result<Option<T>, D::Error> {
+    T::deserialize(d).map(Some)
+}
+
+impl Default for StoredViewState {
+    fn default() -> Self {
+        let v = ViewState::default();
+        Self {
+            orbit: v.orbit,
+            environment: v.environment,
+            environment_map_sh: v.environment_map_sh,
+            environment_intensity: v.environment_intensity,
+            camera_yaw: None,
+            camera_pitch: None,
+            camera_distance_m: None,
+            pan_m: None,
+            light_azimuth: None,
+            light_elevation: None,
+            light_intensity: None,
+            exposure: None,
+        }
+    }
+}
+
+impl From<StoredViewState> for ViewState {
+    fn from(s: StoredViewState) -> Self {
+        let legacy = [
+            s.camera_yaw,
+            s.camera_pitch,
+            s.camera_distance_m,
+            s.light_azimuth,
+            s.light_elevation,
+            s.light_intensity,
+            s.exposure,
+        ]
+        .iter()
+        .any(Option::is_some)
+            || s.pan_m.is_some();
+        let d = s.orbit;
+        let orbit = if !legacy {
+            s.orbit
+        } else {
+            crate::settings::OrbitView {
+                camera_yaw_rad: s.camera_yaw.unwrap_or(d.camera_yaw_rad),
+                camera_pitch_rad: s.camera_pitch.unwrap_or(d.camera_pitch_rad),
+                camera_distance_m: s.camera_distance_m.unwrap_or(d.camera_distance_m),
+                camera_pan_m: s.pan_m.unwrap_or(d.camera_pan_m),
+                light_azimuth_rad: s.light_azimuth.unwrap_or(d.light_azimuth_rad),
+                light_elevation_rad: s.light_elevation.unwrap_or(d.light_elevation_rad),
+                light_intensity: s.light_intensity.unwrap_or(d.light_intensity),
+                exposure: s.exposure.unwrap_or(d.exposure),
+                ..d
+            }
+        };
+        Self {
+            orbit,
+            environment: s.environment,
+            environment_map_sh: s.environment_map_sh,
+            environment_intensity: s.environment_intensity,
         }
     }
 }
@@ -268,6 +364,40 @@ impl UiState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A view remembered before the camera and light became an OrbitView
+    /// (flat fields, radians, as 1169852 wrote them) restores its camera
+    /// and light; one written now round-trips.
+    #[test]
+    fn a_view_saved_by_an_older_version_restores() {
+        let old = "(view: (camera_yaw: 1.5, camera_pitch: -0.25, camera_distance_m: 0.8, \
+                   pan_m: (0.01, -0.02), light_azimuth: 2.0, light_elevation: 0.5, \
+                   light_intensity: 4.0, environment: Black, environment_map_sh: None, \
+                   environment_intensity: 0.5, exposure: 1.25))";
+        let state: UiState = ron::from_str(old).unwrap();
+        let o = state.view.orbit;
+        assert_eq!(
+            (o.camera_yaw_rad, o.camera_pitch_rad, o.camera_distance_m),
+            (1.5, -0.25, 0.8)
+        );
+        assert_eq!(o.camera_pan_m, [0.01, -0.02]);
+        assert_eq!(
+            (
+                o.light_azimuth_rad,
+                o.light_elevation_rad,
+                o.light_intensity
+            ),
+            (2.0, 0.5, 4.0)
+        );
+        assert_eq!(o.exposure, 1.25);
+        assert_eq!(state.view.environment, EnvironmentChoice::Black);
+        assert_eq!(state.view.environment_intensity, 0.5);
+        assert_eq!(o.fov_y_rad, crate::settings::OrbitView::default().fov_y_rad);
+        let again: UiState = ron::from_str(&ron::to_string(&state).unwrap()).unwrap();
+        assert_eq!(again.view, state.view);
+        let empty: UiState = ron::from_str("()").unwrap();
+        assert_eq!(empty.view, ViewState::default());
+    }
 
     fn with_name(name: &str) -> Preset {
         Preset {

@@ -53,7 +53,8 @@ pub struct RenderArgs {
 impl RenderArgs {
     pub fn run(self) -> Result<()> {
         let (inputs, rendering) = self.profile_inputs()?;
-        let thickness_range_mm = rendering.thickness_remap_mm.1.max(1.0) as f32;
+        // What the editor's render thread uses for a map (`app/viewport.rs`).
+        let thickness_range_mm = rendering.thickness_remap_mm.1 as f32;
         let mesh = self.view.load_mesh(thickness_range_mm)?;
         let environment_sh = self.environment_sh()?;
         let orbit = self.view.orbit(|fov| mesh.framing_distance_m(fov))?;

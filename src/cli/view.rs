@@ -25,7 +25,7 @@ pub struct ViewArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub camera_pitch: Option<f32>,
     /// Vertical field of view (degrees; default 30).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub fov: Option<f32>,
     /// Irradiance of the key light at normal incidence (default 3.2).
     #[arg(long, allow_hyphen_values = true)]
@@ -115,14 +115,18 @@ impl ViewArgs {
             1e3,
             " m/unit",
         )?;
+        // Checked where it is given or used (a preset's remap may be 0
+        // when the look has no thickness map).
         let thickness_range_mm = self.thickness_range_mm.unwrap_or(thickness_range_mm);
-        crate::model::check_range(
-            "thickness_range_mm",
-            thickness_range_mm as f64,
-            1e-3,
-            1e4,
-            " mm",
-        )?;
+        if self.thickness_range_mm.is_some() || self.thickness.is_some() {
+            crate::model::check_range(
+                "thickness_range_mm",
+                thickness_range_mm as f64,
+                1e-3,
+                1e4,
+                " mm",
+            )?;
+        }
         let mut mesh = match &self.mesh {
             Some(path) => {
                 let mesh = Mesh::load(path, self.metres_per_unit)?;
@@ -234,30 +238,37 @@ pub struct LookArgs {
     /// Transmission (default: the preset's, else thin).
     #[arg(long, value_enum)]
     pub transmission: Option<TransmissionId>,
-    /// Linear RGB multiplier of transmitted light (default 1,1,1).
+    /// Linear RGB multiplier of transmitted light (default: the preset's, else 1,1,1).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
     pub transmission_tint: Option<Color>,
     /// Texturing mode (default: the preset's, else pre-and-post).
     #[arg(long, value_enum)]
     pub texturing: Option<TexturingId>,
-    /// Index of refraction of the surface: the specular F0 (default 1.4).
-    #[arg(long)]
+    /// Index of refraction of the surface, 1–2: the specular F0 (default:
+    /// the preset's, else 1.4).
+    #[arg(long, allow_negative_numbers = true)]
     pub ior: Option<f64>,
-    /// The dual-lobe specular's material roughness, 0–1 (default 0.55).
-    #[arg(long)]
+    /// The dual-lobe specular's material roughness, 0–1 (default: the
+    /// preset's, else 0.55).
+    #[arg(long, allow_negative_numbers = true)]
     pub specular_roughness: Option<f64>,
-    /// Multiplier of the sharper lobe's roughness (Unreal's Roughness0, default 0.75).
-    #[arg(long)]
+    /// Multiplier of the sharper lobe's roughness, 0–2 (Unreal's
+    /// Roughness0; default: the preset's, else 0.75).
+    #[arg(long, allow_negative_numbers = true)]
     pub lobe0_roughness_multiplier: Option<f64>,
-    /// Multiplier of the broader lobe's roughness (Unreal's Roughness1, default 1.30).
-    #[arg(long)]
+    /// Multiplier of the broader lobe's roughness, 0–2 (Unreal's
+    /// Roughness1; default: the preset's, else 1.30).
+    #[arg(long, allow_negative_numbers = true)]
     pub lobe1_roughness_multiplier: Option<f64>,
-    /// Weight of the broader lobe, 0–1 (Unreal's LobeMix, default 0.85).
-    #[arg(long)]
+    /// Weight of the broader lobe, 0–1 (Unreal's LobeMix; default: the
+    /// preset's, else 0.85).
+    #[arg(long, allow_negative_numbers = true)]
     pub lobe_mix: Option<f64>,
     /// Metres per scene unit the look's engine exports assume (Unity's
-    /// world scale; default 1).
-    #[arg(long)]
+    /// world scale; default: the preset's, else 1). A field of the look
+    /// for exports: it does not change this render (--metres-per-unit
+    /// gives the mesh's units).
+    #[arg(long, allow_negative_numbers = true)]
     pub world_scale: Option<f64>,
 }
 

@@ -7,7 +7,7 @@
 use bytemuck::{Pod, Zeroable};
 
 /// Declares a `#[repr(C)]` Pod struct uploaded to the GPU and lists each
-/// field's name and byte offset in `FIELDS`, which `tests/shaders.rs`
+/// field's name, byte offset and type in `FIELDS`, which `tests/shaders.rs`
 /// compares with its WGSL twin as naga lays it out.
 macro_rules! gpu_struct {
     ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $field:ident : $ty:ty,)* }) => {
@@ -16,9 +16,13 @@ macro_rules! gpu_struct {
         #[derive(Debug, Clone, Copy, Pod, Zeroable)]
         pub struct $name { $($(#[$fm])* pub $field: $ty,)* }
         impl $name {
-            /// Each field's name and byte offset (its WGSL twin must match).
-            pub const FIELDS: &'static [(&'static str, usize)] =
-                &[$((stringify!($field), std::mem::offset_of!($name, $field)),)*];
+            /// Each field's name, byte offset and type as written (its WGSL
+            /// twin must match).
+            pub const FIELDS: &'static [(&'static str, usize, &'static str)] = &[$((
+                stringify!($field),
+                std::mem::offset_of!($name, $field),
+                stringify!($ty),
+            ),)*];
         }
     };
 }
@@ -139,7 +143,6 @@ gpu_struct! {
     pub struct SssUniforms {
         /// Pixels.
         pub size: [f32; 2],
-        pub inv_size: [f32; 2],
         /// Pixels per world unit at depth 1: height / (2 tan(fov_y / 2)).
         pub pixels_per_unit_at_depth_1: f32,
         pub mm_per_unit: f32,
@@ -160,6 +163,8 @@ gpu_struct! {
         /// 1 = stochastic axis rotation (Jimenez 2015 §6).
         pub rotate_axis: u32,
         pub pad0: u32,
+        pub pad1: u32,
+        pub pad2: u32,
         /// rgb: output multiplier (a Gaussian's weight when accumulating).
         pub weight: [f32; 4],
     }

@@ -361,11 +361,11 @@ impl Renderer {
 }
 
 /// The uniforms every SSS pass shares; each pass sets its sample count
-/// and direction ([`SssFrame::uniforms`]).
+/// ([`SssFrame::uniforms`]) and `separable` its direction, follow-surface
+/// term and axis rotation.
 fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32) -> SssUniforms {
     SssUniforms {
         size: [s.width as f32, s.height as f32],
-        inv_size: [1.0 / s.width as f32, 1.0 / s.height as f32],
         pixels_per_unit_at_depth_1: s.height as f32 / (2.0 * (0.5 * s.view.fov_y_rad).tan()),
         mm_per_unit: metres_per_unit * 1000.0,
         rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
@@ -377,6 +377,8 @@ fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32
         direction: [0.0; 2],
         rotate_axis: 0,
         pad0: 0,
+        pad1: 0,
+        pad2: 0,
         weight: [1.0; 4],
     }
 }

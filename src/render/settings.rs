@@ -146,7 +146,8 @@ impl Progressive {
 
 impl RenderSettings {
     /// The one way from a look's rendering settings and a view to a frame's
-    /// settings, for the editor, the command line and the bench. Every
+    /// settings, for the editor and the command line (the bench's fixed
+    /// scenes set theirs directly; specular does not enter its error). Every
     /// field of the spec is named: a new one does not compile until it is
     /// placed here or marked as read elsewhere.
     pub fn for_look(
@@ -164,7 +165,8 @@ impl RenderSettings {
             lod,
             texturing,
             transmission,
-            // Read where a thickness map is loaded (`app`'s mesh settings).
+            // Read where a thickness map is loaded (`app/viewport.rs`,
+            // `cli/render.rs`).
             thickness_remap_mm: _,
             transmission_tint,
             ior: _,
@@ -182,13 +184,7 @@ impl RenderSettings {
             transmission: *transmission,
             transmission_tint: transmission_tint.map(|v| v as f32),
             lod: *lod,
-            specular: Specular::DualGgx {
-                roughness0: (specular.roughness * specular.lobe0_roughness_multiplier).min(1.0)
-                    as f32,
-                roughness1: (specular.roughness * specular.lobe1_roughness_multiplier).min(1.0)
-                    as f32,
-                lobe_mix: specular.lobe_mix as f32,
-            },
+            specular: Specular::dual_ggx(specular),
             // From the IOR (Fresnel at normal incidence).
             specular_f0: rendering.f0() as f32,
             environment_sh,
@@ -217,6 +213,18 @@ pub enum Specular {
     },
     /// Kelemen/Szirmay-Kalos with a Beckmann lobe (d'Eon 2007).
     Kelemen { roughness: f32 },
+}
+
+impl Specular {
+    /// Unreal's dual lobes: each lobe's roughness is the material's times
+    /// its multiplier, at most 1.
+    pub fn dual_ggx(s: &crate::settings::rendering::DualLobeSpec) -> Self {
+        Self::DualGgx {
+            roughness0: (s.roughness * s.lobe0_roughness_multiplier).min(1.0) as f32,
+            roughness1: (s.roughness * s.lobe1_roughness_multiplier).min(1.0) as f32,
+            lobe_mix: s.lobe_mix as f32,
+        }
+    }
 }
 
 /// Irradiance for test scenes: lit normally, a step at world x = 0, or a
@@ -248,16 +256,13 @@ impl Default for RenderSettings {
             transmission_tint: [1.0, 1.0, 1.0],
             lod: true,
             mesh_lod: true,
-            // Unreal's SubsurfaceProfile defaults: Roughness0 0.75 and
-            // Roughness1 1.30 as multipliers of a material roughness of
-            // 0.55, LobeMix 0.85 (settings::rendering::DualLobeSpec).
-            specular: Specular::DualGgx {
-                roughness0: 0.41,
-                roughness1: 0.72,
-                lobe_mix: 0.85,
-            },
-            // IOR 1.4: ((1.4 − 1)/(1.4 + 1))².
-            specular_f0: 0.028,
+            // The default look's: Unreal's SubsurfaceProfile defaults
+            // (Roughness0 0.75 and Roughness1 1.30 as multipliers of a
+            // material roughness of 0.55, LobeMix 0.85) and IOR 1.4, F0 =
+            // ((1.4 − 1)/(1.4 + 1))² (settings::rendering), so a frame with
+            // default settings is the default look's.
+            specular: Specular::dual_ggx(&RenderingSpec::default().specular),
+            specular_f0: RenderingSpec::default().f0() as f32,
             detail_normal_strength: 1.0,
             penumbra: true,
             separable_rotation: false,

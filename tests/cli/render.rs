@@ -723,6 +723,8 @@ fn render_takes_every_field_of_the_look() {
     for (flag, value, field) in [
         ("--ior", "3", "rendering.ior"),
         ("--lobe-mix", "1.5", "rendering.specular.lobe_mix"),
+        ("--lobe-mix", "-0.5", "rendering.specular.lobe_mix"),
+        ("--specular-roughness", "-1", "rendering.specular.roughness"),
         ("--taps", "16", "rendering.taps"),
         (
             "--transmission-tint",

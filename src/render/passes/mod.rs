@@ -5,7 +5,9 @@
 //! (a method's result, or its running mean, with specular and albedo,
 //! tonemapped). The SSS methods' passes sit between classify and
 //! composite, under `sss/`. Each pass is a small struct: `new` builds its
-//! pipeline once, `encode` records it into a [`super::frame::FrameEncoder`].
+//! pipeline once, `encode` records it into a [`super::frame::FrameEncoder`]
+//! (`ClassifyPass::count` also reads its count back;
+//! `CompositePass::accumulate` records the running mean).
 
 pub(super) mod classify;
 pub(super) mod composite;

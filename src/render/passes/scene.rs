@@ -1,6 +1,6 @@
 //! The scene pass: the mesh lit by the light (shadowed), the environment
 //! and, for `preintegrated`, Penner's tables, into the G-buffer the SSS
-//! passes read (`shaders/scene.wgsl`, `fs_scene`). Its uniforms gather the
+//! passes read (`shaders/scene.wgsl`, `fs_main`). Its uniforms gather the
 //! camera, the light and the look ([`SceneUniforms`]).
 
 use super::super::context::{GpuContext, GpuError};

@@ -103,6 +103,8 @@ impl ShadowPass {
             ..Default::default()
         });
         lod.draw(&mut pass, &self.pipeline, &self.bind_group);
+        // Set as recorded: a frame that fails afterwards must call
+        // `invalidate` (`Renderer::render_inner` does).
         self.key = Some((light_clip, lod_index));
     }
 }
