@@ -204,7 +204,7 @@ impl ScenePass {
                 buf(0, &self.uniforms),
                 tex(1, &shadow.view),
                 sampler(2, &shadow.sampler),
-                tex(3, &gpu.preintegrated_lut),
+                tex(3, &gpu.preintegrated.lut),
                 sampler(4, &self.lut_sampler),
                 buf(5, &gpu.transmittance),
                 tex(6, &maps[0]),
@@ -213,7 +213,7 @@ impl ScenePass {
                 tex(9, &maps[3]),
                 tex(10, &maps[4]),
                 sampler(11, &self.surface_sampler),
-                tex(12, &gpu.penumbra_lut),
+                tex(12, &gpu.preintegrated.penumbra),
                 tex(13, &shadow.view),
             ],
         })

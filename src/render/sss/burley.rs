@@ -8,10 +8,43 @@
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::{BurleyUniforms, SssUniforms};
+use crate::render::inputs::ProfileInputs;
 use crate::render::pipelines::{
     buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
 };
+use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
+
+/// `burley`'s share of the profile on the GPU.
+pub(in crate::render) struct Buffers {
+    /// The main pattern followed by the LOD's short one.
+    samples: wgpu::Buffer,
+    /// r·R_N(r) per channel (the weights), then the CDF.
+    profile_lut: wgpu::Buffer,
+    /// Samples of the main pattern.
+    count: u32,
+    /// Low-LOD count, filter radius (the widest channel's 0.997-energy
+    /// radius, mm) and sampling flags; `lod_on` is set per frame.
+    uniforms: BurleyUniforms,
+}
+
+impl Buffers {
+    pub fn new(device: &wgpu::Device, inputs: &ProfileInputs) -> Self {
+        let mut samples = inputs.samples.clone();
+        samples.extend_from_slice(&inputs.low_samples);
+        Self {
+            samples: storage(device, "burley samples", bytemuck::cast_slice(&samples)),
+            profile_lut: storage(device, "profile lut", bytemuck::cast_slice(&inputs.lut)),
+            count: inputs.samples.len() as u32,
+            uniforms: BurleyUniforms {
+                low_count: inputs.low_samples.len() as u32,
+                filter_radius_mm: inputs.filter_radius_mm,
+                lod_on: 0,
+                flags: inputs.burley_sampling.shader_flags(),
+            },
+        }
+    }
+}
 
 /// `burley`'s layout and pipeline (`fs_burley`, testing the stencil).
 pub(in crate::render) struct Pipeline {
@@ -58,16 +91,14 @@ pub(in crate::render) fn encode(
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let gpu = io.profile;
-    let (samples, n, label) = (&gpu.burley_samples, gpu.burley_count, "sss burley");
+    let gpu = &io.profile.burley;
+    let (samples, n, label) = (&gpu.samples, gpu.count, "sss burley");
     let u = f.uniform("sss uniforms", bytemuck::bytes_of(&io.uniforms(n)));
     let lod = f.uniform(
         "burley uniforms",
         bytemuck::bytes_of(&BurleyUniforms {
-            low_count: gpu.low_count,
-            filter_radius_mm: gpu.filter_radius_mm,
             lod_on: io.lod as u32,
-            flags: gpu.burley_flags,
+            ..gpu.uniforms
         }),
     );
     let t = io.targets;

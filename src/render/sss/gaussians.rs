@@ -6,15 +6,44 @@
 use super::separable::{self, Into};
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::FrameEncoder;
+use crate::render::gpu_types::GpuTap;
+use crate::render::inputs::{gaussian_taps, ProfileInputs};
+use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
+
+/// `gaussians`' share of the profile on the GPU: one tap buffer per
+/// Gaussian, with its RGB weight and σ (mm).
+pub(in crate::render) struct Buffers {
+    gaussians: Vec<(wgpu::Buffer, [f32; 3], f32)>,
+    /// Taps of each 1D pass.
+    tap_count: u32,
+}
+
+impl Buffers {
+    pub fn new(device: &wgpu::Device, inputs: &ProfileInputs) -> Self {
+        Self {
+            gaussians: inputs
+                .gaussians
+                .iter()
+                .map(|(sigma, weight)| {
+                    let taps: Vec<GpuTap> = gaussian_taps(*sigma, inputs.gaussian_taps);
+                    let buffer = storage(device, "gaussian taps", bytemuck::cast_slice(&taps));
+                    (buffer, *weight, *sigma)
+                })
+                .collect(),
+            tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
+        }
+    }
+}
 
 pub(in crate::render) fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let taps = io.profile.gaussian_tap_count;
-    if io.profile.gaussians.is_empty() {
+    let gpu = &io.profile.gaussians;
+    let taps = gpu.tap_count;
+    if gpu.gaussians.is_empty() {
         // No Gaussians set: nothing to add, the diffuse stays unscattered.
         return Scattered {
             target: HdrTarget::Diffuse,
@@ -22,7 +51,7 @@ pub(in crate::render) fn encode(
             counted_pass: None,
         };
     }
-    for (k, (buffer, weight, sigma)) in io.profile.gaussians.iter().enumerate() {
+    for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
         // Each Gaussian follows the surface with its own σ (Jimenez 2015
         // eq. 7 before its σ_max approximation: exact for a Gaussian).
         separable::blur_xy(
@@ -40,7 +69,7 @@ pub(in crate::render) fn encode(
     }
     Scattered {
         target: HdrTarget::Pong,
-        samples_per_pixel: 2 * taps * io.profile.gaussians.len() as u32,
+        samples_per_pixel: 2 * taps * gpu.gaussians.len() as u32,
         counted_pass: None,
     }
 }

@@ -4,7 +4,39 @@
 //! per-vertex curvature FaceWorks computes, instead of saturate(N·L).
 
 use crate::model::lut::LutLayout;
+use crate::render::inputs::ProfileInputs;
+use crate::render::profile_gpu::table;
 use crate::render::settings::Method;
+
+/// Penner's tables on the GPU, filterable, read by the scene pass.
+pub(in crate::render) struct Tables {
+    /// D(θ, κ) − saturate(N·L).
+    pub lut: wgpu::TextureView,
+    /// The scattered shadow across a penumbra.
+    pub penumbra: wgpu::TextureView,
+}
+
+impl Tables {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, inputs: &ProfileInputs) -> Self {
+        let (lut, pen) = (&inputs.lut_layout, &inputs.penumbra_layout);
+        Self {
+            lut: table(
+                device,
+                queue,
+                "pre-integrated lut",
+                (lut.width, lut.height),
+                &inputs.preintegrated_lut,
+            ),
+            penumbra: table(
+                device,
+                queue,
+                "penumbra lut",
+                (pen.width, pen.height),
+                &inputs.penumbra_lut,
+            ),
+        }
+    }
+}
 
 /// `SceneUniforms::preintegrated` (1 for this method) and the curvature
 /// 1/r (1/mm) of the table's first and last rows

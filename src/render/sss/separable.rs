@@ -6,10 +6,30 @@
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::SssUniforms;
+use crate::render::inputs::ProfileInputs;
 use crate::render::pipelines::{
     buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
 };
+use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
+
+/// `separable`'s share of the profile on the GPU: the kernel's taps.
+pub(in crate::render) struct Buffers {
+    taps: wgpu::Buffer,
+    count: u32,
+    /// The depth weight's σ (mm), 0 for the Jimenez 2012 lerp.
+    depth_sigma_mm: f32,
+}
+
+impl Buffers {
+    pub fn new(device: &wgpu::Device, inputs: &ProfileInputs) -> Self {
+        Self {
+            taps: storage(device, "separable taps", bytemuck::cast_slice(&inputs.taps)),
+            count: inputs.taps.len() as u32,
+            depth_sigma_mm: inputs.separable_depth_sigma_mm,
+        }
+    }
+}
 
 /// The 1D pass's layout and its two pipelines (`fs_separable`, testing the
 /// stencil): one replacing its target, one adding weight × result into it
@@ -152,19 +172,19 @@ pub(in crate::render) fn encode(
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let gpu = io.profile;
+    let gpu = &io.profile.separable;
     blur_xy(
         f,
         p,
         io,
-        (&gpu.separable_taps, gpu.tap_count),
-        gpu.separable_depth_sigma_mm,
+        (&gpu.taps, gpu.count),
+        gpu.depth_sigma_mm,
         Into::Replace,
         ["sss separable x", "sss separable y"],
     );
     Scattered {
         target: HdrTarget::Pong,
-        samples_per_pixel: 2 * gpu.tap_count,
+        samples_per_pixel: 2 * gpu.count,
         counted_pass: None,
     }
 }
