@@ -188,6 +188,16 @@ impl ViewArgs {
         if let Some(v) = self.exposure {
             crate::model::check_range("exposure", v as f64, 1e-4, 1e4, "")?;
         }
+        // Angles: any turn, but finite (a NaN yaw draws an empty frame).
+        crate::model::check_range("camera_yaw", self.camera_yaw as f64, -1e4, 1e4, "°")?;
+        crate::model::check_range("light_azimuth", self.light_azimuth as f64, -1e4, 1e4, "°")?;
+        crate::model::check_range(
+            "light_elevation",
+            self.light_elevation as f64,
+            -90.0,
+            90.0,
+            "°",
+        )?;
         if let Some(v) = self.camera_pitch {
             crate::model::check_range("camera_pitch", v as f64, -89.0, 89.0, "°")?;
         }

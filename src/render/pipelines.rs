@@ -26,21 +26,13 @@ pub(super) fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A buffer entry of any size (storage arrays).
 pub(super) fn buffer_entry(
     binding: u32,
     ty: wgpu::BufferBindingType,
     stages: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: stages,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    sized_buffer_entry(binding, ty, stages, None)
 }
 
 /// A uniform buffer entry whose binding must hold a `T` (its Rust twin):
@@ -49,13 +41,23 @@ pub(super) fn uniform_entry<T>(
     binding: u32,
     stages: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
+    let size = wgpu::BufferSize::new(std::mem::size_of::<T>() as u64);
+    sized_buffer_entry(binding, wgpu::BufferBindingType::Uniform, stages, size)
+}
+
+fn sized_buffer_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+    stages: wgpu::ShaderStages,
+    min_binding_size: Option<wgpu::BufferSize>,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: stages,
         ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
+            ty,
             has_dynamic_offset: false,
-            min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<T>() as u64),
+            min_binding_size,
         },
         count: None,
     }

@@ -7,6 +7,7 @@
 use super::inputs::ProfileInputs;
 use super::readback::f32_to_half;
 use super::sss::{burley, gaussians, preintegrated, separable};
+use super::textures::sampled_texture;
 use wgpu::util::DeviceExt;
 
 pub(super) struct ProfileGpu {
@@ -55,30 +56,13 @@ pub(super) fn table(
     (width, height): (usize, usize),
     data: &[[f32; 4]],
 ) -> wgpu::TextureView {
-    device
-        .create_texture_with_data(
-            queue,
-            &wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: width as u32,
-                    height: height as u32,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(
-                &data
-                    .iter()
-                    .flat_map(|v| v.map(f32_to_half))
-                    .collect::<Vec<u16>>(),
-            ),
-        )
-        .create_view(&Default::default())
+    let halves: Vec<u16> = data.iter().flat_map(|v| v.map(f32_to_half)).collect();
+    sampled_texture(
+        device,
+        queue,
+        label,
+        (width as u32, height as u32, 1),
+        wgpu::TextureFormat::Rgba16Float,
+        bytemuck::cast_slice(&halves),
+    )
 }

@@ -258,23 +258,43 @@ pub(super) fn upload(
     format: wgpu::TextureFormat,
     label: &'static str,
 ) -> wgpu::TextureView {
-    use wgpu::util::DeviceExt;
     let chain = img.mip_chain();
     let data: Vec<u8> = chain
         .iter()
         .flat_map(|m| m.texels.iter().copied())
         .collect();
+    sampled_texture(
+        device,
+        queue,
+        label,
+        (img.width, img.height, chain.len() as u32),
+        format,
+        &data,
+    )
+}
+
+/// A 2D texture for sampling, filled with `data` (every mip level in
+/// turn, as wgpu's `LayerMajor` order reads it): `(width, height, mips)`.
+pub(super) fn sampled_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    (width, height, mip_level_count): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    data: &[u8],
+) -> wgpu::TextureView {
+    use wgpu::util::DeviceExt;
     device
         .create_texture_with_data(
             queue,
             &wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d {
-                    width: img.width,
-                    height: img.height,
+                    width,
+                    height,
                     depth_or_array_layers: 1,
                 },
-                mip_level_count: chain.len() as u32,
+                mip_level_count,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
@@ -282,7 +302,7 @@ pub(super) fn upload(
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            &data,
+            data,
         )
         .create_view(&Default::default())
 }

@@ -725,6 +725,9 @@ fn render_takes_every_field_of_the_look() {
         ("--lobe-mix", "1.5", "rendering.specular.lobe_mix"),
         ("--lobe-mix", "-0.5", "rendering.specular.lobe_mix"),
         ("--specular-roughness", "-1", "rendering.specular.roughness"),
+        ("--camera-yaw", "nan", "camera_yaw"),
+        ("--light-azimuth", "inf", "light_azimuth"),
+        ("--light-elevation", "95", "light_elevation"),
         ("--taps", "16", "rendering.taps"),
         (
             "--transmission-tint",
