@@ -275,6 +275,7 @@ pub(super) fn upload(
 
 /// A 2D texture for sampling, filled with `data` (every mip level in
 /// turn, as wgpu's `LayerMajor` order reads it): `(width, height, mips)`.
+#[cfg(feature = "gpu")]
 pub(super) fn sampled_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
