@@ -38,30 +38,55 @@ pub struct Mesh {
 /// OBJ face indices count back from the elements read so far when
 /// negative; tobj 4.0 turns one that reaches before the first element into
 /// an overflowing multiplication (a panic in debug builds, a wrapped index
-/// in release; found by fuzzing). Refuse those before tobj sees them.
+/// in release; found by fuzzing), and does the same with a positive index
+/// so large that 3 × index overflows (found by fuzzing too). Refuse both
+/// before tobj sees them: a relative index that reaches before the first
+/// element read so far, and an absolute one beyond the file's count.
 fn check_relative_indices(text: &str) -> Result<(), String> {
-    let mut counts = [0i64; 3]; // v, vt, vn
+    const KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let kind = |word: Option<&str>| match word {
+        Some("v") => Some(0),
+        Some("vt") => Some(1),
+        Some("vn") => Some(2),
+        _ => None,
+    };
+    let mut totals = [0i64; 3];
+    for line in text.lines() {
+        if let Some(k) = kind(line.split_whitespace().next()) {
+            totals[k] += 1;
+        }
+    }
+    let mut counts = [0i64; 3]; // v, vt, vn read so far
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => counts[0] += 1,
-            Some("vt") => counts[1] += 1,
-            Some("vn") => counts[2] += 1,
-            Some("f") | Some("l") | Some("p") => {
-                for corner in words {
-                    for (k, part) in corner.split('/').take(3).enumerate() {
-                        let Ok(i) = part.parse::<i64>() else { continue };
-                        if i < 0 && -i > counts[k] {
-                            return Err(format!(
-                                "line {}: index {i} reaches before the first {}",
-                                n + 1,
-                                ["vertex", "texture coordinate", "normal"][k]
-                            ));
-                        }
-                    }
+        let first = words.next();
+        if let Some(k) = kind(first) {
+            counts[k] += 1;
+            continue;
+        }
+        if !matches!(first, Some("f") | Some("l") | Some("p")) {
+            continue;
+        }
+        for corner in words {
+            for (k, part) in corner.split('/').take(3).enumerate() {
+                let Ok(i) = part.parse::<i64>() else { continue };
+                if i < 0 && -i > counts[k] {
+                    return Err(format!(
+                        "line {}: index {i} reaches before the first {}",
+                        n + 1,
+                        KINDS[k]
+                    ));
+                }
+                if i > totals[k] {
+                    return Err(format!(
+                        "line {}: index {i} is beyond the file's {} {}{}",
+                        n + 1,
+                        totals[k],
+                        KINDS[k],
+                        if totals[k] == 1 { "" } else { "s" }
+                    ));
                 }
             }
-            _ => {}
         }
     }
     Ok(())

@@ -12,6 +12,25 @@ fn relative_indices_before_the_start_are_refused() {
     assert!(Mesh::from_obj_text(ok, "ok.obj", 0.01).is_ok());
 }
 
+/// A normal index of 8.9·10¹⁸ (the fuzzer's find: 3 × index overflowed in
+/// tobj) is refused by line, naming the file's one normal; a face that
+/// names a vertex defined after it (OBJ allows it) still loads.
+#[test]
+fn indices_beyond_the_file_are_refused() {
+    let obj =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/8888888888888888882\n";
+    let e = Mesh::from_obj_text(obj, "far.obj", 0.01)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("far.obj") && e.contains("line 6") && e.contains("1 normal"),
+        "{e}"
+    );
+    let forward = "vt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    assert!(Mesh::from_obj_text(forward, "forward.obj", 0.01).is_ok());
+}
+
 /// A vertex at 4.4·10²¹ units (the fuzzer's find: the squared extent
 /// overflowed and the thickness bake never ended) is refused by name.
 #[test]
