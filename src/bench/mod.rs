@@ -9,6 +9,7 @@
 //! the CPU, so the ratios, not the milliseconds, are what carries over.
 
 pub mod chart;
+pub mod floor;
 pub mod metrics;
 pub mod report;
 pub mod scenes;
@@ -207,13 +208,13 @@ pub fn renderer_for(stage: Stage) -> Result<Renderer> {
     Ok(Renderer::new(GpuContext::new_headless()?, &mesh)?)
 }
 
-/// Every configuration on one scene.
+/// Every configuration on one scene, and the ground truth's floor there.
 pub fn bench_scene(
     renderer: &mut Renderer,
     prepared: &Prepared,
     scene: &Scene,
     options: Options,
-) -> Result<Vec<Row>> {
+) -> Result<(Vec<Row>, floor::Floor)> {
     let settings = |c: Config| RenderSettings {
         method: c.method(),
         ..scene.settings.clone()
@@ -243,6 +244,13 @@ pub fn bench_scene(
             timing: "cpu-wall-clock",
         }
     };
+    let floor = floor::measure(
+        renderer,
+        &prepared.inputs(Config::Reference)?,
+        &settings(Config::Reference),
+        &reference.diffuse,
+    )
+    .with_context(|| format!("{}: the ground truth's floor", scene.id))?;
     let mask = metrics::sss_mask(&reference.diffuse);
     let inner = metrics::interior(&mask, scene.settings.width as usize, INTERIOR_MARGIN_PX);
     let row = |c: Config, m: &Measured| {
@@ -278,7 +286,7 @@ pub fn bench_scene(
     for r in &mut rows {
         r.none_frame_ms = none_frame_ms;
     }
-    Ok(rows)
+    Ok((rows, floor))
 }
 
 /// Redraws the charts and the report of an earlier run from its
@@ -286,6 +294,7 @@ pub fn bench_scene(
 pub fn replot(dir: &Path, quick: bool) -> Result<()> {
     let options = Options::new(quick);
     let rows = report::read_csv(&dir.join("results.csv"))?;
+    let floors = report::read_floor_csv(&dir.join("floor.csv"))?;
     let skip_rows = skip::read_csv(&dir.join("skip.csv"))?;
     let first = rows.first().context("results.csv has no rows")?;
     let scenes = scenes::scenes((first.width, first.height));
@@ -295,6 +304,7 @@ pub fn replot(dir: &Path, quick: bool) -> Result<()> {
     let md = report::markdown(&report::Context {
         scenes: &scenes,
         rows: &rows,
+        floors: &floors,
         skip: &skip_rows,
         options: Options {
             size: (first.width, first.height),
@@ -325,6 +335,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
     let mut head: Option<Renderer> = None;
     let mut plane: Option<Renderer> = None;
     let mut rows = Vec::new();
+    let mut floors = Vec::new();
     for (k, scene) in scenes.iter().enumerate() {
         let t = Instant::now();
         let slot = match scene.stage {
@@ -335,7 +346,9 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
             Some(r) => r,
             None => slot.insert(renderer_for(scene.stage)?),
         };
-        rows.extend(bench_scene(renderer, &prepared, scene, options)?);
+        let (scene_rows, floor) = bench_scene(renderer, &prepared, scene, options)?;
+        rows.extend(scene_rows);
+        floors.push((scene.id, floor));
         eprintln!(
             "[{}/{}] {}: {:.1} s",
             k + 1,
@@ -345,6 +358,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
         );
     }
     report::write_csv(&out.join("results.csv"), &rows)?;
+    report::write_floor_csv(&out.join("floor.csv"), &floors)?;
     for scene in &scenes {
         chart::write(&out.join(format!("{}.png", scene.id)), scene, &rows)?;
     }
@@ -358,6 +372,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
     let md = report::markdown(&report::Context {
         scenes: &scenes,
         rows: &rows,
+        floors: &floors,
         skip: &skip_rows,
         options,
         adapter: &adapter,

@@ -1,5 +1,6 @@
 //! `results.csv` and the generated `accuracy.md`.
 
+use super::floor::Floor;
 use super::scenes::{Config, Scene};
 use super::skip::SkipRow;
 use super::{Options, Row};
@@ -41,6 +42,51 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     }
     crate::fsutil::write_atomic(path, s.as_bytes())
         .with_context(|| format!("writing {}", path.display()))
+}
+
+pub const FLOOR_HEADER: &str = "scene,d_to_zero_rel_rmse,supersampled_rel_rmse,mixed_fraction";
+
+/// `floor.csv`: the ground truth's floor per scene (`bench::floor`).
+pub fn write_floor_csv(path: &Path, floors: &[(&'static str, Floor)]) -> Result<()> {
+    let mut s = String::from(FLOOR_HEADER);
+    s.push('\n');
+    for (scene, f) in floors {
+        let _ = writeln!(
+            s,
+            "{scene},{:.6},{:.6},{:.6}",
+            f.d_to_zero, f.supersampled, f.mixed_fraction
+        );
+    }
+    crate::fsutil::write_atomic(path, s.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Reads a `floor.csv` back (for `--replot`).
+pub fn read_floor_csv(path: &Path) -> Result<Vec<(&'static str, Floor)>> {
+    let scenes = super::scenes::scenes((1, 1));
+    csv_body(path, FLOOR_HEADER)?
+        .iter()
+        .enumerate()
+        .map(|(i, line)| {
+            let f: Vec<&str> = line.split(',').collect();
+            let at = || format!("{} line {}", path.display(), i + 2);
+            anyhow::ensure!(f.len() == 4, "{}: {} fields, expected 4", at(), f.len());
+            let scene = scenes
+                .iter()
+                .find(|s| s.id == f[0])
+                .map(|s| s.id)
+                .with_context(|| format!("{}: unknown scene {}", at(), f[0]))?;
+            let num = |k: usize| finite_field(&f, k, &at);
+            Ok((
+                scene,
+                Floor {
+                    d_to_zero: num(1)?,
+                    supersampled: num(2)?,
+                    mixed_fraction: num(3)?,
+                },
+            ))
+        })
+        .collect()
 }
 
 /// The data lines of a CSV `bench` wrote, after checking its header.
@@ -173,6 +219,7 @@ pub fn find<'a>(rows: &'a [Row], scene: &str, config: Config) -> Option<&'a Row>
 pub struct Context<'a> {
     pub scenes: &'a [Scene],
     pub rows: &'a [Row],
+    pub floors: &'a [(&'static str, Floor)],
     pub skip: &'a [SkipRow],
     pub options: Options,
     pub adapter: &'a str,
@@ -297,8 +344,25 @@ fn picks(s: &mut String, c: &Context) {
     let _ = writeln!(s);
 }
 
-/// The generated report: tables per scene, the sampling target, the
-/// budget picks and the skip study.
+fn floor_table(s: &mut String, c: &Context) {
+    let _ = writeln!(
+        s,
+        "## The ground truth's floor\n\nHow far the yardstick is from answers it must give exactly (`bench::floor`): with a profile that scatters nothing (d = 5 µm) it must give back the `none` frame, and gathered at 2 × 2 points of each pixel's footprint it must give back its own one-point answer (over the pixels whose footprint is one surface; the others, at silhouettes and creases, are the \"mixed\" column). A difference between two methods smaller than the scene's floor is the yardstick's noise.\n\n| Scene | d → 0 against `none` | 2 × 2 against 1 | mixed pixels |\n| --- | --- | --- | --- |"
+    );
+    for (scene, f) in c.floors {
+        let _ = writeln!(
+            s,
+            "| {scene} | {:.4} | {:.4} | {:.1} % |",
+            f.d_to_zero,
+            f.supersampled,
+            100.0 * f.mixed_fraction
+        );
+    }
+    let _ = writeln!(s);
+}
+
+/// The generated report: the floor, tables per scene, the sampling
+/// target, the budget picks and the skip study.
 pub fn markdown(c: &Context) -> String {
     let mut s = String::new();
     let timing = c
@@ -318,9 +382,17 @@ pub fn markdown(c: &Context) -> String {
         c.options.repeats,
         timing
     );
+    floor_table(&mut s, c);
     for scene in c.scenes {
         let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();
         let _ = writeln!(s, "## {}\n\n{}.\n", scene.id, scene.description);
+        if let Some((_, f)) = c.floors.iter().find(|(id, _)| *id == scene.id) {
+            let _ = writeln!(
+                s,
+                "The ground truth's floor here: {:.4} (d → 0), {:.4} (2 × 2 supersampled); relative RMSE differences smaller than the larger are noise.\n",
+                f.d_to_zero, f.supersampled
+            );
+        }
         scene_table(&mut s, scene, &rows);
     }
     sampling_target(&mut s, c);

@@ -1,22 +1,68 @@
-//! Pre-integrated skin lookup tables (Penner & Borshukov 2011), with the
-//! improved ring integral of Penner 2011 and FaceWorks' encodings.
+//! Pre-integrated skin lookup tables (Penner & Borshukov 2011) with
+//! FaceWorks' encodings: D(θ, c), the profile integrated over a sphere of
+//! radius c lit from angle θ, normalised by the energy that fits on it.
 //!
-//! D(θ, c) = ∫₀^{2c} 2π R_N(r) r·cos⁺θᵢ dr / ∫₀^{2c} 2π R_N(r) r dr, with the
-//! ring parameterisation r = 2c|sin(x/2)|, dr/dx = c·cos(x/2) and
-//! θᵢ = θ ± x. The denominator is exactly CDF(2c).
+//! A point y at angular distance γ from x, at azimuth φ about it, is at
+//! chord r = 2c·sin(γ/2) from x (dA = c²·sin γ dγ dφ = r dr dφ) and sees
+//! the light at cos θ_y = cos θ cos γ + sin θ sin γ cos φ (the spherical
+//! law of cosines). So
 //!
-//! The table bake integrates g(x) = 2πR_N(r)r·dr/dx against cos x and sin x
-//! once per row (curvature) with Gauss–Legendre panels that end exactly on
-//! every kink of cos⁺(θ ± x) of every column; each entry is then a
-//! combination of four cumulative integrals. Rows run in parallel (rayon).
+//! D(θ, c) = ∫₀^π 2π R_N(r) r (dr/dγ) · C(θ, γ) dγ / CDF(2c),
+//!
+//! with C the mean of cos⁺θ_y over the ring ([`ring_mean_cos`]) and
+//! dr/dγ = c·cos(γ/2); the denominator is exactly CDF(2c). The survey our
+//! seeds come from writes C as the two-point mean ½[cos⁺(θ + γ) +
+//! cos⁺(θ − γ)] (its "improved ring integral", with Octave numbers that
+//! reproduce exactly), which is the ring's value at φ = 0 and π only: at
+//! the terminator it is too bright (the default skin at 90° on a 3 mm
+//! sphere: red D 0.210 against the sphere's 0.134; mpmath, and the test
+//! `d_is_the_spheres_average_by_nested_quadrature`). Penner 2011's own
+//! integral is over the sphere, which this is.
+//!
+//! The table bake evaluates the profile once per row (curvature) at the
+//! nodes of Gauss–Legendre panels shared by every column, and splits the
+//! panel that holds a column's kink of C (where the ring starts or stops
+//! crossing the terminator) in two there. Rows run in parallel (rayon).
 
 use super::quad;
 use super::{check_range, rgb_map, ModelError, RadialProfile, Rgb};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 
+/// The mean of cos⁺θ_y over the ring of points at angular distance γ from
+/// a point at angle θ from the light, on a sphere: with a = cos θ cos γ and
+/// b = sin θ sin γ ≥ 0, cos θ_y = a + b cos φ, and (1/π)∫₀^π max(0, a +
+/// b cos φ) dφ is a where the whole ring is lit (a ≥ b), 0 where none of
+/// it is (a ≤ −b), and (a·acos(−a/b) + √(b² − a²))/π between: the ring
+/// is lit for cos φ > −a/b. (Closed form checked against quadrature over
+/// φ in `ring_mean_matches_quadrature_over_the_ring`.)
+pub fn ring_mean_cos(theta: f64, gamma: f64) -> f64 {
+    let a = theta.cos() * gamma.cos();
+    let b = (theta.sin() * gamma.sin()).abs();
+    if a >= b {
+        a
+    } else if a <= -b {
+        0.0
+    } else {
+        (a * (-a / b).clamp(-1.0, 1.0).acos() + (b * b - a * a).max(0.0).sqrt()) / PI
+    }
+}
+
+/// Where the ring mean C(θ, ·) has a kink in γ ∈ (0, π): where a = ±b,
+/// i.e. cos(θ ± γ) = 0.
+fn ring_kinks(theta: f64) -> impl Iterator<Item = f64> {
+    [
+        FRAC_PI_2 - theta,
+        theta - FRAC_PI_2,
+        FRAC_PI_2 + theta,
+        1.5 * PI - theta,
+    ]
+    .into_iter()
+    .filter(|x| *x > 0.0 && *x < PI)
+}
+
 /// (numerator, denominator) of D(θ, c) for one channel by adaptive
-/// quadrature of the ring integral (reference grade, used by the CLI).
+/// quadrature of the sphere integral (reference grade, used by the CLI).
 pub fn ring_integral(
     profile: &dyn RadialProfile,
     channel: usize,
@@ -33,16 +79,8 @@ pub fn ring_integral(
         let r = 2.0 * c * (0.5 * x).sin();
         2.0 * PI * profile.r_reflectance(r)[channel] / total * c * (0.5 * x).cos()
     };
-    let w = |x: f64| 0.5 * ((theta + x).cos().max(0.0) + (theta - x).cos().max(0.0));
-    let mut breaks: Vec<f64> = [
-        FRAC_PI_2 - theta,
-        1.5 * PI - theta,
-        theta - FRAC_PI_2,
-        theta + FRAC_PI_2,
-    ]
-    .into_iter()
-    .filter(|x| *x > 0.0 && *x < PI)
-    .collect();
+    let w = |x: f64| ring_mean_cos(theta, x);
+    let mut breaks: Vec<f64> = ring_kinks(theta).collect();
     // Resolve a profile much narrower than the ring near x = 0.
     let narrow = 2.0 * (profile.length_scale_mm() / (2.0 * c)).min(1.0).asin();
     breaks.extend(
@@ -197,95 +235,82 @@ fn bake_row(profile: &dyn RadialProfile, thetas: &[f64], c: f64) -> Vec<Rgb> {
     let total = profile.total_reflectance();
     let dirac = profile.dirac_weight();
     let den = profile.cdf(2.0 * c);
-    // Break points: every kink of every column, plus nodes that resolve a
-    // narrow profile near x = 0 (geometric) and the rest of the ring.
-    let mut pts: Vec<f64> = thetas
-        .iter()
-        .flat_map(|&t| [FRAC_PI_2 - t, 1.5 * PI - t, t - FRAC_PI_2, t + FRAC_PI_2])
-        .filter(|x| *x > 0.0 && *x < PI)
-        .collect();
+    // g(γ) = 2π R_N(r) r dr/dγ per channel.
+    let g = |x: f64| -> Rgb {
+        let r = 2.0 * c * (0.5 * x).sin();
+        let rr = profile.r_reflectance(r);
+        let jac = c * (0.5 * x).cos();
+        rgb_map(|ch| {
+            if total[ch] > 0.0 {
+                2.0 * PI * rr[ch] / total[ch] * jac
+            } else {
+                0.0
+            }
+        })
+    };
+    // Panel edges shared by every column: geometric towards γ = 0 (a
+    // profile much narrower than the sphere) and uniform over the ring.
     let narrow = 2.0
         * (profile.length_scale_mm().max(profile.r_floor_mm()) / (2.0 * c))
             .min(1.0)
             .asin();
-    pts.extend(
-        (0..48)
-            .map(|k| narrow * 1e-4 * 1.25f64.powi(k))
-            .filter(|x| *x < PI),
-    );
-    pts.extend((0..=64).map(|k| PI * k as f64 / 64.0));
-    pts.sort_by(f64::total_cmp);
-    pts.dedup();
-    // Cumulative ∫g·cos and ∫g·sin at every point, per channel.
+    let mut edges: Vec<f64> = (0..48)
+        .map(|k| narrow * 1e-4 * 1.25f64.powi(k))
+        .filter(|x| *x < PI)
+        .chain((0..=64).map(|k| PI * k as f64 / 64.0))
+        .collect();
+    edges.sort_by(f64::total_cmp);
+    edges.dedup();
     let (gx, gw) = quad::gl8();
-    let mut cum_cos = vec![[0.0; 3]; pts.len()];
-    let mut cum_sin = vec![[0.0; 3]; pts.len()];
-    for i in 1..pts.len() {
-        let (a, b) = (pts[i - 1], pts[i]);
+    // Each panel's nodes (γ, weight) and g there.
+    type Nodes = Vec<(f64, f64, Rgb)>;
+    let panel_nodes = |a: f64, b: f64| -> Nodes {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
-        let mut acc_c = [0.0; 3];
-        let mut acc_s = [0.0; 3];
-        for (x0, w0) in gx.iter().zip(gw) {
-            let x = mid + half * x0;
-            let r = 2.0 * c * (0.5 * x).sin();
-            let rr = profile.r_reflectance(r);
-            let jac = c * (0.5 * x).cos();
-            let (cx, sx) = (x.cos(), x.sin());
-            for ch in 0..3 {
-                let g = if total[ch] > 0.0 {
-                    2.0 * PI * rr[ch] / total[ch] * jac
-                } else {
-                    0.0
-                };
-                acc_c[ch] += w0 * g * cx;
-                acc_s[ch] += w0 * g * sx;
-            }
-        }
-        for ch in 0..3 {
-            cum_cos[i][ch] = cum_cos[i - 1][ch] + half * acc_c[ch];
-            cum_sin[i][ch] = cum_sin[i - 1][ch] + half * acc_s[ch];
-        }
-    }
-    let at = |x: f64| -> usize {
-        let x = x.clamp(0.0, PI);
-        pts.partition_point(|p| *p < x).min(pts.len() - 1)
+        gx.iter()
+            .zip(gw)
+            .map(|(x0, w0)| {
+                let x = mid + half * x0;
+                (x, w0 * half, g(x))
+            })
+            .collect()
     };
+    let panels: Vec<(f64, f64, Nodes)> = edges
+        .windows(2)
+        .map(|e| (e[0], e[1], panel_nodes(e[0], e[1])))
+        .collect();
     thetas
         .iter()
         .map(|&t| {
-            let (ct, st) = (t.cos(), t.sin());
-            // cos⁺(θ + x): x ∈ [0, π/2 − θ) ∪ (3π/2 − θ, π]
-            let p1 = [
-                (0.0, (FRAC_PI_2 - t).max(0.0)),
-                ((1.5 * PI - t).min(PI), PI),
-            ];
-            // cos⁺(θ − x): x ∈ [max(0, θ − π/2), min(π, θ + π/2)]
-            let p2 = [((t - FRAC_PI_2).max(0.0), (t + FRAC_PI_2).min(PI))];
+            let kinks: Vec<f64> = ring_kinks(t).collect();
+            let mut num = [0.0; 3];
+            let mut add = |nodes: &[(f64, f64, Rgb)]| {
+                for (x, w, gv) in nodes {
+                    let cm = ring_mean_cos(t, *x);
+                    for ch in 0..3 {
+                        num[ch] += w * gv[ch] * cm;
+                    }
+                }
+            };
+            for (a, b, nodes) in &panels {
+                // A kink inside the panel: integrate each side separately.
+                let inner: Vec<f64> = kinks.iter().copied().filter(|k| k > a && k < b).collect();
+                if inner.is_empty() {
+                    add(nodes);
+                    continue;
+                }
+                let mut cuts = vec![*a];
+                cuts.extend(inner);
+                cuts.push(*b);
+                for w in cuts.windows(2) {
+                    add(&panel_nodes(w[0], w[1]));
+                }
+            }
             rgb_map(|ch| {
                 if total[ch] <= 0.0 || den[ch] <= 0.0 {
-                    return ct.max(0.0);
+                    return t.cos().max(0.0);
                 }
-                let seg = |a: f64, b: f64| {
-                    if b <= a {
-                        return (0.0, 0.0);
-                    }
-                    let (ia, ib) = (at(a), at(b));
-                    (
-                        cum_cos[ib][ch] - cum_cos[ia][ch],
-                        cum_sin[ib][ch] - cum_sin[ia][ch],
-                    )
-                };
-                let mut num = 0.0;
-                for (a, b) in p1 {
-                    let (ic, is) = seg(a, b);
-                    num += 0.5 * (ct * ic - st * is);
-                }
-                for (a, b) in p2 {
-                    let (ic, is) = seg(a, b);
-                    num += 0.5 * (ct * ic + st * is);
-                }
-                num += dirac[ch] / total[ch] * ct.max(0.0);
-                (num / den[ch]).max(0.0)
+                let n = num[ch] + dirac[ch] / total[ch] * t.cos().max(0.0);
+                (n / den[ch]).max(0.0)
             })
         })
         .collect()
@@ -403,18 +428,144 @@ mod tests {
     use crate::model::burley::Burley;
     use crate::model::gaussian::GaussianSum;
 
-    /// Seed 000's Octave check: S = 1/0.7568628, c = 3 mm, θ = π/4 prints
-    /// numerator 0.563473 and denominator 0.946522 (six decimals). mpmath
-    /// at 30 digits, split at the kinks x = π/4 and 3π/4, gives
-    /// 0.563473121128181846 and 0.946521806008770057.
+    /// The survey's two-point ring mean ½[cos⁺(θ + γ) + cos⁺(θ − γ)]
+    /// reproduces its Octave check (S = 1/0.7568628, c = 3 mm, θ = π/4:
+    /// numerator 0.563473, denominator 0.946522; mpmath at 30 digits, split
+    /// at the kinks, 0.563473121128181846 and 0.946521806008770057), so
+    /// our reading of its integral is right; the sphere's exact ring mean
+    /// gives less there (0.5763 against the two-point 0.5953 in D, mpmath),
+    /// and at the terminator the two part (0.1335 against 0.2097 at 90°).
     #[test]
-    fn reproduces_seed_reference_values() {
+    fn the_seeds_two_point_mean_reproduces_its_numbers_and_is_not_the_sphere() {
         let b = Burley::from_scattering_distance([1.0; 3], [0.756_862_8; 3]).unwrap();
-        let (num, den) = ring_integral(&b, 0, PI / 4.0, 3.0);
-        assert!((num - 0.563_473).abs() < 5e-7, "{num}");
-        assert!((den - 0.946_522).abs() < 5e-7, "{den}");
-        assert!((num - 0.563_473_121_128_181_8).abs() < 1e-12, "{num}");
+        let c = 3.0;
+        let g = |x: f64| {
+            let r = 2.0 * c * (0.5 * x).sin();
+            2.0 * PI * b.r_reflectance(r)[0] * c * (0.5 * x).cos()
+        };
+        let two_point =
+            |t: f64| move |x: f64| 0.5 * ((t + x).cos().max(0.0) + (t - x).cos().max(0.0));
+        let seed_num = |t: f64| {
+            let w = two_point(t);
+            let mut breaks: Vec<f64> = vec![0.0, 1e-4, 1e-2, 0.3, PI];
+            breaks.extend(ring_kinks(t));
+            breaks.sort_by(f64::total_cmp);
+            quad::integrate_with_breaks(&|x| g(x) * w(x), &breaks, 1e-15, 1e-13)
+        };
+        let num = seed_num(PI / 4.0);
+        let den = b.cdf(2.0 * c)[0];
+        assert!((num - 0.563_473_121_128_181_8).abs() < 1e-10, "{num}");
         assert!((den - 0.946_521_806_008_770_1).abs() < 1e-12, "{den}");
+        // The sphere's exact ring mean (mpmath at 20 digits, typed here).
+        let exact = preintegrated_d(&b, PI / 4.0, c)[0];
+        assert!((exact - 0.576_285).abs() < 1e-5, "{exact}");
+        let at_90 = preintegrated_d(&b, FRAC_PI_2, c)[0];
+        assert!((at_90 - 0.133_477).abs() < 1e-5, "{at_90}");
+        assert!((seed_num(FRAC_PI_2) / den - 0.209_665).abs() < 1e-5);
+    }
+
+    /// The ring mean's closed form against adaptive quadrature over φ of
+    /// max(0, cos θ cos γ + sin θ sin γ cos φ)/π, over a grid of θ and γ.
+    #[test]
+    fn ring_mean_matches_quadrature_over_the_ring() {
+        for i in 0..=12 {
+            for j in 0..=12 {
+                let (t, g) = (PI * i as f64 / 12.0, PI * j as f64 / 12.0 + 1e-3);
+                let f = |p: f64| (t.cos() * g.cos() + t.sin() * g.sin() * p.cos()).max(0.0) / PI;
+                // The kink in φ where the ring crosses the terminator.
+                let (a, b) = (t.cos() * g.cos(), t.sin() * g.sin());
+                let mut breaks = vec![0.0, PI];
+                if b > a.abs() {
+                    breaks.push((-a / b).acos());
+                }
+                breaks.sort_by(f64::total_cmp);
+                let want = quad::integrate_with_breaks(&f, &breaks, 1e-14, 1e-12);
+                let got = ring_mean_cos(t, g);
+                assert!((got - want).abs() < 1e-10, "θ {t} γ {g}: {got} vs {want}");
+            }
+        }
+    }
+
+    /// Penner's D is the profile integrated over the sphere (issue 22's
+    /// check, within 0.01 at 45°, 90° and 110° on 3 mm and 10 mm
+    /// spheres): against a 2D quadrature over the lit half of the sphere
+    /// in the light's own coordinates (y at polar angle α from the light
+    /// axis and azimuth β, its chord to x from the dot product) — a second
+    /// derivation that shares no ring formula — for the default skin.
+    /// Composite Gauss–Legendre in α and β, the panels graded
+    /// geometrically towards x (α = θ, β = 0), where the density has its
+    /// integrable 1/r core.
+    #[test]
+    fn d_is_the_spheres_average_by_nested_quadrature() {
+        let skin = Burley::from_scattering_distance(
+            [0.91058, 0.338275, 0.2718],
+            [0.7568628, 0.32156864, 0.2],
+        )
+        .unwrap();
+        let total = skin.total_reflectance();
+        let graded = |a: f64, b: f64, at: f64| -> Vec<f64> {
+            let mut e: Vec<f64> = (0..=32).map(|k| a + (b - a) * k as f64 / 32.0).collect();
+            for k in 0..40 {
+                let h = (b - a) * 0.7f64.powi(k);
+                e.extend([at - h, at + h]);
+            }
+            e.push(at);
+            e.retain(|x| *x >= a && *x <= b);
+            e.sort_by(f64::total_cmp);
+            e.dedup_by(|x, y| (*x - *y).abs() < 1e-14);
+            e
+        };
+        let (gx, gw) = quad::gl8();
+        let rule = |edges: &[f64]| -> Vec<(f64, f64)> {
+            edges
+                .windows(2)
+                .flat_map(|p| {
+                    let (m, h) = (0.5 * (p[0] + p[1]), 0.5 * (p[1] - p[0]));
+                    gx.iter().zip(gw).map(move |(x, w)| (m + h * x, h * w))
+                })
+                .collect()
+        };
+        for c in [3.0f64, 10.0] {
+            for deg in [45.0f64, 90.0, 110.0] {
+                let t = deg.to_radians();
+                let x = [t.sin(), 0.0, t.cos()];
+                let got = preintegrated_d(&skin, t, c);
+                let alphas = rule(&graded(0.0, FRAC_PI_2, t.min(FRAC_PI_2)));
+                // y is symmetric in β ↦ −β: twice [0, π].
+                let betas = rule(&graded(0.0, PI, 0.0));
+                let mut sum = [0.0f64; 3];
+                for &(alpha, wa) in &alphas {
+                    for &(beta, wb) in &betas {
+                        let y = [
+                            alpha.sin() * beta.cos(),
+                            alpha.sin() * beta.sin(),
+                            alpha.cos(),
+                        ];
+                        let dot = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+                        let chord = c * (2.0 - 2.0 * dot).max(0.0).sqrt();
+                        let r = skin.reflectance(chord.max(1e-12));
+                        let da = 2.0 * c * c * alpha.sin() * wa * wb;
+                        for ch in 0..3 {
+                            sum[ch] += r[ch] / total[ch] * alpha.cos() * da;
+                        }
+                    }
+                }
+                for ch in 0..3 {
+                    let want = sum[ch] / skin.cdf(2.0 * c)[ch];
+                    eprintln!(
+                        "c {c} θ {deg}° channel {ch}: D {:.5} vs sphere {want:.5}",
+                        got[ch]
+                    );
+                    // Measured: equal to 5 decimals everywhere (the
+                    // issue asks for 0.01).
+                    assert!(
+                        (got[ch] - want).abs() < 1e-4,
+                        "c {c} θ {deg}° {ch}: {} vs {want}",
+                        got[ch]
+                    );
+                }
+            }
+        }
     }
 
     /// The fast bake agrees with the adaptive ring integral everywhere.

@@ -6,17 +6,22 @@
 //! map read back from the GPU (`shadow_factor`: 3×3 bilinear comparison
 //! taps, LessEqual, clamp to edge), the SH environment
 //! (`environment_irradiance`), the tangent-space normal map, the irradiance
-//! test patterns, and albedo^pre of the texturing mode. Textures are read
-//! at their full resolution (the GPU picks a mip level from the screen
-//! footprint; a point unseen by the camera has none). Transmission is not
+//! test patterns, and albedo^pre of the texturing mode. The maps are read
+//! as the GPU reads them: trilinear over the same mip chain, at the level
+//! of detail of the region the value stands for ([`Footprint`]: a pixel's
+//! two steps on the surface, Vulkan's ρ_max, where a pixel sees it; the
+//! width of a cell of the cloud elsewhere). Reading level 0 where the GPU
+//! filtered left a speckle of normal-map detail on every pixel, as large as
+//! the errors the ground truth ranks (issue 22). Transmission is not
 //! added: light through thin parts reaches the ground truth as irradiance
-//! on the far side's cells. Eyes and teeth (material ≠ 0) and texels
-//! outside the SSS mask (mask ≤ 1/255) are not SSS surface and give 0.
-//! Checked against the GPU's own diffuse target on the visible pixels:
-//! `scene_twin_matches_the_scene_pass` in tests/render_physics.rs.
+//! on the far side's cells. Eyes and teeth (material ≠ 0) are not SSS
+//! surface and give 0; skin outside the SSS mask (brows) is skin that
+//! scatters under its hair, and gives its light. Checked against the GPU's
+//! own diffuse target on the visible pixels: `scene_twin_matches_the_scene_pass`
+//! and the d → 0 limit in tests/render_physics.rs.
 
 use super::gpu_types::{SceneUniforms, MAP_ABSOLUTE, PATTERN_CHECKERBOARD, PATTERN_STEP};
-use super::ground_truth::SurfaceIrradiance;
+use super::ground_truth::{Footprint, SurfaceIrradiance};
 use super::mesh::Mesh;
 use super::textures::TextureImage;
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -51,22 +56,207 @@ impl ShadowMap {
     }
 }
 
+/// A surface map and its mip chain, sampled as the scene pass's sampler
+/// does: trilinear, repeating (`surface_sampler` in `passes/scene.rs`:
+/// linear min/mag/mip filters, no anisotropy), over the same 2×2 box
+/// chain the GPU is given (`TextureImage::mip_chain`).
+#[derive(Debug, Clone)]
+pub struct MipMap {
+    levels: Vec<TextureImage>,
+}
+
+impl MipMap {
+    pub fn new(t: &TextureImage) -> Self {
+        Self {
+            levels: t.mip_chain(),
+        }
+    }
+
+    pub fn width(&self) -> u32 {
+        self.levels[0].width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.levels[0].height
+    }
+
+    /// Trilinear at level of detail `lod` (Vulkan §16.6: level ⌊λ⌋ and
+    /// ⌊λ⌋ + 1 blended by the fraction, λ clamped to the chain).
+    pub fn sample(&self, uv: Vec2, lod: f32, srgb: bool) -> Vec4 {
+        let last = (self.levels.len() - 1) as f32;
+        let lod = if lod.is_finite() {
+            lod.clamp(0.0, last)
+        } else {
+            0.0
+        };
+        let base = lod.floor();
+        let f = lod - base;
+        let a = sample(&self.levels[base as usize], uv, srgb);
+        if f <= 0.0 {
+            return a;
+        }
+        let b = sample(
+            &self.levels[(base as usize + 1).min(last as usize)],
+            uv,
+            srgb,
+        );
+        a * (1.0 - f) + b * f
+    }
+}
+
+/// The maps the twin reads, with their mip chains (built once per mesh
+/// and kept with the ground truth's cloud).
+#[derive(Debug, Clone)]
+pub struct SurfaceMips {
+    pub albedo: MipMap,
+    pub normal: MipMap,
+}
+
+impl SurfaceMips {
+    pub fn new(mesh: &Mesh) -> Self {
+        Self {
+            albedo: MipMap::new(&mesh.textures.albedo),
+            normal: MipMap::new(&mesh.textures.normal),
+        }
+    }
+}
+
+/// How a triangle's texture coordinates change across its plane:
+/// J = ∂(u, v)/∂(surface mm) in the orthonormal basis (t1, t2) of the
+/// plane, as its columns j1, j2 (UV per mm along t1 and t2).
+struct UvJacobian {
+    t1: Vec3,
+    t2: Vec3,
+    j1: Vec2,
+    j2: Vec2,
+}
+
+impl UvJacobian {
+    /// From the corners `p` (mm) and texture coordinates `uv`; `None` for
+    /// a degenerate triangle.
+    fn new(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<Self> {
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let l1 = e1.length();
+        let t1 = e1 / l1.max(1e-30);
+        let t2 = (e2 - t1 * e2.dot(t1)).normalize_or_zero();
+        // The edges in the plane's basis: e1 = (a, 0), e2 = (b, c).
+        let (a, b, c) = (l1, e2.dot(t1), e2.dot(t2));
+        if a <= 0.0 || c.abs() <= 0.0 {
+            return None;
+        }
+        // J = [Δuv₁ Δuv₂] · [[a, b], [0, c]]⁻¹.
+        let j1 = (uv[1] - uv[0]) / a;
+        let j2 = ((uv[2] - uv[0]) - j1 * b) / c;
+        Some(Self { t1, t2, j1, j2 })
+    }
+
+    /// The level of detail at which the GPU reads a map `size` texels
+    /// across over `footprint`: λ = log₂ ρ with ρ the larger of the texel
+    /// lengths of the pixel's two steps (Vulkan §16.6.2's ρ_max), and at
+    /// least the texels the footprint's width spans along the map's most
+    /// stretched direction (the larger singular value of J in texels).
+    fn level_of_detail(&self, (w, h): (u32, u32), footprint: &Footprint) -> f32 {
+        let scale = Vec2::new(w as f32, h as f32);
+        let (j1, j2) = (self.j1 * scale, self.j2 * scale);
+        let texels = |d: Vec3| (j1 * d.dot(self.t1) + j2 * d.dot(self.t2)).length();
+        let frob = j1.length_squared() + j2.length_squared();
+        let det = j1.x * j2.y - j1.y * j2.x;
+        let stretch = (0.5 * (frob + (frob * frob - 4.0 * det * det).max(0.0).sqrt())).sqrt();
+        let rho = texels(footprint.pixel_dx_mm)
+            .max(texels(footprint.pixel_dy_mm))
+            .max(stretch * footprint.width_mm);
+        rho.log2()
+    }
+}
+
+/// sRGB-encoded byte → linear (IEC 61966-2-1), tabulated once.
+fn srgb_to_linear(byte: u8) -> f32 {
+    static TABLE: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        std::array::from_fn(|i| {
+            let v = i as f32 / 255.0;
+            if v <= 0.04045 {
+                v / 12.92
+            } else {
+                ((v + 0.055) / 1.055).powf(2.4)
+            }
+        })
+    })[byte as usize]
+}
+
 /// The scene's lighting and surface, for [`SurfaceIrradiance`].
 pub struct SceneIrradiance<'a> {
     mesh: &'a Mesh,
     u: SceneUniforms,
     light_clip: Mat4,
     shadow: &'a ShadowMap,
+    mips: &'a SurfaceMips,
 }
 
 impl<'a> SceneIrradiance<'a> {
-    pub fn new(mesh: &'a Mesh, u: SceneUniforms, shadow: &'a ShadowMap) -> Self {
+    pub fn new(
+        mesh: &'a Mesh,
+        u: SceneUniforms,
+        shadow: &'a ShadowMap,
+        mips: &'a SurfaceMips,
+    ) -> Self {
         Self {
             mesh,
             light_clip: Mat4::from_cols_array_2d(&u.light_clip_from_world),
             u,
             shadow,
+            mips,
         }
+    }
+
+    /// A hash of every scene uniform the twin reads (and so of the
+    /// irradiance it gives): the ground truth keeps its cells while this
+    /// stays the same (the camera, the profile's tables and the methods'
+    /// fields can change).
+    pub fn key(u: &SceneUniforms) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let SceneUniforms {
+            light_clip_from_world,
+            light_direction,
+            light_radiance,
+            surface_albedo,
+            environment_sh,
+            pre_scatter_exponent,
+            pattern,
+            pattern_period,
+            shadow_texel,
+            shadow_depth_bias,
+            shadow_normal_offset,
+            light_reference_distance,
+            mm_per_unit,
+            albedo_map_mode,
+            detail_normal_strength,
+            ..
+        } = u;
+        for m in light_clip_from_world {
+            m.map(f32::to_bits).hash(&mut h);
+        }
+        for v in [light_direction, light_radiance, surface_albedo] {
+            v.map(f32::to_bits).hash(&mut h);
+        }
+        for v in environment_sh {
+            v.map(f32::to_bits).hash(&mut h);
+        }
+        [
+            *pre_scatter_exponent,
+            *pattern_period,
+            *shadow_texel,
+            *shadow_depth_bias,
+            *shadow_normal_offset,
+            *light_reference_distance,
+            *mm_per_unit,
+            *detail_normal_strength,
+        ]
+        .map(f32::to_bits)
+        .hash(&mut h);
+        (*pattern, *albedo_map_mode).hash(&mut h);
+        h.finish()
     }
 
     fn v4(a: [f32; 4]) -> Vec4 {
@@ -138,15 +328,11 @@ pub fn sample(t: &TextureImage, uv: Vec2, srgb: bool) -> Vec4 {
         let (i, j) = (i.rem_euclid(w) as usize, j.rem_euclid(h) as usize);
         let k = (j * w as usize + i) * ch;
         let get = |c: usize| -> f32 {
-            let v = t.texels.get(k + c.min(ch - 1)).copied().unwrap_or(0) as f32 / 255.0;
+            let byte = t.texels.get(k + c.min(ch - 1)).copied().unwrap_or(0);
             if srgb && c < 3 {
-                if v <= 0.04045 {
-                    v / 12.92
-                } else {
-                    ((v + 0.055) / 1.055).powf(2.4)
-                }
+                srgb_to_linear(byte)
             } else {
-                v
+                byte as f32 / 255.0
             }
         };
         if ch == 1 {
@@ -161,7 +347,7 @@ pub fn sample(t: &TextureImage, uv: Vec2, srgb: bool) -> Vec4 {
 }
 
 impl SurfaceIrradiance for SceneIrradiance<'_> {
-    fn at(&self, triangle: usize, b: Vec3) -> [f32; 3] {
+    fn at(&self, triangle: usize, b: Vec3, footprint: Footprint) -> [f32; 3] {
         let m = self.mesh;
         let idx = &m.indices[3 * triangle..3 * triangle + 3];
         let v = [0, 1, 2].map(|k| &m.vertices[idx[k] as usize]);
@@ -174,11 +360,15 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
         let world = mix3(&|k| Vec3::from(v[k].position));
         let uv =
             Vec2::from(v[0].uv) * w[0] + Vec2::from(v[1].uv) * w[1] + Vec2::from(v[2].uv) * w[2];
-        let maps = &m.textures;
-        let mask = sample(&maps.mask, uv, false).x.clamp(0.0, 1.0);
-        if mask <= 1.0 / 255.0 {
-            return [0.0; 3];
-        }
+        // The level of detail of each map over the footprint.
+        let corners = [0, 1, 2].map(|k| Vec3::from(v[k].position) * self.u.mm_per_unit);
+        let uvs = [0, 1, 2].map(|k| Vec2::from(v[k].uv));
+        let jacobian = UvJacobian::new(corners, uvs);
+        let lod = |map: &MipMap| {
+            jacobian.as_ref().map_or(0.0, |j| {
+                j.level_of_detail((map.width(), map.height()), &footprint)
+            })
+        };
         let u = &self.u;
         let ng = mix3(&|k| Vec3::from(v[k].normal)).normalize_or_zero();
         let tangent = Vec4::from(v[0].tangent) * w[0]
@@ -187,7 +377,13 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
         let mut n = ng;
         let t_raw = tangent.truncate() - ng * ng.dot(tangent.truncate());
         if t_raw.length_squared() > 1e-12 && u.detail_normal_strength > 0.0 {
-            let nt = sample(&maps.normal, uv, false).truncate() * 2.0 - Vec3::ONE;
+            let nt = self
+                .mips
+                .normal
+                .sample(uv, lod(&self.mips.normal), false)
+                .truncate()
+                * 2.0
+                - Vec3::ONE;
             let t = t_raw.normalize();
             let bt = ng.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
             let strength = u.detail_normal_strength;
@@ -225,7 +421,11 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
         };
         let pre = u.pre_scatter_exponent;
         if pre > 0.0 {
-            let tex = sample(&maps.albedo, uv, true).truncate();
+            let tex = self
+                .mips
+                .albedo
+                .sample(uv, lod(&self.mips.albedo), true)
+                .truncate();
             let albedo = if u.albedo_map_mode == MAP_ABSOLUTE {
                 tex
             } else {
@@ -236,7 +436,13 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
                 ) * 2.0
                     * tex
             };
-            irradiance *= albedo.max(Vec3::ZERO).powf(pre);
+            // Pre-and-post texturing is √albedo (pre = ½): sqrt, not powf.
+            let a = albedo.max(Vec3::ZERO);
+            irradiance *= if pre == 0.5 {
+                Vec3::new(a.x.sqrt(), a.y.sqrt(), a.z.sqrt())
+            } else {
+                a.powf(pre)
+            };
         }
         irradiance.into()
     }

@@ -122,6 +122,10 @@ pub struct RenderSettings {
     /// Progressive refinement (the editor, once input stops): this frame
     /// is one more sample of a running mean; `None` renders it alone.
     pub progressive: Option<Progressive>,
+    /// `reference`: gather k × k points of each pixel's surface and average
+    /// them (1 = the pixel's centre; 2 is the check that one point is
+    /// enough, `bench`'s floor).
+    pub reference_supersample: u32,
 }
 
 /// One frame of progressive refinement: its SSS result joins the running
@@ -268,6 +272,7 @@ impl Default for RenderSettings {
             separable_rotation: false,
             environment_sh: default_environment_sh(),
             progressive: None,
+            reference_supersample: 1,
         }
     }
 }

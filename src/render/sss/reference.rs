@@ -9,11 +9,11 @@
 //! to every method's output.
 
 use crate::render::gpu_types::SceneUniforms;
-use crate::render::ground_truth::Cloud;
+use crate::render::ground_truth::{Cloud, Probe};
 use crate::render::mesh::Mesh;
 use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
 use crate::render::readback::{f32_to_half, half_to_f32, readback};
-use crate::render::scene_cpu::{SceneIrradiance, ShadowMap};
+use crate::render::scene_cpu::{SceneIrradiance, ShadowMap, SurfaceMips};
 use crate::render::targets::{HdrTarget, Targets};
 use crate::render::{GpuContext, GpuError, ProfileInputs, RenderSettings};
 use glam::{Mat4, Vec3, Vec4};
@@ -25,15 +25,40 @@ use std::time::Instant;
 /// each shaded point (see `render::ground_truth`).
 pub const CELL_MM: f64 = 0.5;
 
-/// The cloud of the last frame and what it was built for.
+/// The cells of the last frame and what they were built for, the clouds
+/// of the profiles gathered over them, and the last frame.
 pub(in crate::render) struct Cache {
+    /// What the cells' irradiance depends on (`SceneIrradiance::key`).
     key: u64,
-    cloud: Arc<Cloud>,
     shadow: Arc<ShadowMap>,
+    mips: Arc<SurfaceMips>,
+    /// The newest clouds over these cells, by their profile table's
+    /// fingerprint (a look and its d → 0 twin share the cells).
+    clouds: Vec<(u64, Arc<Cloud>)>,
     /// The last frame's ping texels and what they were for (cloud, view,
     /// size): showing the same view again (A/B toggles, compare modes)
     /// costs nothing.
     frame: Option<(u64, Vec<u8>)>,
+}
+
+impl Cache {
+    /// The cloud of `inputs`' profile over these cells (made and kept if
+    /// new: bucketing the cells is a fraction of building them).
+    fn cloud(&mut self, inputs: &ProfileInputs) -> Result<Arc<Cloud>, GpuError> {
+        let fingerprint = inputs.ground_truth.fingerprint();
+        if let Some((_, c)) = self.clouds.iter().find(|(f, _)| *f == fingerprint) {
+            return Ok(c.clone());
+        }
+        let cells = self
+            .clouds
+            .first()
+            .map(|(_, c)| c.cells().clone())
+            .ok_or_else(|| GpuError::Readback("ground truth cells".into()))?;
+        let cloud = Arc::new(Cloud::new(cells, (*inputs.ground_truth).clone()));
+        self.clouds.insert(0, (fingerprint, cloud.clone()));
+        self.clouds.truncate(3);
+        Ok(cloud)
+    }
 }
 
 /// What the ground truth cost (CPU wall time, ms).
@@ -65,20 +90,6 @@ impl<'a> Io<'a> {
     }
 }
 
-/// Everything in the scene uniforms but the camera: the irradiance does
-/// not depend on the view.
-fn key(u: &SceneUniforms, inputs: &ProfileInputs) -> u64 {
-    use std::hash::{Hash, Hasher};
-    let mut v = *u;
-    v.clip_from_world = [[0.0; 4]; 4];
-    v.view_from_world = [[0.0; 4]; 4];
-    v.camera_position = [0.0; 4];
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    bytemuck::bytes_of(&v).hash(&mut h);
-    inputs.ground_truth.fingerprint().hash(&mut h);
-    h.finish()
-}
-
 /// Fills the ping target with the ground truth's scattered diffuse on
 /// every SSS pixel (alpha = the pixel's mask; 0 elsewhere).
 #[allow(clippy::too_many_arguments)]
@@ -106,15 +117,16 @@ pub(in crate::render) fn scatter(
         wgpu::TextureFormat::R16Float => 2,
         _ => 8,
     };
-    // The same cloud and view as the last frame: its texels, before any
-    // readback (A/B toggles and compare modes ask for it again).
-    let k = key(scene, inputs);
+    // The same cells, profile and view as the last frame: its texels,
+    // before any readback (A/B toggles and compare modes ask for it again).
+    let k = SceneIrradiance::key(scene);
     let frame_key = {
         use std::hash::{Hash, Hasher};
         let mut hs = std::collections::hash_map::DefaultHasher::new();
         k.hash(&mut hs);
+        inputs.ground_truth.fingerprint().hash(&mut hs);
         bytemuck::bytes_of(scene).hash(&mut hs);
-        (w, h, s.view.fov_y_rad.to_bits()).hash(&mut hs);
+        (w, h, s.view.fov_y_rad.to_bits(), s.reference_supersample).hash(&mut hs);
         hs.finish()
     };
     if let Some(Cache {
@@ -157,18 +169,20 @@ pub(in crate::render) fn scatter(
     let mut build_ms = None;
     if cache.as_ref().is_none_or(|c| c.key != k) {
         let t0 = Instant::now();
-        let (cloud, shadow) = build_cloud(ctx, mesh, io, scene, inputs)?;
+        let (cloud, shadow, mips) = build_cloud(ctx, mesh, io, scene, inputs)?;
         build_ms = Some(t0.elapsed().as_secs_f64() * 1e3);
         *cache = Some(Cache {
             key: k,
-            cloud,
+            clouds: vec![(inputs.ground_truth.fingerprint(), cloud)],
             shadow,
+            mips,
             frame: None,
         });
     }
     let Some(c) = cache.as_mut() else {
         return Err(GpuError::Readback("ground truth cache".into()));
     };
+    let cloud = c.cloud(inputs)?;
     // Each SSS pixel's point on the surface, from its linear view depth.
     let t0 = Instant::now();
     let (pixels, points) = surface_points(
@@ -179,12 +193,12 @@ pub(in crate::render) fn scatter(
         s.view.fov_y_rad,
         1000.0 * mesh.metres_per_unit,
     );
-    let irr = SceneIrradiance::new(mesh, *scene, &c.shadow);
-    let scattered = c.cloud.gather_all(&points, &irr);
+    let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
+    let scattered = cloud.gather_all(&points, s.reference_supersample.max(1), &irr);
     if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
         eprintln!(
             "timing: reference: {} cells, {} points, build {:?} ms, gather {:.0} ms",
-            c.cloud.len(),
+            cloud.len(),
             points.len(),
             build_ms,
             t0.elapsed().as_secs_f64() * 1e3
@@ -200,15 +214,19 @@ pub(in crate::render) fn scatter(
     })
 }
 
+/// What a cloud is built from and kept with.
+type Built = (Arc<Cloud>, Arc<ShadowMap>, Arc<SurfaceMips>);
+
 /// The ground truth's irradiance cloud over the mesh's skin, lit as the
-/// scene pass lights it (the shadow map read back), and that shadow map.
+/// scene pass lights it (the shadow map read back), that shadow map and
+/// the maps' mip chains.
 fn build_cloud(
     ctx: &GpuContext,
     mesh: &Mesh,
     io: &Io,
     scene: &SceneUniforms,
     inputs: &ProfileInputs,
-) -> Result<(Arc<Cloud>, Arc<ShadowMap>), GpuError> {
+) -> Result<Built, GpuError> {
     let encoder = ctx
         .device
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -225,7 +243,8 @@ fn build_cloud(
             .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
             .collect(),
     });
-    let irr = SceneIrradiance::new(mesh, *scene, &shadow);
+    let mips = Arc::new(SurfaceMips::new(mesh));
+    let irr = SceneIrradiance::new(mesh, *scene, &shadow, &mips);
     let mm = 1000.0 * mesh.metres_per_unit;
     let positions: Vec<Vec3> = mesh
         .vertices
@@ -249,11 +268,12 @@ fn build_cloud(
         (*inputs.ground_truth).clone(),
         CELL_MM,
     );
-    Ok((Arc::new(cloud), shadow))
+    Ok((Arc::new(cloud), shadow, mips))
 }
 
-/// Each SSS pixel (index and mask) and its point on the surface (mm),
-/// from its linear view depth: pixels whose mask exceeds 1/255.
+/// Each SSS pixel (index and mask) and its probe: its point on the surface
+/// (mm), from its linear view depth, with the camera ray's differentials;
+/// pixels whose mask exceeds 1/255.
 fn surface_points(
     mask_at: impl Fn(usize) -> f32,
     depth_at: impl Fn(usize) -> f32,
@@ -261,12 +281,17 @@ fn surface_points(
     view: Mat4,
     fov_y_rad: f32,
     mm: f32,
-) -> (Vec<(usize, f32)>, Vec<Vec3>) {
+) -> (Vec<(usize, f32)>, Vec<Probe>) {
     let world_from_view = view.inverse();
     let tan = (0.5 * fov_y_rad).tan();
     let aspect = w as f32 / h as f32;
+    let camera_mm = world_from_view.transform_point3(Vec3::ZERO) * mm;
+    // The ray at unit view depth, and its change per pixel.
+    let ray_dx =
+        world_from_view.transform_vector3(Vec3::new(2.0 * tan * aspect / w as f32, 0.0, 0.0));
+    let ray_dy = world_from_view.transform_vector3(Vec3::new(0.0, -2.0 * tan / h as f32, 0.0));
     let mut pixels = Vec::new();
-    let mut points = Vec::new();
+    let mut probes = Vec::new();
     for py in 0..h as usize {
         for px in 0..w as usize {
             let i = py * w as usize + px;
@@ -279,21 +304,31 @@ fn surface_points(
             let y = (1.0 - (py as f32 + 0.5) / h as f32 * 2.0) * tan;
             let p = world_from_view * Vec4::new(x * z, y * z, -z, 1.0);
             pixels.push((i, alpha));
-            points.push(p.truncate() * mm);
+            probes.push(Probe {
+                x_mm: p.truncate() * mm,
+                camera_mm,
+                ray: world_from_view.transform_vector3(Vec3::new(x, y, -1.0)),
+                ray_dx,
+                ray_dy,
+            });
         }
     }
-    (pixels, points)
+    (pixels, probes)
 }
 
 /// The scattered irradiance and mask of each pixel as Rgba16Float texels
-/// (0 elsewhere).
+/// (0 elsewhere). A supersampled frame (the floor check, never the
+/// editor's) marks a pixel whose footprint is not one surface
+/// (`Cloud::gather_supersampled`) with NaN irradiance, which the bench's
+/// metrics leave out and the composite draws black.
 fn rgba_half_texels(
     pixels: Vec<(usize, f32)>,
-    scattered: Vec<[f32; 3]>,
+    scattered: Vec<Option<[f32; 3]>>,
     (w, h): (u32, u32),
 ) -> Vec<u8> {
     let mut out = vec![0u8; 8 * (w * h) as usize];
     for ((i, alpha), v) in pixels.into_iter().zip(scattered) {
+        let v = v.unwrap_or([f32::NAN; 3]);
         for (k, x) in [v[0], v[1], v[2], alpha].into_iter().enumerate() {
             let b = f32_to_half(x).to_le_bytes();
             out[8 * i + 2 * k] = b[0];

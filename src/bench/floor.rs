@@ -1,0 +1,94 @@
+//! The ground truth's floor on a scene: how far the yardstick is from two
+//! answers it must give exactly (issue 22). Differences between methods
+//! smaller than the floor are the yardstick's noise, not theirs.
+//!
+//! - **d → 0.** A profile that scatters nothing (Burley with the look's
+//!   colour and d = 5 µm on every channel) must give back the unscattered
+//!   frame: the ground truth against `none`, relative RMSE over SSS
+//!   pixels. It measures how well the CPU twin of the scene pass, its
+//!   texture filtering at the pixel's footprint and the exact near field
+//!   reproduce what the GPU draws.
+//! - **Finer sampling.** The ground truth gathered at 2 × 2 points of each
+//!   pixel's footprint and averaged against the plain one (a point per
+//!   pixel), over the pixels whose footprint is one surface
+//!   (`Cloud::gather_supersampled`; the others, at silhouettes and creases,
+//!   are counted in `mixed_fraction`).
+
+use super::metrics;
+use crate::model::burley::Burley;
+use crate::render::{Method, ProfileInputs, RenderSettings, Renderer};
+use anyhow::{Context, Result};
+
+/// Scattering distance (mm) of the profile that scatters nothing.
+pub const D_ZERO_MM: f64 = 0.005;
+
+/// The floor of one scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Floor {
+    /// Relative RMSE of the d → 0 ground truth against the `none` frame.
+    pub d_to_zero: f64,
+    /// Relative RMSE of the 2 × 2-supersampled ground truth against the
+    /// plain one, over pixels whose footprint is one surface.
+    pub supersampled: f64,
+    /// Fraction of SSS pixels whose footprint is not one surface.
+    pub mixed_fraction: f64,
+}
+
+/// The look's inputs with its profile replaced by one that scatters
+/// nothing and the same colour (so the scene pass, and with it the ground
+/// truth's cells, are the look's own).
+pub fn d_to_zero_inputs(look: &ProfileInputs) -> Result<ProfileInputs> {
+    let albedo = look.surface_albedo.map(|a| (a as f64).clamp(1e-3, 1.0));
+    let profile = Burley::from_scattering_distance(albedo, [D_ZERO_MM; 3])?;
+    let mut inputs = ProfileInputs::new(&profile, 21, 17)?;
+    inputs.surface_albedo = look.surface_albedo;
+    Ok(inputs)
+}
+
+/// Measures the floor of the scene `settings` with the look `look`, given
+/// the plain ground truth of that look already rendered (`plain`, its
+/// scattered diffuse).
+pub fn measure(
+    renderer: &mut Renderer,
+    look: &ProfileInputs,
+    settings: &RenderSettings,
+    plain: &[[f32; 4]],
+) -> Result<Floor> {
+    let with = |method: Method, supersample: u32| RenderSettings {
+        method,
+        reference_supersample: supersample,
+        ..settings.clone()
+    };
+    let zero = d_to_zero_inputs(look)?;
+    let (_, none, _) = renderer
+        .render_with_diffuse(&zero, &with(Method::None, 1))
+        .context("floor: the none frame at d → 0")?;
+    let (_, truth, _) = renderer
+        .render_with_diffuse(&zero, &with(Method::Reference, 1))
+        .context("floor: the ground truth at d → 0")?;
+    let mask = metrics::sss_mask(&none);
+    let d_to_zero = metrics::relative_rmse(&truth, &none, &mask);
+    let (_, fine, _) = renderer
+        .render_with_diffuse(look, &with(Method::Reference, 2))
+        .context("floor: the supersampled ground truth")?;
+    let sss = metrics::sss_mask(plain);
+    let one_surface: Vec<bool> = sss
+        .iter()
+        .zip(&fine)
+        .map(|(m, f)| *m && f[..3].iter().all(|v| v.is_finite()))
+        .collect();
+    let (n_sss, n_one) = (count(&sss), count(&one_surface));
+    Ok(Floor {
+        d_to_zero,
+        supersampled: metrics::relative_rmse(&fine, plain, &one_surface),
+        mixed_fraction: if n_sss > 0 {
+            1.0 - n_one as f64 / n_sss as f64
+        } else {
+            0.0
+        },
+    })
+}
+
+fn count(mask: &[bool]) -> usize {
+    mask.iter().filter(|m| **m).count()
+}
