@@ -1,6 +1,8 @@
 // Scene pass: lights the mesh and writes the separate buffers the SSS
 // methods read (as every engine does: specular is never blurred).
-//   target 0: diffuse irradiance × albedo^pre (rgb), SSS mask (a)
+//   target 0: diffuse irradiance × albedo^pre (rgb), SSS mask (a; on eyes
+//             and teeth DIFFUSE_ALPHA_NOT_SKIN, on the background the clear's
+//             DIFFUSE_ALPHA_BACKGROUND)
 //   target 1: specular radiance (rgb)
 //   target 2: albedo^post (rgb), coverage 1 (a)
 //   target 3: linear view depth in world units
@@ -17,6 +19,9 @@ const SPECULAR_DUAL_GGX: u32 = 0u;
 const SPECULAR_KELEMEN: u32 = 1u;
 const MAP_MODULATES: u32 = 0u;
 const MAP_ABSOLUTE: u32 = 1u;
+// The diffuse target's alpha where there is no skin (the SSS passes' edge
+// convention, sss_common.wgsl), beside its Rust twin.
+const DIFFUSE_ALPHA_NOT_SKIN: f32 = -1.0;
 
 // Lengths in world units unless named otherwise; each field is documented
 // on its twin.
@@ -401,9 +406,15 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         let cell = floor(i.world.xy / u.pattern_period);
         irradiance = u.light_radiance.rgb / PI * select(0.0, 1.0, (i32(cell.x) + i32(cell.y)) % 2 == 0);
     }
-    let pre = select(0.0, u.pre_scatter_exponent, mask > 0.0);
+    // Light enters skin through albedo^pre wherever it is skin, the mask's
+    // 0 included (skin scatters under brows and hair: the SSS passes and
+    // the ground truth take its light); the composite multiplies
+    // albedo^(1 − pre) back, so an unscattered pixel shows E·albedo
+    // either way.
+    let skin = i.material < 0.5;
+    let pre = select(0.0, u.pre_scatter_exponent, skin);
     var o: TargetsOut;
-    o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), mask);
+    o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), select(DIFFUSE_ALPHA_NOT_SKIN, mask, skin));
     // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
     var spec = mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.lobe_mix);

@@ -50,10 +50,10 @@ fn profile_cdf(r_mm: f32) -> vec3<f32> {
     return mix(profile_lut[o + i].rgb, profile_lut[o + i + 1u].rgb, f);
 }
 
-// The SSS pixels' diffuse at a fractional position (pixel centres at
-// +0.5), bilinear over the four nearest texels that are SSS; .a is the
-// bilinear weight those texels cover (0 when none is).
-fn sss_bilinear(pos: vec2<f32>) -> vec4<f32> {
+// The light at a fractional position (pixel centres at +0.5), bilinear
+// over the four nearest texels as `light_from` counts them; .a is the
+// bilinear weight they count (0 when all four are background).
+fn light_bilinear(pos: vec2<f32>) -> vec4<f32> {
     let f = pos - vec2<f32>(0.5);
     let i = vec2<i32>(floor(f));
     let t = f - floor(f);
@@ -62,11 +62,9 @@ fn sss_bilinear(pos: vec2<f32>) -> vec4<f32> {
     for (var k = 0; k < 4; k = k + 1) {
         let o = vec2<i32>(k & 1, k >> 1u);
         let bw = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
-        let c = load_diffuse(i + o);
-        if (c.a > 1.0 / 255.0) {
-            col = col + bw * c.rgb;
-            covered = covered + bw;
-        }
+        let l = light_from(load_diffuse(i + o));
+        col = col + bw * l.a * l.rgb;
+        covered = covered + bw * l.a;
     }
     return vec4<f32>(col / max(covered, 1e-6), covered);
 }
@@ -132,17 +130,16 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
         let a = smp.angle + rotation;
         let off = vec2<f32>(cos(a), sin(a)) * smp.radius_mm * ppm;
         let q = p + vec2<i32>(round(off));
-        var c = load_diffuse(q);
-        var coverage = select(0.0, 1.0, c.a > 1.0 / 255.0);
+        var c = light_from(load_diffuse(q));
         if ((flags & SAMPLING_BILINEAR) != 0u) {
             // Bilinear at the exact offset instead of the nearest pixel.
-            c = sss_bilinear(vec2<f32>(p) + vec2<f32>(0.5) + off);
-            coverage = c.a;
+            c = light_bilinear(vec2<f32>(p) + vec2<f32>(0.5) + off);
         }
+        let coverage = c.a;
         let dz_mm = (load_depth(q) - z) * s.mm_per_unit;
         let rho = sqrt(smp.radius_mm * smp.radius_mm + dz_mm * dz_mm);
         // R(ρ)/pdf(r): r·R(ρ)/ρ divided by the planar density, times the
-        // share of the fetch that lands on SSS pixels.
+        // share of the fetch whose weight counts (`light_from`).
         let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * coverage;
         sum = sum + w * c.rgb;
         wsum = wsum + w;

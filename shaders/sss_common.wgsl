@@ -23,6 +23,31 @@ struct SssUniforms {
 // Linear view depth (world units), 0 on the background.
 @group(0) @binding(2) var depth_tex: texture_2d<f32>;
 
+// The diffuse target's alpha where there is no skin, beside their Rust
+// twins in render/gpu_types.rs: eyes and teeth (the scene pass), and the
+// background (the target's clear).
+const DIFFUSE_ALPHA_NOT_SKIN: f32 = -1.0;
+const DIFFUSE_ALPHA_BACKGROUND: f32 = -2.0;
+
+// What a fetched pixel gives the skin around it (the edge convention of
+// issue 22, the ground truth's too): rgb its light, a its weight's share.
+// - Skin, inside the mask or not (skin scatters under brows): its light,
+//   weight counted.
+// - Eyes and teeth: the skin's medium ends there and they give it no
+//   light, as in the ground truth, which integrates over the skin only: no
+//   light, but the weight counted (the light is lost, not renormalised).
+// - Background: no surface is seen, though the skin goes on beyond the
+//   silhouette (the ground truth sees it): weight 0, renormalised away.
+fn light_from(c: vec4<f32>) -> vec4<f32> {
+    if (c.a > 0.5 * DIFFUSE_ALPHA_NOT_SKIN) {
+        return vec4<f32>(c.rgb, 1.0);
+    }
+    if (c.a > 0.5 * (DIFFUSE_ALPHA_NOT_SKIN + DIFFUSE_ALPHA_BACKGROUND)) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    return vec4<f32>(0.0);
+}
+
 fn load_diffuse(p: vec2<i32>) -> vec4<f32> {
     let c = clamp(p, vec2<i32>(0), vec2<i32>(s.size) - vec2<i32>(1));
     return textureLoad(diffuse_tex, c, 0);

@@ -42,12 +42,14 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         }
         let q0 = p + vec2<i32>(base);
         let q1 = q0 + vec2<i32>(abs(s.direction.xy));
-        let c0 = load_diffuse(q0);
-        let c1 = load_diffuse(q1);
-        var c = mix(c0, c1, f);
-        if (min(c0.a, c1.a) <= 1.0 / 255.0) {
-            c = select(c1, c0, c0.a > c1.a);
-        }
+        // Each texel's light by the edge convention (`light_from`): skin
+        // gives its own, eyes and teeth none with the weight kept, and the
+        // background none with its weight moved to the centre (the demo's
+        // renormalisation, as across depth below).
+        let l0 = light_from(load_diffuse(q0));
+        let l1 = light_from(load_diffuse(q1));
+        let v0 = select(centre.rgb, l0.rgb, l0.a > 0.5);
+        let v1 = select(centre.rgb, l1.rgb, l1.a > 0.5);
         let dz_mm = abs(mix(load_depth(q0), load_depth(q1), f) - z) * s.mm_per_unit;
         // Follow the surface: across a depth difference the tap's weight
         // moves to the centre. follow_surface > 0: the Jimenez 2012 demo's
@@ -57,10 +59,7 @@ fn fs_separable(in: FullscreenOut) -> @location(0) vec4<f32> {
         if (s.follow_surface < 0.0) {
             k = 1.0 - exp(s.follow_surface * dz_mm * dz_mm);
         }
-        var col = mix(c.rgb, centre.rgb, k);
-        if (c.a <= 1.0 / 255.0) {
-            col = centre.rgb;
-        }
+        let col = mix(mix(v0, v1, f), centre.rgb, k);
         acc = acc + t.rgb * col;
     }
     return vec4<f32>(acc * s.weight.rgb, centre.a);

@@ -197,6 +197,38 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
             );
         }
     }
+    // The diffuse target's alphas off the skin (f32 constants).
+    let alphas: [(&str, &[(&str, f32)]); 2] = [
+        (
+            "scene",
+            &[("DIFFUSE_ALPHA_NOT_SKIN", g::DIFFUSE_ALPHA_NOT_SKIN)],
+        ),
+        (
+            "sss_burley",
+            &[
+                ("DIFFUSE_ALPHA_NOT_SKIN", g::DIFFUSE_ALPHA_NOT_SKIN),
+                ("DIFFUSE_ALPHA_BACKGROUND", g::DIFFUSE_ALPHA_BACKGROUND),
+            ],
+        ),
+    ];
+    for (module_name, consts) in alphas {
+        let module = parsed(module_name);
+        for (name, rust) in consts {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(*name))
+                .unwrap_or_else(|| panic!("{module_name}: no const {name}"));
+            let wgsl = match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::F32(v)) => v,
+                ref e => panic!("{module_name}::{name} is {e:?}, not an f32 literal"),
+            };
+            assert_eq!(
+                wgsl, *rust,
+                "{module_name}::{name}: WGSL {wgsl}, Rust {rust}"
+            );
+        }
+    }
     // The flags' bits are the ones BurleySampling packs.
     let all = scatterlab::render::BurleySampling {
         antithetic: false,

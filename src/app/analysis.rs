@@ -61,12 +61,19 @@ pub struct AnalysisKey {
     pub thickness_max_mm: f64,
 }
 
-/// A fitted model's curves and its relative L2 error of r·R(r).
+/// A fitted model's curves, its shape error and what using it does to
+/// the look's colour.
 #[derive(Debug, Clone)]
 pub struct Overlay {
     pub label: String,
     pub curves: Curves,
+    /// Relative L2 error of the energy-normalised r·R(r) (the shape).
     pub error: Rgb,
+    /// The colour the look would have with the fit (its surface albedo,
+    /// `render::inputs::look_colour`) over the colour it has, minus 1: 0
+    /// where the fit keeps the total reflectance; an energy-normalised
+    /// kernel takes the default skin colour.
+    pub energy_change: Rgb,
     /// The fitted model as a look, to apply with one click.
     pub spec: ProfileSpec,
 }
@@ -93,16 +100,29 @@ pub struct Analysis {
 pub const LUT_PREVIEW: usize = 64;
 
 fn fitted(
+    look: &ProfileSpec,
     p: &dyn RadialProfile,
     which: OverlayModel,
     r_max: f64,
 ) -> Option<Result<Overlay, String>> {
+    use crate::render::inputs::look_colour;
     use crate::settings::profile::*;
-    let to_overlay = |label: &str, m: &dyn RadialProfile, error: Rgb, spec: ProfileSpec| Overlay {
-        label: label.into(),
-        curves: Curves::of(m, Some(r_max)),
-        error,
-        spec,
+    let before = look_colour(look, p);
+    let to_overlay = |label: &str, m: &dyn RadialProfile, error: Rgb, spec: ProfileSpec| {
+        let after = look_colour(&spec, m);
+        Overlay {
+            label: label.into(),
+            curves: Curves::of(m, Some(r_max)),
+            error,
+            energy_change: [0, 1, 2].map(|c| {
+                if before[c] > 0.0 {
+                    (after[c] / before[c]) as f64 - 1.0
+                } else {
+                    0.0
+                }
+            }),
+            spec,
+        }
     };
     let r = match which {
         OverlayModel::None => return None,
@@ -170,7 +190,7 @@ pub fn analyse(key: &AnalysisKey) -> Result<Analysis, String> {
     let p = p.as_ref();
     let curves = Curves::of(p, None);
     let r_max = *curves.radius_mm.last().unwrap_or(&1.0);
-    let overlay = fitted(p, key.overlay, r_max);
+    let overlay = fitted(&key.profile, p, key.overlay, r_max);
     let taps = SeparableKernel::importance_sampled(p, key.taps)
         .map(|k| k.taps)
         .unwrap_or_default();

@@ -242,12 +242,32 @@ fn overlay_status_ui(
         Some(Ok(o)) => {
             ui.horizontal_wrapped(|ui| {
                 ui.label(format!(
-                    "{}: relative L2 error of r·R(r) R {:.2} %, G {:.2} %, B {:.2} %",
+                    "{}: shape error (relative L2 of r·R(r)/total) R {:.2} %, G {:.2} %, B {:.2} %",
                     o.label,
                     100.0 * o.error[0],
                     100.0 * o.error[1],
                     100.0 * o.error[2]
-                ));
+                ))
+                .on_hover_text(
+                    "How far the fitted profile's shape is from the look's, each normalised by its total reflectance.",
+                );
+                let e = o.energy_change;
+                if e.iter().any(|v| v.abs() >= 5e-4) {
+                    ui.colored_label(
+                        ui.visuals().warn_fg_color,
+                        format!(
+                            "colour changes: R {:+.1} %, G {:+.1} %, B {:+.1} %",
+                            100.0 * e[0],
+                            100.0 * e[1],
+                            100.0 * e[2]
+                        ),
+                    )
+                    .on_hover_text(
+                        "Using the fit changes the look's total reflectance, the colour the head shows: an energy-normalised kernel (Jimenez 2012, artist) takes the default skin colour, and Burley cannot hold a total above 1.",
+                    );
+                } else {
+                    ui.label("colour kept");
+                }
                 if ui
                     .button("Use fit")
                     .on_hover_text("Replace the look's model with the fitted one (undoable).")

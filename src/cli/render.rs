@@ -52,7 +52,8 @@ pub struct RenderArgs {
 
 impl RenderArgs {
     pub fn run(self) -> Result<()> {
-        let (inputs, rendering) = self.profile_inputs()?;
+        let rendering = self.rendering()?;
+        let inputs = self.profile_inputs(&rendering, rendering.method)?;
         // What the editor's render thread uses for a map (`app/viewport.rs`).
         let thickness_range_mm = rendering.thickness_remap_mm.1 as f32;
         let mesh = self.view.load_mesh(thickness_range_mm)?;
@@ -69,7 +70,7 @@ impl RenderArgs {
         for _ in 1..self.view.frames {
             (image, stats) = renderer.render(&inputs, &settings)?;
         }
-        let diff_scale = self.compared(&mut renderer, &inputs, &settings, &mut image)?;
+        let diff_scale = self.compared(&mut renderer, &rendering, &settings, &mut image)?;
         self.write(&image, &stats)?;
         if let Some(scale) = diff_scale {
             println!(
@@ -79,14 +80,18 @@ impl RenderArgs {
         Ok(())
     }
 
-    /// The look's rendering settings (the preset's, with the flags applied)
-    /// and the profile's inputs for its method.
-    fn profile_inputs(&self) -> Result<(ProfileInputs, RenderingSpec)> {
+    /// The look's rendering settings (the preset's, with the flags applied).
+    fn rendering(&self) -> Result<RenderingSpec> {
         let base = match &self.model.preset {
             Some(path) => Preset::load(path)?.rendering,
             None => RenderingSpec::default(),
         };
-        let rendering = self.look.apply(base)?;
+        self.look.apply(base)
+    }
+
+    /// The profile's inputs for `method` (A's, or B's of a comparison: each
+    /// side reads its own tables).
+    fn profile_inputs(&self, rendering: &RenderingSpec, method: MethodId) -> Result<ProfileInputs> {
         // The shared model flags name the volume albedo `--albedo`; here that
         // flag is `--volume-albedo` (`--albedo` is the albedo map).
         let (spec, p) = built(&self.model).map_err(|e| {
@@ -98,17 +103,12 @@ impl RenderArgs {
             anyhow::bail!("gaussian_taps = {gaussian_taps} must be odd");
         }
         let (samples, taps) = (rendering.samples, rendering.taps);
-        let mut inputs = ProfileInputs::for_look(
-            &spec,
-            p.as_ref(),
-            rendering.method,
-            (samples, taps),
-            gaussian_taps,
-        )?;
+        let mut inputs =
+            ProfileInputs::for_look(&spec, p.as_ref(), method, (samples, taps), gaussian_taps)?;
         if self.view.burley_sampling == SamplingArg::Golubev {
             inputs.set_burley(p.as_ref(), samples, crate::render::BurleySampling::GOLUBEV)?;
         }
-        Ok((inputs, rendering))
+        Ok(inputs)
     }
 
     /// The environment's irradiance SH, scaled by --environment-intensity.
@@ -129,7 +129,7 @@ impl RenderArgs {
     fn compared(
         &self,
         renderer: &mut Renderer,
-        inputs: &ProfileInputs,
+        rendering: &RenderingSpec,
         settings: &RenderSettings,
         image: &mut image::RgbaImage,
     ) -> Result<Option<f32>> {
@@ -143,7 +143,7 @@ impl RenderArgs {
             method: other,
             ..settings.clone()
         };
-        let (b, _) = renderer.render(inputs, &b_settings)?;
+        let (b, _) = renderer.render(&self.profile_inputs(rendering, other)?, &b_settings)?;
         if !self.diff {
             *image = crate::render::compare::split_view(image, &b, self.split);
             return Ok(None);

@@ -6,9 +6,25 @@
 //! Gaussian ("directly bounced light, accounted by the strength"), with the
 //! radius scaled per channel by 1/(0.001 + falloff). The kernel is
 //! S(Δx) = strength·R(Δx/(0.001+falloff)) + (1 − strength)·δ(Δx)
-//! (Jimenez 2012). As a radial profile that is a sum of Gaussians with
-//! variances v_k(0.001+falloff)² and weights strength·w_k/Σw, plus a Dirac
-//! delta of weight 1 − strength: an energy-conserving blur (total 1).
+//! (Jimenez 2012), R evaluated on the 1D offset and normalised over the
+//! taps: a 1D kernel, which the two passes apply along x and then y.
+//!
+//! **The one reading of a Jimenez 2012 look** (issue 22), everywhere a look
+//! is used (ground truth, tables, T(d), Burley's pattern, fits, exports):
+//! the radial profile whose pre-integrated 1D kernel a_p(x) = ∫R(x, y) dy
+//! (Jimenez et al. 2015 §4) is the demo's kernel before its cut at ±range.
+//! The marginal of a 2D Gaussian of variance σ² per axis is the 1D Gaussian
+//! of variance σ², so that profile is the sum of 2D Gaussians with
+//! variances v_k(0.001+falloff)² and the weights the demo's 1D kernel
+//! gives them: its term w_k·e^(−r²/2v_kf²)/(2πv_k) integrates over the
+//! line to w_k·f/√(2πv_k), so weights strength·(w_k/√v_k)/Σ(w/√v), plus a
+//! Dirac delta of weight 1 − strength: an energy-conserving blur (total 1).
+//! The old reading weighted the terms by w_k/Σw, as a 2D sum, which is not
+//! what the demo draws: its variance was 2.4× the demo kernel's at the
+//! default skin (falloff 1), and `separable` and every other method drew
+//! two different looks (`the_radial_reading_is_the_demos_kernel` checks
+//! the marginal against the demo's formula; the demo's cut at ±2 mm, or ±3
+//! above 20 taps, is the separable method's own approximation).
 
 use super::gaussian::{GaussianSum, Term, DEON_SKIN};
 use super::separable::{SeparableKernel, Tap};
@@ -35,22 +51,34 @@ fn base_terms() -> impl Iterator<Item = (f64, f64)> {
     DEON_SKIN.iter().skip(1).map(|(v, w)| (*v, w[0]))
 }
 
+/// Each base term's share of the demo's 1D kernel, (w/√v)/Σ(w/√v): the
+/// line integral of w·e^(−x²/2vf²)/(2πv) is w·f/√(2πv), and the common
+/// f/√(2π) cancels in the normalisation (see the module).
+fn kernel_shares() -> impl Iterator<Item = (f64, f64)> {
+    let sum: f64 = base_terms().map(|(v, w)| w / v.sqrt()).sum();
+    base_terms().map(move |(v, w)| (v, w / v.sqrt() / sum))
+}
+
+/// The radial reading's terms for `strength` and falloff × `width_mm`.
+fn radial_terms(strength: Rgb, falloff: Rgb, width_mm: f64) -> GaussianSum {
+    let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
+        let f = (0.001 + falloff[c]) * width_mm;
+        kernel_shares()
+            .map(|(v, share)| Term {
+                weight: strength[c] * share,
+                variance_mm2: v * f * f,
+            })
+            .collect()
+    });
+    GaussianSum::from_channels(channels, rgb_map(|c| 1.0 - strength[c]))
+}
+
 impl Jimenez2012 {
     /// strength and falloff ∈ [0, 1] per channel.
     pub fn new(strength: Rgb, falloff: Rgb) -> Result<Self, ModelError> {
         check_rgb("strength", strength, 0.0, 1.0, "")?;
         check_rgb("falloff", falloff, 0.0, 1.0, "")?;
-        let sum_w: f64 = base_terms().map(|(_, w)| w).sum();
-        let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
-            let f = 0.001 + falloff[c];
-            base_terms()
-                .map(|(v, w)| Term {
-                    weight: strength[c] * w / sum_w,
-                    variance_mm2: v * f * f,
-                })
-                .collect()
-        });
-        let profile = GaussianSum::from_channels(channels, rgb_map(|c| 1.0 - strength[c]));
+        let profile = radial_terms(strength, falloff, 1.0);
         Ok(Self {
             strength,
             falloff,
@@ -144,20 +172,7 @@ impl Jimenez2012 {
     /// weights and the Dirac delta unchanged.
     pub fn widened(&self, width_mm: f64) -> Result<GaussianSum, ModelError> {
         check_range("width", width_mm, 1e-6, 1e6, "mm")?;
-        let sum_w: f64 = base_terms().map(|(_, w)| w).sum();
-        let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
-            let f = (0.001 + self.falloff[c]) * width_mm;
-            base_terms()
-                .map(|(v, w)| Term {
-                    weight: self.strength[c] * w / sum_w,
-                    variance_mm2: v * f * f,
-                })
-                .collect()
-        });
-        Ok(GaussianSum::from_channels(
-            channels,
-            rgb_map(|c| 1.0 - self.strength[c]),
-        ))
+        Ok(radial_terms(self.strength, self.falloff, width_mm))
     }
 }
 
@@ -295,6 +310,74 @@ mod tests {
         assert_eq!(id.taps[0].weight, [1.0; 3]);
         assert!(id.taps[1..].iter().all(|t| t.weight == [0.0; 3]));
         assert!(j.kernel(10).is_err() && j.kernel(1).is_err());
+    }
+
+    /// The one reading: the radial profile's pre-integrated kernel is the
+    /// demo's. Its strip CDF Φ(x) (the CDF of a_p, by the model's own
+    /// quadrature of R: `strip_cdf_numerically`) against the demo's
+    /// formula integrated over the line, written out here:
+    /// ∫_{−∞}^{x} Σ w_k e^(−(t/f)²/2v_k)/(2πv_k) dt normalised, i.e.
+    /// Σ w_k f/√(2πv_k)·½(1 + erf(x/(f√(2v_k)))) / Σ w_k f/√(2πv_k) for
+    /// d'Eon's red terms 2–6 (0.100, 0.118, 0.113, 0.358, 0.078 at 0.0484,
+    /// 0.187, 0.567, 1.99, 7.41 mm²), times strength, plus the Dirac's step.
+    /// The demo's kernel is then a quadrature of this marginal, cut at
+    /// ±2 mm up to 20 taps and ±3 mm above (calculateKernel's RANGE): the
+    /// cut is the separable method's own truncation, and at falloff 1 it
+    /// removes most of red's variance per axis (measured 0.363 mm² for the
+    /// profile, 0.164 for the 17-tap kernel, 0.251 for the 25-tap one;
+    /// green 0.043, 0.037, 0.041),
+    /// where the old 2D-weighted reading was 2.4× wider still.
+    #[test]
+    fn the_radial_reading_is_the_demos_kernel() {
+        let deon = [
+            (0.0484, 0.100),
+            (0.187, 0.118),
+            (0.567, 0.113),
+            (1.99, 0.358),
+            (7.41, 0.078),
+        ];
+        let j = Jimenez2012::new(DEFAULT_STRENGTH, DEFAULT_FALLOFF).unwrap();
+        for x in [-2.5f64, -0.7, -0.05, 0.03, 0.4, 1.3, 4.0] {
+            let phi = crate::model::strip_cdf_numerically(&j, x);
+            for c in 0..3 {
+                let (s, f) = (DEFAULT_STRENGTH[c], 0.001 + DEFAULT_FALLOFF[c]);
+                let mass = |v: f64, w: f64| w * f / (2.0 * std::f64::consts::PI * v).sqrt();
+                let total: f64 = deon.iter().map(|(v, w)| mass(*v, *w)).sum();
+                let cont: f64 = deon
+                    .iter()
+                    .map(|(v, w)| {
+                        mass(*v, *w) * 0.5 * (1.0 + libm::erf(x / (f * (2.0 * v).sqrt())))
+                    })
+                    .sum::<f64>()
+                    / total;
+                let want = s * cont + (1.0 - s) * if x >= 0.0 { 1.0 } else { 0.0 };
+                assert!(
+                    (phi[c] - want).abs() < 1e-9,
+                    "x {x} c {c}: {} vs {want}",
+                    phi[c]
+                );
+            }
+        }
+        // Variance per axis: the profile's Σ w σ² against the kernels'.
+        let (k17, k25) = (j.kernel(17).unwrap(), j.kernel(25).unwrap());
+        let var = |k: &SeparableKernel, c: usize| -> f64 {
+            k.taps
+                .iter()
+                .map(|t| t.weight[c] * t.offset_mm.powi(2))
+                .sum()
+        };
+        for c in 0..3 {
+            let profile: f64 = j
+                .profile
+                .channel_terms(c)
+                .iter()
+                .map(|t| t.weight * t.variance_mm2)
+                .sum();
+            let (a, b) = (var(&k17, c), var(&k25, c));
+            eprintln!("channel {c}: profile {profile:.4} mm², 17 taps {a:.4}, 25 taps {b:.4}");
+            // Cut and quadrature only ever narrow it; the wider cut less so.
+            assert!(a < b && b <= profile * 1.02, "{c}: {a} {b} vs {profile}");
+        }
     }
 
     /// As a radial profile: total 1, Dirac 1 − strength, CDF(0) = 1 − strength.

@@ -406,15 +406,17 @@ fn gaussians_case(rng: &mut Rng) -> Case {
 }
 
 /// Jimenez 2012: d'Eon's red terms 2–6 with variances × (0.001 + falloff)²
-/// and weights strength·w/Σw (Jimenez 2012).
+/// and the weights of the demo's 1D kernel, strength·(w/√v)/Σ(w/√v) (the
+/// radial profile whose pre-integrated kernel is the demo's; Jimenez 2012,
+/// Jimenez et al. 2015 §4).
 fn jimenez_case(rng: &mut Rng) -> Case {
     let (s, f) = (rng.rgb(0.0, 1.0, false), rng.rgb(0.0, 1.0, false));
-    let sum_w: f64 = DEON_SKIN[1..].iter().map(|t| t.1[0]).sum();
+    let sum: f64 = DEON_SKIN[1..].iter().map(|t| t.1[0] / t.0.sqrt()).sum();
     let per_channel = [0, 1, 2].map(|c| {
         let k = (0.001 + f[c]).powi(2);
         DEON_SKIN[1..]
             .iter()
-            .map(|(v, w)| (v * k, s[c] * w[0] / sum_w))
+            .map(|(v, w)| (v * k, s[c] * w[0] / v.sqrt() / sum))
             .collect()
     });
     Case {

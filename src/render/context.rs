@@ -29,6 +29,13 @@ pub enum GpuError {
         "the ground truth (`reference`) reads the shadow map back, which the adapter {adapter} cannot (no depth-texture copies, as on GL): run it on Vulkan (Debian/Ubuntu: apt-get install mesa-vulkan-drivers, then WGPU_BACKEND=vulkan), or pick another method"
     )]
     NoGroundTruth { adapter: String },
+    #[error(
+        "the profile's inputs were made without what `{method}` reads ({missing}): build them for that method (ProfileInputs::for_look or for_method with it)"
+    )]
+    InputsLack {
+        method: &'static str,
+        missing: &'static str,
+    },
 }
 
 /// Linear-depth formats, best first (see [`GpuContext::linear_depth_format`]).

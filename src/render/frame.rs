@@ -93,16 +93,21 @@ pub(super) fn color_attachment(
     view: &wgpu::TextureView,
     load: bool,
 ) -> wgpu::RenderPassColorAttachment<'_> {
+    let clear = (!load).then_some(wgpu::Color::TRANSPARENT);
+    color_attachment_clearing(view, clear)
+}
+
+/// A colour attachment that clears to `clear`, or keeps (`None`).
+pub(super) fn color_attachment_clearing(
+    view: &wgpu::TextureView,
+    clear: Option<wgpu::Color>,
+) -> wgpu::RenderPassColorAttachment<'_> {
     wgpu::RenderPassColorAttachment {
         view,
         resolve_target: None,
         depth_slice: None,
         ops: wgpu::Operations {
-            load: if load {
-                wgpu::LoadOp::Load
-            } else {
-                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-            },
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
             store: wgpu::StoreOp::Store,
         },
     }

@@ -47,6 +47,14 @@ pub const MAP_ABSOLUTE: u32 = 1;
 pub const SAMPLING_R2_ROTATION: u32 = 1;
 pub const SAMPLING_CENTRE_WEIGHT: u32 = 2;
 pub const SAMPLING_BILINEAR: u32 = 4;
+/// The diffuse target's alpha on eyes and teeth (`DIFFUSE_ALPHA_NOT_SKIN`
+/// in `shaders/scene.wgsl` and `shaders/sss_common.wgsl`): no skin, so no
+/// light for the skin around it, its weight kept.
+pub const DIFFUSE_ALPHA_NOT_SKIN: f32 = -1.0;
+/// The diffuse target's alpha on the background, its clear value
+/// (`DIFFUSE_ALPHA_BACKGROUND` in `shaders/sss_common.wgsl`): no surface
+/// seen, its weight renormalised away.
+pub const DIFFUSE_ALPHA_BACKGROUND: f32 = -2.0;
 
 gpu_struct! {
     /// Twin of `SceneUniforms` in `shaders/scene.wgsl`: the camera, the

@@ -277,6 +277,10 @@ pub struct Probe {
     pub ray: Vec3,
     pub ray_dx: Vec3,
     pub ray_dy: Vec3,
+    /// The pixel's SSS mask, which scales the profile's radii there, as
+    /// the screen-space passes scale their kernels by it (and HDRP its
+    /// subsurface mask): 1 = the profile as it is.
+    pub profile_scale: f32,
 }
 
 impl Probe {
@@ -289,6 +293,7 @@ impl Probe {
             ray: -Vec3::Z,
             ray_dx: Vec3::ZERO,
             ray_dy: Vec3::ZERO,
+            profile_scale: 1.0,
         }
     }
 
@@ -632,15 +637,24 @@ impl Cloud {
             pixel_dy_mm: dy,
             width_mm: 0.0,
         };
+        let query = Query {
+            x: probe.x_mm,
+            pixel,
+            profile: Scaled {
+                table: &self.table,
+                m: (probe.profile_scale as f64).clamp(1e-3, 1.0),
+            },
+        };
         let mut acc = [0.0f64; 3];
-        self.roots_near(probe.x_mm, self.reach_mm as f32, |r| {
+        let reach = self.reach_mm * query.profile.m;
+        self.roots_near(probe.x_mm, reach as f32, |r| {
             let node = Node {
                 bary: [Vec3::X, Vec3::Y, Vec3::Z],
                 corners: r.corners,
                 level: 0,
                 index: 0,
             };
-            self.integrate(probe.x_mm, pixel, r, node, irradiance, &mut acc);
+            self.integrate(&query, r, node, irradiance, &mut acc);
         });
         acc.map(|v| v as f32)
     }
@@ -669,13 +683,13 @@ impl Cloud {
     /// below the cells, one piece of a cell).
     fn integrate(
         &self,
-        x: Vec3,
-        pixel: Footprint,
+        q: &Query,
         root: &Root,
         node: Node,
         irradiance: &dyn SurfaceIrradiance,
         acc: &mut [f64; 3],
     ) {
+        let (x, pixel, table) = (q.x, q.pixel, &q.profile);
         let corners = node.corners;
         let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
         let side = longest_side(&corners);
@@ -691,7 +705,7 @@ impl Cloud {
             .map(|c| (*c - centre).length() as f64)
             .fold(0.0, f64::max)
             .max(1e-9);
-        let inside = ((self.table.r_max_mm - (dist - reach)) / (2.0 * reach)).clamp(0.0, 1.0);
+        let inside = ((table.r_max_mm() - (dist - reach)) / (2.0 * reach)).clamp(0.0, 1.0);
         if inside <= 0.0 {
             return;
         }
@@ -727,21 +741,21 @@ impl Cloud {
             // coordinates about x (`polar_weight`); otherwise it is split
             // and each piece evaluated afresh, so a shadow edge stays sharp
             // at the profile's core.
-            let even = side <= self.table.epsilon_mm
+            let even = side <= table.epsilon_mm()
                 || node.bary.iter().all(|b| {
                     let v = irradiance.at(root.tri as usize, *b, footprint);
                     (0..3).all(|c| (v[c] - e[c]).abs() <= 0.02 * e[c].abs().max(1e-6))
                 });
             if even {
                 if e != [0.0; 3] {
-                    let w = self.polar_weight(x, corners);
+                    let w = table.polar_weight(x, corners);
                     for c in 0..3 {
                         acc[c] += e[c] as f64 * w[c];
                     }
                 }
                 return;
             }
-        } else if side <= self.table.leaf_mm(dist) {
+        } else if side <= table.leaf_mm(dist) {
             if e == [0.0; 3] {
                 return;
             }
@@ -753,7 +767,7 @@ impl Cloud {
             let mut w = [0.0f64; 3];
             for k in 0..3 {
                 let m = 0.5 * (corners[k] + corners[(k + 1) % 3]);
-                let d = self.table.density((x - m).length() as f64);
+                let d = table.density((x - m).length() as f64);
                 for c in 0..3 {
                     w[c] += d[c] as f64 / 3.0;
                 }
@@ -776,8 +790,46 @@ impl Cloud {
                     0
                 },
             };
-            self.integrate(x, pixel, root, child, irradiance, acc);
+            self.integrate(q, root, child, irradiance, acc);
         }
+    }
+}
+
+/// One gather: the point, its pixel and the profile there.
+struct Query<'a> {
+    x: Vec3,
+    pixel: Footprint,
+    profile: Scaled<'a>,
+}
+
+/// The profile at a probe: the table with its radii scaled by m (the
+/// pixel's SSS mask): ρ_m(r) = ρ(r/m)/m², CDF_m(r) = CDF(r/m).
+#[derive(Clone, Copy)]
+struct Scaled<'a> {
+    table: &'a ProfileTable,
+    m: f64,
+}
+
+impl Scaled<'_> {
+    fn density(&self, r_mm: f64) -> [f32; 3] {
+        let k = (1.0 / (self.m * self.m)) as f32;
+        self.table.density(r_mm / self.m).map(|v| v * k)
+    }
+
+    fn cdf(&self, r_mm: f64) -> [f32; 3] {
+        self.table.cdf(r_mm / self.m)
+    }
+
+    fn leaf_mm(&self, r_mm: f64) -> f64 {
+        self.table.leaf_mm(r_mm / self.m) * self.m
+    }
+
+    fn r_max_mm(&self) -> f64 {
+        self.table.r_max_mm * self.m
+    }
+
+    fn epsilon_mm(&self) -> f64 {
+        self.table.epsilon_mm * self.m
     }
 }
 
@@ -790,7 +842,7 @@ struct Node {
     index: usize,
 }
 
-impl Cloud {
+impl Scaled<'_> {
     /// ∫ ρ(‖x − y‖) dA over the triangle `corners`. With x at height h
     /// above the triangle's plane and x' its foot, ‖x − y‖² = r² + h² for
     /// r = ‖x' − y‖, and ∫₀^R ρ(√(r² + h²)) r dr = (CDF(√(R² + h²)) −
@@ -812,14 +864,14 @@ impl Cloud {
         // Under 1 µm off the plane is the f32 depth reconstruction's noise
         // (~0.1 µm), not a surface behind x: x is on the cell.
         let h = if h < 1e-3 { 0.0 } else { h };
-        let cdf_h = if h > 0.0 { self.table.cdf(h) } else { [0.0; 3] };
+        let cdf_h = if h > 0.0 { self.cdf(h) } else { [0.0; 3] };
         let foot = x - n * along;
         let unit_n = n / n2.sqrt();
         let mut w = [0.0f64; 3];
         for k in 0..3 {
             let (a, b) = (corners[k] - foot, corners[(k + 1) % 3] - foot);
             edge_fan(a, b, unit_n, |r_mm, weight| {
-                let cdf = self.table.cdf((r_mm * r_mm + h * h).sqrt());
+                let cdf = self.cdf((r_mm * r_mm + h * h).sqrt());
                 for c in 0..3 {
                     w[c] += weight * (cdf[c] - cdf_h[c]) as f64;
                 }

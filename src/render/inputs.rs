@@ -63,6 +63,9 @@ pub struct ProfileInputs {
     pub separable_depth_sigma_mm: f32,
     /// How `burley` samples (the pattern here, the rest in the shader).
     pub burley_sampling: BurleySampling,
+    /// Which of the method-specific tables hold the profile (the others
+    /// are neutral placeholders of the same sizes).
+    baked: Tables,
 }
 
 pub(super) const LUT_SIZE: usize = 256;
@@ -100,12 +103,7 @@ impl ProfileInputs {
     ) -> Result<(), ModelError> {
         use crate::settings::ProfileSpec;
         let inputs = self;
-        // Kernels without a colour of their own (energy-conserving blurs,
-        // total reflectance 1) leave the colour to the surface, as in the
-        // engines: the default skin's albedo stands in for a colour map.
-        if matches!(spec, ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)) {
-            inputs.surface_albedo = KERNEL_SURFACE_ALBEDO;
-        }
+        inputs.surface_albedo = look_colour(spec, profile);
         if let ProfileSpec::Jimenez2012(j) = spec {
             inputs.set_separable_kernel(
                 &crate::model::jimenez::Jimenez2012::new(j.strength, j.falloff)?.kernel(taps)?,
@@ -227,7 +225,23 @@ impl ProfileInputs {
             taps,
             separable_depth_sigma_mm,
             burley_sampling: sampling,
+            baked: tables,
         })
+    }
+
+    /// Why these inputs cannot render `method` (the table it reads holds a
+    /// placeholder), or `None` when they can: B of a comparison drawn with
+    /// A's inputs drew `gaussians` as `none` and said nothing (issue 22).
+    pub fn missing_for(&self, method: super::Method) -> Option<&'static str> {
+        use super::Method;
+        match method {
+            Method::Separable if !self.baked.separable => Some("the separable kernel's taps"),
+            Method::Preintegrated if !self.baked.preintegrated => {
+                Some("Penner's pre-integrated and penumbra tables")
+            }
+            Method::Gaussians if self.gaussians.is_empty() => Some("the Gaussians"),
+            _ => None,
+        }
     }
 
     /// Rebuilds the `burley` patterns for another count or sampling strategy.
@@ -241,6 +255,21 @@ impl ProfileInputs {
         self.burley_sampling = sampling;
         Ok(())
     }
+}
+
+/// The colour a look gives the surface (`ProfileInputs::surface_albedo`):
+/// its profile's total reflectance, clamped to [0, 1]; kernels without a
+/// colour of their own (energy-conserving blurs, total 1: Jimenez 2012,
+/// the artist model) leave it to the surface, as in the engines, and the
+/// default skin's albedo stands in for a colour map.
+pub fn look_colour(spec: &crate::settings::ProfileSpec, profile: &dyn RadialProfile) -> [f32; 3] {
+    use crate::settings::ProfileSpec;
+    if matches!(spec, ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)) {
+        return KERNEL_SURFACE_ALBEDO;
+    }
+    profile
+        .total_reflectance()
+        .map(|t| t.clamp(0.0, 1.0) as f32)
 }
 
 /// The Gaussians `gaussians` blurs with for the look `spec`: a Gaussian-sum
@@ -385,6 +414,7 @@ impl ProfileInputs {
     /// `demo_2012` keeps the demo's follow-surface lerp, otherwise the depth
     /// weight's σ is the kernel's RMS width.
     pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel, demo_2012: bool) {
+        self.baked.separable = true;
         self.taps = gpu_taps(kernel);
         self.separable_depth_sigma_mm = if demo_2012 { 0.0 } else { rms_width_mm(kernel) };
     }
@@ -414,7 +444,7 @@ impl ProfileInputs {
 
 /// A separable kernel's taps as the GPU reads them: rgb weight, offset (mm).
 /// Which of the expensive tables [`ProfileInputs::with_tables`] bakes.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Tables {
     separable: bool,
     preintegrated: bool,

@@ -191,6 +191,12 @@ impl Renderer {
         s: &RenderSettings,
         want_diffuse: bool,
     ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
+        if let Some(missing) = inputs.missing_for(s.method) {
+            return Err(GpuError::InputsLack {
+                method: s.method.id(),
+                missing,
+            });
+        }
         self.ensure_targets(s.width, s.height);
         if let Some(p) = s.progressive {
             if p.slot >= 2 {

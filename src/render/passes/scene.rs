@@ -4,11 +4,12 @@
 //! camera, the light and the look ([`SceneUniforms`]).
 
 use super::super::context::{GpuContext, GpuError};
-use super::super::frame::{buf, color_attachment, tex, FrameEncoder};
+use super::super::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
 use super::super::framing::{CameraLight, Framing};
 use super::super::gpu_types::{
-    SceneUniforms, MAP_ABSOLUTE, MAP_MODULATES, PATTERN_CHECKERBOARD, PATTERN_LIT, PATTERN_STEP,
-    SPECULAR_DUAL_GGX, SPECULAR_KELEMEN, TRANSMISSION_OFF, TRANSMISSION_THICK, TRANSMISSION_THIN,
+    SceneUniforms, DIFFUSE_ALPHA_BACKGROUND, MAP_ABSOLUTE, MAP_MODULATES, PATTERN_CHECKERBOARD,
+    PATTERN_LIT, PATTERN_STEP, SPECULAR_DUAL_GGX, SPECULAR_KELEMEN, TRANSMISSION_OFF,
+    TRANSMISSION_THICK, TRANSMISSION_THIN,
 };
 use super::super::inputs::ProfileInputs;
 use super::super::pipelines::{buffer_entry, scene_pipeline, uniform_entry};
@@ -231,7 +232,14 @@ impl ScenePass {
         let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
             color_attachments: &[
-                Some(color_attachment(t.view(HdrTarget::Diffuse), false)),
+                // The background's alpha marks it for the SSS passes.
+                Some(color_attachment_clearing(
+                    t.view(HdrTarget::Diffuse),
+                    Some(wgpu::Color {
+                        a: DIFFUSE_ALPHA_BACKGROUND as f64,
+                        ..wgpu::Color::TRANSPARENT
+                    }),
+                )),
                 Some(color_attachment(&t.specular, false)),
                 Some(color_attachment(&t.albedo, false)),
                 Some(color_attachment(&t.linear_depth, false)),

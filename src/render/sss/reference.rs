@@ -310,6 +310,7 @@ fn surface_points(
                 ray: world_from_view.transform_vector3(Vec3::new(x, y, -1.0)),
                 ray_dx,
                 ray_dy,
+                profile_scale: alpha.min(1.0),
             });
         }
     }
