@@ -385,16 +385,25 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         if (u.transmission_mode == TRANSMISSION_THICK) {
             d = max(d, shadow_thickness_mm(i.world));
         } else if (back > 0.0) {
-            // Thin objects take the shadow of the face the light enters:
-            // the point `thickness` behind this one along −N_g, looked up
-            // with the normal offset turned towards the light (HDRP flips
-            // the shadow normal of lit back faces for transmission:
-            // SHADOW_AUTO_FLIP_NORMAL, HDShadow.hlsl lines 6–8 and 27–29,
-            // Unity Graphics 2c80a82). Offsetting along −N_g from this point
-            // alone, as before, looked up the slab's own shadow: a back-lit
-            // 1 mm slab got nothing (test
-            // thin_transmission_lights_a_back_lit_slab_by_t_of_t).
-            let entry = i.world - ng * (thickness / u.mm_per_unit);
+            // Thin objects take the shadow of the face the light enters,
+            // looked up with the normal offset turned towards the light
+            // (HDRP flips the shadow normal of lit back faces for
+            // transmission: SHADOW_AUTO_FLIP_NORMAL, HDShadow.hlsl lines
+            // 6–8 and 27–29, Unity Graphics 2c80a82; offsetting from this
+            // point alone looked up the slab's own shadow: a back-lit 1 mm
+            // slab got nothing, test
+            // thin_transmission_lights_a_back_lit_slab_by_t_of_t). With a
+            // thickness map the artist's thickness behind this point along
+            // −N_g (HDRP's thin mode); without one, the distance the light
+            // travels through the part to this point, from the shadow map
+            // (d'Eon & Luebke 2007 §14.6, translucent shadow maps), entering
+            // that far towards the light: the per-vertex bake along −N_g it
+            // replaces was thin only at the ear's rim (issue 22).
+            var entry = i.world - ng * (thickness / u.mm_per_unit);
+            if (u.thickness_map_range_mm <= 0.0) {
+                d = shadow_thickness_mm(i.world);
+                entry = i.world + l * (d / u.mm_per_unit);
+            }
             reach = back * shadow_factor(entry, -ng);
         }
         irradiance = irradiance + light_radiance * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;

@@ -112,8 +112,11 @@ fn fs_burley(in: FullscreenOut) -> @location(0) vec4<f32> {
     // Centre weight: the pixel's own footprint (a disk of one pixel's
     // area) holds CDF(r_px) of the energy, taken from the centre exactly;
     // samples inside it would land on the centre pixel and are skipped.
+    // Without it, the centre keeps the profile's Dirac share, CDF(0) per
+    // channel (Jimenez 2012's 1 − strength; 0 for most profiles): the
+    // pattern samples only the continuous part.
     var r_centre = 0.0;
-    var w_centre = vec3<f32>(0.0);
+    var w_centre = profile_cdf(0.0);
     if ((flags & SAMPLING_CENTRE_WEIGHT) != 0u) {
         r_centre = 0.5641896 / ppm;
         w_centre = profile_cdf(r_centre);

@@ -9,8 +9,10 @@
 //!   texture filtering at the pixel's footprint and the exact near field
 //!   reproduce what the GPU draws.
 //! - **Finer sampling.** The ground truth gathered at 2 × 2 points of each
-//!   pixel's footprint and averaged against the plain one (a point per
-//!   pixel), over the pixels whose footprint is one surface
+//!   pixel's footprint and averaged (each with the maps read over the
+//!   pixel's footprint, the scene pass's filter that defines a pixel's
+//!   value for every method) against the plain one (a point per pixel),
+//!   over the pixels whose footprint is one surface
 //!   (`Cloud::gather_supersampled`; the others, at silhouettes and creases,
 //!   are counted in `mixed_fraction`).
 

@@ -67,7 +67,8 @@ fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> R
     }
 }
 
-/// The six scenes of issue 5 at `size` pixels.
+/// The six scenes of issue 5 and the thick-transmission ear at `size`
+/// pixels.
 pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
     vec![
         Scene {
@@ -79,11 +80,21 @@ pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
         },
         Scene {
             id: "head_backlit_ear",
-            description: "the head back-lit through the ear, thin-object transmission (camera yaw 65°, light azimuth 200°, elevation 10°)",
+            description: "the head back-lit through the ear, thin-object transmission (the light's path through the part from the shadow map; camera yaw 65°, light azimuth 200°, elevation 10°)",
             stage: Stage::Head,
             head_shot: true,
             settings: RenderSettings {
                 transmission: Transmission::ThinObject,
+                ..head(size, 65.0, 0.55, (200.0, 10.0))
+            },
+        },
+        Scene {
+            id: "head_backlit_ear_thick",
+            description: "the back-lit ear of head_backlit_ear with thick-object transmission (the distance through the shadow map, unshadowed; Golubev 2018)",
+            stage: Stage::Head,
+            head_shot: true,
+            settings: RenderSettings {
+                transmission: Transmission::ThickObject,
                 ..head(size, 65.0, 0.55, (200.0, 10.0))
             },
         },

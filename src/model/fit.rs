@@ -292,6 +292,16 @@ pub fn fit_gaussians(target: &dyn RadialProfile, n: usize) -> Result<Fit<Gaussia
     )?;
     let s = Samples::new(target, true);
     let total = target.total_reflectance();
+    // A Dirac weight (Jimenez 2012's 1 − strength) is kept as it is: the
+    // Gaussians hold the continuous part's share of the normalised target.
+    let dirac = target.dirac_weight();
+    let continuous = rgb_map(|c| {
+        if total[c] > 0.0 {
+            ((total[c] - dirac[c]) / total[c]).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    });
     let basis = |v: f64, r: f64| r * (-r * r / (2.0 * v)).exp() / (2.0 * PI * v);
     let solve = |lnv: &[f64]| -> ([Vec<f64>; 3], Rgb) {
         let vs: Vec<f64> = lnv.iter().map(|x| x.exp()).collect();
@@ -315,14 +325,12 @@ pub fn fit_gaussians(target: &dyn RadialProfile, n: usize) -> Result<Fit<Gaussia
                     .map(|i| s.weights[c][i] * phi[k][i] * s.target[c][i])
                     .sum();
             }
-            // Each Gaussian integrates to its weight: scaled to sum to 1,
-            // the sum holds the normalised target's energy.
+            // Each Gaussian integrates to its weight: scaled to sum to the
+            // continuous share, the sum holds the normalised target's energy.
             let w = nnls(&gram, &rhs);
             let sum: f64 = w.iter().sum();
-            let w: Vec<f64> = w
-                .iter()
-                .map(|x| if sum > 0.0 { x / sum } else { 0.0 })
-                .collect();
+            let k = if sum > 0.0 { continuous[c] / sum } else { 0.0 };
+            let w: Vec<f64> = w.iter().map(|x| x * k).collect();
             err[c] = s.error(c, |r| {
                 vs.iter().zip(&w).map(|(&v, &wk)| wk * basis(v, r)).sum()
             });
@@ -356,7 +364,18 @@ pub fn fit_gaussians(target: &dyn RadialProfile, n: usize) -> Result<Fit<Gaussia
     let terms: Vec<(f64, Rgb)> = (0..n)
         .map(|k| (best[k].exp(), rgb_map(|c| weights[c][k] * total[c])))
         .collect();
-    let model = GaussianSum::new(&terms)?;
+    // (Validated as a Gaussian sum, then with the target's Dirac weight.)
+    GaussianSum::new(&terms)?;
+    let channels = [0, 1, 2].map(|c| {
+        terms
+            .iter()
+            .map(|(v, w)| crate::model::gaussian::Term {
+                weight: w[c],
+                variance_mm2: *v,
+            })
+            .collect()
+    });
+    let model = GaussianSum::from_channels(channels, dirac);
     let kept = model.total_reflectance();
     Ok(Fit {
         model,

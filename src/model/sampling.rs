@@ -3,7 +3,9 @@
 //! the channel with the longest scattering distance at ξᵢ = (i + ½)/N,
 //! angles by the golden angle (Fibonacci) or the Hammersley radical
 //! inverse, and per-channel weights R_c(r)/pdf(r) so that
-//! Σᵢ wᵢ·L(xᵢ) estimates ∫R_c(|x|)L(x) dA (Σᵢ w_c,i → A_c).
+//! Σᵢ wᵢ·L(xᵢ) estimates ∫R_c(|x|)L(x) dA over the continuous part
+//! (Σᵢ w_c,i → A_c minus any Dirac weight, which the pass takes from the
+//! centre pixel).
 
 use super::{check_range, rgb_map, ModelError, RadialProfile, Rgb, DEFAULT_ENERGY_FRACTION};
 use std::f64::consts::PI;
@@ -62,8 +64,18 @@ fn angle(angles: AngleSequence, i: usize) -> f64 {
         }
 }
 
-/// One of N samples at the quantile ξ of channel `dom`, weighted
-/// w_c = R_c(r)/(N·q(r)) with q = R_dom(r)/A_dom, the planar density.
+/// The quantile of the continuous part of channel `c` at ξ ∈ (0, 1): a
+/// Dirac weight at r = 0 (Jimenez 2012's 1 − strength) is not sampled
+/// (the pass keeps that share of the centre pixel itself, per channel:
+/// `fs_burley`'s centre weight); ξ covers the CDF from the Dirac's share up.
+fn continuous_quantile(profile: &dyn RadialProfile, c: usize, xi: f64) -> f64 {
+    let dirac = profile.cdf(0.0)[c].clamp(0.0, 1.0);
+    profile.inverse_cdf(c, dirac + (1.0 - dirac) * xi)
+}
+
+/// One of N samples at the quantile ξ of channel `dom`'s continuous part,
+/// weighted w_c = R_c(r)/(N·q(r)) with q = R_dom(r)/(A_dom − D_dom), the
+/// planar density (D the Dirac weight), so that Σ w_c → A_c − D_c.
 fn quantile_sample(
     profile: &dyn RadialProfile,
     dom: usize,
@@ -72,17 +84,18 @@ fn quantile_sample(
     angle_rad: f64,
 ) -> DiskSample {
     let total = profile.total_reflectance();
-    let r = profile.inverse_cdf(dom, xi);
+    let continuous = (total[dom] - profile.dirac_weight()[dom]).max(0.0);
+    let r = continuous_quantile(profile, dom, xi);
     let rr = profile.r_reflectance(r);
     let weight = rgb_map(|c| {
         if rr[dom] > 0.0 {
-            total[dom] * rr[c] / (n as f64 * rr[dom])
+            continuous * rr[c] / (n as f64 * rr[dom])
         } else {
             0.0
         }
     });
-    let density_per_mm2 = if total[dom] > 0.0 {
-        profile.reflectance(r)[dom] / total[dom]
+    let density_per_mm2 = if continuous > 0.0 {
+        profile.reflectance(r)[dom] / continuous
     } else {
         0.0
     };
@@ -189,17 +202,21 @@ impl SamplePattern {
         // Sample i belongs to channel lit[i mod m], stratum i div m.
         let m = lit.len();
         let count = |j: usize| (n + m - 1 - j) / m;
+        // Each channel's continuous part (a Dirac weight is not sampled).
+        let dirac = profile.dirac_weight();
         let density = |r: f64| -> f64 {
             let v = profile.reflectance(r);
             lit.iter()
                 .enumerate()
-                .map(|(j, &c)| count(j) as f64 / n as f64 * v[c] / total[c])
+                .map(|(j, &c)| {
+                    count(j) as f64 / n as f64 * v[c] / (total[c] - dirac[c]).max(1e-300)
+                })
                 .sum()
         };
         let samples = (0..n)
             .map(|i| {
                 let (j, k) = (i % m, i / m);
-                let r = profile.inverse_cdf(lit[j], (k as f64 + 0.5) / count(j) as f64);
+                let r = continuous_quantile(profile, lit[j], (k as f64 + 0.5) / count(j) as f64);
                 let q = density(r);
                 let v = profile.reflectance(r);
                 let weight = rgb_map(|c| if q > 0.0 { v[c] / (n as f64 * q) } else { 0.0 });

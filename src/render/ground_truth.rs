@@ -580,11 +580,11 @@ impl Cloud {
     /// The gather averaged over k × k points of the probe's pixel on its own
     /// surface (each subpixel's ray met with the plane of the pixel's
     /// triangle, then moved to the nearest point of the SSS surface), each
-    /// read with its subpixel's footprint: the check that one point per
-    /// pixel is enough (k = 1 is [`Cloud::gather`]). `None` where the
+    /// with the maps read over the pixel's footprint: the check that one
+    /// point per pixel is enough (k = 1 is [`Cloud::gather`]). `None` where the
     /// pixel's footprint is not one smooth surface (a subpixel's point lies
-    /// off the surface by over 5 % of the pixel: a silhouette, a crease,
-    /// the lips' line), where a pixel's centre stands for a mix of
+    /// off the surface by over 5 % of the pixel, or on a facet turned by
+    /// over 30°: a silhouette, a crease, the lips' line), where a pixel's centre stands for a mix of
     /// surfaces in every rasteriser, the scene pass's included, and a
     /// finer grid changes the image whatever the method.
     pub fn gather_supersampled(
@@ -609,12 +609,19 @@ impl Cloud {
                 let ray = probe.ray + probe.ray_dx * fx + probe.ray_dy * fy;
                 let t = (probe.x_mm - probe.camera_mm).dot(n) / ray.dot(n);
                 let on_plane = probe.camera_mm + ray * t;
-                let (_, x) = self.nearest(on_plane, tolerance)?;
+                let (corners, x) = self.nearest(on_plane, tolerance)?;
+                // A crease (the lips' line, an eyelid's rim) within the
+                // footprint: the surface turns by over 30° under the pixel.
+                if normal_of(corners).dot(n) < 0.866 {
+                    return None;
+                }
+                // The maps are read over the pixel's own footprint at every
+                // point (the scene pass's filter, which defines the pixel's
+                // value for every method): finer points test the gather's
+                // spatial sampling, not a finer texture filter.
                 let sub = Probe {
                     x_mm: x,
                     ray,
-                    ray_dx: probe.ray_dx / k as f32,
-                    ray_dy: probe.ray_dy / k as f32,
                     ..*probe
                 };
                 let v = self.gather(&sub, irradiance);

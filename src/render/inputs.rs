@@ -288,17 +288,29 @@ pub fn gaussian_terms(
             .collect(),
         _ => {
             let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
-            (0..m.channel_terms(0).len())
+            let mut terms: Vec<(f64, crate::model::Rgb)> = (0..m.channel_terms(0).len())
                 .map(|k| {
                     (
                         m.channel_terms(0)[k].variance_mm2,
                         [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
                     )
                 })
-                .collect()
+                .collect();
+            // A Dirac weight (Jimenez 2012's 1 − strength) as a Gaussian
+            // narrower than any pixel: its taps all read the centre.
+            let dirac = m.dirac_weight();
+            if dirac.iter().any(|d| *d > 0.0) {
+                terms.push((DIRAC_VARIANCE_MM2, dirac));
+            }
+            terms
         }
     })
 }
+
+/// The variance (mm²) of the Gaussian that stands for a Dirac weight in
+/// `gaussians`: σ = 0.1 µm, under a pixel at any distance the renderer
+/// frames.
+pub const DIRAC_VARIANCE_MM2: f64 = 1e-8;
 
 /// The full and the short (LOD) `burley` pattern: Golubev 2018's quantiles
 /// of the widest channel, in antithetic pairs, or MIS across the channels.
