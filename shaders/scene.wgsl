@@ -164,6 +164,12 @@ fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
 @group(0) @binding(13) var shadow_depth: texture_2d<f32>;
 
 fn transmittance_at(d_mm: f32) -> vec3<f32> {
+    // The table ends at the profile's 0.999-energy radius: beyond it T(d)
+    // is under 0.1 % of the total, and taking its last entry for every
+    // longer path lit the whole shadowed side by that 0.1 %.
+    if (d_mm >= u.transmittance_range_mm) {
+        return vec3<f32>(0.0);
+    }
     let n = f32(u.transmittance_entries);
     let t = clamp(d_mm / u.transmittance_range_mm, 0.0, 1.0) * (n - 1.0);
     let i = min(u32(t), u32(n) - 2u);
@@ -179,6 +185,15 @@ fn shadow_thickness_mm(world: vec3<f32>) -> f32 {
     let occluder = textureLoad(shadow_depth, texel, 0).r;
     let depth = light_linear_depth(q.z) - light_linear_depth(occluder);
     return max(depth, 0.0) * u.mm_per_unit;
+}
+
+// Whether a path through the part read from the shadow map is one: the map
+// resolves the surface laterally only to the PCF's footprint, so a path
+// shorter than it, just past the terminator, is the surface's own edge
+// misread (it put T(0), the full light, there: issue 22's d → 0 floor of
+// the back-lit ear), faded out below the footprint.
+fn resolved_path(d_mm: f32) -> f32 {
+    return smoothstep(0.5 * u.pcf_footprint_mm, u.pcf_footprint_mm, d_mm);
 }
 
 // PCF on the light's orthographic depth map: 3×3 bilinear comparison taps
@@ -383,7 +398,10 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         var d = thickness;
         var reach = back;
         if (u.transmission_mode == TRANSMISSION_THICK) {
+            // Unshadowed by the part itself, but only the light that did not
+            // reach this point directly (as thin below).
             d = max(d, shadow_thickness_mm(i.world));
+            reach = back * (1.0 - shadow) * resolved_path(d);
         } else if (back > 0.0) {
             // Thin objects take the shadow of the face the light enters,
             // looked up with the normal offset turned towards the light
@@ -398,13 +416,19 @@ fn fs_main(i: VertexOut) -> TargetsOut {
             // travels through the part to this point, from the shadow map
             // (d'Eon & Luebke 2007 §14.6, translucent shadow maps), entering
             // that far towards the light: the per-vertex bake along −N_g it
-            // replaces was thin only at the ear's rim (issue 22).
+            // replaces was thin only at the ear's rim (issue 22). Only light
+            // that did not reach this point directly goes through: where the
+            // shadow map sees this point itself (the terminator, the
+            // silhouette as the light sees it) the path is 0 and T(0) would
+            // light it fully, so the unshadowed share is left out.
             var entry = i.world - ng * (thickness / u.mm_per_unit);
+            var through = 1.0;
             if (u.thickness_map_range_mm <= 0.0) {
                 d = shadow_thickness_mm(i.world);
                 entry = i.world + l * (d / u.mm_per_unit);
+                through = (1.0 - shadow) * resolved_path(d);
             }
-            reach = back * shadow_factor(entry, -ng);
+            reach = back * shadow_factor(entry, -ng) * through;
         }
         irradiance = irradiance + light_radiance * reach * transmittance_at(d) * u.transmission_tint.rgb / PI;
     }

@@ -277,6 +277,9 @@ pub struct Probe {
     pub ray: Vec3,
     pub ray_dx: Vec3,
     pub ray_dy: Vec3,
+    /// The pixel's place in its 2 × 2 quad (0 or 1 in x and y), for the
+    /// GPU's derivatives ([`Probe::pixel_steps_mm`]).
+    pub quad: glam::Vec2,
     /// The pixel's SSS mask, which scales the profile's radii there, as
     /// the screen-space passes scale their kernels by it (and HDRP its
     /// subsurface mask): 1 = the profile as it is.
@@ -293,21 +296,33 @@ impl Probe {
             ray: -Vec3::Z,
             ray_dx: Vec3::ZERO,
             ray_dy: Vec3::ZERO,
+            quad: glam::Vec2::ZERO,
             profile_scale: 1.0,
         }
     }
 
     /// The surface steps (mm) one pixel to the right and one down make on
-    /// the plane through x with normal `n`: P = C + t·D with t = (x − C)·n
-    /// / (D·n), so dP = t (dD − D (dD·n)/(D·n)) (Igehy 1999, eq. 10).
+    /// the plane through x with normal `n`, as a GPU's derivatives see
+    /// them: the differences between the pixels of the 2 × 2 quad the
+    /// pixel shades in (Vulkan's coarse derivatives, from the quad's first
+    /// pixel), each pixel's point P = C + t·D with t = (x − C)·n / (D·n)
+    /// (the ray met with the plane; Igehy 1999). At a grazing view the
+    /// quad's difference and the tangent at the pixel differ by much.
     pub fn pixel_steps_mm(&self, n: Vec3) -> (Vec3, Vec3) {
-        let dn = self.ray.dot(n);
-        if dn.abs() < 1e-6 {
-            return (Vec3::ZERO, Vec3::ZERO);
+        let on_plane = |d: Vec3| -> Option<Vec3> {
+            let dn = d.dot(n);
+            (dn.abs() >= 1e-6)
+                .then(|| self.camera_mm + d * ((self.x_mm - self.camera_mm).dot(n) / dn))
+        };
+        let first = self.ray - self.ray_dx * self.quad.x - self.ray_dy * self.quad.y;
+        match (
+            on_plane(first),
+            on_plane(first + self.ray_dx),
+            on_plane(first + self.ray_dy),
+        ) {
+            (Some(p0), Some(px), Some(py)) => (px - p0, py - p0),
+            _ => (Vec3::ZERO, Vec3::ZERO),
         }
-        let t = (self.x_mm - self.camera_mm).dot(n) / dn;
-        let step = |d: Vec3| (d - self.ray * (d.dot(n) / dn)) * t;
-        (step(self.ray_dx), step(self.ray_dy))
     }
 }
 
@@ -567,14 +582,35 @@ impl Cloud {
         best.1
     }
 
+    /// The probe's point on the SSS surface and its pixel's surface steps
+    /// (mm) there. The rasteriser snaps vertices to a fraction of a pixel
+    /// (lavapipe: 1/256), so where the surface is seen at a grazing angle
+    /// the depth it interpolates at a pixel's centre puts the point off
+    /// the triangle by microns (5.7 µm at 75°, measured): the point is
+    /// moved onto the nearest triangle when that is within 1 % of the
+    /// pixel's footprint (else it stays, off the skin, with no footprint).
+    fn on_surface(&self, probe: &Probe) -> (Vec3, Vec3, Vec3) {
+        let reach = 0.01
+            * (probe.ray_dx.length().max(probe.ray_dy.length()))
+            * (probe.x_mm - probe.camera_mm).length()
+            / probe.ray.length().max(1e-12);
+        let Some((c, q)) = self.nearest(probe.x_mm, reach.max(1e-3)) else {
+            return (probe.x_mm, Vec3::ZERO, Vec3::ZERO);
+        };
+        let (dx, dy) = probe.pixel_steps_mm(normal_of(c));
+        let within = 0.01 * dx.length().max(dy.length()) + 1e-3;
+        if (q - probe.x_mm).length() <= within {
+            (q, dx, dy)
+        } else {
+            (probe.x_mm, Vec3::ZERO, Vec3::ZERO)
+        }
+    }
+
     /// The surface steps (mm) of the probe's pixel on the SSS triangle
-    /// nearest x (none when no triangle is within 10 µm: a point off the
-    /// skin, or a probe without a pixel).
+    /// nearest x ([`Cloud::on_surface`]).
     fn pixel_steps_mm(&self, probe: &Probe) -> (Vec3, Vec3) {
-        self.nearest(probe.x_mm, 10e-3)
-            .map_or((Vec3::ZERO, Vec3::ZERO), |(c, _)| {
-                probe.pixel_steps_mm(normal_of(c))
-            })
+        let (_, dx, dy) = self.on_surface(probe);
+        (dx, dy)
     }
 
     /// The gather averaged over k × k points of the probe's pixel on its own
@@ -638,14 +674,14 @@ impl Cloud {
     /// pixel covers (the pieces beside x are read at least that wide: the
     /// pixel's mean, as the GPU's mip level makes it).
     pub fn gather(&self, probe: &Probe, irradiance: &dyn SurfaceIrradiance) -> [f32; 3] {
-        let (dx, dy) = self.pixel_steps_mm(probe);
+        let (x, dx, dy) = self.on_surface(probe);
         let pixel = Footprint {
             pixel_dx_mm: dx,
             pixel_dy_mm: dy,
             width_mm: 0.0,
         };
         let query = Query {
-            x: probe.x_mm,
+            x,
             pixel,
             profile: Scaled {
                 table: &self.table,
@@ -654,7 +690,7 @@ impl Cloud {
         };
         let mut acc = [0.0f64; 3];
         let reach = self.reach_mm * query.profile.m;
-        self.roots_near(probe.x_mm, reach as f32, |r| {
+        self.roots_near(x, reach as f32, |r| {
             let node = Node {
                 bary: [Vec3::X, Vec3::Y, Vec3::Z],
                 corners: r.corners,

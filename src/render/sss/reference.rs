@@ -256,9 +256,12 @@ fn build_cloud(
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])
         .collect();
+    // Every triangle with some skin: the scene pass decides skin per
+    // fragment by the interpolated material, and so does the twin per
+    // point (a triangle with one vertex on an eye is skin over part of it).
     let skin = |t: usize| {
         let m = &mesh.vertices;
-        triangles[t].iter().all(|&i| m[i as usize].material < 0.5)
+        triangles[t].iter().any(|&i| m[i as usize].material < 0.5)
     };
     let cloud = Cloud::build(
         &positions,
@@ -310,6 +313,7 @@ fn surface_points(
                 ray: world_from_view.transform_vector3(Vec3::new(x, y, -1.0)),
                 ray_dx,
                 ray_dy,
+                quad: glam::Vec2::new((px % 2) as f32, (py % 2) as f32),
                 profile_scale: alpha.min(1.0),
             });
         }
