@@ -606,13 +606,6 @@ impl Cloud {
         }
     }
 
-    /// The surface steps (mm) of the probe's pixel on the SSS triangle
-    /// nearest x ([`Cloud::on_surface`]).
-    fn pixel_steps_mm(&self, probe: &Probe) -> (Vec3, Vec3) {
-        let (_, dx, dy) = self.on_surface(probe);
-        (dx, dy)
-    }
-
     /// The gather averaged over k × k points of the probe's pixel on its own
     /// surface (each subpixel's ray met with the plane of the pixel's
     /// triangle, then moved to the nearest point of the SSS surface), each
