@@ -100,6 +100,8 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
             }
             assert!(num(r, "none_frame_ms") > 0.0, "{r:?}");
             assert!(num(r, "sss_time_ratio") >= 0.0 && num(r, "frame_time_ratio") > 0.0);
+            let share = num(r, "edge_error_share");
+            assert!((0.0..=1.0).contains(&share), "edge_error_share in {r:?}");
             if m == "reference" {
                 assert_eq!(num(r, "rel_rmse"), 0.0);
             }

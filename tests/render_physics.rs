@@ -463,7 +463,7 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
 /// its PCF shadow, the environment, the normal map and albedo^pre of the
 /// twin match the shader's (the twin reads the maps at the GPU's mip level
 /// for the pixel's footprint). The bounds are on the mean, the 90th
-/// percentile and the sum; the d → 0 limit itself (d = 5 µm, relative
+/// percentile and the sum; the d → 0 limit itself (d = 1 µm, relative
 /// RMSE) is held by tests/yardstick.rs and tests/bench.rs.
 #[test]
 fn scene_twin_matches_the_scene_pass() {

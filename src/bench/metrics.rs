@@ -53,6 +53,37 @@ pub fn relative_rmse(actual: &[[f32; 4]], reference: &[[f32; 4]], mask: &[bool])
     }
 }
 
+/// Σ|a − r|² over the masked pixels' RGB.
+pub fn squared_error(actual: &[[f32; 4]], reference: &[[f32; 4]], mask: &[bool]) -> f64 {
+    actual
+        .iter()
+        .zip(reference)
+        .zip(mask)
+        .filter(|(_, m)| **m)
+        .map(|((a, r), _)| {
+            (0..3)
+                .map(|c| (a[c] as f64 - r[c] as f64).powi(2))
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+/// The share of the squared error over `all` that lies outside `inner`
+/// (the band along mask edges and silhouettes); 0 without error.
+pub fn edge_share(
+    actual: &[[f32; 4]],
+    reference: &[[f32; 4]],
+    all: &[bool],
+    inner: &[bool],
+) -> f64 {
+    let total = squared_error(actual, reference, all);
+    if total > 0.0 {
+        1.0 - squared_error(actual, reference, inner) / total
+    } else {
+        0.0
+    }
+}
+
 /// FLIP's per-pixel error map (0–1) of `test` against `reference`, at the
 /// crate's default 67 pixels per degree (a 0.7 m viewing distance of a
 /// 24-inch 4K monitor, FLIP's own default).

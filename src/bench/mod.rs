@@ -49,6 +49,10 @@ pub struct Row {
     /// Relative RMSE over the SSS pixels at least [`INTERIOR_MARGIN_PX`]
     /// from a mask edge or silhouette (`metrics::interior`).
     pub rel_rmse_interior: f64,
+    /// The share of the squared error (over SSS pixels) that lies within
+    /// [`INTERIOR_MARGIN_PX`] of a mask edge or silhouette: 1 − SSE(interior)
+    /// / SSE(all) (`metrics::squared_error`).
+    pub edge_error_share: f64,
     /// Mean FLIP over SSS pixels and over the whole image.
     pub flip_sss: f64,
     pub flip_image: f64,
@@ -267,6 +271,7 @@ pub fn bench_scene(
             none_frame_ms: 0.0,
             rel_rmse: metrics::relative_rmse(&m.diffuse, &reference.diffuse, &mask),
             rel_rmse_interior: metrics::relative_rmse(&m.diffuse, &reference.diffuse, &inner),
+            edge_error_share: metrics::edge_share(&m.diffuse, &reference.diffuse, &mask, &inner),
             flip_sss: metrics::masked_mean(&flip, &mask),
             flip_image: metrics::masked_mean(&flip, &vec![true; flip.len()]),
             timing: m.timing,

@@ -11,7 +11,7 @@ use std::path::Path;
 
 pub const CSV_HEADER: &str = "scene,method,variant,count,width,height,sss_pixels,samples,\
 sss_ms,frame_ms,none_frame_ms,sss_time_ratio,frame_time_ratio,rel_rmse,flip_sss,flip_image,timing,\
-rel_rmse_interior";
+rel_rmse_interior,edge_error_share";
 
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     let mut s = String::from(CSV_HEADER);
@@ -19,7 +19,7 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.6},{:.6},{:.6},{},{:.6}",
+            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.6},{:.6},{:.6},{},{:.6},{:.4}",
             r.scene,
             r.config.method().id(),
             r.config.variant(),
@@ -37,7 +37,8 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
             r.flip_sss,
             r.flip_image,
             r.timing,
-            r.rel_rmse_interior
+            r.rel_rmse_interior,
+            r.edge_error_share
         );
     }
     crate::fsutil::write_atomic(path, s.as_bytes())
@@ -129,7 +130,13 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
         .map(|(i, line)| {
             let f: Vec<&str> = line.split(',').collect();
             let at = || format!("{} line {}", path.display(), i + 2);
-            anyhow::ensure!(f.len() == 18, "{}: {} fields, expected 18", at(), f.len());
+            // Runs before issue 22 have no edge_error_share (column 19).
+            anyhow::ensure!(
+                f.len() == 18 || f.len() == 19,
+                "{}: {} fields, expected 19",
+                at(),
+                f.len()
+            );
             let scene = scenes
                 .iter()
                 .find(|s| s.id == f[0])
@@ -156,6 +163,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
                 none_frame_ms: num(10)?,
                 rel_rmse: num(13)?,
                 rel_rmse_interior: num(17)?,
+                edge_error_share: if f.len() > 18 { num(18)? } else { f64::NAN },
                 flip_sss: num(14)?,
                 flip_image: num(15)?,
                 timing: match f[16] {
@@ -230,7 +238,7 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
     let front = pareto_front(rows);
     let _ = writeln!(
         s,
-        "| Method | SSS px | samples / SSS px | SSS passes ÷ none frame | frame ÷ none frame | rel. RMSE | rel. RMSE, interior | FLIP (SSS px) | front |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        "| Method | SSS px | samples / SSS px | SSS passes ÷ none frame | frame ÷ none frame | rel. RMSE | rel. RMSE, interior | error share at edges | FLIP (SSS px) | front |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     );
     for r in rows {
         let per_px = if r.sss_pixels > 0 {
@@ -241,7 +249,7 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
         let on = front.iter().any(|f| std::ptr::eq(*f, *r));
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.3} | {:.2} | {:.4} | {:.4} | {:.4} | {} |",
+            "| {} | {} | {:.1} | {:.3} | {:.2} | {:.4} | {:.4} | {:.2} | {:.4} | {} |",
             r.config.label(),
             r.sss_pixels,
             per_px,
@@ -249,6 +257,7 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
             r.frame_ratio(),
             r.rel_rmse,
             r.rel_rmse_interior,
+            r.edge_error_share,
             r.flip_sss,
             if on { "●" } else { "" }
         );
@@ -347,7 +356,7 @@ fn picks(s: &mut String, c: &Context) {
 fn floor_table(s: &mut String, c: &Context) {
     let _ = writeln!(
         s,
-        "## The ground truth's floor\n\nHow far the yardstick is from answers it must give exactly (`bench::floor`): with a profile that scatters nothing (d = 5 µm) it must give back the `none` frame, and gathered at 2 × 2 points of each pixel's footprint it must give back its own one-point answer (over the pixels whose footprint is one surface; the others, at silhouettes and creases, are the \"mixed\" column). A difference between two methods smaller than the scene's floor is the yardstick's noise.\n\n| Scene | d → 0 against `none` | 2 × 2 against 1 | mixed pixels |\n| --- | --- | --- | --- |"
+        "## The ground truth's floor\n\nHow far the yardstick is from answers it must give exactly (`bench::floor`): with a profile that scatters nothing (d = 1 µm) it must give back the `none` frame, and gathered at 2 × 2 points of each pixel's footprint it must give back its own one-point answer (over the pixels whose footprint is one surface; the others, at silhouettes and creases, are the \"mixed\" column). A difference between two methods smaller than the scene's floor is the yardstick's noise.\n\n| Scene | d → 0 against `none` | 2 × 2 against 1 | mixed pixels |\n| --- | --- | --- | --- |"
     );
     for (scene, f) in c.floors {
         let _ = writeln!(
@@ -373,7 +382,7 @@ pub fn markdown(c: &Context) -> String {
         .unwrap_or("gpu-timestamps");
     let _ = writeln!(
         s,
-        "# Bench results ({})\n\nGenerated by `scatterlab bench{}`. Adapter: {}. Frames {}×{}, one warm-up and {} timed frame(s) per configuration (fastest kept). Times: {}; given as ratios to the `none` frame of the same scene and run (on a CPU adapter such as lavapipe the GPU time is CPU time). Error against `reference`, the ground truth (the profile integrated over the whole SSS surface of the mesh in object space on the CPU, `render::ground_truth`; rendered once per scene, its CPU time is in the csv): relative RMSE of the scattered irradiance (linear HDR) over SSS pixels, the same over the interior (SSS pixels at least 3 px from a mask edge or silhouette, where the screen-space methods renormalise over what they see), and mean FLIP over SSS pixels of the tonemapped images. ● marks the Pareto front of frame time against RMSE.\n",
+        "# Bench results ({})\n\nGenerated by `scatterlab bench{}`. Adapter: {}. Frames {}×{}, one warm-up and {} timed frame(s) per configuration (fastest kept). Times: {}; given as ratios to the `none` frame of the same scene and run (on a CPU adapter such as lavapipe the GPU time is CPU time). Error against `reference`, the ground truth (the profile integrated over the whole SSS surface of the mesh in object space on the CPU, `render::ground_truth`; rendered once per scene, its CPU time is in the csv): relative RMSE of the scattered irradiance (linear HDR) over SSS pixels, the same over the interior (SSS pixels at least 3 px from a mask edge or silhouette, where the screen-space methods renormalise over what they see), the share of the squared error in the 3 px band along those edges, and mean FLIP over SSS pixels of the tonemapped images. ● marks the Pareto front of frame time against RMSE.\n",
         if c.quick { "quick" } else { "full" },
         if c.quick { " --quick" } else { "" },
         c.adapter,
@@ -418,6 +427,7 @@ mod tests {
             none_frame_ms: 1.0,
             rel_rmse,
             rel_rmse_interior: rel_rmse,
+            edge_error_share: 0.0,
             flip_sss: 0.0,
             flip_image: 0.0,
             timing: "gpu-timestamps",

@@ -1,6 +1,11 @@
 //! The ground truth the SSS methods are judged against: the diffusion
-//! profile integrated over the mesh surface in 3D, none of whose
-//! approximations a screen-space method shares.
+//! profile integrated over the mesh surface in 3D. It shares the scene
+//! pass's irradiance model with every method (the same light, shadow map
+//! and 3 × 3 PCF, SH environment and maps, through the CPU twin
+//! `render::scene_cpu`), and none of the screen-space approximations: no
+//! projected disk, no pixel grid, no renormalisation over what the camera
+//! sees. Its own floor (d → 0 against the unscattered frame, 2 × 2 points
+//! a pixel against one) is measured per scene by `bench::floor`.
 //!
 //! This is the two-pass point-cloud integration of Jensen & Buhler 2002
 //! (§3): (1) irradiance samples over the whole SSS surface, seen or not,

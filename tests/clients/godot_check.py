@@ -112,10 +112,15 @@ def demo_kernel(n):
 
 
 def godot_rr(r, width_mm, skin):
-    """r*R(r) (1/mm) of Godot's blur at this width: the demo profile's
-    Gaussians as 2D Gaussians with variance v*((0.001+falloff)*width)^2,
-    weights strength*w/sum(w); the 1 - strength Dirac has r*R = 0."""
-    sw = sum(w for _, w in DEMO_GAUSSIANS)
+    """r*R(r) (1/mm) of Godot's blur at this width: the radial profile
+    whose separable kernel is the table above (Jimenez et al. 2015 sec. 4,
+    the pre-integrated kernel). The table samples the demo's 2D Gaussian
+    formula w*exp(-x^2/2v)/(2 pi v) along a line, so each term's share of
+    the 1D kernel is w/sqrt(2 pi v), not w: 2D Gaussians with variance
+    v*((0.001+falloff)*width)^2 and weights strength*(w/sqrt v)/sum(w/sqrt v)
+    (falloff scales every v of a channel alike). The 1 - strength Dirac
+    has r*R = 0."""
+    sw = sum(w / math.sqrt(v) for v, w in DEMO_GAUSSIANS)
     out = []
     for c in range(3):
         f = FALLOFF[c if skin else 0]
@@ -123,7 +128,7 @@ def godot_rr(r, width_mm, skin):
         acc = np.zeros_like(r)
         for v, w in DEMO_GAUSSIANS:
             var = v * ((0.001 + f) * width_mm) ** 2
-            acc += s * w / sw * np.exp(-r * r / (2 * var)) / (2 * math.pi * var)
+            acc += s * w / math.sqrt(v) / sw * np.exp(-r * r / (2 * var)) / (2 * math.pi * var)
         out.append(r * acc)
     return out
 

@@ -3,7 +3,8 @@
 //! bilateral weights on the Euclidean distance and a discrete LOD. At a
 //! high count (`--samples 2304`) it is the converged screen-space Burley
 //! the sample-count studies compare against; the ground truth is
-//! `reference` (`sss/reference.rs`), which shares none of this.
+//! `reference` (`sss/reference.rs`), which shares its irradiance (light,
+//! shadow map, PCF, maps) but none of its disk, pixel grid or weights.
 
 use super::{Scattered, SssFrame, SssPipelines};
 use crate::render::frame::{buf, tex, FrameEncoder};

@@ -74,10 +74,13 @@ impl Pipelines {
     }
 }
 
-/// Follow-surface strength of the Jimenez 2012 demo kernel (the demo's
-/// SSSS_FOLLOW_SURFACE lerp towards the centre, per mm of depth
-/// difference). Every other kernel uses Jimenez 2015 eq. 7's weight
-/// e^(−Δz²/2σ²) with its own σ (see [`follow_surface`]).
+/// Follow-surface strength of the Jimenez 2012 demo kernel: a lerp towards
+/// the centre of this much per mm of depth difference, the form of the
+/// demo's SSSS_FOLLOW_SURFACE term. The value is ours: the demo's,
+/// saturate(300 · distanceToProjectionWindow · sssWidth · Δdepth), is in its
+/// own scene units and depends on its camera and sssWidth slider, so it has
+/// no fixed per-mm value to copy. Every other kernel uses Jimenez 2015
+/// eq. 7's weight e^(−Δz²/2σ²) with its own σ (see [`follow_surface`]).
 const FOLLOW_SURFACE: f32 = 0.5;
 
 /// `SssUniforms::follow_surface` for a kernel of depth σ (mm): the 2012
