@@ -51,12 +51,12 @@ montage -label '%t' -font DejaVu-Sans -pointsize 14 "$tmp"/look_*.png \
   -tile 4x1 -geometry +4+4 -background '#202428' -fill white "$out/looks.png"
 # Every method beside the ground truth (`reference`, object space) and its
 # |method − ground truth| on one scale: the front-lit head, and the
-# back-lit ear with thin transmission and with transmission off. All on the
+# back-lit ear with thin and with thick transmission. All on the
 # finest mesh (--no-lod), as the ground truth integrates it.
 views=(
   "front|--light-azimuth 50 --light-elevation 25"
   "ear_thin|--camera-yaw 65 --camera-distance 0.4 --light-azimuth 200 --light-elevation 10 --transmission thin"
-  "ear_off|--camera-yaw 65 --camera-distance 0.4 --light-azimuth 200 --light-elevation 10 --transmission off"
+  "ear_thick|--camera-yaw 65 --camera-distance 0.4 --light-azimuth 200 --light-elevation 10 --transmission thick"
 )
 for v in "${views[@]}"; do
   name=${v%%|*}
@@ -72,4 +72,4 @@ for v in "${views[@]}"; do
     null: "$tmp"/{none,preintegrated,separable,gaussians,burley}_"${name}"_diff.png \
     -tile 6x2 -geometry +3+3 -background '#202428' -fill white "$out/ground_truth_$name.png"
 done
-echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none,head_front,head_eyes_closeup,looks,ground_truth_front,ground_truth_ear_thin,ground_truth_ear_off}.png"
+echo "wrote $out/{methods,transmission_and_diff,compare_burley_separable,closeup_burley_vs_none,head_front,head_eyes_closeup,looks,ground_truth_front,ground_truth_ear_thin,ground_truth_ear_thick}.png"
