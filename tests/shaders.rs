@@ -118,6 +118,39 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
     }
 }
 
+/// Every named WGSL `const` of each module equals its Rust twin; `literal`
+/// reads the const's value if it is a literal of the kind `kind` names.
+fn assert_constants_match<T: PartialEq + std::fmt::Debug + std::fmt::Display>(
+    modules: &[(&str, &[(&str, T)])],
+    kind: &str,
+    literal: impl Fn(naga::Literal) -> Option<T>,
+) {
+    for (module_name, consts) in modules {
+        let module = parsed(module_name);
+        for (name, rust) in consts.iter() {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(*name))
+                .unwrap_or_else(|| panic!("{module_name}: no const {name}"));
+            let wgsl = match module.global_expressions[c.init] {
+                naga::Expression::Literal(l) => literal(l),
+                _ => None,
+            }
+            .unwrap_or_else(|| {
+                panic!(
+                    "{module_name}::{name} is {:?}, not a {kind} literal",
+                    module.global_expressions[c.init]
+                )
+            });
+            assert_eq!(
+                wgsl, *rust,
+                "{module_name}::{name}: WGSL {wgsl}, Rust {rust}"
+            );
+        }
+    }
+}
+
 /// How the Rust twin spells a WGSL member's type: `f32`, `u32`,
 /// `[f32;N]` for a vector, `[[f32;4];4]` for a matrix, `[T;N]` for an
 /// array (so an f32 on one side and a u32 on the other fails).
@@ -179,24 +212,10 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
             ],
         ),
     ];
-    for (module_name, consts) in twins {
-        let module = parsed(module_name);
-        for (name, rust) in consts {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(*name))
-                .unwrap_or_else(|| panic!("{module_name}: no const {name}"));
-            let wgsl = match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => v,
-                ref e => panic!("{module_name}::{name} is {e:?}, not a u32 literal"),
-            };
-            assert_eq!(
-                wgsl, *rust,
-                "{module_name}::{name}: WGSL {wgsl}, Rust {rust}"
-            );
-        }
-    }
+    assert_constants_match(&twins, "u32", |l| match l {
+        naga::Literal::U32(v) => Some(v),
+        _ => None,
+    });
     // The diffuse target's alphas off the skin (f32 constants).
     let alphas: [(&str, &[(&str, f32)]); 2] = [
         (
@@ -211,24 +230,10 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
             ],
         ),
     ];
-    for (module_name, consts) in alphas {
-        let module = parsed(module_name);
-        for (name, rust) in consts {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(*name))
-                .unwrap_or_else(|| panic!("{module_name}: no const {name}"));
-            let wgsl = match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::F32(v)) => v,
-                ref e => panic!("{module_name}::{name} is {e:?}, not an f32 literal"),
-            };
-            assert_eq!(
-                wgsl, *rust,
-                "{module_name}::{name}: WGSL {wgsl}, Rust {rust}"
-            );
-        }
-    }
+    assert_constants_match(&alphas, "f32", |l| match l {
+        naga::Literal::F32(v) => Some(v),
+        _ => None,
+    });
     // The flags' bits are the ones BurleySampling packs.
     let all = scatterlab::render::BurleySampling {
         antithetic: false,

@@ -249,7 +249,7 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
         let on = front.iter().any(|f| std::ptr::eq(*f, *r));
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.3} | {:.2} | {:.4} | {:.4} | {:.2} | {:.4} | {} |",
+            "| {} | {} | {:.1} | {:.3} | {:.2} | {:.4} | {:.4} | {} | {:.4} | {} |",
             r.config.label(),
             r.sss_pixels,
             per_px,
@@ -257,7 +257,12 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
             r.frame_ratio(),
             r.rel_rmse,
             r.rel_rmse_interior,
-            r.edge_error_share,
+            // A results.csv from before the column has no edge share.
+            if r.edge_error_share.is_finite() {
+                format!("{:.2}", r.edge_error_share)
+            } else {
+                "—".into()
+            },
             r.flip_sss,
             if on { "●" } else { "" }
         );
