@@ -36,6 +36,10 @@ pub enum GpuError {
         method: &'static str,
         missing: &'static str,
     },
+    /// A newer request asked for the ground truth running now to stop
+    /// (`ground_truth::cancel`): not a failure, nothing to show.
+    #[error("the ground truth was cancelled by a newer request")]
+    Cancelled,
 }
 
 /// Linear-depth formats, best first (see [`GpuContext::linear_depth_format`]).

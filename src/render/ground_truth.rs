@@ -12,24 +12,33 @@
 //! each with its own normal and area; (2) for every shaded point x_o,
 //! M(x_o) = Σ R(‖x_o − x_i‖) · E(x_i) · A_i with the true 3D distance.
 //! Here the samples are the cells of a quadtree over every SSS triangle
-//! (midpoint splits down to at most `spacing_mm` on a side, default
-//! 0.5 mm; each node holds the mean irradiance of its cells), and the sum
-//! is an adaptive quadrature over that tree rather than Jensen & Buhler's
-//! octree clustering:
+//! (midpoint splits down to at most `spacing_mm` on a side, 1 mm in the
+//! renderer; each node holds the mean irradiance of its cells), and the
+//! sum is an adaptive quadrature over that tree rather than Jensen &
+//! Buhler's octree clustering:
 //! - a node counts as one piece, by the edge-midpoint rule (exact for
 //!   quadratics on a triangle), when its side is at most its distance
-//!   (θ = 1) and at most √(24 τ ρ/|ρ''|) with τ = 3.4 %: for an exponential
-//!   of length λ that is 0.9 λ, where the rule's error is about 1 % of the
-//!   local density ρ (ρ'' numerically, per channel, ignoring a channel
-//!   where ρ is under 1 % of its mean density inside its median radius);
-//!   otherwise it is split into four;
-//! - cells at and beside x_o (within three sides) are integrated exactly in
-//!   polar coordinates about x_o through the profile's CDF (so the 1/r core,
-//!   a Dirac part, Jimenez 2012's 1 − strength, and a cell behind x_o are
-//!   exact); where such a cell's corners differ from its mean by more than
-//!   2 % it is split and its pieces' irradiance evaluated afresh, so shadow
-//!   edges stay sharp at the core; splitting stops at ε = 2 % of the
-//!   profile's narrowest 25 %-energy radius;
+//!   (θ = 1) and at most √(24 τ ρ/|ρ''|) with τ = 13.6 % (1.8 λ for an
+//!   exponential of length λ; ρ'' numerically, per channel, ignoring a
+//!   channel where ρ is under 1 % of its mean density inside its median
+//!   radius); otherwise it is split into four. The bound is the centroid
+//!   rule's error term, which the edge-midpoint rule's leading term
+//!   cancels: on the default head's front view at 320 × 180, τ = 13.6 %
+//!   with 1 mm cells is 0.13 % (relative RMSE) from τ = 0.85 % with
+//!   0.5 mm cells, and τ = 3.4 % with 0.5 mm cells (the value before
+//!   issue 23) is 0.09 % from it, under the ground truth's own d → 0
+//!   floor (0.2–0.3 %) and a tenth of the closest method's error;
+//! - a cell (or a piece of one) too wide for that rule at its distance is
+//!   integrated exactly in polar coordinates about x_o through the
+//!   profile's CDF (so the 1/r core, a Dirac part, Jimenez 2012's
+//!   1 − strength, and a cell behind x_o are exact); where a corner's
+//!   irradiance differs from the piece's mean by more than 1 % over the
+//!   piece's share of the profile's energy (at most its annulus about
+//!   x_o) it is split and its pieces' irradiance evaluated afresh, so
+//!   shadow edges stay sharp at the core; splitting stops at ε = 2 % of
+//!   the profile's narrowest 25 %-energy radius. Pieces within a pixel of
+//!   x_o are read over the pixel's footprint (the d → 0 limit gives back
+//!   the scene pass's pixel); the rest over their own width;
 //! - cells farther than the widest channel's 0.999-energy radius are
 //!   skipped: on a plane the sum then holds 99.9 % of each channel's energy
 //!   or more, the truncation this ground truth states.
@@ -51,10 +60,17 @@ use std::collections::HashMap;
 const THETA: f64 = 1.0;
 /// Sets the largest piece against the profile's local length (see the
 /// module): √(24 τ) = 0.9 λ for an exponential of length λ.
-const TAU: f64 = 0.034;
+const TAU: f64 = 0.136;
 /// Density (relative to a channel's mean inside its median radius) below
 /// which that channel's accuracy stops setting the cell size.
 const FLOOR: f64 = 1e-2;
+/// A near piece is split where a corner's irradiance differs from the
+/// piece's mean by more than this fraction of it, over the piece's share
+/// of the profile's energy (at most 1).
+const UNEVEN: f32 = 0.01;
+/// Probes gathered in turn on one thread with one [`Memo`]: neighbours in
+/// the order given (the reference pass orders its pixels in tiles).
+pub const MEMO_CHUNK: usize = 64;
 /// Energy fraction inside the truncation radius, per channel.
 pub const ENERGY_FRACTION: f64 = 0.999;
 
@@ -173,7 +189,7 @@ impl ProfileTable {
 
     /// (index, fraction) of r on the grid, clamped to its ends.
     fn locate(&self, r_mm: f64) -> (usize, f32) {
-        let t = ((r_mm.max(1e-300).ln() - self.ln_r0) * self.inv_step).max(0.0);
+        let t = ((fast_ln(r_mm as f32) as f64 - self.ln_r0) * self.inv_step).max(0.0);
         let i = (t as usize).min(TABLE_SIZE - 2);
         (i, (t - i as f64).min(1.0) as f32)
     }
@@ -203,6 +219,25 @@ impl ProfileTable {
     }
 }
 
+/// ln x for the table's index, without libm's f64 log (a tenth of the
+/// gather's time): x = m·2^e with m in [√½, √2), ln m = 2 atanh(z) for
+/// z = (m − 1)/(m + 1), |z| ≤ 0.172, to z⁷ (the series' next term is
+/// under 3e-8; `fast_ln_matches_ln` holds it to 4e-6 against std's ln,
+/// f32's rounding, a thousandth of a table step). x is clamped to [1e-30, f32::MAX].
+fn fast_ln(x: f32) -> f32 {
+    let bits = x.clamp(1e-30, f32::MAX).to_bits();
+    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    if m > std::f32::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let z = (m - 1.0) / (m + 1.0);
+    let z2 = z * z;
+    e as f32 * std::f32::consts::LN_2
+        + 2.0 * z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 / 7.0)))
+}
+
 /// The ground truth's progress in this process: [triangles or points done,
 /// in all, phase] with phase 1 while the irradiance cloud is built and 2
 /// while the gather runs, 0 when idle (for the editor's progress bar).
@@ -211,6 +246,25 @@ pub static PROGRESS: [std::sync::atomic::AtomicU32; 3] = [
     std::sync::atomic::AtomicU32::new(0),
     std::sync::atomic::AtomicU32::new(0),
 ];
+
+/// Set by [`cancel`]: the gather running now stops at its next chunk.
+static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks the ground truth running now, if any, to stop (the editor's
+/// render thread has a newer request): [`Cloud::gather_all`] returns
+/// `None` from its next chunk on.
+pub fn cancel() {
+    CANCEL.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Clears a [`cancel`] meant for an earlier frame (a frame's start).
+pub fn uncancel() {
+    CANCEL.store(false, std::sync::atomic::Ordering::Relaxed);
+}
+
+fn cancelled() -> bool {
+    CANCEL.load(std::sync::atomic::Ordering::Relaxed)
+}
 
 /// (phase, fraction done) of the ground truth running now, if any.
 pub fn progress() -> Option<(u32, f32)> {
@@ -635,8 +689,18 @@ impl Cloud {
         k: u32,
         irradiance: &dyn SurfaceIrradiance,
     ) -> Option<[f32; 3]> {
+        self.supersampled_with(probe, k, irradiance, &Memo::default())
+    }
+
+    fn supersampled_with(
+        &self,
+        probe: &Probe,
+        k: u32,
+        irradiance: &dyn SurfaceIrradiance,
+        memo: &Memo,
+    ) -> Option<[f32; 3]> {
         let Some((corners, _)) = self.nearest(probe.x_mm, 10e-3).filter(|_| k > 1) else {
-            return Some(self.gather(probe, irradiance));
+            return Some(self.gather_with(probe, irradiance, memo));
         };
         let n = normal_of(corners);
         let (dx, dy) = probe.pixel_steps_mm(n);
@@ -666,7 +730,7 @@ impl Cloud {
                     ray,
                     ..*probe
                 };
-                let v = self.gather(&sub, irradiance);
+                let v = self.gather_with(&sub, irradiance, memo);
                 for c in 0..3 {
                     acc[c] += v[c] as f64;
                 }
@@ -680,6 +744,16 @@ impl Cloud {
     /// pixel covers (the pieces beside x are read at least that wide: the
     /// pixel's mean, as the GPU's mip level makes it).
     pub fn gather(&self, probe: &Probe, irradiance: &dyn SurfaceIrradiance) -> [f32; 3] {
+        self.gather_with(probe, irradiance, &Memo::default())
+    }
+
+    /// [`Cloud::gather`] with the evaluations of earlier gathers in `memo`.
+    fn gather_with(
+        &self,
+        probe: &Probe,
+        irradiance: &dyn SurfaceIrradiance,
+        memo: &Memo,
+    ) -> [f32; 3] {
         let (x, dx, dy) = self.on_surface(probe);
         let pixel = Footprint {
             pixel_dx_mm: dx,
@@ -693,7 +767,7 @@ impl Cloud {
                 table: &self.table,
                 m: (probe.profile_scale as f64).clamp(1e-3, 1.0),
             },
-            corners: Default::default(),
+            memo,
         };
         let mut acc = [0.0f64; 3];
         let reach = self.reach_mm * query.profile.m;
@@ -710,23 +784,33 @@ impl Cloud {
     }
 
     /// The gather at many probes, in parallel, each over k × k points of
-    /// its pixel ([`Cloud::gather_supersampled`]).
+    /// its pixel ([`Cloud::gather_supersampled`]); `None` when [`cancel`]
+    /// was called meanwhile.
     pub fn gather_all(
         &self,
         probes: &[Probe],
         supersample: u32,
         irradiance: &dyn SurfaceIrradiance,
-    ) -> Vec<Option<[f32; 3]>> {
+    ) -> Option<Vec<Option<[f32; 3]>>> {
         start(2, probes.len());
         let out = probes
-            .par_iter()
-            .map(|p| {
-                step();
-                self.gather_supersampled(p, supersample, irradiance)
+            .par_chunks(MEMO_CHUNK)
+            .flat_map_iter(|chunk| {
+                if cancelled() {
+                    return vec![None; chunk.len()];
+                }
+                let memo = Memo::default();
+                chunk
+                    .iter()
+                    .map(|p| {
+                        step();
+                        self.supersampled_with(p, supersample, irradiance, &memo)
+                    })
+                    .collect::<Vec<_>>()
             })
             .collect();
         finish();
-        out
+        (!cancelled()).then_some(out)
     }
 
     /// Adds the integral of ρ(‖x − y‖)·E(y) over one quadtree node (or,
@@ -759,14 +843,17 @@ impl Cloud {
         if inside <= 0.0 {
             return;
         }
-        let near = node.level >= root.levels && dist < 3.0 * side;
+        // The largest piece the edge-midpoint rule takes at this distance.
+        let leaf_mm = table.leaf_mm(dist);
+        let near = node.level >= root.levels && side > leaf_mm;
         // The piece's irradiance: the quadtree's mean down to the cells;
-        // beside x, where a piece is narrower than the pixel, evaluated
-        // afresh over the pixel's footprint (the pixel's mean, as the GPU's
-        // mip level makes it), and below the cells (only ever beside x)
-        // afresh over the piece.
+        // at x, where a piece is narrower than the pixel and within a
+        // pixel of x, evaluated afresh over the pixel's footprint (the
+        // pixel's mean, as the GPU's mip level makes it: the d → 0 limit);
+        // below the cells (only ever beside x) afresh over the piece.
         let pixel_mm = pixel.pixel_dx_mm.length().max(pixel.pixel_dy_mm.length()) as f64;
-        let footprint = if near {
+        let by_pixel = near && pixel_mm > side && dist - reach < pixel_mm;
+        let footprint = if by_pixel {
             Footprint {
                 width_mm: side as f32,
                 ..pixel
@@ -774,12 +861,12 @@ impl Cloud {
         } else {
             Footprint::width(side as f32)
         };
-        let cached = node.level <= root.levels && (!near || pixel_mm <= side);
-        let e = if cached {
+        let e = if node.level <= root.levels && !by_pixel {
             self.cells.node_e[root.offset as usize + level_start(node.level) + node.index]
         } else {
-            irradiance.at(
-                root.tri as usize,
+            q.memo.at(
+                irradiance,
+                root.tri,
                 (node.bary[0] + node.bary[1] + node.bary[2]) / 3.0,
                 footprint,
             )
@@ -791,10 +878,17 @@ impl Cloud {
             // coordinates about x (`polar_weight`); otherwise it is split
             // and each piece evaluated afresh, so a shadow edge stays sharp
             // at the profile's core.
+            // The piece lies in the annulus about x from dist − reach to
+            // dist + reach, so its share of each channel's energy is at
+            // most that annulus's: a corner's difference from the mean
+            // moves the sum by at most that much times the share.
+            let (lo, hi) = (table.cdf((dist - reach).max(0.0)), table.cdf(dist + reach));
+            let share = [0, 1, 2].map(|c| (hi[c] - lo[c]).max(0.0));
             let even = side <= table.epsilon_mm()
+                || share.iter().all(|w| *w <= UNEVEN)
                 || node.bary.iter().all(|b| {
-                    let v = q.corner(irradiance, root.tri, *b, footprint);
-                    (0..3).all(|c| (v[c] - e[c]).abs() <= 0.02 * e[c].abs().max(1e-6))
+                    let v = q.memo.at(irradiance, root.tri, *b, footprint);
+                    (0..3).all(|c| (v[c] - e[c]).abs() * share[c] <= UNEVEN * e[c].abs().max(1e-6))
                 });
             if even {
                 if e != [0.0; 3] {
@@ -805,7 +899,7 @@ impl Cloud {
                 }
                 return;
             }
-        } else if side <= table.leaf_mm(dist) {
+        } else if side <= leaf_mm {
             if e == [0.0; 3] {
                 return;
             }
@@ -850,38 +944,76 @@ struct Query<'a> {
     x: Vec3,
     pixel: Footprint,
     profile: Scaled<'a>,
-    /// The irradiance at the corners of the cells beside x, each shared by
-    /// up to six cells of its triangle: (triangle, corner's barycentric
-    /// bits, footprint width bits) → value, so each is evaluated once per
-    /// gather (the values are the same; issue 23).
-    corners: std::cell::RefCell<HashMap<CornerKey, [f32; 3]>>,
+    memo: &'a Memo,
 }
 
-/// A cell corner's irradiance key: triangle, barycentric bits, footprint
-/// width bits.
-type CornerKey = (u32, [u32; 3], u32);
+/// The irradiance evaluated afresh during the gathers of neighbouring
+/// pixels (one chunk of [`Cloud::gather_all`]'s probes, on one thread):
+/// the corners of the cells beside x (each shared by up to six cells) and
+/// the pieces below the cells, which the next pixels split the same way.
+/// The key is every input of the evaluation (triangle, barycentric
+/// coordinates, footprint, as bits), so a hit returns what evaluating
+/// would: the frame is the same with or without it (issue 23).
+#[derive(Default)]
+pub struct Memo(std::cell::RefCell<HashMap<MemoKey, [f32; 3], FxBuild>>);
 
-impl Query<'_> {
-    fn corner(
+type MemoKey = (u32, [u32; 3], [u32; 7]);
+
+impl Memo {
+    fn at(
         &self,
         irradiance: &dyn SurfaceIrradiance,
         tri: u32,
         bary: Vec3,
         footprint: Footprint,
     ) -> [f32; 3] {
+        let f = footprint;
         let key = (
             tri,
             bary.to_array().map(f32::to_bits),
-            footprint.width_mm.to_bits(),
+            [
+                f.width_mm,
+                f.pixel_dx_mm.x,
+                f.pixel_dx_mm.y,
+                f.pixel_dx_mm.z,
+                f.pixel_dy_mm.x,
+                f.pixel_dy_mm.y,
+                f.pixel_dy_mm.z,
+            ]
+            .map(f32::to_bits),
         );
-        if let Some(v) = self.corners.borrow().get(&key) {
+        if let Some(v) = self.0.borrow().get(&key) {
             return *v;
         }
         let v = irradiance.at(tri as usize, bary, footprint);
-        self.corners.borrow_mut().insert(key, v);
+        self.0.borrow_mut().insert(key, v);
         v
     }
 }
+
+/// The multiply–rotate hash of rustc's FxHasher (the memo's keys are
+/// bits of floats, not input an adversary chooses): SipHash cost as much
+/// as the lookups it guards.
+#[derive(Default, Clone, Copy)]
+struct Fx(u64);
+
+impl std::hash::Hasher for Fx {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes.chunks(4) {
+            let mut w = [0u8; 4];
+            w[..b.len()].copy_from_slice(b);
+            self.write_u32(u32::from_le_bytes(w));
+        }
+    }
+    fn write_u32(&mut self, v: u32) {
+        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+type FxBuild = std::hash::BuildHasherDefault<Fx>;
 
 /// The profile at a probe: the table with its radii scaled by m (the
 /// pixel's SSS mask): ρ_m(r) = ρ(r/m)/m², CDF_m(r) = CDF(r/m).
