@@ -361,12 +361,22 @@ fn picks(s: &mut String, c: &Context) {
 fn floor_table(s: &mut String, c: &Context) {
     let _ = writeln!(
         s,
-        "## The ground truth's floor\n\nHow far the yardstick is from answers it must give exactly (`bench::floor`): with a profile that scatters nothing (d = 1 µm) it must give back the `none` frame, and gathered at 2 × 2 points of each pixel's footprint it must give back its own one-point answer (over the pixels whose footprint is one surface; the others, at silhouettes and creases, are the \"mixed\" column). A difference between two methods smaller than the scene's floor is the yardstick's noise.\n\n| Scene | d → 0 against `none` | 2 × 2 against 1 | mixed pixels |\n| --- | --- | --- | --- |"
+        "## The ground truth's floor and cost\n\nHow far the yardstick is from answers it must give exactly (`bench::floor`): with a profile that scatters nothing (d = 1 µm) it must give back the `none` frame, and gathered at 2 × 2 points of each pixel's footprint it must give back its own one-point answer (over the pixels whose footprint is one surface; the others, at silhouettes and creases, are the \"mixed\" column). A difference between two methods smaller than the scene's floor is the yardstick's noise. Its cost: the wall time of its frame (CPU, every core), and that as a multiple of the `none` frame of the same scene and run.\n\n| Scene | d → 0 against `none` | 2 × 2 against 1 | mixed pixels | ground truth (s) | × `none` |\n| --- | --- | --- | --- | --- | --- |"
     );
     for (scene, f) in c.floors {
+        let truth = c
+            .rows
+            .iter()
+            .find(|r| r.scene == *scene && r.config == Config::Reference);
+        let (secs, ratio) = truth.map_or(("—".into(), "—".into()), |r| {
+            (
+                format!("{:.2}", r.frame_ms / 1e3),
+                format!("{:.0}", r.frame_ms / r.none_frame_ms),
+            )
+        });
         let _ = writeln!(
             s,
-            "| {scene} | {:.4} | {:.4} | {:.1} % |",
+            "| {scene} | {:.4} | {:.4} | {:.1} % | {secs} | {ratio} |",
             f.d_to_zero,
             f.supersampled,
             100.0 * f.mixed_fraction
