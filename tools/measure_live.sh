@@ -10,6 +10,10 @@
 # previews), UI frames per second, the previews' resolution, and the time
 # from releasing the mouse to the "converged" frame.
 #
+# Then the ground truth: a second editor on the default skin with the
+# method `reference`; after an orbit drag, the time from release to the
+# first coarse ground truth (1/4 resolution) and to the full one.
+#
 #   tools/measure_live.sh [--out FILE.md]
 #
 # Needs Xvfb, xdotool and ImageMagick (tools/setup-debian.sh installs
@@ -96,9 +100,33 @@ wait_for "converged" "$UP" 30
 sleep 0.5
 import -window root "$WORK/after.png" 2>/dev/null || true
 
-python3 - "$LOG" "${ORBIT[@]}" "${SLIDER[@]}" "$OUT" <<'EOF'
+# The ground truth as the viewport's method: the default skin with
+# method Reference, in a second editor with its own state.
+kill "$EDITOR_PID" 2>/dev/null || true
+wait "$EDITOR_PID" 2>/dev/null || true
+sed 's|^    profile: |    rendering: (method: Reference),\n    profile: |' presets/skin_default.ron >"$WORK/truth.ron"
+grep -q "method: Reference" "$WORK/truth.ron" || { echo "error: could not write the reference preset" >&2; exit 1; }
+TRUTH_LOG="$WORK/truth.log"
+mkdir -p "$WORK/data2" "$WORK/config2"
+DISPLAY="$DISP" XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$WORK/data2" \
+    XDG_CONFIG_HOME="$WORK/config2" SCATTERLAB_FRAME_LOG="$TRUTH_LOG" \
+    "$BIN" edit --preset "$WORK/truth.ron" >"$WORK/editor2.out" 2>&1 &
+EDITOR_PID=$!
+LOG="$TRUTH_LOG"
+wait_for "converged.*method=reference" 0 300
+WID="$(xdotool search --sync --name scatterlab | head -1)"
+xdotool windowactivate --sync "$WID" 2>/dev/null || true
+sleep 1
+drag 730 480 3
+TRUTH=("$DOWN" "$UP")
+wait_for "converged.*method=reference" "$UP" 300
+import -window root "$WORK/truth.png" 2>/dev/null || true
+[[ -n "${KEEP_SHOT:-}" ]] && cp "$WORK/truth.png" "$KEEP_SHOT"
+
+python3 - "$WORK/frames.log" "${ORBIT[@]}" "${SLIDER[@]}" "$OUT" "$TRUTH_LOG" "${TRUTH[@]}" <<'EOF'
 import sys, statistics
 log, o0, o1, s0, s1, out = sys.argv[1], *map(float, sys.argv[2:6]), sys.argv[6]
+truth_log, t0, t1 = sys.argv[7], float(sys.argv[8]), float(sys.argv[9])
 rows = [l.split() for l in open(log)]
 def report(name, t0, t1):
     # Skip the first 0.3 s (the drag threshold and the first preview).
@@ -120,6 +148,18 @@ lines = [
     "|---|---|---|---|---|---|---|---|",
     report("orbit", o0, o1),
     report("scattering distance", s0, s1),
+]
+truth = [l.split() for l in open(truth_log)]
+def first(kind):
+    hits = [r for r in truth if r[1] == "frame" and r[2] == kind and float(r[0]) > t1
+            and "method=reference" in r]
+    return (float(hits[0][0]) - t1, hits[0][3]) if hits else (float("nan"), "none")
+coarse, full = first("coarse"), first("converged")
+lines += [
+    "",
+    "| ground truth after an orbit | release → coarse truth (s) | coarse size | release → full truth (s) | full size |",
+    "|---|---|---|---|---|",
+    f"| reference | {coarse[0]:.2f} | {coarse[1]} | {full[0]:.2f} | {full[1]} |",
 ]
 print("\n".join(lines))
 if out:

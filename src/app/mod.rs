@@ -150,6 +150,9 @@ pub struct EditorApp {
     last_frame: Option<(image::RgbaImage, u64)>,
     /// How far the last frame had got (preview, refining, converged).
     quality: Option<viewport::Quality>,
+    /// The ground truth's phase and when it was first seen (for the time
+    /// left on its progress bar).
+    truth_phase: Option<((u32, u32), std::time::Instant, f32)>,
     /// When the mouse wheel last zoomed (zooming is live input too).
     last_wheel: Option<std::time::Instant>,
     /// SCATTERLAB_FRAME_LOG: a line per viewport frame and UI frame
@@ -227,6 +230,7 @@ impl EditorApp {
             compare_labels: Vec::new(),
             panel_rects: [None, None],
             quality: None,
+            truth_phase: None,
             last_wheel: None,
             frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
                 std::fs::File::create(&p)

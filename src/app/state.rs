@@ -330,6 +330,8 @@ pub struct UiState {
     /// The folder each kind of file dialog was last used in ("preset",
     /// "export", "mesh", "environment", "map"): it opens there again.
     pub folders: std::collections::BTreeMap<String, PathBuf>,
+    /// Go on from the method's converged frame to the ground truth.
+    pub refine_to_truth: bool,
 }
 
 impl Default for UiState {
@@ -348,6 +350,7 @@ impl Default for UiState {
             environment_file: None,
             meshes: Default::default(),
             folders: Default::default(),
+            refine_to_truth: false,
         }
     }
 }

@@ -20,6 +20,7 @@ use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
 use crate::render::{
     FrameStats, GpuContext, Mesh, Method, ProfileInputs, Progressive, RenderSettings, Renderer,
 };
+use crate::settings::rendering::MethodId;
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
 use std::path::PathBuf;
 use std::sync::mpsc::{channel, Receiver, Sender};
@@ -60,9 +61,39 @@ pub struct Request {
     /// Made while the artist drags (a slider, the orbit, a panel): render
     /// a quick preview, not the converged frame.
     pub interactive: bool,
+    /// Once the method's frame has converged, go on to the ground truth
+    /// and make it the viewport's converged state (A alone, not while
+    /// comparing: a comparison shows the two sides it names).
+    pub refine_to_truth: bool,
     /// Set by [`Viewport::request`]: which request a frame answers.
     pub seq: u64,
 }
+
+impl Request {
+    /// Whether A or B is drawn with the ground truth.
+    fn has_truth(&self) -> bool {
+        let b = self.b.as_ref().map(|b| &b.0);
+        std::iter::once(&self.a)
+            .chain(b)
+            .any(|l| l.rendering.method == MethodId::Reference)
+    }
+
+    /// The request as a finished frame is kept under (its number and
+    /// whether input was live do not change the frame).
+    fn key(&self) -> Request {
+        Request {
+            seq: 0,
+            interactive: false,
+            ..self.clone()
+        }
+    }
+}
+
+/// A coarse ground truth first, at 1/this of the resolution per axis.
+pub const COARSE_TRUTH_DIVISOR: f32 = 4.0;
+
+/// Finished frames kept, per view, so that going back to one costs nothing.
+const KEPT_FRAMES: usize = 8;
 
 /// What a preview frame may take on the render thread (ms): 10 frames a
 /// second with room left for the UI's own frame.
@@ -80,6 +111,9 @@ pub enum Quality {
     /// While input goes on: 1/`divisor` of the viewport's resolution in
     /// each direction.
     Preview { divisor: f32 },
+    /// The ground truth at 1/`divisor` of the resolution, the full frame
+    /// next.
+    Coarse { divisor: f32 },
     /// Full resolution; `frames` so far in the running mean, more to come.
     Refining { frames: u32 },
     /// Full resolution and final: the mean of `frames` stopped changing
@@ -95,6 +129,9 @@ impl Quality {
                 format!("preview at 1/{divisor:.1} resolution while you work")
             }
             Quality::Preview { .. } => "preview while you work".into(),
+            Quality::Coarse { divisor } => {
+                format!("coarse, 1/{divisor:.0} resolution: the full frame next")
+            }
             Quality::Refining { frames } => format!("refining … {frames} frames"),
             Quality::Converged { frames: 1, ms } => format!("converged in {:.1} s", ms / 1e3),
             Quality::Converged { frames, ms } => {
@@ -222,6 +259,9 @@ impl Viewport {
         self.seq += 1;
         req.seq = self.seq;
         let interactive = req.interactive;
+        // A ground truth being computed for an older request stops (the
+        // render thread takes this one next).
+        crate::render::ground_truth::cancel();
         if self.tx.send(req).is_ok() {
             if interactive {
                 self.busy_since.get_or_insert_with(Instant::now);
@@ -283,6 +323,16 @@ struct Worker {
     divisor: Option<f32>,
     /// What the last full-resolution first frame took (ms).
     full_frame_ms: Option<f64>,
+    /// The last finished frames, newest first, by [`Request::key`].
+    finished: Vec<(Request, Finished)>,
+}
+
+/// A finished frame as it was sent.
+#[derive(Clone)]
+struct Finished {
+    image: image::RgbaImage,
+    stats: FrameStats,
+    note: Option<String>,
 }
 
 fn timings_on() -> bool {
@@ -409,6 +459,10 @@ impl Worker {
                 ((full_w as f32 / d).round() as u32).max(16),
                 ((full_h as f32 / d).round() as u32).max(16),
             ),
+            Pass::Coarse(d) => (
+                ((full_w as f32 / d).round() as u32).max(16),
+                ((full_h as f32 / d).round() as u32).max(16),
+            ),
             Pass::Refine(_) => (full_w, full_h),
         };
         let mut notes: Vec<String> = Vec::new();
@@ -496,7 +550,7 @@ impl Worker {
         let settings = RenderSettings {
             progressive: match pass {
                 Pass::Refine(frame) => Some(Progressive { slot, frame }),
-                Pass::Preview(_) => None,
+                Pass::Preview(_) | Pass::Coarse(_) => None,
             },
             ..settings
         };
@@ -510,6 +564,9 @@ impl Worker {
             stochastic,
         };
         self.kept[slot] = (!stochastic && matches!(pass, Pass::Refine(_))).then(|| side.clone());
+        if matches!(pass, Pass::Coarse(_)) {
+            self.kept[slot] = None;
+        }
         Ok(side)
     }
 }
@@ -519,6 +576,9 @@ impl Worker {
 enum Pass {
     /// A preview at 1/divisor of the resolution.
     Preview(f32),
+    /// The first frame of a view with the ground truth in it: every side
+    /// as it will be (the ground truth too) at 1/divisor of the resolution.
+    Coarse(f32),
     /// Full resolution, frame n of the running mean.
     Refine(u32),
 }
@@ -551,6 +611,11 @@ struct Refine {
     prev: Option<Vec<image::RgbaImage>>,
     /// When the request arrived (input stopped).
     since: Instant,
+    /// The coarse ground truth has been shown.
+    coarse_done: bool,
+    /// The request as the artist made it, when `req` is its ground truth
+    /// ("refine to the truth"), with the method it was refined from.
+    truth_of: Option<(Request, MethodId)>,
 }
 
 /// The newest request waiting, without blocking; `Err` when the UI has
@@ -580,6 +645,7 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         kept: [None, None],
         divisor: None,
         full_frame_ms: None,
+        finished: Vec::new(),
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
@@ -648,11 +714,38 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
             wake();
             continue;
         }
+        // A view finished before: shown again at once.
+        if w.pending_maps.is_none() {
+            let key = req.key();
+            if let Some(i) = w.finished.iter().position(|(k, _)| *k == key) {
+                let kept = w.finished.remove(i);
+                let f = kept.1.clone();
+                w.finished.insert(0, kept);
+                let note = Some(f.note.map_or("kept from before".into(), |n| {
+                    format!("{n} · kept from before")
+                }));
+                let reply = Reply::Frame {
+                    image: f.image,
+                    stats: Box::new(f.stats),
+                    wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+                    note,
+                    seq: req.seq,
+                    quality: Quality::Converged { frames: 1, ms: 0.0 },
+                };
+                if tx.send(reply).is_err() {
+                    return;
+                }
+                wake();
+                continue;
+            }
+        }
         let mut r = Refine {
             req,
             frames: 0,
             prev: None,
             since: t0,
+            coarse_done: false,
+            truth_of: None,
         };
         if w.pending_maps.is_some() {
             // The head first, with neutral maps; then the same view with
@@ -708,6 +801,28 @@ fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) 
 /// more frames would still change the image (false: converged, failed, or
 /// the UI has gone).
 fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    // The ground truth takes seconds: a coarse one over the whole view
+    // first (a new request in between is taken before the full frame).
+    if r.frames == 0 && !r.coarse_done && r.req.has_truth() {
+        r.coarse_done = true;
+        let divisor = COARSE_TRUTH_DIVISOR;
+        let reply = match w.frame(&r.req, Pass::Coarse(divisor)) {
+            Ok(rendered) => Reply::Frame {
+                image: rendered.image,
+                stats: Box::new(rendered.stats),
+                wall_ms: r.since.elapsed().as_secs_f64() * 1e3,
+                note: with_truth_note(&r.truth_of, rendered.note),
+                seq: r.req.seq,
+                quality: Quality::Coarse { divisor },
+            },
+            Err(e) if is_cancelled(&e) => return true,
+            Err(e) => {
+                let _ = tx.send(Reply::Error(e));
+                return false;
+            }
+        };
+        return tx.send(reply).is_ok();
+    }
     let frame = r.frames;
     let t1 = Instant::now();
     let rendered = w.frame(&r.req, Pass::Refine(frame));
@@ -716,6 +831,8 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
     }
     let rendered = match rendered {
         Ok(x) => x,
+        // A newer request is waiting: nothing to report.
+        Err(e) if is_cancelled(&e) => return false,
         Err(e) => {
             let _ = tx.send(Reply::Error(e));
             return false;
@@ -740,15 +857,70 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
     if !done {
         r.prev = Some(rendered.sides);
     }
+    let note = with_truth_note(&r.truth_of, rendered.note);
+    // "Refine to the truth": the method's converged frame is shown, and
+    // the ground truth of the same view follows, kept as the view's
+    // finished frame.
+    let to_truth = done
+        && r.req.refine_to_truth
+        && r.truth_of.is_none()
+        && !r.req.has_truth()
+        && r.req.b.is_none();
+    if done {
+        let key = r
+            .truth_of
+            .as_ref()
+            .map_or_else(|| r.req.key(), |(k, _)| k.key());
+        if !to_truth {
+            w.finished.retain(|(k, _)| *k != key);
+            w.finished.insert(
+                0,
+                (
+                    key,
+                    Finished {
+                        image: rendered.image.clone(),
+                        stats: rendered.stats.clone(),
+                        note: note.clone(),
+                    },
+                ),
+            );
+            w.finished.truncate(KEPT_FRAMES);
+        }
+    }
     let reply = Reply::Frame {
         image: rendered.image,
         stats: Box::new(rendered.stats),
         wall_ms: t1.elapsed().as_secs_f64() * 1e3,
-        note: rendered.note,
+        note,
         seq: r.req.seq,
         quality,
     };
-    tx.send(reply).is_ok() && !done
+    let sent = tx.send(reply).is_ok();
+    if sent && to_truth {
+        let from = r.req.a.rendering.method;
+        let mut truth = r.req.clone();
+        truth.a.rendering.method = MethodId::Reference;
+        truth.show_b = false;
+        r.truth_of = Some((r.req.clone(), from));
+        r.req = truth;
+        r.frames = 0;
+        r.prev = None;
+        r.coarse_done = false;
+        return true;
+    }
+    sent && !done
+}
+
+/// A frame's note, led by "the ground truth, refined from …" when it is
+/// the ground truth the artist asked to refine to.
+fn with_truth_note(truth_of: &Option<(Request, MethodId)>, note: Option<String>) -> Option<String> {
+    match (truth_of, note) {
+        (Some((_, m)), n) => {
+            let lead = format!("the ground truth, refined from {}", m.id());
+            Some(n.map_or(lead.clone(), |n| format!("{lead} · {n}")))
+        }
+        (None, n) => n,
+    }
 }
 
 /// Renders `req` as `pass` and sends the frame (or the error); false when
@@ -779,9 +951,16 @@ fn send_frame(
             note: r.note,
             seq: req.seq,
         },
+        Err(e) if is_cancelled(&e) => return true,
         Err(e) => Reply::Error(e),
     };
     tx.send(reply).is_ok()
+}
+
+/// Whether a frame's error is the ground truth stopping for a newer
+/// request.
+fn is_cancelled(e: &str) -> bool {
+    e == crate::render::GpuError::Cancelled.to_string()
 }
 
 /// The B side of a comparison.

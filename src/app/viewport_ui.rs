@@ -172,6 +172,10 @@ impl EditorApp {
                     ..Default::default()
                 };
             }
+            ui.checkbox(&mut self.ui_state.refine_to_truth, "refine to the truth")
+                .on_hover_text(
+                    "Once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
+                );
             if let Some(p) = self.mesh.clone() {
                 if ui
                     .button("Units…")
@@ -265,6 +269,7 @@ impl EditorApp {
         let interactive = ui.ctx().dragged_id().is_some() || wheel_recent;
         let req = viewport::Request {
             interactive,
+            refine_to_truth: self.ui_state.refine_to_truth,
             a: viewport::Look::of(&self.doc.preset),
             b,
             show_b: self.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
@@ -298,15 +303,17 @@ impl EditorApp {
                     use std::io::Write;
                     let _ = writeln!(
                         log,
-                        "{:.3} frame {} {}x{} seq={seq} render_ms={wall_ms:.1}",
+                        "{:.3} frame {} {}x{} seq={seq} render_ms={wall_ms:.1} method={}",
                         unix_seconds(),
                         match quality {
                             viewport::Quality::Preview { .. } => "preview",
+                            viewport::Quality::Coarse { .. } => "coarse",
                             viewport::Quality::Refining { .. } => "refining",
                             viewport::Quality::Converged { .. } => "converged",
                         },
                         image.width(),
                         image.height(),
+                        stats.method,
                     );
                 }
                 self.quality = Some(quality);
@@ -417,7 +424,9 @@ impl EditorApp {
                 32.0,
             );
         }
-        if let (Some(_), Some((phase, done))) = (busy, crate::render::ground_truth::progress()) {
+        // Also after a coarse ground truth has arrived (the view is no
+        // longer "busy": its full frame is on the way).
+        if let Some((phase, done, total)) = crate::render::ground_truth::progress() {
             // `reference` is the ground truth, computed on the CPU on the
             // render thread: tens of seconds for a full viewport. Above the
             // "rendering … s" line.
@@ -426,7 +435,35 @@ impl EditorApp {
             } else {
                 "ground truth: integrating each pixel …"
             };
-            progress(ui, done, format!("{text} {:.0} %", 100.0 * done), 64.0);
+            // The time left, from this phase's pace so far.
+            let now = std::time::Instant::now();
+            // A new phase, or a new frame's (its fraction starts again).
+            let since = match self.truth_phase {
+                Some((p, t, last)) if p == (phase, total) && done >= last => t,
+                _ => now,
+            };
+            self.truth_phase = Some(((phase, total), since, done));
+            let spent = (now - since).as_secs_f32();
+            let left = if done > 0.02 && spent > 0.5 {
+                format!(" · {:.0} s left", spent * (1.0 - done) / done)
+            } else {
+                String::new()
+            };
+            progress(
+                ui,
+                done,
+                format!("{text} {:.0} %{left}", 100.0 * done),
+                64.0,
+            );
+        }
+        if crate::render::ground_truth::progress().is_none() {
+            self.truth_phase = None;
+        }
+        // After a coarse ground truth the full one is on its way with no
+        // reply to wake the UI: look again for its progress bar.
+        if matches!(self.quality, Some(viewport::Quality::Coarse { .. })) {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(250));
         }
         let label = match (self.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),

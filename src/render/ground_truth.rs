@@ -302,8 +302,9 @@ fn cancelled() -> bool {
     CANCEL.load(std::sync::atomic::Ordering::Relaxed)
 }
 
-/// (phase, fraction done) of the ground truth running now, if any.
-pub fn progress() -> Option<(u32, f32)> {
+/// (phase, fraction done, items in the phase) of the ground truth running
+/// now, if any.
+pub fn progress() -> Option<(u32, f32, u32)> {
     use std::sync::atomic::Ordering;
     let phase = PROGRESS[2].load(Ordering::Relaxed);
     let total = PROGRESS[1].load(Ordering::Relaxed);
@@ -311,6 +312,7 @@ pub fn progress() -> Option<(u32, f32)> {
         (
             phase,
             (PROGRESS[0].load(Ordering::Relaxed) as f32 / total as f32).min(1.0),
+            total,
         )
     })
 }
