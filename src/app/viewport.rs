@@ -194,6 +194,9 @@ pub struct Viewport {
     pub busy_since: Option<Instant>,
     /// The render thread, joined on drop.
     thread: Option<std::thread::JoinHandle<()>>,
+    /// Set with each new request: the render thread's renderer stops a
+    /// ground truth computed for an older one (`Renderer::cancel_with`).
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl Drop for Viewport {
@@ -216,9 +219,11 @@ impl Viewport {
     pub fn start(wake: impl Fn() + Send + 'static) -> Self {
         let (tx, req_rx) = channel::<Request>();
         let (reply_tx, rx) = channel::<Reply>();
+        let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let theirs = cancel.clone();
         let spawned = std::thread::Builder::new()
             .name("scatterlab-render".into())
-            .spawn(move || worker(req_rx, reply_tx, wake));
+            .spawn(move || worker(req_rx, reply_tx, theirs, wake));
         let thread = match spawned {
             Ok(t) => Some(t),
             Err(e) => {
@@ -234,6 +239,7 @@ impl Viewport {
             seq: 0,
             busy_since: None,
             thread,
+            cancel,
         }
     }
 
@@ -261,7 +267,8 @@ impl Viewport {
         let interactive = req.interactive;
         // A ground truth being computed for an older request stops (the
         // render thread takes this one next).
-        crate::render::ground_truth::cancel();
+        self.cancel
+            .store(true, std::sync::atomic::Ordering::Relaxed);
         if self.tx.send(req).is_ok() {
             if interactive {
                 self.busy_since.get_or_insert_with(Instant::now);
@@ -325,6 +332,8 @@ struct Worker {
     full_frame_ms: Option<f64>,
     /// The last finished frames, newest first, by [`Request::key`].
     finished: Vec<(Request, Finished)>,
+    /// Shared with the [`Viewport`] and every renderer made here.
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 /// A finished frame as it was sent.
@@ -404,7 +413,9 @@ impl Worker {
             .map_err(|_| "the GPU set-up thread panicked".to_string())?
             .map_err(|e| e.to_string())?;
         let t_setup = t.elapsed();
-        self.renderer = Some(Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?);
+        let mut renderer = Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?;
+        renderer.cancel_with(self.cancel.clone());
+        self.renderer = Some(renderer);
         self.reframed = self.mesh_path != *mesh
             || self.mesh_settings.metres_per_unit != settings.metres_per_unit;
         self.mesh_path = mesh.clone();
@@ -633,7 +644,12 @@ fn try_newest(rx: &Receiver<Request>) -> Result<Option<Request>, ()> {
     }
 }
 
-fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
+fn worker(
+    rx: Receiver<Request>,
+    tx: Sender<Reply>,
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    wake: impl Fn(),
+) {
     let mut w = Worker {
         renderer: None,
         mesh_path: None,
@@ -646,6 +662,7 @@ fn worker(rx: Receiver<Request>, tx: Sender<Reply>, wake: impl Fn()) {
         divisor: None,
         full_frame_ms: None,
         finished: Vec::new(),
+        cancel,
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).

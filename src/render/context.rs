@@ -37,7 +37,7 @@ pub enum GpuError {
         missing: &'static str,
     },
     /// A newer request asked for the ground truth running now to stop
-    /// (`ground_truth::cancel`): not a failure, nothing to show.
+    /// (`Renderer::cancel_with`): not a failure, nothing to show.
     #[error("the ground truth was cancelled by a newer request")]
     Cancelled,
 }

@@ -283,25 +283,6 @@ pub static PROGRESS: [std::sync::atomic::AtomicU32; 3] = [
     std::sync::atomic::AtomicU32::new(0),
 ];
 
-/// Set by [`cancel`]: the gather running now stops at its next chunk.
-static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Asks the ground truth running now, if any, to stop (the editor's
-/// render thread has a newer request): [`Cloud::gather_all`] returns
-/// `None` from its next chunk on.
-pub fn cancel() {
-    CANCEL.store(true, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// Clears a [`cancel`] meant for an earlier frame (a frame's start).
-pub fn uncancel() {
-    CANCEL.store(false, std::sync::atomic::Ordering::Relaxed);
-}
-
-fn cancelled() -> bool {
-    CANCEL.load(std::sync::atomic::Ordering::Relaxed)
-}
-
 /// (phase, fraction done, items in the phase) of the ground truth running
 /// now, if any.
 pub fn progress() -> Option<(u32, f32, u32)> {
@@ -823,14 +804,16 @@ impl Cloud {
     }
 
     /// The gather at many probes, in parallel, each over k × k points of
-    /// its pixel ([`Cloud::gather_supersampled`]); `None` when [`cancel`]
-    /// was called meanwhile.
+    /// its pixel ([`Cloud::gather_supersampled`]); `None` when `cancel`
+    /// was set meanwhile (it is read before each chunk of probes).
     pub fn gather_all(
         &self,
         probes: &[Probe],
         supersample: u32,
         irradiance: &dyn SurfaceIrradiance,
+        cancel: &std::sync::atomic::AtomicBool,
     ) -> Option<Vec<Option<[f32; 3]>>> {
+        let cancelled = || cancel.load(std::sync::atomic::Ordering::Relaxed);
         start(2, probes.len());
         let out = probes
             .par_chunks(MEMO_CHUNK)
@@ -964,13 +947,12 @@ impl Cloud {
             )
         };
         if near {
-            // A cell (or piece of one) at or beside x. Where the irradiance
-            // is even across it (its corners within 2 % of its mean, or it
-            // is already tiny), the profile is integrated exactly in polar
-            // coordinates about x (`polar_weight`); otherwise it is split
-            // and each piece evaluated afresh, so a shadow edge stays sharp
-            // at the profile's core.
-            // The piece lies in the annulus about x from dist − reach to
+            // A cell (or piece of one) too wide for the rule at its
+            // distance. Where the irradiance is even across it (below), the
+            // profile is integrated exactly in polar coordinates about x
+            // (`polar_weight`); otherwise it is split and each piece
+            // evaluated afresh, so a shadow edge stays sharp at the
+            // profile's core. The piece lies in the annulus about x from dist − reach to
             // dist + reach, so its share of each channel's energy is at
             // most that annulus's: a corner's difference from the mean
             // moves the sum by at most that much times the share.

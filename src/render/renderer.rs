@@ -70,6 +70,9 @@ pub struct Renderer {
     mesh: Mesh,
     /// The ground truth's cloud, kept while only the view changes.
     reference_cache: Option<sss::reference::Cache>,
+    /// Set to stop a ground truth under way (the editor's newer request;
+    /// [`Renderer::cancel_with`]).
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl Renderer {
@@ -120,6 +123,7 @@ impl Renderer {
                 ..mesh.clone()
             },
             reference_cache: None,
+            cancel: Default::default(),
             ctx,
         })
     }
@@ -137,6 +141,14 @@ impl Renderer {
         }
         self.targets = Some(Targets::new(&self.ctx, (w, h)));
         self.scene_key = None;
+    }
+
+    /// Shares `flag` as this renderer's cancel: setting it stops a ground
+    /// truth under way at its next chunk of pixels, and that frame fails
+    /// with [`GpuError::Cancelled`] (the editor sets it when a newer
+    /// request arrives; each frame clears it as it starts).
+    pub fn cancel_with(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.cancel = flag;
     }
 
     /// Replaces the mesh's surface maps (the editor draws the default head
@@ -309,8 +321,17 @@ impl Renderer {
             ctx.queue.submit([f.take().finish()]);
             let io = sss::reference::Io::new(ctx, t, &self.shadow);
             let (mesh, cache) = (&self.mesh, &mut self.reference_cache);
-            let timing =
-                sss::reference::scatter(ctx, mesh, &io, &scene_u, camera.view, s, inputs, cache)?;
+            let timing = sss::reference::scatter(
+                ctx,
+                mesh,
+                &io,
+                &scene_u,
+                camera.view,
+                s,
+                inputs,
+                cache,
+                &self.cancel,
+            )?;
             Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms)
         } else {
             None

@@ -383,3 +383,45 @@ fn the_viewport_previews_while_dragging_and_converges_after() {
     assert!(frames > 1, "burley converged after {frames} frame(s)");
     assert_eq!(h.state().viewport_frame().unwrap().0.width(), full);
 }
+
+/// "Refine to the truth" (issue 23): the method's converged frame, then a
+/// coarse ground truth, then the full one, named in the status; going
+/// back to that view shows its finished frame at once.
+#[test]
+fn refine_to_the_truth_goes_coarse_then_full_and_keeps_the_frame() {
+    use scatterlab::app::viewport::Quality;
+    let state = UiState {
+        refine_to_truth: true,
+        ..UiState::default()
+    };
+    // A small window: the ground truth is a CPU frame.
+    let mut h = harness_of(EditorApp::new(None, state, None, true), [900.0, 560.0]);
+    h.step();
+    let saw_coarse = std::cell::Cell::new(false);
+    step_until(&mut h, "the full ground truth", |a| {
+        if matches!(a.viewport_quality(), Some(Quality::Coarse { .. })) {
+            saw_coarse.set(true);
+        }
+        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+            && a.frame_info().starts_with("reference")
+    });
+    assert!(saw_coarse.get(), "no coarse ground truth came first");
+    let info = h.state().frame_info().to_string();
+    assert!(
+        info.contains("the ground truth, refined from burley"),
+        "status: {info}"
+    );
+    let truth = h.state().viewport_frame().unwrap().0.clone();
+    // Off: the method's own frame (another request).
+    h.state_mut().ui_state.refine_to_truth = false;
+    step_until(&mut h, "burley converged", |a| {
+        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+            && a.frame_info().starts_with("burley")
+    });
+    // On again: the same view's finished ground truth, kept.
+    h.state_mut().ui_state.refine_to_truth = true;
+    step_until(&mut h, "the kept ground truth", |a| {
+        a.frame_info().starts_with("reference") && a.frame_info().contains("kept from before")
+    });
+    assert_eq!(h.state().viewport_frame().unwrap().0, &truth);
+}

@@ -107,6 +107,7 @@ pub(in crate::render) fn scatter(
     s: &RenderSettings,
     inputs: &ProfileInputs,
     cache: &mut Option<Cache>,
+    cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<Timing, GpuError> {
     if !ctx.depth_copies {
         return Err(GpuError::NoGroundTruth {
@@ -116,7 +117,8 @@ pub(in crate::render) fn scatter(
             ),
         });
     }
-    crate::render::ground_truth::uncancel();
+    // A cancel meant for an earlier frame (this is the newest request).
+    cancel.store(false, std::sync::atomic::Ordering::Relaxed);
     let (w, h) = (s.width, s.height);
     let depth_bpp: u32 = match io.linear_depth_format {
         wgpu::TextureFormat::R32Float => 4,
@@ -201,7 +203,7 @@ pub(in crate::render) fn scatter(
     );
     let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
     let scattered = cloud
-        .gather_all(&points, s.reference_supersample.max(1), &irr)
+        .gather_all(&points, s.reference_supersample.max(1), &irr, cancel)
         .ok_or(GpuError::Cancelled)?;
     if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
         eprintln!(
