@@ -691,6 +691,9 @@ fn worker(
             continue;
         };
         refine = None;
+        // The newest request is taken: a cancel set before now was for the
+        // requests it replaces (one sent from here on cancels its work).
+        w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
         let t0 = Instant::now();
         let range = req.a.rendering.thickness_remap_mm.1 as f32;
         match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
@@ -766,10 +769,18 @@ fn worker(
         };
         if w.pending_maps.is_some() {
             // The head first, with neutral maps; then the same view with
-            // its skin maps, refined from there.
-            if !send_frame(&mut w, &r.req, Pass::Refine(0), t0, &tx, |_| {
-                Quality::Refining { frames: 1 }
-            }) {
+            // its skin maps, refined from there. The ground truth of a head
+            // about to change would be seconds thrown away: a preview.
+            let sent = if r.req.has_truth() {
+                send_frame(&mut w, &r.req, Pass::Preview(1.0), t0, &tx, |_| {
+                    Quality::Preview { divisor: 1.0 }
+                })
+            } else {
+                send_frame(&mut w, &r.req, Pass::Refine(0), t0, &tx, |_| {
+                    Quality::Refining { frames: 1 }
+                })
+            };
+            if !sent {
                 return;
             }
             wake();

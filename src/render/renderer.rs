@@ -143,10 +143,12 @@ impl Renderer {
         self.scene_key = None;
     }
 
-    /// Shares `flag` as this renderer's cancel: setting it stops a ground
-    /// truth under way at its next chunk of pixels, and that frame fails
-    /// with [`GpuError::Cancelled`] (the editor sets it when a newer
-    /// request arrives; each frame clears it as it starts).
+    /// Shares `flag` as this renderer's cancel: while it is set a ground
+    /// truth stops at its next chunk of pixels and its frame fails with
+    /// [`GpuError::Cancelled`]. Its owner clears it (the editor's render
+    /// thread when it takes the newest request; the viewport sets it with
+    /// each request it sends). Clearing it at a frame's start instead lost
+    /// the cancel of requests already waiting.
     pub fn cancel_with(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
         self.cancel = flag;
     }

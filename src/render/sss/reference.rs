@@ -117,8 +117,6 @@ pub(in crate::render) fn scatter(
             ),
         });
     }
-    // A cancel meant for an earlier frame (this is the newest request).
-    cancel.store(false, std::sync::atomic::Ordering::Relaxed);
     let (w, h) = (s.width, s.height);
     let depth_bpp: u32 = match io.linear_depth_format {
         wgpu::TextureFormat::R32Float => 4,
