@@ -150,9 +150,10 @@ pub struct EditorApp {
     last_frame: Option<(image::RgbaImage, u64)>,
     /// How far the last frame had got (preview, refining, converged).
     quality: Option<viewport::Quality>,
-    /// The ground truth's phase and when it was first seen (for the time
-    /// left on its progress bar).
-    truth_phase: Option<((u32, u32), std::time::Instant, f32)>,
+    /// The ground truth's (phase, items) on its progress bar, when the UI
+    /// first saw it, the fraction then and the last fraction seen (for the
+    /// time left).
+    truth_phase: Option<((u32, u32), std::time::Instant, f32, f32)>,
     /// When the mouse wheel last zoomed (zooming is live input too).
     last_wheel: Option<std::time::Instant>,
     /// SCATTERLAB_FRAME_LOG: a line per viewport frame and UI frame

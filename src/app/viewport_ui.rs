@@ -435,17 +435,17 @@ impl EditorApp {
             } else {
                 "ground truth: integrating each pixel …"
             };
-            // The time left, from this phase's pace so far.
+            // The time left, from this phase's pace since the UI first saw
+            // it (a new phase, or a new frame's: its fraction starts again).
             let now = std::time::Instant::now();
-            // A new phase, or a new frame's (its fraction starts again).
-            let since = match self.truth_phase {
-                Some((p, t, last)) if p == (phase, total) && done >= last => t,
-                _ => now,
+            let (first_at, first_done) = match self.truth_phase {
+                Some((p, t, d0, last)) if p == (phase, total) && done >= last => (t, d0),
+                _ => (now, done),
             };
-            self.truth_phase = Some(((phase, total), since, done));
-            let spent = (now - since).as_secs_f32();
-            let left = if done > 0.02 && spent > 0.5 {
-                format!(" · {:.0} s left", spent * (1.0 - done) / done)
+            self.truth_phase = Some(((phase, total), first_at, first_done, done));
+            let (spent, gained) = ((now - first_at).as_secs_f32(), done - first_done);
+            let left = if gained > 0.02 && spent > 0.5 {
+                format!(" · {:.0} s left", spent / gained * (1.0 - done))
             } else {
                 String::new()
             };
