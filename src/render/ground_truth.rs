@@ -61,7 +61,7 @@ use std::collections::HashMap;
 /// A piece is at most this fraction of its distance.
 const THETA: f64 = 1.0;
 /// Sets the largest piece against the profile's local length (see the
-/// module): √(24 τ) = 0.9 λ for an exponential of length λ.
+/// module): √(24 τ) = 1.8 λ for an exponential of length λ.
 const TAU: f64 = 0.136;
 /// Density (relative to a channel's mean inside its median radius) below
 /// which that channel's accuracy stops setting the cell size.
