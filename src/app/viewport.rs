@@ -466,11 +466,7 @@ impl Worker {
     fn frame(&mut self, req: &Request, pass: Pass) -> Result<Rendered, String> {
         let (full_w, full_h) = req.size;
         let (w, h) = match pass {
-            Pass::Preview(d) => (
-                ((full_w as f32 / d).round() as u32).max(16),
-                ((full_h as f32 / d).round() as u32).max(16),
-            ),
-            Pass::Coarse(d) => (
+            Pass::Preview(d) | Pass::Coarse(d) => (
                 ((full_w as f32 / d).round() as u32).max(16),
                 ((full_h as f32 / d).round() as u32).max(16),
             ),

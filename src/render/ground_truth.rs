@@ -1232,7 +1232,7 @@ struct Query<'a> {
 /// coordinates, footprint, as bits), so a hit returns what evaluating
 /// would: the frame is the same with or without it (issue 23).
 #[derive(Default)]
-pub struct Memo(std::cell::RefCell<HashMap<MemoKey, [f32; 3], FxBuild>>);
+pub struct Memo(std::cell::RefCell<HashMap<MemoKey, [f32; 3], rustc_hash::FxBuildHasher>>);
 
 type MemoKey = (u32, [u32; 3], [u32; 7]);
 
@@ -1267,30 +1267,6 @@ impl Memo {
         v
     }
 }
-
-/// The multiply–rotate hash of rustc's FxHasher (the memo's keys are
-/// bits of floats, not input an adversary chooses): SipHash cost as much
-/// as the lookups it guards.
-#[derive(Default, Clone, Copy)]
-struct Fx(u64);
-
-impl std::hash::Hasher for Fx {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes.chunks(4) {
-            let mut w = [0u8; 4];
-            w[..b.len()].copy_from_slice(b);
-            self.write_u32(u32::from_le_bytes(w));
-        }
-    }
-    fn write_u32(&mut self, v: u32) {
-        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-type FxBuild = std::hash::BuildHasherDefault<Fx>;
 
 /// The profile at a probe: the table with its radii scaled by m (the
 /// pixel's SSS mask): ρ_m(r) = ρ(r/m)/m², CDF_m(r) = CDF(r/m).
