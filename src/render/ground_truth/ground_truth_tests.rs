@@ -1,6 +1,7 @@
 use super::*;
 use crate::model::burley::Burley;
 use crate::model::quad;
+use crate::model::RadialProfile;
 
 /// A square of side `size_mm` in z = 0 cut into 2·n² triangles.
 fn plane(size_mm: f32, n: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
@@ -343,7 +344,7 @@ fn fast_ln_matches_ln() {
     let mut worst = 0.0f64;
     let mut x = 1e-9f64;
     while x < 1e6 {
-        let got = super::fast_ln(x as f32) as f64;
+        let got = super::table::fast_ln(x as f32) as f64;
         let want = (x as f32 as f64).ln();
         worst = worst.max((got - want).abs());
         x *= 1.0007;
