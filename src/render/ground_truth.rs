@@ -231,6 +231,14 @@ struct Root {
     corners: [Vec3; 3],
     levels: u32,
     offset: u32,
+    /// Longest side, farthest corner from the centroid (mm) and area
+    /// (mm²): a midpoint split halves the first two and quarters the
+    /// third in each of its four pieces (each is the triangle scaled by
+    /// ½, the middle one turned by 180°), so the gather reads them off
+    /// the level.
+    side_mm: f32,
+    reach_mm: f32,
+    area_mm2: f32,
 }
 
 /// The irradiance cells over a mesh's SSS surface: what a light and a
@@ -307,11 +315,21 @@ impl Cells {
             } else {
                 0
             };
+            let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
             roots.push(Root {
                 tri: t as u32,
                 corners,
                 levels,
                 offset: total as u32,
+                side_mm: side as f32,
+                reach_mm: corners
+                    .iter()
+                    .map(|c| (*c - centre).length())
+                    .fold(0.0, f32::max),
+                area_mm2: 0.5
+                    * (corners[1] - corners[0])
+                        .cross(corners[2] - corners[0])
+                        .length(),
             });
             total += level_start(levels + 1);
         }

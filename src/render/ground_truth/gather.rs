@@ -2,7 +2,7 @@
 //! quadtree walk, the clusters and the exact polar near field.
 
 use super::cluster::{CLUSTER_DECAY, CLUSTER_LEAF, CLUSTER_THETA};
-use super::table::Scaled;
+use super::table::{Scaled, THETA};
 use super::*;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -210,13 +210,14 @@ impl Cloud {
             pixel_dy_mm: dy,
             width_mm: 0.0,
         };
+        let profile = Scaled::new(&self.table, (probe.profile_scale as f64).clamp(1e-3, 1.0));
         let query = Query {
             x,
             pixel,
-            profile: Scaled {
-                table: &self.table,
-                m: (probe.profile_scale as f64).clamp(1e-3, 1.0),
-            },
+            pixel_mm: dx.length().max(dy.length()) as f64,
+            r_max_mm: profile.r_max_mm(),
+            epsilon_mm: profile.epsilon_mm(),
+            profile,
             memo,
         };
         let mut acc = [0.0f64; 3];
@@ -300,13 +301,7 @@ impl Cloud {
             ClusterKind::Leaf { first, count } => {
                 for &k in &self.cells.order[first as usize..(first + count) as usize] {
                     let r = &self.cells.roots[k as usize];
-                    let node = Node {
-                        bary: [Vec3::X, Vec3::Y, Vec3::Z],
-                        corners: r.corners,
-                        level: 0,
-                        index: 0,
-                    };
-                    self.integrate(q, r, node, irradiance, acc);
+                    self.integrate(q, r, Node::root(r), irradiance, acc);
                 }
             }
         }
@@ -325,33 +320,31 @@ impl Cloud {
         let (x, pixel, table) = (q.x, q.pixel, &q.profile);
         let corners = node.corners;
         let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
-        let side = longest_side(&corners);
+        // The node's side and reach are its root's, halved per level (the
+        // farthest point of a triangle from its centroid is a corner, up
+        // to 2/3 of the longest side for a sliver: a fixed 0.58 of the
+        // side skipped slivers' tips beside x when r_max is short).
+        let side = node.side_mm as f64;
+        let reach = (node.reach_mm as f64).max(1e-9);
         let dist = (x - centre).length() as f64;
         // Truncate at r_max: a piece across it counts with the fraction of
         // its extent inside (the density there is the profile's last
         // 0.1 %, so this costs nothing measurable).
-        // The farthest point of a triangle from its centroid is a corner
-        // (up to 2/3 of the longest side, for a sliver: a fixed 0.58 skipped
-        // slivers' tips beside x when r_max is short).
-        let reach = corners
-            .iter()
-            .map(|c| (*c - centre).length() as f64)
-            .fold(0.0, f64::max)
-            .max(1e-9);
-        let inside = ((table.r_max_mm() - (dist - reach)) / (2.0 * reach)).clamp(0.0, 1.0);
-        if inside <= 0.0 {
+        if dist - reach >= q.r_max_mm {
             return;
         }
-        // The largest piece the edge-midpoint rule takes at this distance.
-        let leaf_mm = table.leaf_mm(dist);
-        let near = node.level >= root.levels && side > leaf_mm;
+        let inside = ((q.r_max_mm - (dist - reach)) / (2.0 * reach)).min(1.0);
+        // The largest piece the edge-midpoint rule takes at this distance
+        // (never wider than θ times the distance: the table is read only
+        // where that does not already rule the piece out).
+        let leaf = side <= THETA * dist && side <= table.leaf_mm(dist);
+        let near = node.level >= root.levels && !leaf;
         // The piece's irradiance: the quadtree's mean down to the cells;
         // at x, where a piece is narrower than the pixel and within a
         // pixel of x, evaluated afresh over the pixel's footprint (the
         // pixel's mean, as the GPU's mip level makes it: the d → 0 limit);
         // below the cells (only ever beside x) afresh over the piece.
-        let pixel_mm = pixel.pixel_dx_mm.length().max(pixel.pixel_dy_mm.length()) as f64;
-        let by_pixel = near && pixel_mm > side && dist - reach < pixel_mm;
+        let by_pixel = near && q.pixel_mm > side && dist - reach < q.pixel_mm;
         let footprint = if by_pixel {
             Footprint {
                 width_mm: side as f32,
@@ -382,7 +375,7 @@ impl Cloud {
             // moves the sum by at most that much times the share.
             let (lo, hi) = (table.cdf((dist - reach).max(0.0)), table.cdf(dist + reach));
             let share = [0, 1, 2].map(|c| (hi[c] - lo[c]).max(0.0));
-            let even = side <= table.epsilon_mm()
+            let even = side <= q.epsilon_mm
                 || share.iter().all(|w| *w <= UNEVEN)
                 || node.bary.iter().all(|b| {
                     let v = q.memo.at(irradiance, root.tri, *b, footprint);
@@ -397,25 +390,22 @@ impl Cloud {
                 }
                 return;
             }
-        } else if side <= leaf_mm {
+        } else if leaf {
             if e == [0.0; 3] {
                 return;
             }
-            let area = 0.5
-                * (corners[1] - corners[0])
-                    .cross(corners[2] - corners[0])
-                    .length() as f64;
             // The edge-midpoint rule, exact for quadratics on a triangle.
-            let mut w = [0.0f64; 3];
+            let mut w = [0.0f32; 3];
             for k in 0..3 {
                 let m = 0.5 * (corners[k] + corners[(k + 1) % 3]);
-                let d = table.density((x - m).length() as f64);
+                let d = table.density_sq((x - m).length_squared());
                 for c in 0..3 {
-                    w[c] += d[c] as f64 / 3.0;
+                    w[c] += d[c];
                 }
             }
+            let scale = node.area_mm2 as f64 / 3.0 * inside;
             for c in 0..3 {
-                acc[c] += e[c] as f64 * w[c] * area * inside;
+                acc[c] += e[c] as f64 * w[c] as f64 * scale;
             }
             return;
         }
@@ -431,18 +421,28 @@ impl Cloud {
                 } else {
                     0
                 },
+                side_mm: 0.5 * node.side_mm,
+                reach_mm: 0.5 * node.reach_mm,
+                area_mm2: 0.25 * node.area_mm2,
             };
             self.integrate(q, root, child, irradiance, acc);
         }
     }
 }
 
-/// One gather: the point, its pixel and the profile there.
+/// One gather: the point, its pixel and the profile there, with what the
+/// walk reads at every node worked out once.
 struct Query<'a> {
     x: Vec3,
     pixel: Footprint,
     profile: Scaled<'a>,
     memo: &'a Memo,
+    /// The pixel's larger surface step (mm).
+    pixel_mm: f64,
+    /// The profile's truncation radius and its smallest split (mm), at
+    /// this pixel's scale.
+    r_max_mm: f64,
+    epsilon_mm: f64,
 }
 
 /// A node of a root's quadtree during the gather.
@@ -452,4 +452,22 @@ struct Node {
     corners: [Vec3; 3],
     level: u32,
     index: usize,
+    /// Its root's side, reach and area at this level ([`Root`]).
+    side_mm: f32,
+    reach_mm: f32,
+    area_mm2: f32,
+}
+
+impl Node {
+    fn root(r: &Root) -> Self {
+        Self {
+            bary: [Vec3::X, Vec3::Y, Vec3::Z],
+            corners: r.corners,
+            level: 0,
+            index: 0,
+            side_mm: r.side_mm,
+            reach_mm: r.reach_mm,
+            area_mm2: r.area_mm2,
+        }
+    }
 }
