@@ -16,15 +16,16 @@
 #
 #   tools/measure_live.sh [--out FILE.md]
 #
-# Needs Xvfb, xdotool and ImageMagick (tools/setup-debian.sh installs
-# them). docs/rendering.md records its figures.
+# Needs Xvfb (tools/setup-debian.sh installs it), xdotool and ImageMagick
+# (apt-get install xdotool imagemagick). docs/rendering.md records its
+# figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=""
 if [[ "${1:-}" == "--out" ]]; then OUT="$2"; fi
 DRAG_S="${DRAG_S:-4}"
 for t in Xvfb xdotool import python3; do
-    command -v "$t" >/dev/null || { echo "error: $t is missing (tools/setup-debian.sh installs it)" >&2; exit 1; }
+    command -v "$t" >/dev/null || { echo "error: $t is missing (apt-get install xvfb xdotool imagemagick python3)" >&2; exit 1; }
 done
 cargo build --release --quiet
 BIN="$PWD/target/release/scatterlab"
