@@ -8,6 +8,7 @@ pub mod convert;
 pub mod edit;
 pub mod export;
 pub mod fit;
+pub mod import;
 pub mod kernel;
 pub mod lut;
 pub mod profile;
@@ -76,6 +77,10 @@ pub enum Command {
     Stress(stress::StressArgs),
     /// Express a profile in an engine's parameters (via a Burley fit when needed).
     Convert(convert::ConvertArgs),
+    /// Read an engine's file (Unity HDRP .asset, Unreal, MaterialX, Godot,
+    /// Blender) back into looks: the look the engine renders from it, the
+    /// file's own fields and what had to be assumed; --out writes presets.
+    Import(import::ImportArgs),
 }
 
 /// Runs a parsed command; no subcommand opens the editor.
@@ -94,6 +99,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Bench(a)) => a.run(),
         Some(Command::Stress(a)) => a.run(),
         Some(Command::Convert(a)) => a.run(),
+        Some(Command::Import(a)) => a.run(),
     }
 }
 

@@ -6,8 +6,10 @@
 mod engines;
 mod godot;
 mod images;
+pub mod import;
 mod materialx;
 mod shaders;
+mod unity;
 
 use crate::model::burley::Burley;
 use crate::model::fit::fit_burley;
@@ -16,9 +18,11 @@ use crate::settings::{Preset, ProfileSpec};
 use std::path::{Path, PathBuf};
 
 pub use engines::{
-    blender_python, unity_asset, unity_dual_lobe, unreal_material_fields, unreal_notes,
-    unreal_python, unreal_struct, UnityDualLobe, UnrealMaterialFields,
+    blender_python, unreal_material_fields, unreal_notes, unreal_python, unreal_struct,
+    UnrealMaterialFields,
 };
+pub use import::{import_file, ImportError, ImportOptions, ImportedLook};
+pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
