@@ -47,11 +47,21 @@ impl ImportArgs {
                 .zip(written.iter().map(Some).chain(std::iter::repeat(None)))
                 .map(|(l, w)| look_json(l, w.map(PathBuf::as_path)))
                 .collect();
-            println!("{}", serde_json::to_string_pretty(&json!({ "file": self.file.display().to_string(), "looks": v }))?);
+            println!(
+                "{}",
+                serde_json::to_string_pretty(
+                    &json!({ "file": self.file.display().to_string(), "looks": v })
+                )?
+            );
         } else {
             let mut text = String::new();
             for (i, l) in looks.iter().enumerate() {
-                text += &format!("{}: {} \"{}\"\n", self.file.display(), l.kind, l.preset.name);
+                text += &format!(
+                    "{}: {} \"{}\"\n",
+                    self.file.display(),
+                    l.kind,
+                    l.preset.name
+                );
                 for (k, v) in &l.fields {
                     text += &format!("  {k}: {v}\n");
                 }
@@ -83,7 +93,8 @@ fn write_looks(looks: &[ImportedLook], out: &Path, force: bool) -> Result<Vec<Pa
                 looks.len()
             );
         }
-        std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create the folder", out.display()))?;
+        std::fs::create_dir_all(out)
+            .with_context(|| format!("{}: cannot create the folder", out.display()))?;
         let mut used = std::collections::HashSet::new();
         looks
             .iter()

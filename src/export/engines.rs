@@ -281,4 +281,3 @@ print("scatterlab: set", mat.name, "for a scene of", unit_scale, "m per unit")
         ior = preset.rendering.ior,
     ))
 }
-

@@ -122,7 +122,8 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedL
         return super::unity::read(&text, path);
     }
     if ext == "ron" {
-        let preset = Preset::from_ron(&text, path).map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;
+        let preset = Preset::from_ron(&text, path)
+            .map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;
         return Ok(vec![ImportedLook {
             fields: Vec::new(),
             kind: "scatterlab preset",

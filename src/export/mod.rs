@@ -21,14 +21,14 @@ pub use engines::{
     blender_python, unreal_material_fields, unreal_notes, unreal_python, unreal_struct,
     UnrealMaterialFields,
 };
-pub use import::{import_file, ImportError, ImportOptions, ImportedLook};
-pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
 pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
+pub use import::{import_file, ImportError, ImportOptions, ImportedLook};
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
+pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 
 /// Every export target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

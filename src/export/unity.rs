@@ -187,7 +187,6 @@ fn yaml_name(name: &str) -> String {
     }
 }
 
-
 mod read;
 pub use read::read;
 

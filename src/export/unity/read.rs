@@ -5,7 +5,11 @@ use super::*;
 use yaml_rust2::YamlLoader;
 
 /// HDRP's `DiffusionProfileSettings.Version` (Migration.cs).
-const VERSIONS: [&str; 3] = ["Initial", "DiffusionProfileRework", "SplitScatteringDistance"];
+const VERSIONS: [&str; 3] = [
+    "Initial",
+    "DiffusionProfileRework",
+    "SplitScatteringDistance",
+];
 
 /// The shortest distance HDRP draws: `UpdateKernel` caps S = 1/d at 2²⁴
 /// per mm, so d = 0 there is d = 2⁻²⁴ mm, scattering nothing.
@@ -64,7 +68,11 @@ fn read_depth(text: &str, path: &Path, depth: usize) -> Result<Vec<ImportedLook>
             }
             v => {
                 let n = v.as_i64().ok_or_else(|| {
-                    ImportError::field(path, at("m_Version"), format!("{} is not an integer", show(v)))
+                    ImportError::field(
+                        path,
+                        at("m_Version"),
+                        format!("{} is not an integer", show(v)),
+                    )
                 })?;
                 usize::try_from(n).ok().filter(|n| *n < VERSIONS.len()).ok_or_else(|| {
                     ImportError::field(
@@ -85,7 +93,13 @@ fn read_depth(text: &str, path: &Path, depth: usize) -> Result<Vec<ImportedLook>
                 looks.push(profile_look(p, path, &at(&field), version, &asset_name)?);
             }
         } else if is_map(profile) {
-            looks.push(profile_look(profile, path, &at("profile"), version, &asset_name)?);
+            looks.push(profile_look(
+                profile,
+                path,
+                &at("profile"),
+                version,
+                &asset_name,
+            )?);
         }
     }
     if looks.is_empty() && !references.is_empty() {
@@ -191,9 +205,17 @@ fn number(y: &Yaml, path: &Path, field: &str) -> Result<f64, ImportError> {
     };
     match v {
         Some(v) if v.is_finite() => Ok(v),
-        Some(v) => Err(ImportError::field(path, field, format!("{v} is not a finite number"))),
+        Some(v) => Err(ImportError::field(
+            path,
+            field,
+            format!("{v} is not a finite number"),
+        )),
         None if y.is_badvalue() => Err(ImportError::field(path, field, "missing")),
-        None => Err(ImportError::field(path, field, format!("{} is not a number", show(y)))),
+        None => Err(ImportError::field(
+            path,
+            field,
+            format!("{} is not a number", show(y)),
+        )),
     }
 }
 
@@ -227,7 +249,11 @@ fn color(y: &Yaml, path: &Path, field: &str) -> Result<Rgb, ImportError> {
 
 fn vector2(y: &Yaml, path: &Path, field: &str) -> Result<(f64, f64), ImportError> {
     if !is_map(y) {
-        return Err(ImportError::field(path, field, "missing or not a vector {x, y}"));
+        return Err(ImportError::field(
+            path,
+            field,
+            "missing or not a vector {x, y}",
+        ));
     }
     Ok((
         number(&y["x"], path, &format!("{field}.x"))?,
@@ -239,7 +265,11 @@ fn enum_field(y: &Yaml, path: &Path, field: &str, names: &[&str]) -> Result<usiz
     let v = number(y, path, field)?;
     let i = v as usize;
     if v < 0.0 || v.fract() != 0.0 || i >= names.len() {
-        let known: Vec<String> = names.iter().enumerate().map(|(i, n)| format!("{i} {n}")).collect();
+        let known: Vec<String> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| format!("{i} {n}"))
+            .collect();
         return Err(ImportError::field(
             path,
             field,
@@ -262,7 +292,10 @@ fn profile_look(
     asset_name: &str,
 ) -> Result<ImportedLook, ImportError> {
     let f = |name: &str| format!("{at}.{name}");
-    let mut fields = vec![("m_Version".to_owned(), format!("{version} ({})", VERSIONS[version]))];
+    let mut fields = vec![(
+        "m_Version".to_owned(),
+        format!("{version} ({})", VERSIONS[version]),
+    )];
     let mut notes = Vec::new();
     let name = p["name"]
         .as_str()
@@ -350,7 +383,10 @@ fn profile_look(
     )?;
     fields.push((
         "texturingMode".into(),
-        format!("{texturing} ({})", ["Pre and Post-Scatter", "Post-Scatter"][texturing]),
+        format!(
+            "{texturing} ({})",
+            ["Pre and Post-Scatter", "Post-Scatter"][texturing]
+        ),
     ));
     let transmission = enum_field(
         &p["transmissionMode"],
@@ -360,10 +396,16 @@ fn profile_look(
     )?;
     fields.push((
         "transmissionMode".into(),
-        format!("{transmission} ({})", ["Thick Object", "Thin Object"][transmission]),
+        format!(
+            "{transmission} ({})",
+            ["Thick Object", "Thin Object"][transmission]
+        ),
     ));
     let (remap_lo, remap_hi) = vector2(&p["thicknessRemap"], path, &f("thicknessRemap"))?;
-    fields.push(("thicknessRemap".into(), format!("({remap_lo}, {remap_hi}) mm")));
+    fields.push((
+        "thicknessRemap".into(),
+        format!("({remap_lo}, {remap_hi}) mm"),
+    ));
     let world_scale = number(&p["worldScale"], path, &f("worldScale"))?;
     fields.push(("worldScale".into(), format!("{world_scale} m/unit")));
     let ior = number(&p["ior"], path, &f("ior"))?;
@@ -371,7 +413,11 @@ fn profile_look(
     // Dual lobe (HDRP 15 and later); a file without it reads 0, and
     // `Validate` puts the defaults back where diffuseShadingPower is 0.
     let smoothness = if is_map(&p["smoothnessMultipliers"]) {
-        Some(vector2(&p["smoothnessMultipliers"], path, &f("smoothnessMultipliers"))?)
+        Some(vector2(
+            &p["smoothnessMultipliers"],
+            path,
+            &f("smoothnessMultipliers"),
+        )?)
     } else {
         None
     };
@@ -402,7 +448,9 @@ fn profile_look(
         ("ior", ior, ior_v),
     ] {
         if read != used {
-            notes.push(format!("HDRP clamps {field} {read} to {used} (Validate), as here"));
+            notes.push(format!(
+                "HDRP clamps {field} {read} to {used} (Validate), as here"
+            ));
         }
     }
     let (smooth, mix) = match (smoothness, lobe_mix, power) {
@@ -414,7 +462,11 @@ fn profile_look(
             "diffuseShadingPower {p} (a power on the diffuse cosine) has no counterpart in scatterlab: ignored"
         ));
     }
-    let specular = dual_lobe_from_smoothness(smooth.0.clamp(0.0, 1.0), smooth.1.clamp(1.0, 2.0), mix.clamp(0.0, 1.0));
+    let specular = dual_lobe_from_smoothness(
+        smooth.0.clamp(0.0, 1.0),
+        smooth.1.clamp(1.0, 2.0),
+        mix.clamp(0.0, 1.0),
+    );
     notes.push(format!(
         "HDRP keeps the albedo in the material: the profile's albedo is 1, as HDRP's filter is normalised; its dual lobe scales smoothness and is read at scatterlab's base roughness {}",
         specular.roughness
@@ -436,7 +488,11 @@ fn profile_look(
         ));
     }
     let preset = Preset {
-        name: if name.is_empty() { "Imported HDRP profile".into() } else { name },
+        name: if name.is_empty() {
+            "Imported HDRP profile".into()
+        } else {
+            name
+        },
         description: format!(
             "Read from a Unity HDRP diffusion profile (m_Version {version}, {}).",
             VERSIONS[version]
