@@ -504,3 +504,119 @@ fn import_writes_presets_and_asks_before_replacing() {
     assert_eq!(files, 15);
     Preset::load(&dir.join("profile_15.ron")).unwrap();
 }
+
+/// Export → import through Unreal's struct text and through our .py for
+/// every shipped look: the Burley look UE renders comes back (Unreal holds
+/// the albedo: the reflectance itself within 1e-3 of the total, and the
+/// CDF within 1e-3; the text prints nine decimals), with IOR, the dual
+/// lobe and the transmission tint as written (clamped to UE's ranges).
+#[test]
+fn unreal_round_trip_gives_back_the_look() {
+    for (file, _) in library::PRESETS {
+        let preset = library::load(file).unwrap();
+        let (sent, _) = scatterlab::export::burley_of(&preset.profile).unwrap();
+        let out = tmp(&format!("{file}.txt"));
+        let written = export(&preset, None, Format::Unreal, &out).unwrap();
+        let fields = scatterlab::export::unreal_material_fields(&preset);
+        for path in &written {
+            let looks = import(path);
+            let back = &looks[0].preset;
+            let got = burley_of(back);
+            same_shape(&sent, &got, 1e-3);
+            let (a, b) = (sent.albedo(), got.albedo());
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() < 1e-6, "{file}: albedo {a:?} {b:?}");
+            }
+            let r = &back.rendering;
+            assert!((r.ior - fields.ior).abs() < 1e-6, "{file}");
+            assert!(
+                (r.specular.lobe_mix - fields.lobe_mix).abs() < 1e-6,
+                "{file}"
+            );
+            assert!(
+                (r.specular.lobe0_roughness_multiplier - fields.roughness0).abs() < 1e-6,
+                "{file}"
+            );
+            assert!(
+                (r.specular.lobe1_roughness_multiplier - fields.roughness1).abs() < 1e-6,
+                "{file}"
+            );
+        }
+    }
+}
+
+/// UE's default SubsurfaceProfile, in the details panel's syntax (the
+/// struct's defaults, `bEnableMeanFreePath=False`), reads as the look UE
+/// 5.1+ upgrades it to, and that is the shipped "Skin (Unreal default)"
+/// preset: d and albedo within the text's six decimals.
+#[test]
+fn unreals_default_profile_is_the_unreal_default_preset() {
+    let l = &import(&data("unreal/default_subsurface_profile.txt"))[0];
+    assert!(
+        l.notes
+            .iter()
+            .any(|n| n.contains("UpgradeDiffuseMeanFreePathToMeanFreePath")),
+        "{:?}",
+        l.notes
+    );
+    let preset = library::load("skin_unreal_default.ron").unwrap();
+    let (a, b) = (burley_of(&preset), burley_of(&l.preset));
+    let (da, db) = (a.scattering_distance_mm(), b.scattering_distance_mm());
+    for c in 0..3 {
+        assert!(close(db[c], da[c], 2e-5), "d {da:?} vs {db:?}");
+        assert!(close(b.albedo()[c], a.albedo()[c], 1e-5));
+    }
+    assert_eq!(l.preset.rendering.ior, preset.rendering.ior);
+    assert_eq!(l.preset.rendering.specular, preset.rendering.specular);
+    assert_eq!(l.preset.rendering.texturing, preset.rendering.texturing);
+}
+
+#[test]
+fn bad_unreal_text_is_refused_by_field() {
+    let good = std::fs::read_to_string(data("unreal/default_subsurface_profile.txt")).unwrap();
+    for (name, text, expect) in [
+        (
+            "open.txt",
+            good.replace("LobeMix=0.850000,", "LobeMix=0.850000,(("),
+            "malformed struct text",
+        ),
+        (
+            "nan.txt",
+            good.replace("MeanFreePathDistance=2.674800", "MeanFreePathDistance=nan"),
+            "MeanFreePathDistance: NaN is not a finite number",
+        ),
+        (
+            "huge.txt",
+            good.replace("MeanFreePathDistance=2.674800", "MeanFreePathDistance=5000"),
+            "MeanFreePathDistance: 5000 cm is outside",
+        ),
+        (
+            "separable.txt",
+            good.replace("bEnableBurley=True", "bEnableBurley=False"),
+            "bEnableBurley: False: a separable",
+        ),
+        (
+            "albedo.txt",
+            good.replace("SurfaceAlbedo=(R=0.910580", "SurfaceAlbedo=(R=1.910580"),
+            "SurfaceAlbedo.R: 1.91058 is outside 0–1",
+        ),
+        (
+            "nofield.txt",
+            good.replace("MeanFreePathColor=", "MeanFreePathColour="),
+            "MeanFreePathColor: missing",
+        ),
+        (
+            "trailing.txt",
+            format!("{good} extra"),
+            "text after the struct",
+        ),
+    ] {
+        let path = tmp(name);
+        std::fs::write(&path, text).unwrap();
+        let e = import_file(&path, &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
+}

@@ -121,6 +121,9 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedL
     if ext == "asset" || head.starts_with("%YAML") {
         return super::unity::read(&text, path);
     }
+    if (ext == "py" && text.contains("import unreal")) || head.starts_with('(') {
+        return super::unreal::read(&text, path);
+    }
     if ext == "ron" {
         let preset = Preset::from_ron(&text, path)
             .map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;

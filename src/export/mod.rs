@@ -3,13 +3,14 @@
 //! then rename) and, where the format has comments or metadata, records the
 //! scatterlab version and the source preset.
 
-mod engines;
+mod blender;
 mod godot;
 mod images;
 pub mod import;
 mod materialx;
 mod shaders;
 mod unity;
+mod unreal;
 
 use crate::model::burley::Burley;
 use crate::model::fit::fit_burley;
@@ -17,10 +18,7 @@ use crate::model::ModelError;
 use crate::settings::{Preset, ProfileSpec};
 use std::path::{Path, PathBuf};
 
-pub use engines::{
-    blender_python, unreal_material_fields, unreal_notes, unreal_python, unreal_struct,
-    UnrealMaterialFields,
-};
+pub use blender::blender_python;
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
@@ -29,6 +27,9 @@ pub use import::{import_file, ImportError, ImportOptions, ImportedLook};
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
 pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
+pub use unreal::{
+    unreal_material_fields, unreal_notes, unreal_python, unreal_struct, UnrealMaterialFields,
+};
 
 /// Every export target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -164,6 +165,28 @@ impl Provenance {
             self.preset_name,
             self.source
         )
+    }
+}
+
+pub(crate) fn fit_note(fit_error: f64) -> String {
+    if fit_error > 0.0 {
+        format!("converted through a Burley fit (relative L2 error of r*R(r): {fit_error:.4})")
+    } else {
+        "exact Burley parameters".into()
+    }
+}
+
+/// An asset name: letters, digits and '_' only.
+pub(crate) fn asset_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let s = s.trim_matches('_');
+    if s.is_empty() {
+        "SSS_Profile".into()
+    } else {
+        format!("SSS_{s}")
     }
 }
 

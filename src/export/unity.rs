@@ -26,9 +26,8 @@
 //!   component's `diffusionProfiles.m_Value`) and the HDRP assets'
 //!   `diffusionProfileSettingsList`: references by GUID.
 
-use super::engines::fit_note;
 use super::import::{ImportError, ImportedLook};
-use super::{burley_of, Provenance};
+use super::{burley_of, fit_note, Provenance};
 use crate::model::units::UnityProfile;
 use crate::model::{ModelError, Rgb};
 use crate::settings::profile::{BurleyShape, BurleySpec};

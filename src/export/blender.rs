@@ -1,0 +1,94 @@
+//! Blender's Principled BSDF subsurface (Christensen–Burley in Cycles),
+//! both ways: the Python snippet that sets it, and the reader of that
+//! snippet. The conversion is `model::units::BlenderSubsurface`.
+
+use super::{asset_name, burley_of, fit_note, Provenance};
+use crate::model::units::BlenderSubsurface;
+use crate::model::ModelError;
+use crate::settings::Preset;
+
+/// Blender's Principled BSDF (Christensen–Burley) as a Python snippet that
+/// sets it on the active object's material: Subsurface Radius and Scale
+/// from `model::units::BlenderSubsurface` (d = Radius × Scale / 4π, as
+/// Cycles reads it), the scale divided by the scene's Unit Scale at run time
+/// so scenes in centimetres get the same millimetres, and the profile's
+/// albedo as Base Color unless a texture already drives it. Checked with
+/// Blender 4.5.15 and 5.0.1 (PyPI `bpy`, tests/real_clients.rs renders it in Cycles);
+/// the socket names are those of Blender 4.0 and later, and
+/// `Material.use_nodes`, deprecated in 5.0, is only set before 5.0.
+pub fn blender_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
+    let (burley, fit_error) = burley_of(&preset.profile)?;
+    let b = BlenderSubsurface::from_burley(&burley, 1.0)?;
+    let c = b.subsurface_radius;
+    let a = burley.albedo();
+    let d = burley.scattering_distance_mm();
+    Ok(format!(
+        r#"# Blender Principled BSDF subsurface for "{name}": {line}.
+# {note}.
+# Cycles (Blender 3.0+, kernel/closure/bssrdf.h bssrdf_setup_radius) uses
+# Burley's d = Subsurface Radius x Subsurface Scale / (4 pi) in scene units,
+# with Base Color as the albedo. This look: d = ({d0:.6}, {d1:.6}, {d2:.6}) mm,
+# albedo ({a0:.6}, {a1:.6}, {a2:.6}).
+# Needs Blender 4.0 or later (Principled BSDF v2 socket names); checked with
+# Blender 4.5.15 and 5.0.1. EEVEE approximates Burley with its own screen-space blur.
+# Select a mesh object and run this in Blender's Python console or Text Editor.
+import bpy
+
+NAME = "{asset}"
+SUBSURFACE_RADIUS = ({r0}, {r1}, {r2})
+SUBSURFACE_SCALE_M = {scale}  # metres; divided by the scene's Unit Scale below
+BASE_COLOR = ({a0}, {a1}, {a2}, 1.0)
+IOR = {ior}
+
+if bpy.app.version < (4, 0, 0):
+    raise RuntimeError("This snippet needs Blender 4.0 or later (Principled BSDF v2).")
+obj = bpy.context.object
+if obj is None or obj.type != "MESH":
+    raise RuntimeError("Select a mesh object first.")
+mat = obj.active_material
+if mat is None:
+    mat = bpy.data.materials.new(NAME)
+    if obj.material_slots:
+        obj.active_material = mat
+    else:
+        obj.data.materials.append(mat)
+if bpy.app.version < (5, 0, 0):
+    mat.use_nodes = True  # Blender 5.0 deprecates it: every material has nodes.
+nodes, links = mat.node_tree.nodes, mat.node_tree.links
+bsdf = next((n for n in nodes if n.type == "BSDF_PRINCIPLED"), None)
+if bsdf is None:
+    bsdf = nodes.new("ShaderNodeBsdfPrincipled")
+    out = next((n for n in nodes if n.type == "OUTPUT_MATERIAL" and n.is_active_output), None)
+    if out is None:
+        out = nodes.new("ShaderNodeOutputMaterial")
+    links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    print("scatterlab: added a Principled BSDF to", mat.name, "and connected it to the output")
+unit_scale = bpy.context.scene.unit_settings.scale_length or 1.0
+bsdf.subsurface_method = "BURLEY"
+if bsdf.inputs["Base Color"].is_linked:
+    print("scatterlab: Base Color is driven by a texture; it stays (the albedo of this look is", BASE_COLOR[:3], ")")
+else:
+    bsdf.inputs["Base Color"].default_value = BASE_COLOR
+bsdf.inputs["Subsurface Weight"].default_value = 1.0
+bsdf.inputs["Subsurface Radius"].default_value = SUBSURFACE_RADIUS
+bsdf.inputs["Subsurface Scale"].default_value = SUBSURFACE_SCALE_M / unit_scale
+bsdf.inputs["IOR"].default_value = IOR
+print("scatterlab: set", mat.name, "for a scene of", unit_scale, "m per unit")
+"#,
+        name = preset.name.replace(['\n', '\r'], " "),
+        line = prov.line(),
+        note = fit_note(fit_error),
+        asset = asset_name(&preset.name),
+        r0 = c[0],
+        r1 = c[1],
+        r2 = c[2],
+        scale = b.subsurface_scale,
+        d0 = d[0],
+        d1 = d[1],
+        d2 = d[2],
+        a0 = a[0],
+        a1 = a[1],
+        a2 = a[2],
+        ior = preset.rendering.ior,
+    ))
+}
