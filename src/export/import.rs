@@ -124,6 +124,9 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedL
     if (ext == "py" && text.contains("import unreal")) || head.starts_with('(') {
         return super::unreal::read(&text, path);
     }
+    if ext == "mtlx" || head.starts_with("<?xml") || head.starts_with("<materialx") {
+        return super::materialx::read(&text, path, options);
+    }
     if ext == "ron" {
         let preset = Preset::from_ron(&text, path)
             .map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;
@@ -134,7 +137,6 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedL
             preset,
         }]);
     }
-    let _ = options;
     Err(ImportError::file(
         path,
         format!("not a file scatterlab imports; it reads {KINDS}"),

@@ -110,6 +110,9 @@ pub fn materialx_document(preset: &Preset, prov: &Provenance) -> Result<String, 
     ))
 }
 
+mod read;
+pub use read::read;
+
 #[cfg(test)]
 mod tests {
     use super::*;
