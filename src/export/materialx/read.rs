@@ -326,9 +326,9 @@ fn read_shader(
                 m * 1000.0
             }
             None => {
-                notes.push(format!(
-                    "the document gives the radius no unit: read in centimetres, USD's default scene unit; --metres-per-unit sets another"
-                ));
+                notes.push(
+                    "the document gives the radius no unit: read in centimetres, USD's default scene unit; --metres-per-unit sets another".into(),
+                );
                 DEFAULT_SCENE_UNIT_MM
             }
         },
