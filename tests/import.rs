@@ -1,4 +1,5 @@
 #![allow(clippy::unwrap_used)]
+#![allow(clippy::needless_range_loop)]
 //! Reading engine files back (issue 24): HDRP's own shipped profile assets
 //! read with HDRP's meaning, each expectation derived here from HDRP's
 //! source; export → import round trips; bad input refused with one line
