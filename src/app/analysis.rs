@@ -176,7 +176,10 @@ fn fitted(
                 "4-Gaussian fit",
                 m,
                 f.relative_l2_error,
-                ProfileSpec::Gaussians(GaussiansSpec { gaussians: terms }),
+                ProfileSpec::Gaussians(GaussiansSpec {
+                    gaussians: terms,
+                    dirac: m.dirac_weight(),
+                }),
             )
         }),
     };

@@ -320,6 +320,7 @@ impl ModelArgs {
                             weights: *w,
                         })
                         .collect(),
+                    dirac: [0.0; 3],
                 })
             }
             _ => ProfileSpec::Gaussians(GaussiansSpec::default()),

@@ -92,3 +92,114 @@ print("scatterlab: set", mat.name, "for a scene of", unit_scale, "m per unit")
         ior = preset.rendering.ior,
     ))
 }
+
+/// Reads the Blender snippet scatterlab writes back: its `NAME`,
+/// `SUBSURFACE_RADIUS`, `SUBSURFACE_SCALE_M` (metres; the snippet divides
+/// it by the scene's unit scale, so the look is in metres whatever the
+/// scene), `BASE_COLOR` and `IOR` assignments, through
+/// `BlenderSubsurface::to_burley` (Cycles' d = Radius × Scale / 4π). A
+/// Blender scene itself is read by the add-on in `tools/blender/`, which
+/// writes a scatterlab look.
+pub fn read(
+    text: &str,
+    path: &std::path::Path,
+) -> Result<Vec<super::ImportedLook>, super::ImportError> {
+    use super::ImportError;
+    use crate::settings::profile::{BurleyShape, BurleySpec};
+    use crate::settings::ProfileSpec;
+    let value = |key: &str| -> Option<(usize, &str)> {
+        text.lines().enumerate().find_map(|(i, l)| {
+            let (k, v) = l.split_once('=')?;
+            (k.trim() == key).then(|| (i + 1, v.split('#').next().unwrap_or("").trim()))
+        })
+    };
+    let numbers = |key: &str, n: usize| -> Result<Vec<f64>, ImportError> {
+        let (line, v) = value(key).ok_or_else(|| {
+            ImportError::field(path, key, "missing: not a scatterlab Blender snippet")
+        })?;
+        let inner = v.trim_start_matches('(').trim_end_matches(')');
+        let parts: Vec<f64> = inner
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                s.parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| {
+                        ImportError::field(
+                            path,
+                            key,
+                            format!("line {line}: \"{s}\" is not a finite number"),
+                        )
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        if parts.len() < n {
+            return Err(ImportError::field(
+                path,
+                key,
+                format!("line {line}: {} values, {n} needed", parts.len()),
+            ));
+        }
+        Ok(parts)
+    };
+    let radius = numbers("SUBSURFACE_RADIUS", 3)?;
+    let scale = numbers("SUBSURFACE_SCALE_M", 1)?[0];
+    let colour = numbers("BASE_COLOR", 3)?;
+    let ior = numbers("IOR", 1)?[0];
+    let s = BlenderSubsurface {
+        base_color: [colour[0], colour[1], colour[2]],
+        subsurface_radius: [radius[0], radius[1], radius[2]],
+        subsurface_scale: scale,
+        metres_per_unit: 1.0,
+    };
+    let burley = s
+        .to_burley()
+        .map_err(|e| ImportError::file(path, e.to_string()))?;
+    // The look's name is quoted on the snippet's first line.
+    let name = text
+        .lines()
+        .next()
+        .and_then(|l| l.split('"').nth(1))
+        .filter(|n| !n.trim().is_empty())
+        .map(str::to_owned)
+        .unwrap_or_else(|| "Imported Blender material".into());
+    let preset = Preset {
+        name,
+        description: "Read from scatterlab's Blender Principled BSDF snippet.".into(),
+        source: path.display().to_string(),
+        profile: ProfileSpec::Burley(BurleySpec {
+            albedo: burley.albedo(),
+            shape: BurleyShape::ScatteringDistance {
+                mm: burley.scattering_distance_mm(),
+                multiplier: 1.0,
+            },
+        }),
+        rendering: crate::settings::RenderingSpec {
+            ior: ior.clamp(1.0, 2.0),
+            ..Default::default()
+        },
+        ..Preset::default()
+    };
+    preset
+        .validate()
+        .map_err(|e| ImportError::file(path, e.to_string()))?;
+    let fields = [
+        "SUBSURFACE_RADIUS",
+        "SUBSURFACE_SCALE_M",
+        "BASE_COLOR",
+        "IOR",
+    ]
+    .iter()
+    .filter_map(|k| value(k).map(|(_, v)| (k.to_string(), v.to_owned())))
+    .collect();
+    Ok(vec![super::ImportedLook {
+        preset,
+        kind: "Blender Principled BSDF (scatterlab .py)",
+        fields,
+        notes: vec![
+            "Cycles reads Burley's d = Radius × Scale / (4π) with Base Color as the albedo".into(),
+        ],
+    }])
+}

@@ -115,7 +115,7 @@ fn strength_for_width(width_mm: f64) -> f64 {
     1.5 * width_mm * 1e-3 * GODOT_UNITS_PER_M / GODOT_DEPTH_SCALE
 }
 
-fn width_for_strength(strength: f64) -> f64 {
+pub(super) fn width_for_strength(strength: f64) -> f64 {
     strength / (1.5 * 1e-3 * GODOT_UNITS_PER_M / GODOT_DEPTH_SCALE)
 }
 
@@ -377,6 +377,9 @@ fn linear_to_srgb(v: f64) -> f64 {
         1.055 * v.powf(1.0 / 2.4) - 0.055
     }
 }
+
+mod read;
+pub use read::read;
 
 #[cfg(test)]
 mod tests {

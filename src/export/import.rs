@@ -127,6 +127,12 @@ pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedL
     if ext == "mtlx" || head.starts_with("<?xml") || head.starts_with("<materialx") {
         return super::materialx::read(&text, path, options);
     }
+    if ext == "tres" || head.starts_with("[gd_resource") {
+        return super::godot::read(&text, path);
+    }
+    if ext == "py" && text.contains("import bpy") {
+        return super::blender::read(&text, path);
+    }
     if ext == "ron" {
         let preset = Preset::from_ron(&text, path)
             .map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;

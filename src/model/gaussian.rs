@@ -92,6 +92,23 @@ impl GaussianSum {
         Ok(Self::from_channels(channels, [0.0; 3]))
     }
 
+    /// [`GaussianSum::new`] with a share of each channel's light that
+    /// leaves where it entered (a Dirac part at r = 0, as Jimenez 2012's
+    /// 1 − strength), ≥ 0 per channel.
+    pub fn with_dirac(terms: &[(f64, Rgb)], dirac: Rgb) -> Result<Self, ModelError> {
+        for c in 0..3 {
+            check_range(
+                &format!("dirac.{}", CHANNEL_NAMES[c]),
+                dirac[c],
+                0.0,
+                1e6,
+                "",
+            )?;
+        }
+        let s = Self::new(terms)?;
+        Ok(Self::from_channels(s.channels, dirac))
+    }
+
     /// d'Eon's six-Gaussian skin profile.
     pub fn deon_skin() -> Self {
         // The table is a valid constant; construct directly.

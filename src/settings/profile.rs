@@ -121,6 +121,10 @@ impl Default for GaussianTerm {
 #[serde(default, deny_unknown_fields)]
 pub struct GaussiansSpec {
     pub gaussians: Vec<GaussianTerm>,
+    /// Light per channel that leaves where it entered (a Dirac part at
+    /// r = 0), as a Godot kernel or a Jimenez 2012 look keeps it; 0 in
+    /// files from before the field.
+    pub dirac: Rgb,
 }
 
 impl Default for GaussiansSpec {
@@ -133,6 +137,7 @@ impl Default for GaussiansSpec {
                     weights: *w,
                 })
                 .collect(),
+            dirac: [0.0; 3],
         }
     }
 }
@@ -369,7 +374,7 @@ impl ProfileSpec {
                     .iter()
                     .map(|t| (t.variance_mm2, t.weights))
                     .collect();
-                GaussianSum::new(&terms).map(|m| Box::new(m) as _)
+                GaussianSum::with_dirac(&terms, g.dirac).map(|m| Box::new(m) as _)
             }
             ProfileSpec::Jimenez2012(j) => {
                 Jimenez2012::new(j.strength, j.falloff).map(|m| Box::new(m) as _)
