@@ -895,3 +895,70 @@ fn bad_godot_and_blender_files_are_refused_by_field() {
         assert_eq!(e.lines().count(), 1, "{e}");
     }
 }
+
+/// `convert --from` over files and a folder: a line per look with what was
+/// written and the round-trip error, a FAILED line for a bad file (and a
+/// non-zero exit), nothing replaced without --force; the converted files
+/// import back as the looks they came from.
+#[test]
+fn convert_from_files_and_folders_in_a_batch() {
+    let out = tmp("batch");
+    let _ = std::fs::remove_dir_all(&out);
+    let bad = tmp("bad_batch.asset");
+    std::fs::write(
+        &bad,
+        "%YAML 1.1\n--- !u!114 &1\nMonoBehaviour:\n  profile: [\n",
+    )
+    .unwrap();
+    let hdrp = data("hdrp/Skin Diffusion Profile.asset");
+    let unreal = data("unreal/default_subsurface_profile.txt");
+    let (code, stdout, stderr) = cli(&[
+        "convert",
+        "--from",
+        hdrp.to_str().unwrap(),
+        unreal.to_str().unwrap(),
+        bad.to_str().unwrap(),
+        "--to",
+        "materialx",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0, "{stdout}");
+    assert!(
+        stderr.contains("1 of 3 file(s) could not be converted"),
+        "{stderr}"
+    );
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{stdout}");
+    assert!(lines[0].contains("holds the look exactly"), "{stdout}");
+    assert!(
+        lines[2].contains("FAILED") && lines[2].contains("malformed YAML"),
+        "{stdout}"
+    );
+    let back = &import(&out.join("Skin Diffusion Profile.mtlx"))[0].preset;
+    let from = &import(&hdrp)[0].preset;
+    same_shape(&burley_of(from), &burley_of(back), 1e-3);
+    // A folder; then again without --force refuses.
+    let (code, stdout, _) = cli(&[
+        "convert",
+        "--from",
+        data("materialx").to_str().unwrap(),
+        "--to",
+        "unity",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}");
+    assert_eq!(stdout.lines().count(), 4, "{stdout}");
+    let (code, stdout, _) = cli(&[
+        "convert",
+        "--from",
+        data("materialx").to_str().unwrap(),
+        "--to",
+        "unity",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(stdout.contains("exists; pass --force"), "{stdout}");
+}

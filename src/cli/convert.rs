@@ -3,32 +3,62 @@
 
 use super::args::ModelArgs;
 use super::{built, rgb};
+use crate::export::{import_file, Format, ImportOptions};
 use crate::model::burley::Burley;
-use crate::model::fit::fit_burley;
 use crate::model::units::{
     BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE,
 };
-use crate::settings::ProfileSpec;
-use anyhow::Result;
+use crate::settings::{Preset, ProfileSpec};
+use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use serde_json::{json, Value};
+use std::path::PathBuf;
 
 #[derive(Debug, clap::Args)]
 pub struct ConvertArgs {
     #[command(flatten)]
     pub model: ModelArgs,
+    /// Engine files to convert, or folders of them (batch): each look in
+    /// each file is written in --to's format into --out, with a summary
+    /// line per file. Without --from the model flags give the profile and
+    /// its engine parameters are printed (--to unity, unreal or blender).
+    #[arg(long, num_args = 1.., value_name = "FILE|DIR")]
+    pub from: Vec<PathBuf>,
     #[arg(long, value_enum)]
-    pub to: Engine,
+    pub to: Format,
+    /// The folder the converted files go into (with --from; created if
+    /// missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     /// Unity: metres per unit (default 1). Unreal: World Unit Scale (default 0.1). Blender: metres per unit (default 1).
     #[arg(long, allow_hyphen_values = true)]
     pub world_scale: Option<f64>,
+    /// With --from: metres per unit of files that do not state theirs.
+    #[arg(long, allow_hyphen_values = true, value_name = "M")]
+    pub metres_per_unit: Option<f64>,
+    /// With --from: replace files that exist.
+    #[arg(long)]
+    pub force: bool,
     #[arg(long)]
     pub json: bool,
 }
 
 impl ConvertArgs {
     pub fn run(self) -> Result<()> {
-        convert(&self.model, self.to, self.world_scale, self.json)
+        if !self.from.is_empty() {
+            return convert_files(&self);
+        }
+        let to = match self.to {
+            Format::Unity => Engine::Unity,
+            Format::Unreal => Engine::Unreal,
+            Format::Blender => Engine::Blender,
+            other => bail!(
+                "--to {}: engine parameters are printed for unity, unreal and blender; to write {} files give --from FILE… --out DIR",
+                other.id(),
+                other.id()
+            ),
+        };
+        convert(&self.model, to, self.world_scale, self.json)
     }
 }
 
@@ -40,15 +70,8 @@ pub enum Engine {
 }
 
 fn convert(model: &ModelArgs, to: Engine, world_scale: Option<f64>, as_json: bool) -> Result<()> {
-    let (spec, p) = built(model)?;
-    let (burley, fit_error) = match &spec {
-        ProfileSpec::Burley(b) => (b.build()?, 0.0),
-        _ => {
-            let f = fit_burley(p.as_ref())?;
-            let e = f.max_error();
-            (f.model, e)
-        }
-    };
+    let (spec, _) = built(model)?;
+    let (burley, fit_error) = crate::export::burley_of(&spec)?;
     let params = engine_params(&burley, to, world_scale)?;
     if as_json {
         println!(
@@ -64,6 +87,170 @@ fn convert(model: &ModelArgs, to: Engine, world_scale: Option<f64>, as_json: boo
         println!("{}", serde_json::to_string_pretty(&params)?);
     }
     Ok(())
+}
+
+/// The importable files among `paths` (folders: their files, not deeper).
+fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(p)
+                .with_context(|| format!("{}: cannot list the folder", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| {
+                    f.is_file()
+                        && f.extension().is_some_and(|x| {
+                            ["asset", "txt", "py", "mtlx", "tres", "ron"]
+                                .contains(&x.to_string_lossy().to_ascii_lowercase().as_str())
+                        })
+                })
+                .collect();
+            files.sort();
+            out.extend(files);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// How far `format` keeps the look: the relative L2 error of r·R(r) of
+/// what the engine will draw (a Burley fit, Godot's kernel), if any.
+fn round_trip_error(preset: &Preset, format: Format) -> Option<f64> {
+    match format {
+        Format::Unity | Format::Unreal | Format::Blender | Format::Materialx => {
+            crate::export::burley_of(&preset.profile)
+                .ok()
+                .map(|(_, e)| e)
+        }
+        Format::Godot => crate::export::godot_subsurface(preset)
+            .ok()
+            .map(|g| g.error.into_iter().fold(0.0, f64::max)),
+        Format::Ron => Some(0.0),
+        _ => None,
+    }
+}
+
+/// `convert --from`: every look of every file written in `--to`'s format
+/// into `--out`, a summary line per file; non-zero if any file failed.
+fn convert_files(args: &ConvertArgs) -> Result<()> {
+    let out = args
+        .out
+        .as_ref()
+        .context("--from needs --out DIR: the folder the converted files go into")?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create the folder", out.display()))?;
+    let options = ImportOptions {
+        metres_per_unit: args.metres_per_unit,
+    };
+    let files = expand(&args.from)?;
+    if files.is_empty() {
+        bail!("--from: no engine files found");
+    }
+    let mut failed = 0;
+    let mut summary = Vec::new();
+    for file in &files {
+        let line = (|| -> Result<Value> {
+            let looks = import_file(file, &options)?;
+            let stem = file
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "look".into());
+            let mut converted = Vec::new();
+            for (i, l) in looks.iter().enumerate() {
+                let name = if looks.len() == 1 {
+                    stem.clone()
+                } else {
+                    format!(
+                        "{stem}_{}",
+                        crate::export::import::file_stem_of(&l.preset.name)
+                    )
+                };
+                let _ = i;
+                let target = out.join(format!("{name}.{}", args.to.extension()));
+                let planned = crate::export::planned_paths(args.to, &target);
+                if !args.force {
+                    if let Some(p) = planned.iter().find(|p| p.exists()) {
+                        bail!("{}: exists; pass --force to replace it", p.display());
+                    }
+                }
+                let written = crate::export::export(&l.preset, Some(file), args.to, &target)?;
+                converted.push(json!({
+                    "look": l.preset.name,
+                    "kind": l.kind,
+                    "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+                    "round_trip_relative_l2_error": round_trip_error(&l.preset, args.to),
+                }));
+            }
+            Ok(json!({ "file": file.display().to_string(), "looks": converted }))
+        })();
+        match line {
+            Ok(v) => {
+                if !args.json {
+                    for l in v["looks"].as_array().into_iter().flatten() {
+                        let err = l["round_trip_relative_l2_error"]
+                            .as_f64()
+                            .map(|e| {
+                                if e == 0.0 {
+                                    "; the format holds the look exactly".to_owned()
+                                } else {
+                                    format!("; the engine draws it {e:.4} from the look (relative L2 error of r·R(r))")
+                                }
+                            })
+                            .unwrap_or_default();
+                        println!(
+                            "{}: {} \"{}\" → {}{err}",
+                            file.display(),
+                            l["kind"].as_str().unwrap_or(""),
+                            l["look"].as_str().unwrap_or(""),
+                            l["written"]
+                                .as_array()
+                                .map(|w| w
+                                    .iter()
+                                    .filter_map(|p| p.as_str())
+                                    .collect::<Vec<_>>()
+                                    .join(", "))
+                                .unwrap_or_default()
+                        );
+                    }
+                }
+                summary.push(v);
+            }
+            Err(e) => {
+                failed += 1;
+                if !args.json {
+                    println!(
+                        "{}: FAILED: {}",
+                        file.display(),
+                        one_line(&e.to_string(), file)
+                    );
+                }
+                summary.push(json!({ "file": file.display().to_string(), "error": one_line(&e.to_string(), file) }));
+            }
+        }
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({ "files": summary }))?
+        );
+    }
+    if failed > 0 {
+        bail!(
+            "{failed} of {} file(s) could not be converted (see above)",
+            files.len()
+        );
+    }
+    Ok(())
+}
+
+/// An error without the file name it starts with.
+fn one_line(message: &str, file: &std::path::Path) -> String {
+    let prefix = format!("{}: ", file.display());
+    message
+        .strip_prefix(&prefix)
+        .unwrap_or(message)
+        .replace('\n', " ")
 }
 
 /// Engine parameters of a Burley profile as JSON, with units in the keys.
