@@ -66,3 +66,23 @@ fn image_crashes_are_refused() {
         }
     }
 }
+
+/// Engine files the importer fuzzers crashed on: refused with one line
+/// that names the file (an Unreal struct text once put its own newline
+/// into the error).
+#[test]
+fn import_crashes_are_refused_on_one_line() {
+    for path in inputs("unreal_text") {
+        let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+        let e = scatterlab::export::import_text(
+            &text,
+            Path::new("regression.txt"),
+            &scatterlab::export::ImportOptions::default(),
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("regression.txt"), "{}: {e}", path.display());
+        assert_eq!(e.lines().count(), 1, "{}: {e}", path.display());
+    }
+}

@@ -53,16 +53,28 @@ impl ImportError {
     pub fn field(path: &Path, field: impl Into<String>, message: impl Into<String>) -> Self {
         Self::Field {
             path: path.to_owned(),
-            field: field.into(),
-            message: message.into(),
+            field: one_line(field.into()),
+            message: one_line(message.into()),
         }
     }
 
     pub fn file(path: &Path, message: impl Into<String>) -> Self {
         Self::File {
             path: path.to_owned(),
-            message: message.into(),
+            message: one_line(message.into()),
         }
+    }
+}
+
+/// A message on one line, whatever text from the file it quotes (the
+/// fuzzer found a struct text's newline splitting an error in two).
+fn one_line(s: String) -> String {
+    if s.chars().any(char::is_control) {
+        s.chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect()
+    } else {
+        s
     }
 }
 
@@ -113,6 +125,18 @@ pub const KINDS: &str = "Unity HDRP .asset (diffusion profiles, profile lists, v
 /// Every look in the engine file at `path`.
 pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Vec<ImportedLook>, ImportError> {
     let text = read_text(path)?;
+    import_text(&text, path, options)
+}
+
+/// Every look in `text`, read as the file `path` (its extension and
+/// content say which engine wrote it; a Unity list's references are
+/// looked for beside it).
+pub fn import_text(
+    text: &str,
+    path: &Path,
+    options: &ImportOptions,
+) -> Result<Vec<ImportedLook>, ImportError> {
+    let text = text.to_owned();
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
