@@ -596,3 +596,77 @@ fn a_gltf_written_by_blender_renders_like_the_obj() {
         "RMSE {rmse} between the Blender glTF and the OBJ"
     );
 }
+
+/// The Blender add-on (tools/blender/scatterlab_looks) in Blender 5.0 and
+/// 4.5 LTS: a Principled BSDF in a centimetre scene is written as a look
+/// whose d is Cycles' Radius × Scale × unit scale / (4π) (bssrdf.h
+/// `bssrdf_setup_radius`, typed here), which scatterlab loads; applied to
+/// a new material in a metre scene it sets Radius × Scale back to 4π d
+/// (so Cycles scatters the same millimetres); a shipped Burley preset
+/// applies with its own d and albedo; a Gaussians look, which Cycles
+/// cannot draw exactly, is refused.
+#[test]
+fn blender_addon_round_trips_in_blender_5_and_4_5() {
+    let d_of = |v: &Value| -> Vec<f64> {
+        let r = floats(&v["radius"]);
+        let s = v["scale"].as_f64().unwrap();
+        let u = v["unit_scale"].as_f64().unwrap();
+        r.iter()
+            .map(|r| r * s * u * 1000.0 / (4.0 * std::f64::consts::PI))
+            .collect()
+    };
+    for (tag, py) in [("b50", python()), ("b45", python_blender4())] {
+        let dir = tmp_dir(&format!("addon-{tag}"));
+        let v = run_client_in(
+            &py,
+            "blender_addon.py",
+            &[
+                dir.to_str().unwrap(),
+                root().join("presets").to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert_eq!(v["export"][0], "FINISHED", "{tag}: {v}");
+        let want = d_of(&v["source"]);
+        let look = Preset::load(Path::new(v["written"].as_str().unwrap())).unwrap();
+        let b = match &look.profile {
+            scatterlab::settings::ProfileSpec::Burley(b) => b.build().unwrap(),
+            other => panic!("{other:?}"),
+        };
+        let (d, a) = (b.scattering_distance_mm(), b.albedo());
+        for c in 0..3 {
+            assert!(
+                (d[c] / want[c] - 1.0).abs() < 1e-9,
+                "{tag}: d {d:?} vs {want:?}"
+            );
+            let base = floats(&v["source"]["base_color"])[c];
+            assert!((a[c] - base).abs() < 1e-9, "{tag}: albedo");
+        }
+        assert!((look.rendering.ior - v["source"]["ior"].as_f64().unwrap()).abs() < 1e-9);
+        // Applied in a metre scene: the same millimetres.
+        let back = d_of(&v["round_trip"]);
+        assert_eq!(v["round_trip"]["method"], "BURLEY", "{tag}");
+        for c in 0..3 {
+            assert!(
+                (back[c] / want[c] - 1.0).abs() < 1e-6,
+                "{tag}: round trip {back:?} vs {want:?}"
+            );
+        }
+        // A shipped preset.
+        let skin = preset("skin_default.ron");
+        let sd = match &skin.profile {
+            scatterlab::settings::ProfileSpec::Burley(b) => b.build().unwrap(),
+            other => panic!("{other:?}"),
+        };
+        let applied = d_of(&v["skin"]);
+        for c in 0..3 {
+            assert!(
+                (applied[c] / sd.scattering_distance_mm()[c] - 1.0).abs() < 1e-6,
+                "{tag}: skin"
+            );
+            assert!((floats(&v["skin"]["base_color"])[c] - sd.albedo()[c]).abs() < 1e-6);
+        }
+        let refused = v["gaussians"][0].as_str().unwrap_or("");
+        assert!(refused.contains("no exact Cycles form"), "{tag}: {v}");
+    }
+}
