@@ -257,9 +257,10 @@ impl EditorApp {
         }
         let title = match &dialog.kind {
             DialogKind::Open => "Open preset".to_string(),
+            DialogKind::Import => "Import an engine's file (Unity .asset, Unreal .txt/.py, MaterialX .mtlx, Godot .tres, Blender .py)".into(),
             DialogKind::SaveAs => "Save preset as".into(),
             DialogKind::Export(f) => format!("Export {}", f.id()),
-            DialogKind::CompareB => "Preset to compare against (B)".into(),
+            DialogKind::CompareB => "Preset or engine file to compare against (B): B is what that engine draws".into(),
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::Map(k) => format!(
@@ -303,6 +304,8 @@ impl EditorApp {
                 DialogKind::Environment => &["hdr"],
                 DialogKind::Map(_) => &["png", "jpg", "jpeg"],
                 DialogKind::Export(f) => &[f.extension()],
+                DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
+                DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
                 _ => &["ron"],
             };
             egui::ScrollArea::vertical()
@@ -434,9 +437,10 @@ impl EditorApp {
         {
             match kind {
                 DialogKind::Open => self.guarded(Pending::Open(path)),
+                DialogKind::Import => self.import_now(&path),
                 DialogKind::SaveAs => self.save_as(&path),
                 DialogKind::Export(f) => self.export(f, path),
-                DialogKind::CompareB => match Preset::load(&path) {
+                DialogKind::CompareB => match super::viewport::load_look(&path) {
                     Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
                     Err(e) => {
                         self.status = format!("Error: {e}");

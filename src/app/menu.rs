@@ -21,6 +21,7 @@ impl EditorApp {
                 .to_ascii_lowercase();
             match ext.as_str() {
                 "ron" => self.guarded(Pending::Open(path)),
+                "asset" | "mtlx" | "tres" | "txt" | "py" => self.import_now(&path),
                 "obj" | "gltf" | "glb" => {
                     self.status = format!("Loading mesh {} …", path.display());
                     self.mesh = Some(path);
@@ -28,7 +29,7 @@ impl EditorApp {
                 "hdr" => self.load_environment(path),
                 _ => {
                     self.status = format!(
-                        "Error: {}: not a preset (.ron), mesh (.obj, .gltf, .glb) or environment (.hdr)",
+                        "Error: {}: not a preset (.ron), engine file (.asset, .mtlx, .tres, .txt, .py), mesh (.obj, .gltf, .glb) or environment (.hdr)",
                         path.display()
                     )
                 }
@@ -94,6 +95,14 @@ impl EditorApp {
                 });
                 if ui.button("Open…  (Ctrl+O)").clicked() {
                     self.open_dialog(DialogKind::Open);
+                    ui.close();
+                }
+                if ui
+                    .button("Import engine file…")
+                    .on_hover_text("A Unity HDRP diffusion profile, Unreal SubsurfaceProfile text or .py, MaterialX document, Godot material or Blender snippet, as a new look: what that engine draws from it (you can also drop the file on the window)")
+                    .clicked()
+                {
+                    self.open_dialog(DialogKind::Import);
                     ui.close();
                 }
                 ui.menu_button("Open recent", |ui| {
@@ -250,6 +259,34 @@ impl EditorApp {
 
     pub(super) fn engine_readouts(&mut self, ui: &mut egui::Ui) {
         use crate::model::units::{UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
+        // The file the look came from, as that engine wrote it (while the
+        // look is still the one imported).
+        if let Some((path, look)) = &self.imported {
+            if look.preset == self.doc.preset {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                ui.label(format!("Imported from {name} ({})", look.kind))
+                    .on_hover_text(path.display().to_string());
+                let width = look
+                    .fields
+                    .iter()
+                    .map(|(k, _)| k.chars().count())
+                    .max()
+                    .unwrap_or(0);
+                let text: String = look
+                    .fields
+                    .iter()
+                    .map(|(k, v)| format!("{k:width$}  {v}\n"))
+                    .collect();
+                ui.monospace(text.trim_end());
+                for n in &look.notes {
+                    ui.label(egui::RichText::new(format!("• {n}")).small());
+                }
+                ui.separator();
+            }
+        }
         let p = &self.doc.preset;
         let burley = match &p.profile {
             crate::settings::ProfileSpec::Burley(b) => {

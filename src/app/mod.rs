@@ -24,6 +24,9 @@ const STORAGE_KEY: &str = "scatterlab_ui";
 #[derive(Debug, Clone, PartialEq)]
 pub enum DialogKind {
     Open,
+    /// An engine's file (Unity, Unreal, MaterialX, Godot, Blender) as a
+    /// new, unsaved look.
+    Import,
     SaveAs,
     Export(Format),
     CompareB,
@@ -38,6 +41,7 @@ impl DialogKind {
     fn folder_key(&self) -> &'static str {
         match self {
             DialogKind::Open | DialogKind::SaveAs | DialogKind::CompareB => "preset",
+            DialogKind::Import => "import",
             DialogKind::Export(_) => "export",
             DialogKind::Mesh => "mesh",
             DialogKind::Environment => "environment",
@@ -95,10 +99,12 @@ enum Pending {
     Quit,
 }
 
-/// A compared preset's file and the plot range its curves were taken on.
-type BCurvesKey = (PathBuf, Option<u64>);
-/// Its name and curves, or why it cannot be overlaid.
-type BCurves = Result<(String, Curves), String>;
+/// A compared file, the plot range its curves were taken on and A's
+/// profile (the difference shown is against it).
+type BCurvesKey = (PathBuf, Option<u64>, String);
+/// Its name, curves and relative L2 distance of r·R(r) from A per
+/// channel, or why it cannot be overlaid.
+type BCurves = Result<(String, Curves, [f64; 3]), String>;
 
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
@@ -162,6 +168,9 @@ pub struct EditorApp {
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
     b_curves: Option<(BCurvesKey, BCurves)>,
+    /// The engine file the look was last imported from, with its own
+    /// fields (the Engines readout shows them).
+    imported: Option<(PathBuf, crate::export::ImportedLook)>,
     /// The table preview and transmittance strip, with the analysis they show.
     preview_textures: Option<(
         AnalysisKey,
@@ -247,6 +256,7 @@ impl EditorApp {
             allow_close: false,
             preview_textures: None,
             b_curves: None,
+            imported: None,
             ui_ms: 0.0,
             started: std::time::Instant::now(),
             reported: (false, false),
@@ -306,6 +316,36 @@ impl EditorApp {
             ),
         };
         (a, b)
+    }
+
+    /// Imports the engine file at `path` as a new, unsaved look (the first
+    /// of several, with a note), keeping the file's own fields for the
+    /// Engines readout.
+    pub fn import_now(&mut self, path: &Path) {
+        match crate::export::import_file(path, &crate::export::ImportOptions::default()) {
+            Ok(mut looks) if !looks.is_empty() => {
+                let more = looks.len() - 1;
+                let first = looks.remove(0);
+                self.guarded(Pending::New(Box::new(first.preset.clone())));
+                self.status = if more > 0 {
+                    format!(
+                        "Imported \"{}\" from {} ({more} more profile(s) in the file: `scatterlab import FILE --out DIR` writes them all)",
+                        first.preset.name,
+                        path.display()
+                    )
+                } else {
+                    format!(
+                        "Imported \"{}\" from {} ({})",
+                        first.preset.name,
+                        path.display(),
+                        first.kind
+                    )
+                };
+                self.imported = Some((path.to_owned(), first));
+            }
+            Ok(_) => self.status = format!("Error: {}: no look in the file", path.display()),
+            Err(e) => self.status = format!("Error: {e}"),
+        }
     }
 
     /// How far the last viewport frame had got.

@@ -303,21 +303,24 @@ fn compared_preset_series(
         (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
         (_, CompareB::Preset(path), Some(Ok(curves))) => {
             let r_max = curves.radius_mm.last().copied();
-            let key = (path.clone(), r_max.map(f64::to_bits));
+            let a_spec = &app.doc.preset.profile;
+            let key = (path.clone(), r_max.map(f64::to_bits), format!("{a_spec:?}"));
             if app.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
-                let loaded = crate::settings::Preset::load(path)
-                    .map_err(|e| e.to_string())
-                    .and_then(|p| {
-                        if super::analysis::is_slow(&p.profile) {
-                            return Err("layered stacks are not overlaid".into());
-                        }
-                        let m = p.profile.build().map_err(|e| e.to_string())?;
-                        Ok((p.name, Curves::of(m.as_ref(), r_max)))
-                    });
+                let loaded = super::viewport::load_look(path).and_then(|p| {
+                    if super::analysis::is_slow(&p.profile) || super::analysis::is_slow(a_spec) {
+                        return Err("layered stacks are not overlaid".into());
+                    }
+                    let m = p.profile.build().map_err(|e| e.to_string())?;
+                    let a = a_spec.build().map_err(|e| e.to_string())?;
+                    // How far B's r·R(r) is from A's, to A's 99.7 % radius.
+                    let reach = a.radius_for_energy(0.997);
+                    let d = crate::model::relative_l2_rr(a.as_ref(), m.as_ref(), reach);
+                    Ok((p.name, Curves::of(m.as_ref(), r_max), d))
+                });
                 app.b_curves = Some((key, loaded));
             }
             match app.b_curves.as_ref().map(|b| &b.1) {
-                Some(Ok((name, c))) => Some((format!("B: {name}"), series(c, q, log))),
+                Some(Ok((name, c, _))) => Some((format!("B: {name}"), series(c, q, log))),
                 Some(Err(e)) => {
                     ui.colored_label(ui.visuals().warn_fg_color, format!("B overlay: {e}"));
                     None

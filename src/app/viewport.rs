@@ -995,8 +995,23 @@ pub fn b_look(a: &Preset, b: &CompareB) -> Result<Look, String> {
             look.rendering.method = *m;
             Ok(look)
         }
-        CompareB::Preset(path) => Preset::load(path)
-            .map(|p| Look::of(&p))
-            .map_err(|e| e.to_string()),
+        CompareB::Preset(path) => load_look(path).map(|p| Look::of(&p)),
     }
+}
+
+/// The look in `path`: a preset, or what the engine whose file it is will
+/// draw from it (the first of several).
+pub fn load_look(path: &std::path::Path) -> Result<Preset, String> {
+    let is_ron = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("ron"));
+    if is_ron {
+        return Preset::load(path).map_err(|e| e.to_string());
+    }
+    crate::export::import_file(path, &crate::export::ImportOptions::default())
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .next()
+        .map(|l| l.preset)
+        .ok_or_else(|| format!("{}: no look in the file", path.display()))
 }

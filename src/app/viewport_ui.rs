@@ -77,11 +77,27 @@ impl EditorApp {
                             ui.close();
                         }
                     }
-                    if ui.button("a preset file…").clicked() {
+                    if ui
+                        .button("a preset or engine file…")
+                        .on_hover_text("B is the look in a preset, or what an engine draws from its file (Unity .asset, Unreal text, MaterialX, Godot .tres, Blender .py), with how far its r·R(r) is from A")
+                        .clicked()
+                    {
                         self.open_dialog(DialogKind::CompareB);
                         ui.close();
                     }
                 });
+                // How far a file's look is from A: what the round trip costs.
+                if let (CompareB::Preset(_), Some((_, Ok((_, _, d))))) =
+                    (&self.ui_state.compare_b, self.b_curves.as_ref())
+                {
+                    ui.label(format!(
+                        "B − A: {:.1} / {:.1} / {:.1} %",
+                        100.0 * d[0],
+                        100.0 * d[1],
+                        100.0 * d[2]
+                    ))
+                    .on_hover_text("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.");
+                }
                 if self.ui_state.compare == CompareMode::Split {
                     ui.spacing_mut().slider_width = 90.0;
                     ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"))

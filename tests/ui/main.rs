@@ -593,3 +593,69 @@ fn dropped_files_open_presets_and_meshes() {
     );
     std::fs::remove_file(&hdr).unwrap();
 }
+
+/// Engine files in the editor (issue 24): a dropped HDRP asset becomes a
+/// new, unsaved look with the Engines readout showing the file's own
+/// fields as HDRP wrote them; File → Import engine file… reads a MaterialX
+/// document; B = an engine file overlays what that engine draws and says
+/// how far its r·R(r) is from A.
+#[test]
+fn engine_files_import_and_compare() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let mut h = harness(false);
+    h.step();
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(
+            data.join("hdrp/Skin Diffusion Profile.asset"),
+        )));
+    h.run_steps(3);
+    assert_eq!(h.state().doc.preset.name, "Skin", "{}", h.state().status());
+    assert!(
+        h.state().status().starts_with("Imported"),
+        "{}",
+        h.state().status()
+    );
+    assert!(
+        h.state().doc.path.is_none(),
+        "an import is a new, unsaved look"
+    );
+    assert!(h
+        .query_by_label_contains("Imported from Skin Diffusion Profile.asset")
+        .is_some());
+    assert!(
+        h.query_by_label_contains("0 (Thick Object)").is_some(),
+        "the readout shows HDRP's own transmissionMode"
+    );
+
+    file_menu(&mut h, "Import engine file…");
+    let mtlx = data.join("materialx/open_pbr_ketchup.mtlx");
+    path_field(&h).set_text_value_accesskit(&mtlx.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(
+        h.state().doc.preset.name,
+        "Ketchup",
+        "{}",
+        h.state().status()
+    );
+
+    h.state_mut().ui_state.compare = CompareMode::Split;
+    h.state_mut().ui_state.compare_b =
+        CompareB::Preset(data.join("unreal/default_subsurface_profile.txt"));
+    h.run_steps(4);
+    // The B button names the file, the plot's legend B's look.
+    assert!(h
+        .query_by_label("B: default_subsurface_profile.txt")
+        .is_some());
+    assert!(
+        h.query_by_label("B: default_subsurface_profile").is_some(),
+        "no overlay of B"
+    );
+    assert!(
+        h.query_by_label_contains("B − A:").is_some(),
+        "no r·R(r) difference shown"
+    );
+}
