@@ -789,12 +789,18 @@ pub fn run(
     preset: Option<PathBuf>,
     exit_after_first_frame: bool,
     compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
+    import: Option<PathBuf>,
 ) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let initial = match &preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
         None => None,
     };
+    // An engine file to open: refused here, with its one line, before a
+    // window opens.
+    if let Some(f) = &import {
+        crate::export::import_file(f, &crate::export::ImportOptions::default())?;
+    }
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("scatterlab")
@@ -825,6 +831,9 @@ pub fn run(
             });
             let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
             app.started = started;
+            if let Some(f) = &import {
+                app.import_now(f);
+            }
             Ok(Box::new(EframeApp {
                 app,
                 exit_after_first_frame,

@@ -10,6 +10,11 @@ pub struct EditArgs {
     /// The preset (.ron) to open; default: the last one, else the embedded skin.
     #[arg(long, value_name = "FILE.ron")]
     pub preset: Option<PathBuf>,
+    /// An engine's file to open as a new look (Unity .asset, Unreal text
+    /// or .py, MaterialX .mtlx, Godot .tres, Blender .py): what that
+    /// engine draws from it.
+    #[arg(long, value_name = "FILE", conflicts_with = "preset")]
+    pub import: Option<PathBuf>,
     /// Close the window once the head has been shown (start-up smoke
     /// test; with SCATTERLAB_TIMINGS=1 it prints the start-up times).
     #[arg(long, hide = true)]
@@ -42,6 +47,11 @@ impl EditArgs {
             };
             (mode, self.compare_b)
         });
-        crate::app::run(self.preset, self.exit_after_first_frame, compare)
+        crate::app::run(
+            self.preset,
+            self.exit_after_first_frame,
+            compare,
+            self.import,
+        )
     }
 }
