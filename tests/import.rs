@@ -962,3 +962,22 @@ fn convert_from_files_and_folders_in_a_batch() {
     assert_ne!(code, 0);
     assert!(stdout.contains("exists; pass --force"), "{stdout}");
 }
+
+/// The default skin says it is HDRP's skin distance with Unreal's default
+/// albedo: checked against HDRP's file and Unreal's default struct read
+/// here (to their printed digits).
+#[test]
+fn the_default_skin_is_hdrps_distance_and_unreals_albedo() {
+    let skin = burley_of(&library::load("skin_default.ron").unwrap());
+    let hdrp = burley_of(&import(&data(SKIN_V1.file))[0].preset);
+    let unreal = import(&data("unreal/default_subsurface_profile.txt"));
+    let ue = burley_of(&unreal[0].preset);
+    for c in 0..3 {
+        assert!(close(
+            skin.scattering_distance_mm()[c],
+            hdrp.scattering_distance_mm()[c],
+            1e-6
+        ));
+        assert!(close(skin.albedo()[c], ue.albedo()[c], 1e-6));
+    }
+}
