@@ -981,3 +981,15 @@ fn the_default_skin_is_hdrps_distance_and_unreals_albedo() {
         assert!(close(skin.albedo()[c], ue.albedo()[c], 1e-6));
     }
 }
+
+/// A preset (.ron) round-trips through import unchanged, for every
+/// shipped look.
+#[test]
+fn ron_round_trip_is_exact() {
+    for (file, _) in library::PRESETS {
+        let preset = library::load(file).unwrap();
+        let out = tmp(&format!("{file}.export.ron"));
+        export(&preset, None, Format::Ron, &out).unwrap();
+        assert_eq!(import(&out)[0].preset, preset, "{file}");
+    }
+}
