@@ -834,6 +834,16 @@ fn godot_import_is_what_godot_draws() {
             "{:?}",
             l.notes
         );
+        // The `gaussians` method draws the import with its unblurred share.
+        let terms = scatterlab::render::gaussian_terms(&l.preset.profile, back.as_ref()).unwrap();
+        for c in 0..3 {
+            let drawn: f64 = terms.iter().map(|t| t.1[c]).sum();
+            assert!(
+                (drawn - total[c]).abs() < 1e-9,
+                "{file}: the method's weights {drawn} vs {}",
+                total[c]
+            );
+        }
         eprintln!(
             "{file}: Godot round trip, relative L2 error of r·R(r) per channel {:?}",
             g.error

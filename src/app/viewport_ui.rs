@@ -441,8 +441,11 @@ impl EditorApp {
             );
         }
         // Also after a coarse ground truth has arrived (the view is no
-        // longer "busy": its full frame is on the way).
-        if let Some((phase, done, total)) = crate::render::ground_truth::progress() {
+        // longer "busy": its full frame is on the way). The progress is the
+        // process's: only an editor with a viewport has a ground truth of
+        // its own (the UI tests run several editors in one process).
+        let truth = crate::render::ground_truth::progress().filter(|_| self.viewport.is_some());
+        if let Some((phase, done, total)) = truth {
             // `reference` is the ground truth, computed on the CPU on the
             // render thread: tens of seconds for a full viewport. Above the
             // "rendering … s" line.

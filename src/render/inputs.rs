@@ -281,11 +281,18 @@ pub fn gaussian_terms(
 ) -> Result<Vec<(f64, crate::model::Rgb)>, ModelError> {
     use crate::settings::ProfileSpec;
     Ok(match spec {
-        ProfileSpec::Gaussians(g) => g
-            .gaussians
-            .iter()
-            .map(|t| (t.variance_mm2, t.weights))
-            .collect(),
+        ProfileSpec::Gaussians(g) => {
+            let mut terms: Vec<(f64, crate::model::Rgb)> = g
+                .gaussians
+                .iter()
+                .map(|t| (t.variance_mm2, t.weights))
+                .collect();
+            // Its Dirac share (a Godot import's unblurred light), as below.
+            if g.dirac.iter().any(|d| *d > 0.0) {
+                terms.push((DIRAC_VARIANCE_MM2, g.dirac));
+            }
+            terms
+        }
         _ => {
             let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
             let mut terms: Vec<(f64, crate::model::Rgb)> = (0..m.channel_terms(0).len())
