@@ -115,7 +115,7 @@ fn read_depth(text: &str, path: &Path, depth: usize) -> Result<Vec<ImportedLook>
                     path,
                     &field,
                     format!(
-                        "the profile with GUID {guid} is not in this Unity project (no .meta file with it under the folders above the file); import the profile's .asset itself"
+                        "the profile with GUID {guid} is not in this Unity project (no .meta file with it in the Assets folder the file is in, or beside the file outside a project); import the profile's .asset itself"
                     ),
                 )
             })?;
@@ -571,24 +571,18 @@ fn collect_references(mb: &Yaml, at: &str, out: &mut Vec<(String, String)>) {
     }
 }
 
-/// The asset whose `.meta` file has `guid`, in the asset's folder or the
-/// folders above it up to the Unity project's `Assets` (or four levels),
-/// searched to a bounded number of files.
+/// The asset whose `.meta` file has `guid`: searched in the Unity
+/// project's `Assets` folder the file is in, or, outside a project, in the
+/// file's own folder (never higher, so a stray list does not walk the
+/// disk), to a bounded number of files.
 fn find_asset(from: &Path, guid: &str) -> Option<PathBuf> {
     let needle = format!("guid: {guid}");
-    let mut dir = from.parent().map(Path::to_path_buf);
-    let mut visited = 0usize;
-    for _ in 0..5 {
-        let d = dir?;
-        if let Some(found) = search_meta(&d, &needle, &mut visited, 0) {
-            return Some(found);
-        }
-        if d.file_name().is_some_and(|n| n == "Assets") {
-            return None;
-        }
-        dir = d.parent().map(Path::to_path_buf);
-    }
-    None
+    let folder = from.parent()?;
+    let root = folder
+        .ancestors()
+        .find(|a| a.file_name().is_some_and(|n| n == "Assets"))
+        .unwrap_or(folder);
+    search_meta(root, &needle, &mut 0, 0)
 }
 
 fn search_meta(dir: &Path, needle: &str, visited: &mut usize, depth: usize) -> Option<PathBuf> {
