@@ -612,13 +612,7 @@ fn bad_unreal_text_is_refused_by_field() {
             "text after the struct",
         ),
     ] {
-        let path = tmp(name);
-        std::fs::write(&path, text).unwrap();
-        let e = import_file(&path, &ImportOptions::default())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
-        assert_eq!(e.lines().count(), 1, "{e}");
+        assert_refused(name, &text, expect);
     }
 }
 
@@ -762,11 +756,7 @@ fn bad_materialx_is_refused_by_field() {
         ("root.mtlx", "<?xml version=\"1.0\"?><svg></svg>".to_owned(), "not a MaterialX document"),
         ("none.mtlx", "<?xml version=\"1.0\"?><materialx version=\"1.39\"></materialx>".to_owned(), "no open_pbr_surface"),
     ] {
-        let path = tmp(name);
-        std::fs::write(&path, text).unwrap();
-        let e = import_file(&path, &ImportOptions::default()).unwrap_err().to_string();
-        assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
-        assert_eq!(e.lines().count(), 1, "{e}");
+        assert_refused(name, &text, expect);
     }
 }
 
@@ -896,13 +886,7 @@ fn bad_godot_and_blender_files_are_refused_by_field() {
             "SUBSURFACE_SCALE_M: line 3",
         ),
     ] {
-        let path = tmp(name);
-        std::fs::write(&path, text).unwrap();
-        let e = import_file(&path, &ImportOptions::default())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
-        assert_eq!(e.lines().count(), 1, "{e}");
+        assert_refused(name, &text, expect);
     }
 }
 
@@ -1002,4 +986,16 @@ fn ron_round_trip_is_exact() {
         export(&preset, None, Format::Ron, &out).unwrap();
         assert_eq!(import(&out)[0].preset, preset, "{file}");
     }
+}
+
+/// `text` written as `name` is refused with one line that names the file
+/// and says `expect`.
+fn assert_refused(name: &str, text: &str, expect: &str) {
+    let path = tmp(name);
+    std::fs::write(&path, text).unwrap();
+    let e = import_file(&path, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(name) && e.contains(expect), "{name}: {e}");
+    assert_eq!(e.lines().count(), 1, "{e}");
 }

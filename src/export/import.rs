@@ -179,6 +179,16 @@ fn strip_path(message: &str, path: &Path) -> String {
     message.strip_prefix(&prefix).unwrap_or(message).to_owned()
 }
 
+/// sRGB's transfer function, decoding (IEC 61966-2-1): how MaterialX's
+/// `srgb_texture` and Godot's material colours become linear.
+pub(crate) fn srgb_decode(v: f64) -> f64 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// A name made safe as a file stem.
 pub fn file_stem_of(name: &str) -> String {
     let s: String = name

@@ -7,7 +7,7 @@
 //! Godot and read back differs from it by the kernel's fit (the export
 //! notes give it; `convert` and the editor's compare show it).
 
-use super::super::import::{ImportError, ImportedLook};
+use super::super::import::{srgb_decode, ImportError, ImportedLook};
 use super::{width_for_strength, GODOT_DEPTH_SCALE, GODOT_MIN_STRENGTH, GODOT_SCALE};
 use crate::model::jimenez::{Jimenez2012, DEFAULT_FALLOFF, DEFAULT_STRENGTH};
 use crate::model::Rgb;
@@ -58,15 +58,6 @@ fn parse_value(v: &str, path: &Path, key: &str, line: usize) -> Result<Value, Im
         return Ok(Value::Number(x));
     }
     Ok(Value::Other(v.to_owned()))
-}
-
-/// sRGB-encoded to linear (Godot's `Color` in a material is sRGB).
-fn srgb_decode(v: f64) -> f64 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {

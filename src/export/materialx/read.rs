@@ -14,7 +14,7 @@
 //! units). The subsurface becomes Burley's d = ℓ/s(A) (the writer's rule,
 //! Christensen & Burley 2015 eq. 5), ℓ the mean free path in mm.
 
-use super::super::import::{ImportError, ImportOptions, ImportedLook};
+use super::super::import::{srgb_decode, ImportError, ImportOptions, ImportedLook};
 use crate::model::burley::ScalingFit;
 use crate::model::Rgb;
 use crate::settings::profile::{BurleyShape, BurleySpec};
@@ -137,15 +137,6 @@ fn numbers(text: &str, n: usize, path: &Path, field: &str) -> Result<Vec<f64>, I
             }
         })
         .collect()
-}
-
-/// sRGB's transfer function (IEC 61966-2-1), decoding.
-fn srgb_decode(v: f64) -> f64 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// A colour value in linear Rec. 709, from the colour spaces MaterialX's
