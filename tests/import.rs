@@ -797,7 +797,10 @@ fn godot_import_is_what_godot_draws() {
         let preset = library::load(file).unwrap();
         let g = scatterlab::export::godot_subsurface(&preset).unwrap();
         let out = tmp(&format!("{file}.tres"));
-        export(&preset, None, Format::Godot, &out).unwrap();
+        let source = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("presets")
+            .join(file);
+        export(&preset, Some(&source), Format::Godot, &out).unwrap();
         let l = &import(&out)[0];
         let back = l.preset.profile.build().unwrap();
         let kernel = if g.skin_mode {
@@ -834,11 +837,48 @@ fn godot_import_is_what_godot_draws() {
                 total[c]
             );
         }
-        eprintln!(
-            "{file}: Godot round trip, relative L2 error of r·R(r) per channel {:?}",
-            g.error
-        );
+        // The import states its round trip: the file names the look it was
+        // written from, the reader finds it and measures what Godot draws
+        // against it; that is the export's own fit error (a second
+        // computation, through the written and re-read file), and Godot
+        // keeps the colour (its albedo is the look's total).
+        let note = l
+            .notes
+            .iter()
+            .find(|n| n.starts_with("round trip against"))
+            .unwrap_or_else(|| panic!("{file}: {:?}", l.notes));
+        let stated: f64 = note
+            .split("shape error of r·R(r) of ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("{note}"));
+        let want = g.error.into_iter().fold(0.0, f64::max);
+        assert!((stated - want).abs() < 2e-3, "{file}: {note} vs {want}");
+        assert!(note.contains("+0.0 % / +0.0 % / +0.0 %"), "{note}");
+        eprintln!("{file}: {note}");
     }
+    // Moved away from the look it names, the import quotes the error the
+    // file states instead (the exported comment's figure, 4 decimals).
+    let preset = library::load("skin_default.ron").unwrap();
+    let g = scatterlab::export::godot_subsurface(&preset).unwrap();
+    let out = tmp("moved.tres");
+    export(
+        &preset,
+        Some(Path::new("/nowhere/mine.ron")),
+        Format::Godot,
+        &out,
+    )
+    .unwrap();
+    let l = &import(&out)[0];
+    let want = format!("{:.4}", g.error.into_iter().fold(0.0, f64::max));
+    assert!(
+        l.notes
+            .iter()
+            .any(|n| n.contains("not found here; the file states") && n.contains(&want)),
+        "{want}: {:?}",
+        l.notes
+    );
 }
 
 #[test]

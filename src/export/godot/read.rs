@@ -4,8 +4,10 @@
 //! three) widened to the width the strength gives under the project
 //! settings the export asks for, scaled by the material's albedo. Godot's
 //! file holds no profile, so that is all it can give back: a look sent to
-//! Godot and read back differs from it by the kernel's fit (the export
-//! notes give it; `convert` and the editor's compare show it).
+//! Godot and read back differs from it by the kernel's fit. The import
+//! states that error for a file scatterlab wrote, measured against the look
+//! the file names (`round_trip_note`); `convert` and the editor's compare
+//! show it for any look.
 
 use super::super::import::{srgb_decode, ImportError, ImportedLook};
 use super::{width_for_strength, GODOT_DEPTH_SCALE, GODOT_MIN_STRENGTH, GODOT_SCALE};
@@ -65,10 +67,15 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
     let mut in_resource = false;
     let mut fields: Vec<(String, Value, usize)> = Vec::new();
     let mut raw = Vec::new();
+    let mut comments = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
         let l = line.trim();
-        if l.is_empty() || l.starts_with(';') {
+        if let Some(c) = l.strip_prefix(';') {
+            comments.push(c.trim());
+            continue;
+        }
+        if l.is_empty() {
             continue;
         }
         if l.starts_with('[') {
@@ -246,6 +253,9 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
     preset
         .validate()
         .map_err(|e| ImportError::file(path, e.to_string()))?;
+    if let Some(note) = round_trip_note(&comments, path, &preset) {
+        notes.push(note);
+    }
     let keep = |k: &str| {
         k == "albedo_color"
             || k == "roughness"
@@ -258,4 +268,69 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
         fields: raw.into_iter().filter(|(k, _)| keep(k)).collect(),
         notes,
     }])
+}
+
+/// A file scatterlab wrote names the look it came from in its comments
+/// (`Provenance::line`: `written by scatterlab V from "NAME" (PATH)`). Where
+/// that look can be found (PATH as written, beside the file, or a shipped
+/// preset of that file name) and has that name, the note measures what
+/// Godot draws against it (`fit::shape_error` and the total reflectance);
+/// otherwise it quotes the error the file states. None for other files.
+fn round_trip_note(comments: &[&str], path: &Path, drawn: &Preset) -> Option<String> {
+    let line = comments
+        .iter()
+        .find(|c| c.contains("written by scatterlab "))?;
+    let rest = &line[line.find("written by scatterlab ")?..];
+    let (_, after) = rest.split_once(" from \"")?;
+    let (name, after) = after.split_once("\" (")?;
+    let source = after.rsplit_once(')')?.0;
+    let source_path = Path::new(source);
+    let file_name = source_path.file_name()?.to_str()?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    // Only small regular files: a comment must not make the import read a
+    // device or a huge file.
+    let from_disk = [
+        source_path.to_owned(),
+        dir.join(source_path),
+        dir.join(file_name),
+    ]
+    .into_iter()
+    .find(|p| p.metadata().is_ok_and(|m| m.is_file() && m.len() < 1 << 20))
+    .and_then(|p| Preset::load(&p).ok().map(|l| (l, p.display().to_string())));
+    let found = from_disk
+        .or_else(|| {
+            crate::settings::library::load(file_name)
+                .ok()
+                .map(|l| (l, format!("the shipped preset {file_name}")))
+        })
+        .filter(|(l, _)| l.name == name);
+    let (look, at) = match found {
+        Some(f) => f,
+        None => {
+            let stated = comments
+                .iter()
+                .find_map(|c| c.split_once("relative L2 error of r·R(r) "))
+                .map(|(_, e)| e.trim_end_matches('.').to_owned());
+            return Some(match stated {
+                Some(e) => format!("written by scatterlab from \"{name}\" ({source}), not found here; the file states Godot's shape error of r·R(r) as {e}"),
+                None => format!("written by scatterlab from \"{name}\" ({source}), not found here: open it as Compare A to see what Godot changes"),
+            });
+        }
+    };
+    let (target, model) = (look.build_profile().ok()?, drawn.build_profile().ok()?);
+    let e = crate::model::fit::shape_error(target.as_ref(), model.as_ref());
+    let (t, m) = (target.total_reflectance(), model.total_reflectance());
+    let colour: [f64; 3] = std::array::from_fn(|c| {
+        if t[c] > 0.0 {
+            // Rounded to the 0.1 % shown, without a "-0.0".
+            (1000.0 * (m[c] / t[c] - 1.0)).round() / 10.0 + 0.0
+        } else {
+            0.0
+        }
+    });
+    Some(format!(
+        "round trip against \"{name}\" ({at}): Godot draws it with a shape error of r·R(r) of {:.4} (R {:.4}, G {:.4}, B {:.4}) and its total reflectance changed by {:+.1} % / {:+.1} % / {:+.1} %",
+        e.iter().fold(0.0f64, |a, b| a.max(*b)),
+        e[0], e[1], e[2], colour[0], colour[1], colour[2]
+    ))
 }
