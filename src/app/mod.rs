@@ -34,6 +34,8 @@ pub enum DialogKind {
     Environment,
     /// A map file for slot k of the loaded mesh (`textures::SLOTS`).
     Map(usize),
+    /// The viewport's frame as a PNG (File → Save image, F12).
+    SaveImage,
 }
 
 impl DialogKind {
@@ -46,12 +48,16 @@ impl DialogKind {
             DialogKind::Mesh => "mesh",
             DialogKind::Environment => "environment",
             DialogKind::Map(_) => "map",
+            DialogKind::SaveImage => "image",
         }
     }
 
     /// Whether the dialog writes files (and must ask before replacing).
     fn writes(&self) -> bool {
-        matches!(self, DialogKind::SaveAs | DialogKind::Export(_))
+        matches!(
+            self,
+            DialogKind::SaveAs | DialogKind::Export(_) | DialogKind::SaveImage
+        )
     }
 }
 
@@ -136,6 +142,9 @@ pub struct EditorApp {
     export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// An HDR environment map loading on its own thread.
     environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
+    /// The HDR light rig was chosen with no map loaded: apply it once the
+    /// map the dialog asked for has loaded.
+    hdr_rig_pending: bool,
     /// While comparing: both as the mode shows them, or one side alone.
     pub ab: AbView,
     mesh: Option<PathBuf>,
@@ -147,6 +156,9 @@ pub struct EditorApp {
     units_prompt: Option<PathBuf>,
     /// The map slots window, open for this mesh.
     maps_window: Option<PathBuf>,
+    /// Help → Shortcuts (F1) and Help → About, open.
+    help_open: bool,
+    about_open: bool,
     /// Where the viewport was drawn, and the compare labels on it.
     viewport_rect: Option<egui::Rect>,
     compare_labels: Vec<(String, egui::Rect)>,
@@ -228,12 +240,15 @@ impl EditorApp {
             exports: Vec::new(),
             export_notes: None,
             environment_load: None,
+            hdr_rig_pending: false,
             ab: AbView::Both,
             mesh: None,
             mesh_info: None,
             framed_for: None,
             units_prompt: None,
             maps_window: None,
+            help_open: false,
+            about_open: false,
             last_frame: None,
             viewport_rect: None,
             plot_rect: None,
@@ -458,6 +473,39 @@ impl EditorApp {
         }
     }
 
+    /// Writes the viewport's frame, as shown (a comparison with both sides,
+    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
+    pub fn save_image(&mut self, path: &Path) {
+        let Some((frame, _)) = &self.last_frame else {
+            self.status = format!(
+                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
+                path.display()
+            );
+            return;
+        };
+        let mut png = Vec::new();
+        let written = frame
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .map_err(|e| e.to_string())
+            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
+        self.status = match written {
+            Ok(()) => {
+                let state = match self.quality {
+                    Some(viewport::Quality::Converged { .. }) => "converged",
+                    _ => "not converged yet: a preview",
+                };
+                format!(
+                    "Saved image {} ({}×{}, {}, {state})",
+                    path.display(),
+                    frame.width(),
+                    frame.height(),
+                    self.frame_info.split(" · ").next().unwrap_or("")
+                )
+            }
+            Err(e) => format!("Error: {}: {e}", path.display()),
+        };
+    }
+
     /// Whether the editor may close now (Quit answered).
     pub fn close_allowed(&self) -> bool {
         self.allow_close
@@ -506,6 +554,11 @@ impl EditorApp {
             DialogKind::Export(f) => {
                 format!("{}.{}", file_stem(&self.doc.preset.name), f.extension())
             }
+            DialogKind::SaveImage => format!(
+                "{}_{}.png",
+                file_stem(&self.doc.preset.name),
+                self.doc.preset.rendering.method.id()
+            ),
             _ => String::new(),
         };
         self.export_notes = None;
@@ -558,6 +611,15 @@ impl EditorApp {
     pub fn show(&mut self, ui: &mut egui::Ui) {
         let t0 = std::time::Instant::now();
         let ctx = ui.ctx().clone();
+        // Colour pickers show linear numbers, as every field here is linear
+        // (set once: the picker's toggle may change it after).
+        let id = egui::Id::unique("scatterlab-linear-colour-numbers");
+        if !ctx.data(|d| d.get_temp::<bool>(id).unwrap_or(false)) {
+            ctx.data_mut(|d| d.insert_temp(id, true));
+            ctx.all_styles_mut(|s| {
+                s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
+            });
+        }
         self.handle_drops(&ctx);
         self.shortcuts(&ctx);
         self.poll_workers();
@@ -678,6 +740,9 @@ impl EditorApp {
                     v.environment = state::EnvironmentChoice::Map;
                     self.status = format!("Environment {}", path.display());
                     self.ui_state.environment_file = Some(path);
+                    if std::mem::take(&mut self.hdr_rig_pending) {
+                        state::LightRig::Hdr.apply(&mut self.ui_state.view);
+                    }
                     self.environment_load = None;
                 }
                 Ok(Err(e)) => {
@@ -721,23 +786,19 @@ fn unix_seconds() -> f64 {
         .map_or(0.0, |d| d.as_secs_f64())
 }
 
-/// A file name from a look's name.
+/// A file name from a look's name: its words in lower case joined by one
+/// underscore ("Skin1 (Jensen 2001)" → `skin1_jensen_2001`), "look" if it
+/// has none. Tested by `file_names_are_clean`.
 fn file_stem(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_alphanumeric() || c == '-' {
-                c.to_ascii_lowercase()
-            } else {
-                '_'
-            }
-        })
+    let words: Vec<String> = name
+        .split(|c: char| !(c.is_alphanumeric() || c == '-'))
+        .map(|w| w.trim_matches('-').to_lowercase())
+        .filter(|w| !w.is_empty())
         .collect();
-    let s = s.trim_matches('_').to_string();
-    if s.is_empty() {
+    if words.is_empty() {
         "look".into()
     } else {
-        s
+        words.join("_")
     }
 }
 
@@ -841,4 +902,21 @@ pub fn run(
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))
+}
+
+#[cfg(test)]
+mod file_name_tests {
+    #[test]
+    fn file_names_are_clean() {
+        for (name, want) in [
+            ("Skin1 (Jensen 2001)", "skin1_jensen_2001"),
+            ("Skin (Unity HDRP default)", "skin_unity_hdrp_default"),
+            ("  Marble -- polished!  ", "marble_polished"),
+            ("Wax/Candle: warm", "wax_candle_warm"),
+            ("Peau Crème", "peau_crème"),
+            ("()", "look"),
+        ] {
+            assert_eq!(super::file_stem(name), want, "{name}");
+        }
+    }
 }

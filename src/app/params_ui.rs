@@ -63,15 +63,78 @@ pub fn rgb(
                 .changed();
         }
         if swatch {
-            let max = v.iter().cloned().fold(1.0, f64::max);
-            let c = v.map(|x| super::analysis::linear_to_srgb8(x / max));
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), egui::Sense::hover());
-            ui.painter()
-                .rect_filled(rect, 2.0, egui::Color32::from_rgb(c[0], c[1], c[2]));
+            changed |= colour_picker(ui, label, v, &range);
         }
         changed
     })
     .inner
+}
+
+/// The swatch of an RGB field, a button that opens egui's colour picker
+/// (its numbers linear, as the fields are: `EditorApp::show` sets the
+/// numeric colour space). A field whose range ends at 1 (albedo, tint) is
+/// the colour itself; one that reaches past 1 (distances in mm) is colour
+/// × multiplier, as HDRP's inspector splits its scattering distance
+/// (`DiffusionProfileSettings.cs`: `scatteringDistance` colour and
+/// `scatteringDistanceMultiplier`): the picker edits v / max(v) and the
+/// multiplier max(v) stays. Returns whether it changed `v`.
+pub fn colour_picker(
+    ui: &mut Ui,
+    label: &str,
+    v: &mut Rgb,
+    range: &std::ops::RangeInclusive<f64>,
+) -> bool {
+    let multiplier = if *range.end() > 1.0 {
+        let m = v.iter().cloned().fold(0.0, f64::max);
+        if m > 0.0 {
+            m
+        } else {
+            1.0
+        }
+    } else {
+        1.0
+    };
+    let mut colour = v.map(|x| (x / multiplier).clamp(0.0, 1.0) as f32);
+    let response = egui::color_picker::color_edit_button_rgb(ui, &mut colour);
+    let srgb = colour.map(|x| super::analysis::linear_to_srgb8(x as f64));
+    let name = format!("{label} colour");
+    response.widget_info(|| {
+        let mut info = egui::WidgetInfo::labeled(egui::accesskit::Role::ColorWell, true, &name);
+        info.current_text_value = Some(format!("#{:02x}{:02x}{:02x}", srgb[0], srgb[1], srgb[2]));
+        info
+    });
+    let tip = if multiplier == 1.0 && *range.end() <= 1.0 {
+        format!(
+            "{label}: click to pick the colour. Linear {:.4} / {:.4} / {:.4}; shown as sRGB #{:02x}{:02x}{:02x}.",
+            v[0], v[1], v[2], srgb[0], srgb[1], srgb[2]
+        )
+    } else {
+        format!(
+            "{label}: click to pick its colour; the largest channel stays at {multiplier:.4} (colour × multiplier, as HDRP's inspector). Colour, linear: {:.4} / {:.4} / {:.4}; shown as sRGB #{:02x}{:02x}{:02x}.",
+            colour[0], colour[1], colour[2], srgb[0], srgb[1], srgb[2]
+        )
+    };
+    let response = response.on_hover_text(tip);
+    if !response.changed() {
+        return false;
+    }
+    let (lo, hi) = (*range.start(), *range.end());
+    let picked: Rgb = std::array::from_fn(|c| (colour[c] as f64 * multiplier).clamp(lo, hi));
+    // Opening the picker converts the colour through f32 and HSV and back:
+    // only a move beyond that rounding is an edit (else merely opening it
+    // marked the look as changed).
+    let tolerance = 1e-5 * multiplier.max(1.0);
+    let moved: Vec<usize> = (0..3)
+        .filter(|&c| (picked[c] - v[c]).abs() > tolerance)
+        .collect();
+    if moved.is_empty() {
+        return false;
+    }
+    // Channels the artist did not move keep their exact value.
+    for c in moved {
+        v[c] = picked[c];
+    }
+    true
 }
 
 fn count(ui: &mut Ui, label: &str, tip: &str, v: &mut usize, range: (usize, usize), step: usize) {

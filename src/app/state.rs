@@ -121,6 +121,99 @@ pub enum EnvironmentChoice {
     Map,
 }
 
+/// One-click lighting set-ups that show what scattering does: the key
+/// light's direction relative to the camera (so a rig lights what is in
+/// view, wherever the orbit is) and the environment. The side light puts
+/// the terminator down the middle of the face, where scattering softens it
+/// most; the back light comes through the ear from behind (the bench's
+/// back-lit ear: 135° from the camera, 10° up).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightRig {
+    Front,
+    ThreeQuarter,
+    Side,
+    Back,
+    Rim,
+    Hdr,
+}
+
+impl LightRig {
+    pub const ALL: [LightRig; 6] = [
+        LightRig::Front,
+        LightRig::ThreeQuarter,
+        LightRig::Side,
+        LightRig::Back,
+        LightRig::Rim,
+        LightRig::Hdr,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            LightRig::Front => "front",
+            LightRig::ThreeQuarter => "three-quarter",
+            LightRig::Side => "side",
+            LightRig::Back => "back, through the ear",
+            LightRig::Rim => "rim",
+            LightRig::Hdr => "HDR map",
+        }
+    }
+
+    pub fn tip(self) -> &'static str {
+        match self {
+            LightRig::Front => "Key light beside the camera, 20° up, studio sky: flat, as engines' previews light it; scattering shows least.",
+            LightRig::ThreeQuarter => "Key light 45° to the camera's right, 25° up, studio sky: the classic portrait light.",
+            LightRig::Side => "Key light 90° to the right, 10° up, no environment: the terminator runs down the face, where scattering's softening and colour show most.",
+            LightRig::Back => "Key light behind the head, 135° from the camera and 10° up, no environment: light through the ear shows transmission.",
+            LightRig::Rim => "Key light almost behind, 170° from the camera and 20° up, no environment: a rim on the outline and thin parts.",
+            LightRig::Hdr => "The loaded HDR map alone (key light off); asks for a map if none is loaded.",
+        }
+    }
+
+    /// (azimuth from the camera's, elevation) in degrees, light intensity
+    /// and environment; `None` for the HDR rig's key light (off).
+    fn set_up(self) -> (f32, f32, f32, EnvironmentChoice) {
+        let key = crate::settings::OrbitView::default().light_intensity;
+        match self {
+            LightRig::Front => (0.0, 20.0, key, EnvironmentChoice::Studio),
+            LightRig::ThreeQuarter => (45.0, 25.0, key, EnvironmentChoice::Studio),
+            LightRig::Side => (90.0, 10.0, key, EnvironmentChoice::Black),
+            LightRig::Back => (135.0, 10.0, key, EnvironmentChoice::Black),
+            LightRig::Rim => (170.0, 20.0, key, EnvironmentChoice::Black),
+            LightRig::Hdr => (45.0, 25.0, 0.0, EnvironmentChoice::Map),
+        }
+    }
+
+    /// Puts the rig's light into `view`. Returns false for the HDR rig
+    /// when no map is loaded (nothing changed: the caller asks for one).
+    pub fn apply(self, view: &mut ViewState) -> bool {
+        let (az, el, intensity, env) = self.set_up();
+        if env == EnvironmentChoice::Map && view.environment_map_sh.is_none() {
+            return false;
+        }
+        let o = &mut view.orbit;
+        o.light_azimuth_rad = o.camera_yaw_rad + az.to_radians();
+        o.light_elevation_rad = el.to_radians();
+        o.light_intensity = intensity;
+        view.environment = env;
+        true
+    }
+
+    /// The rig `view` is lit by now, if any (the light dragged or the
+    /// environment changed since: none).
+    pub fn current(view: &ViewState) -> Option<LightRig> {
+        LightRig::ALL.into_iter().find(|r| {
+            let (az, el, intensity, env) = r.set_up();
+            let o = &view.orbit;
+            let turn = std::f32::consts::TAU;
+            let d_az = (o.light_azimuth_rad - o.camera_yaw_rad - az.to_radians()).rem_euclid(turn);
+            (d_az < 1e-3 || turn - d_az < 1e-3)
+                && (o.light_elevation_rad - el.to_radians()).abs() < 1e-3
+                && o.light_intensity == intensity
+                && view.environment == env
+        })
+    }
+}
+
 /// How the viewport shows A and B.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum CompareMode {

@@ -153,6 +153,27 @@ impl EditorApp {
                 ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Map, name)
                     .on_hover_text(tip);
             }
+            let current = state::LightRig::current(v);
+            let rig_label = current.map_or("Light: custom".to_owned(), |r| format!("Light: {}", r.label()));
+            ui.menu_button(rig_label, |ui| {
+                for rig in state::LightRig::ALL {
+                    if ui
+                        .selectable_label(current == Some(rig), rig.label())
+                        .on_hover_text(rig.tip())
+                        .clicked()
+                    {
+                        if !rig.apply(v) {
+                            // The HDR rig with no map loaded: ask for one;
+                            // the map lights the head once it has loaded.
+                            open_environment = true;
+                            self.hdr_rig_pending = true;
+                        }
+                        ui.close();
+                    }
+                }
+            })
+            .response
+            .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light.");
             if ui
                 .button("HDR…")
                 .on_hover_text(
@@ -496,6 +517,7 @@ impl EditorApp {
             _ => None,
         };
         self.compare_labels_ui(&painter, rect);
+        self.light_gizmo_ui(ui, rect);
         self.viewport_rect = Some(rect);
         if let Some(l) = label {
             painter.text(
@@ -510,6 +532,89 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         }
+    }
+
+    /// The key light's direction as seen from the camera, at the
+    /// viewport's bottom right: a disc where the light is, filled when it
+    /// faces the viewer and hollow when it is behind the head (the light
+    /// vector's x and y in the camera's frame, `OrbitView::light_in_view`).
+    /// Dragging it moves the light as a right drag on the view does.
+    fn light_gizmo_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
+        let radius = 30.0;
+        if rect.width() < 6.0 * radius || rect.height() < 6.0 * radius {
+            return;
+        }
+        let centre = rect.right_bottom() - egui::vec2(radius + 14.0, radius + 14.0);
+        let area = egui::Rect::from_center_size(centre, egui::Vec2::splat(2.0 * radius + 8.0));
+        let response = ui.interact(area, ui.scope_id().with("light gizmo"), egui::Sense::drag());
+        let o = &mut self.ui_state.view.orbit;
+        if response.dragged() {
+            let d = response.drag_delta();
+            o.light_azimuth_rad -= d.x * 0.02;
+            o.light_elevation_rad = (o.light_elevation_rad - d.y * 0.02).clamp(-1.5, 1.5);
+        }
+        let [x, y, z] = o.light_in_view();
+        let relative = (o.light_azimuth_rad - o.camera_yaw_rad)
+            .to_degrees()
+            .rem_euclid(360.0);
+        let value = format!(
+            "{:.0}° from the camera, {:.0}° up, {}",
+            if relative > 180.0 {
+                relative - 360.0
+            } else {
+                relative
+            },
+            o.light_elevation_rad.to_degrees(),
+            if z >= 0.0 { "in front" } else { "behind" }
+        );
+        response.widget_info(|| {
+            let mut info =
+                egui::WidgetInfo::labeled(egui::accesskit::Role::Slider, true, "Light direction");
+            info.current_text_value = Some(value.clone());
+            info
+        });
+        let response = response.on_hover_text(format!(
+            "The key light, seen from the camera: {value}. A filled disc faces you; a hollow one is behind the head. Drag here (or right-drag the view) to move it."
+        ));
+        let painter = ui.painter_at(rect);
+        let plate = egui::Color32::from_black_alpha(150);
+        painter.circle_filled(centre, radius + 4.0, plate);
+        let grey = egui::Stroke::new(1.0, egui::Color32::from_gray(120));
+        painter.circle_stroke(centre, radius, grey);
+        painter.line_segment(
+            [
+                centre - egui::vec2(radius, 0.0),
+                centre + egui::vec2(radius, 0.0),
+            ],
+            grey,
+        );
+        painter.line_segment(
+            [
+                centre - egui::vec2(0.0, radius),
+                centre + egui::vec2(0.0, radius),
+            ],
+            grey,
+        );
+        let sun = egui::Color32::from_rgb(255, 214, 90);
+        let at = centre + egui::vec2(x, -y) * radius;
+        let width = if response.hovered() || response.dragged() {
+            2.5
+        } else {
+            1.5
+        };
+        painter.line_segment([centre, at], egui::Stroke::new(width, sun));
+        if z >= 0.0 {
+            painter.circle_filled(at, 5.0, sun);
+        } else {
+            painter.circle_stroke(at, 5.0, egui::Stroke::new(2.0, sun));
+        }
+        painter.text(
+            centre - egui::vec2(0.0, radius + 6.0),
+            egui::Align2::CENTER_BOTTOM,
+            "light",
+            egui::FontId::proportional(11.0),
+            egui::Color32::LIGHT_GRAY,
+        );
     }
 
     /// Each side of a comparison labelled on its own half, on a dark plate

@@ -102,6 +102,49 @@ impl Format {
         }
     }
 
+    /// The name an artist knows the target by (the editor's Export menu
+    /// and dialog; the command line takes [`Format::id`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Ron => "scatterlab preset",
+            Format::Unity => "Unity HDRP diffusion profile",
+            Format::Unreal => "Unreal subsurface profile",
+            Format::Hlsl => "HLSL kernel and samples",
+            Format::Glsl => "GLSL kernel and samples",
+            Format::Wgsl => "WGSL kernel and samples",
+            Format::SamplesJson => "Burley samples (JSON)",
+            Format::LutPng => "Pre-integrated tables (PNG)",
+            Format::LutExr => "Pre-integrated tables (OpenEXR)",
+            Format::ProfileExr => "Profile texture (OpenEXR)",
+            Format::ProfilePng => "Profile texture (PNG)",
+            Format::Blender => "Blender Principled BSDF",
+            Format::Materialx => "MaterialX OpenPBR",
+            Format::Godot => "Godot 4 material",
+        }
+    }
+
+    /// What the export writes, in one line (the Export menu's second line).
+    pub fn description(self) -> &'static str {
+        match self {
+            Format::Ron => "the look as a .ron preset, exactly",
+            Format::Unity => {
+                "DiffusionProfileSettings .asset (a Burley fit where the look is not Burley)"
+            }
+            Format::Unreal => "SubsurfaceProfile struct text, and a .py that sets it",
+            Format::Hlsl | Format::Glsl | Format::Wgsl => {
+                "separable kernel and Burley sample pattern as arrays"
+            }
+            Format::SamplesJson => "Burley sample pattern: radius (mm), angle, weights",
+            Format::LutPng => "pre-integrated and shadow tables, 8-bit (takes a few seconds)",
+            Format::LutExr => "pre-integrated and shadow tables, float (takes a few seconds)",
+            Format::ProfileExr => "r·R(r) as a 1D float texture, and the transmittance strip",
+            Format::ProfilePng => "r·R(r) as a 16-bit texture, and the transmittance strip",
+            Format::Blender => "a .py snippet setting subsurface radius, scale and weight",
+            Format::Materialx => "an .mtlx document with an open_pbr_surface",
+            Format::Godot => "a StandardMaterial3D .tres; its fixed kernel's error is stated",
+        }
+    }
+
     /// The file extension an exported file gets by default.
     pub fn extension(self) -> &'static str {
         match self {

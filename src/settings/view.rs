@@ -32,6 +32,33 @@ pub struct OrbitView {
     pub exposure: f32,
 }
 
+impl OrbitView {
+    /// The direction towards the light in the camera's frame: x right, y
+    /// up, z towards the viewer (unit). The frame is the renderer's
+    /// (`render::framing`: the eye along the orbit direction of yaw and
+    /// pitch, right = +y × that direction, up = direction × right); the
+    /// light's direction is the same orbit formula at its azimuth and
+    /// elevation. Tested by `light_in_view_follows_the_camera`.
+    pub fn light_in_view(&self) -> [f32; 3] {
+        let orbit = |az: f32, el: f32| [az.sin() * el.cos(), el.sin(), az.cos() * el.cos()];
+        let cross = |a: [f32; 3], b: [f32; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let dir = orbit(self.camera_yaw_rad, self.camera_pitch_rad);
+        let r = cross([0.0, 1.0, 0.0], dir);
+        let n = dot(r, r).sqrt().max(1e-12);
+        let right = r.map(|x| x / n);
+        let up = cross(dir, right);
+        let light = orbit(self.light_azimuth_rad, self.light_elevation_rad);
+        [dot(light, right), dot(light, up), dot(light, dir)]
+    }
+}
+
 impl Default for OrbitView {
     fn default() -> Self {
         Self {
@@ -45,6 +72,34 @@ impl Default for OrbitView {
             light_intensity: 3.2,
             point_light_distance_m: None,
             exposure: 1.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod light_tests {
+    use super::OrbitView;
+
+    /// A light where the camera is points at the viewer; 90° more azimuth
+    /// puts it on the viewer's right (the camera at yaw 0 looks down −z
+    /// with +x to its right, as `Mat4::look_at_rh` makes it); straight up
+    /// is up on screen for a level camera, whatever the yaw.
+    #[test]
+    fn light_in_view_follows_the_camera() {
+        let close = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5);
+        for yaw in [0.0f32, 0.35, 2.0, -1.0] {
+            let mut v = OrbitView {
+                camera_yaw_rad: yaw,
+                camera_pitch_rad: 0.0,
+                light_azimuth_rad: yaw,
+                light_elevation_rad: 0.0,
+                ..OrbitView::default()
+            };
+            assert!(close(v.light_in_view(), [0.0, 0.0, 1.0]), "{yaw}");
+            v.light_azimuth_rad = yaw + std::f32::consts::FRAC_PI_2;
+            assert!(close(v.light_in_view(), [1.0, 0.0, 0.0]), "{yaw}");
+            v.light_elevation_rad = std::f32::consts::FRAC_PI_2;
+            assert!(close(v.light_in_view(), [0.0, 1.0, 0.0]), "{yaw}");
         }
     }
 }

@@ -215,7 +215,8 @@ fn export_and_save_as_ask_before_replacing() {
     h.step();
     h.get_by_label("Export").click_accesskit();
     h.run_steps(3);
-    h.get_by_label("unity").click_accesskit();
+    h.get_by_label_contains("Unity HDRP diffusion profile")
+        .click_accesskit();
     h.run_steps(5);
     path_field(&h).set_text_value_accesskit(&out.display().to_string());
     h.step();

@@ -13,6 +13,7 @@ use scatterlab::settings::profile::BurleyShape;
 use scatterlab::settings::{Preset, ProfileSpec};
 use std::time::{Duration, Instant};
 
+mod artist;
 #[path = "../common/mod.rs"]
 mod common;
 mod layout_and_prompts;
@@ -422,7 +423,8 @@ fn compare_toggle_and_export_from_the_ui() {
     let out = dir.join("look.asset");
     h.get_by_label("Export").click_accesskit();
     h.run_steps(3);
-    h.get_by_label("unity").click_accesskit();
+    h.get_by_label_contains("Unity HDRP diffusion profile")
+        .click_accesskit();
     h.run_steps(5);
     path_field(&h).set_text_value_accesskit(&out.display().to_string());
     h.step();

@@ -1,0 +1,224 @@
+//! Issue 25, what an artist reaches for first: light rigs and the light
+//! gizmo, colour pickers on the RGB fields.
+
+use super::*;
+use scatterlab::app::state::EnvironmentChoice;
+
+/// The light gizmo's direction text ("… from the camera, … up, in front").
+fn gizmo(h: &Harness<'_, EditorApp>) -> String {
+    h.get_by_label("Light direction")
+        .value()
+        .expect("the light gizmo states the light's direction")
+}
+
+fn pick_rig(h: &mut Harness<'_, EditorApp>, menu: &str, rig: &str) {
+    h.get_by_label(menu).click_accesskit();
+    h.run_steps(2);
+    h.get_by_label(rig).click_accesskit();
+    h.run_steps(2);
+}
+
+/// Each rig is one click from the view toolbar and puts the key light
+/// where its tooltip says, relative to the camera (the side light at 90°,
+/// the back light at 135° from the camera's azimuth), with its environment;
+/// the menu names the rig in use and "custom" once the light is dragged;
+/// the gizmo reads the light from the camera's frame (in front or behind);
+/// the HDR rig with no map loaded asks for one.
+#[test]
+fn light_rigs_are_one_click_and_the_gizmo_shows_the_light() {
+    let mut h = harness(false);
+    h.step();
+    // The default view is no rig: 51.6° from the camera, 20° up.
+    assert!(h.query_by_label("Light: custom").is_some());
+    assert_eq!(gizmo(&h), "52° from the camera, 20° up, in front");
+    pick_rig(&mut h, "Light: custom", "side");
+    let v = h.state().ui_state.view;
+    let rel = (v.orbit.light_azimuth_rad - v.orbit.camera_yaw_rad).to_degrees();
+    assert!((rel - 90.0).abs() < 1e-3, "{rel}");
+    assert!((v.orbit.light_elevation_rad.to_degrees() - 10.0).abs() < 1e-3);
+    assert_eq!(v.environment, EnvironmentChoice::Black);
+    assert_eq!(gizmo(&h), "90° from the camera, 10° up, in front");
+    pick_rig(&mut h, "Light: side", "back, through the ear");
+    assert_eq!(gizmo(&h), "135° from the camera, 10° up, behind");
+    assert!(h.query_by_label("Light: back, through the ear").is_some());
+    // Orbiting keeps the light where it is in the world: no longer the rig.
+    h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.5;
+    h.run_steps(2);
+    assert!(h.query_by_label("Light: custom").is_some());
+    assert_eq!(gizmo(&h), "106° from the camera, 10° up, behind");
+    // Front, from the new camera: beside it.
+    pick_rig(&mut h, "Light: custom", "front");
+    assert_eq!(gizmo(&h), "0° from the camera, 20° up, in front");
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        EnvironmentChoice::Studio
+    );
+    // No map loaded: the HDR rig opens the environment dialog, lighting
+    // nothing yet.
+    pick_rig(&mut h, "Light: front", "HDR map");
+    assert!(h.query_by_label_contains("Environment map").is_some());
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        EnvironmentChoice::Studio
+    );
+}
+
+/// The albedo's swatch opens a colour picker whose numbers are linear (the
+/// same numbers as the fields); the scattering distance's picker edits its
+/// colour and keeps its multiplier (the largest channel), as HDRP's
+/// inspector splits colour × multiplier.
+#[test]
+fn colour_pickers_edit_linear_colours_and_distance_colour_times_multiplier() {
+    let mut h = harness(false);
+    h.step();
+    let albedo = |app: &EditorApp| match &app.doc.preset.profile {
+        ProfileSpec::Burley(b) => b.albedo,
+        other => panic!("{other:?}"),
+    };
+    let a0 = albedo(h.state());
+    h.get_by_label("Albedo colour").click_accesskit();
+    h.run_steps(2);
+    // Opening the picker is no edit (its f32/HSV round trip once was).
+    assert!(!h.state().doc.is_dirty());
+    assert_eq!(albedo(h.state()), a0);
+    // Egui's picker in linear mode: its R field ("R 0.911") shows the
+    // albedo's red.
+    let red = picker_field(&h, "R");
+    let shown: f64 = red
+        .value()
+        .and_then(|v| v.trim_start_matches("R ").parse().ok())
+        .expect("the picker's red value");
+    assert!((shown - a0[0]).abs() < 5e-4, "{shown} vs {a0:?}");
+    red.set_value_accesskit(0.25);
+    h.run_steps(2);
+    let a1 = albedo(h.state());
+    assert!((a1[0] - 0.25).abs() < 1e-3, "{a1:?}");
+    assert!(
+        (a1[1] - a0[1]).abs() < 1e-3 && (a1[2] - a0[2]).abs() < 1e-3,
+        "{a1:?}"
+    );
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    let d0: [f64; 3] = match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => match b.shape {
+            BurleyShape::ScatteringDistance { mm, .. } => mm,
+            ref other => panic!("{other:?}"),
+        },
+        other => panic!("{other:?}"),
+    };
+    let m = d0.iter().cloned().fold(0.0, f64::max);
+    h.get_by_label("Scattering distance colour")
+        .click_accesskit();
+    h.run_steps(2);
+    picker_field(&h, "G").set_value_accesskit(0.5);
+    h.run_steps(2);
+    let g = scattering_distance(h.state());
+    assert!((g[1] - 0.5 * m).abs() < 1e-3, "{g:?} from {d0:?}");
+    assert!(
+        (g[0] - d0[0]).abs() < 1e-3 && (g[2] - d0[2]).abs() < 1e-3,
+        "{g:?} from {d0:?}"
+    );
+    // One undo step takes the picker's edit back.
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(scattering_distance(h.state()), d0);
+}
+
+fn scattering_distance(app: &EditorApp) -> [f64; 3] {
+    match &app.doc.preset.profile {
+        ProfileSpec::Burley(b) => match b.shape {
+            BurleyShape::ScatteringDistance { mm, .. } => mm,
+            ref other => panic!("{other:?}"),
+        },
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The open colour picker's number field for `channel` ("R", "G", "B"):
+/// its value reads "R 0.911" (the panel's own fields read "R: 0.91058").
+fn picker_field<'h>(h: &'h Harness<'_, EditorApp>, channel: &str) -> egui_kittest::Node<'h> {
+    h.get_all_by_role(egui::accesskit::Role::SpinButton)
+        .find(|n| {
+            n.value()
+                .is_some_and(|v| v.starts_with(&format!("{channel} ")))
+        })
+        .unwrap_or_else(|| panic!("no colour picker field {channel}"))
+}
+
+/// F12 saves the viewport's frame as you see it: the dialog proposes a
+/// clean name (the look's words and the method, no "__"), refuses a folder
+/// as the file to write (the old dialog offered to "Replace" one and
+/// failed), and the PNG written is the frame shown, pixel for pixel.
+#[test]
+fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-image-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, true),
+        [900.0, 560.0],
+    );
+    h.step();
+    step_until(&mut h, "the first frame", |a| a.viewport_frame().is_some());
+    h.key_press(Key::F12);
+    h.run_steps(2);
+    assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
+    let proposed = path_field(&h).value().unwrap();
+    assert!(proposed.ends_with("skin_default_burley.png"), "{proposed}");
+    // A folder: refused, named, the dialog stays.
+    path_field(&h).set_text_value_accesskit(&dir.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(3);
+    assert!(
+        h.state().status().contains("is a folder"),
+        "{}",
+        h.state().status()
+    );
+    assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
+    assert!(h.query_by_label("Replace existing files?").is_none());
+    let out = dir.join("head.png");
+    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(3);
+    assert!(
+        h.state().status().starts_with("Saved image"),
+        "{}",
+        h.state().status()
+    );
+    let saved = image::open(&out).unwrap().to_rgba8();
+    let (shown, _) = h.state().viewport_frame().unwrap();
+    assert_eq!(saved.dimensions(), shown.dimensions());
+    assert!(
+        saved.as_raw() == shown.as_raw(),
+        "the PNG is not the frame shown"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// F1 lists the shortcuts (each one the editor handles, F12 among them);
+/// Help → About gives the version and the bundled assets' licences.
+#[test]
+fn f1_lists_the_shortcuts_and_about_names_the_licences() {
+    let mut h = harness(false);
+    h.step();
+    assert!(h.query_by_label("save the viewport image (PNG)").is_none());
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    assert!(h.query_by_label("save the viewport image (PNG)").is_some());
+    assert!(h.query_by_label("F12").is_some());
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    assert!(h.query_by_label("save the viewport image (PNG)").is_none());
+    h.get_by_label("Help").click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("About scatterlab").click_accesskit();
+    h.run_steps(2);
+    assert!(h
+        .query_by_label(&format!("scatterlab {}", env!("CARGO_PKG_VERSION")))
+        .is_some());
+    assert!(h.query_by_label_contains("CC0 1.0").is_some());
+    assert!(h.query_by_label_contains("CC BY 3.0").is_some());
+}
