@@ -156,6 +156,10 @@ pub struct EditorApp {
     units_prompt: Option<PathBuf>,
     /// The map slots window, open for this mesh.
     maps_window: Option<PathBuf>,
+    /// Errors and warnings shown as notifications until dismissed (the
+    /// status bar keeps only the latest), and the status last looked at.
+    notices: Vec<String>,
+    status_seen: String,
     /// Help → Shortcuts (F1) and Help → About, open.
     help_open: bool,
     about_open: bool,
@@ -248,6 +252,8 @@ impl EditorApp {
             units_prompt: None,
             maps_window: None,
             help_open: false,
+            notices: Vec::new(),
+            status_seen: String::new(),
             about_open: false,
             last_frame: None,
             viewport_rect: None,
@@ -672,6 +678,7 @@ impl EditorApp {
             .frame(bare(egui::Frame::central_panel(&style)))
             .show(ui, |ui| self.viewport_panel(ui));
         self.dialogs(&ctx);
+        self.notices_ui(&ctx);
         if self.allow_close {
             // Quit answered (Save or Discard): close now, not at the next
             // frame, which may never come without input.
@@ -693,6 +700,66 @@ impl EditorApp {
             use std::io::Write;
             let _ = writeln!(log, "{:.3} ui {ui_ms:.1}", unix_seconds());
         }
+    }
+
+    /// Every new error or warning in the status line becomes a notification
+    /// at the viewport's top right that stays until its × is clicked (the
+    /// same message again is not stacked twice); at most five, oldest first
+    /// dropped.
+    fn notices_ui(&mut self, ctx: &egui::Context) {
+        if self.status != self.status_seen {
+            self.status_seen = self.status.clone();
+            let s = &self.status;
+            if (s.starts_with("Error") || s.starts_with("Warning")) && !self.notices.contains(s) {
+                self.notices.push(s.clone());
+                if self.notices.len() > 5 {
+                    self.notices.remove(0);
+                }
+            }
+        }
+        let Some(rect) = self.viewport_rect else {
+            return;
+        };
+        let mut dismiss = None;
+        let width = (rect.width() - 16.0).clamp(160.0, 420.0);
+        egui::Area::new(egui::Id::unique("scatterlab_notices"))
+            .order(egui::Order::Foreground)
+            .fixed_pos(rect.right_top() + egui::vec2(-width - 8.0, 8.0))
+            .show(ctx, |ui| {
+                ui.set_width(width);
+                for (i, n) in self.notices.iter().enumerate() {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| {
+                        ui.set_width(width - 16.0);
+                        ui.horizontal_top(|ui| {
+                            let close = ui.small_button("×");
+                            close.widget_info(|| {
+                                egui::WidgetInfo::labeled(
+                                    egui::accesskit::Role::Button,
+                                    true,
+                                    "Dismiss notification",
+                                )
+                            });
+                            if close.on_hover_text("Dismiss").clicked() {
+                                dismiss = Some(i);
+                            }
+                            let colour = if n.starts_with("Error") {
+                                ui.visuals().error_fg_color
+                            } else {
+                                ui.visuals().warn_fg_color
+                            };
+                            ui.add(egui::Label::new(egui::RichText::new(n).color(colour)).wrap());
+                        });
+                    });
+                }
+            });
+        if let Some(i) = dismiss {
+            self.notices.remove(i);
+        }
+    }
+
+    /// The notifications on screen (errors and warnings not yet dismissed).
+    pub fn notices(&self) -> &[String] {
+        &self.notices
     }
 
     /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1

@@ -662,7 +662,14 @@ fn worker(
     };
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
-    let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
+    // The editor learns the head's framing from it (Reset view, zoom limits,
+    // and the start-up check of a remembered view).
+    if let (Ok(true), Some(info)) = (
+        w.ensure_renderer(&None, &Default::default(), 1.0),
+        w.mesh_info,
+    ) {
+        let _ = tx.send(Reply::MeshLoaded(None, info));
+    }
     let mut refine: Option<Refine> = None;
     loop {
         // Refining: take a new request if there is one, else add a frame.

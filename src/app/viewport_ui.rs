@@ -395,6 +395,24 @@ impl EditorApp {
                 if self.framed_for.as_ref() != Some(&key) && !first_head {
                     self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
                     self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
+                } else if first_head {
+                    // A remembered view that shows under a fifth of the
+                    // head (an extreme close-up, panned away) is no way to
+                    // start: frame the head, keep the angles and the light.
+                    let seen = self
+                        .ui_state
+                        .view
+                        .orbit
+                        .visible_fraction(info.framing_distance_m);
+                    if seen < 0.2 {
+                        let o = &mut self.ui_state.view.orbit;
+                        o.camera_distance_m = info.framing_distance_m;
+                        o.camera_pan_m = [0.0; 2];
+                        self.status = format!(
+                            "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
+                            100.0 * seen
+                        );
+                    }
                 }
                 self.framed_for = Some(key);
                 if let Some(p) = &p {

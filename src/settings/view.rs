@@ -59,6 +59,27 @@ impl OrbitView {
     }
 }
 
+impl OrbitView {
+    /// About how much of the framed mesh this view shows, 0–1, for a mesh
+    /// that `framing_distance_m` frames whole: the view is a square window
+    /// (half-width d·tan(fov/2), in the framing view's units of
+    /// framing·tan(fov/2)) moved by the pan; the mesh fills the framing
+    /// view's window; the fraction is the overlap's area over the mesh's.
+    /// A start-up check (`EditorApp`: a remembered view under 0.2 is reset)
+    /// and tested by `visible_fraction_of_views`.
+    pub fn visible_fraction(&self, framing_distance_m: f32) -> f32 {
+        let framing = framing_distance_m.max(1e-6);
+        let half_mesh = framing * (0.5 * self.fov_y_rad).tan();
+        let half_view = self.camera_distance_m.max(0.0) * (0.5 * self.fov_y_rad).tan();
+        let overlap = |pan: f32| {
+            let lo = (pan - half_view).max(-half_mesh);
+            let hi = (pan + half_view).min(half_mesh);
+            ((hi - lo) / (2.0 * half_mesh)).clamp(0.0, 1.0)
+        };
+        overlap(self.camera_pan_m[0]) * overlap(self.camera_pan_m[1])
+    }
+}
+
 impl Default for OrbitView {
     fn default() -> Self {
         Self {
@@ -101,5 +122,33 @@ mod light_tests {
             v.light_elevation_rad = std::f32::consts::FRAC_PI_2;
             assert!(close(v.light_in_view(), [0.0, 1.0, 0.0]), "{yaw}");
         }
+    }
+}
+
+#[cfg(test)]
+mod framing_tests {
+    use super::OrbitView;
+
+    /// Framed: all of it; farther: still all; at 0.3 of the framing
+    /// distance about 0.3² = 9 % (the view's side is 0.3 of the mesh's);
+    /// panned a whole framing window away: none.
+    #[test]
+    fn visible_fraction_of_views() {
+        let framing = 0.55;
+        let at = |d: f32, pan: [f32; 2]| {
+            OrbitView {
+                camera_distance_m: d,
+                camera_pan_m: pan,
+                ..OrbitView::default()
+            }
+            .visible_fraction(framing)
+        };
+        assert!((at(framing, [0.0; 2]) - 1.0).abs() < 1e-6);
+        assert!((at(2.0 * framing, [0.0; 2]) - 1.0).abs() < 1e-6);
+        assert!((at(0.3 * framing, [0.0; 2]) - 0.09).abs() < 1e-4);
+        let window = 2.0 * framing * (0.5 * OrbitView::default().fov_y_rad).tan();
+        assert_eq!(at(framing, [window, 0.0]), 0.0);
+        // Half a window across: half of it.
+        assert!((at(framing, [0.5 * window, 0.0]) - 0.5).abs() < 1e-4);
     }
 }

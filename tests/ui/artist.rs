@@ -222,3 +222,81 @@ fn f1_lists_the_shortcuts_and_about_names_the_licences() {
     assert!(h.query_by_label_contains("CC0 1.0").is_some());
     assert!(h.query_by_label_contains("CC BY 3.0").is_some());
 }
+
+/// An error is a notification that stays until dismissed, not only red
+/// text in the status bar that the next message replaces.
+#[test]
+fn errors_stay_as_notifications_until_dismissed() {
+    let mut h = harness(false);
+    h.step();
+    assert!(h.state().notices().is_empty());
+    // No viewport in this editor: saving its image is an error.
+    let out =
+        std::env::temp_dir().join(format!("scatterlab-ui-noframe-{}.png", std::process::id()));
+    h.key_press(Key::F12);
+    h.run_steps(2);
+    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    h.step();
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(3);
+    assert!(!out.exists());
+    let notices = h.state().notices().to_vec();
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    assert!(notices[0].contains("no viewport frame"), "{notices:?}");
+    // A later message replaces the status line, not the notification.
+    let saved =
+        std::env::temp_dir().join(format!("scatterlab-ui-notice-{}.ron", std::process::id()));
+    h.state_mut().save_as(&saved);
+    h.run_steps(3);
+    assert!(
+        h.state().status().starts_with("Saved"),
+        "{}",
+        h.state().status()
+    );
+    assert_eq!(h.state().notices().len(), 1);
+    assert!(h
+        .query_by_label_contains("no viewport frame to save yet")
+        .is_some());
+    h.get_by_label("Dismiss notification").click_accesskit();
+    h.run_steps(2);
+    assert!(h.state().notices().is_empty());
+    assert!(h
+        .query_by_label_contains("no viewport frame to save yet")
+        .is_none());
+    std::fs::remove_file(&saved).unwrap();
+}
+
+/// A restart into a remembered extreme close-up (a pore, panned off the
+/// face) frames the head instead, keeping the angles; a remembered view
+/// that shows the head is kept as it was.
+#[test]
+fn a_restart_never_opens_on_a_sliver_of_the_head() {
+    let mut state = UiState::default();
+    let o = &mut state.view.orbit;
+    o.camera_distance_m = 0.06;
+    o.camera_pan_m = [0.05, 0.02];
+    o.camera_yaw_rad = 1.0;
+    let mut h = harness_of(EditorApp::new(None, state, None, true), [900.0, 560.0]);
+    h.step();
+    step_until(&mut h, "the head", |a| a.mesh_info().is_some());
+    let framing = h.state().mesh_info().unwrap().framing_distance_m;
+    let o = h.state().ui_state.view.orbit;
+    assert_eq!(o.camera_distance_m, framing);
+    assert_eq!(o.camera_pan_m, [0.0; 2]);
+    assert_eq!(o.camera_yaw_rad, 1.0);
+    assert!(
+        h.state().status().contains("remembered view showed about"),
+        "{}",
+        h.state().status()
+    );
+    // A close view of the face (0.6 of the framing distance, 36 %) stays.
+    let mut state = UiState::default();
+    state.view.orbit.camera_distance_m = 0.6 * framing;
+    let mut h = harness_of(EditorApp::new(None, state, None, true), [900.0, 560.0]);
+    h.step();
+    step_until(&mut h, "the head", |a| a.mesh_info().is_some());
+    assert_eq!(
+        h.state().ui_state.view.orbit.camera_distance_m,
+        0.6 * framing
+    );
+}
