@@ -26,17 +26,30 @@ pub struct Curves {
 
 /// The widest channel's 0.997 radius times 1.5: the plot's range.
 pub fn plot_range_mm(radius_997: Rgb) -> f64 {
-    1.5 * radius_997.into_iter().fold(1e-3, f64::max)
+    radius_997.into_iter().fold(1e-3, f64::max)
 }
 
+/// Decades below the plot range's end that the radius grid reaches with
+/// log-spaced points (the log radius axis starts there).
+pub const LOG_RADIUS_DECADES: f64 = 3.0;
+
 impl Curves {
-    /// Curves on [0, `r_max`] (`None`: 1.5 × the widest 0.997 radius).
+    /// Curves on [0, `r_max`] (`None`: the widest 0.997 radius): evenly
+    /// spaced points for the linear radius axis and log-spaced ones over
+    /// the last [`LOG_RADIUS_DECADES`] for the log axis, merged.
     pub fn of(p: &dyn RadialProfile, r_max: Option<f64>) -> Self {
         let radius_997_mm = p.radius_for_energy(DEFAULT_ENERGY_FRACTION);
         let r_max = r_max.unwrap_or_else(|| plot_range_mm(radius_997_mm));
-        let radius_mm: Vec<f64> = (0..CURVE_POINTS)
-            .map(|i| r_max * i as f64 / (CURVE_POINTS - 1) as f64)
+        let n = CURVE_POINTS - 1;
+        let mut radius_mm: Vec<f64> = (0..=n)
+            .map(|i| r_max * i as f64 / n as f64)
+            .chain(
+                (0..n)
+                    .map(|i| r_max * 10f64.powf(LOG_RADIUS_DECADES * (i as f64 / n as f64 - 1.0))),
+            )
             .collect();
+        radius_mm.sort_by(f64::total_cmp);
+        radius_mm.dedup();
         Self {
             r: radius_mm.iter().map(|&r| p.reflectance(r)).collect(),
             r_times_r: radius_mm.iter().map(|&r| p.r_reflectance(r)).collect(),

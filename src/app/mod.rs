@@ -288,6 +288,14 @@ impl EditorApp {
     }
 
     /// What the main plot draws now, per channel (for tests).
+    /// Whether the plot's radius axis is logarithmic now (set, or
+    /// automatic for these curves).
+    pub fn plot_log_radius(&self) -> bool {
+        self.ui_state
+            .log_radius
+            .unwrap_or_else(|| matches!(&self.curves, Some(Ok(c)) if plots::auto_log_radius(c)))
+    }
+
     pub fn plot_series(&self) -> Option<[Vec<[f64; 2]>; 3]> {
         match &self.curves {
             Some(Ok(c)) => Some(plots::series(

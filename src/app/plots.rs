@@ -83,6 +83,41 @@ pub fn series(curves: &Curves, q: PlotQuantity, log: bool) -> [Vec<[f64; 2]>; 3]
     })
 }
 
+/// Whether the radius axis is logarithmic when the artist has not said
+/// (`UiState::log_radius` None): where some channel's r·R(r) falls to half
+/// its peak within 5 % of the plotted range, a linear axis shows it as a
+/// spike at zero (the default skin's blue: half its peak by 0.2 mm of
+/// 12.5 mm), and a log axis spreads it out.
+pub fn auto_log_radius(curves: &Curves) -> bool {
+    let r = &curves.radius_mm;
+    let r_max = r.last().copied().unwrap_or(0.0);
+    if r_max <= 0.0 {
+        return false;
+    }
+    (0..3).any(|c| {
+        let v: Vec<f64> = curves.r_times_r.iter().map(|x| x[c]).collect();
+        let (peak_at, peak) = v
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |b, (i, &x)| if x > b.1 { (i, x) } else { b });
+        // Where it falls under half its peak, past the peak.
+        peak > 0.0
+            && (peak_at..v.len())
+                .find(|&i| v[i] < 0.5 * peak)
+                .is_some_and(|i| r[i] < 0.05 * r_max)
+    })
+}
+
+/// `points` on a log radius axis: x → log10(x), the point at r = 0 left
+/// out.
+pub fn log_radius(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    points
+        .iter()
+        .filter(|p| p[0] > 0.0)
+        .map(|p| [p[0].log10(), p[1]])
+        .collect()
+}
+
 /// How a legend entry's line is drawn.
 #[derive(Clone, Copy)]
 enum Stroke {
@@ -149,9 +184,11 @@ fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
 }
 
 pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
-    controls_ui(ui, &mut app.ui_state);
+    let auto = matches!(&app.curves, Some(Ok(c)) if auto_log_radius(c));
+    controls_ui(ui, &mut app.ui_state, auto);
     let s = &app.ui_state;
     let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
+    let log_r = s.log_radius.unwrap_or(auto);
     let unit = match q {
         PlotQuantity::R => "1/mm²",
         PlotQuantity::RTimesR => "1/mm",
@@ -170,6 +207,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
             curves,
             (&overlay, &b_series),
             (q, log, show_taps, unit),
+            log_r,
         )),
         Some(Err(e)) => {
             ui.colored_label(ui.visuals().error_fg_color, e);
@@ -194,7 +232,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
 }
 
 /// The plot's controls: r·R(r) or R(r), log, taps, the fitted overlay.
-fn controls_ui(ui: &mut egui::Ui, s: &mut super::state::UiState) {
+fn controls_ui(ui: &mut egui::Ui, s: &mut super::state::UiState, auto_log_r: bool) {
     ui.heading("Profile");
     ui.horizontal(|ui| {
         ui.selectable_value(&mut s.plot_quantity, PlotQuantity::RTimesR, "r·R(r)")
@@ -203,6 +241,17 @@ fn controls_ui(ui: &mut egui::Ui, s: &mut super::state::UiState) {
             .on_hover_text("Diffuse reflectance per area (1/mm²).");
         ui.checkbox(&mut s.log_y, "log")
             .on_hover_text("Logarithmic value axis (log10).");
+        let mut log_r = s.log_radius.unwrap_or(auto_log_r);
+        let label = if s.log_radius.is_none() { "log r (auto)" } else { "log r" };
+        if ui
+            .checkbox(&mut log_r, label)
+            .on_hover_text("Logarithmic radius axis, the last three decades of the range. Automatic until you set it: on where a channel falls to half its peak within 5 % of the range (a linear axis would show a spike at zero). Right-click: automatic again.")
+            .secondary_clicked()
+        {
+            s.log_radius = None;
+        } else if log_r != s.log_radius.unwrap_or(auto_log_r) {
+            s.log_radius = Some(log_r);
+        }
         ui.checkbox(&mut s.show_taps, "taps").on_hover_text(
             "The separable kernel's taps as stems (weight per channel at its offset).",
         );
@@ -340,8 +389,12 @@ fn profile_plot_ui(
     curves: &Curves,
     (overlay, b_series): (&FitOverlay, &Option<NamedSeries>),
     (q, log, show_taps, unit): (PlotQuantity, bool, bool, &str),
+    log_r: bool,
 ) -> egui::Rect {
-    let lines = series(curves, q, log);
+    // Points on the radius axis in use: log10(r) on a log axis.
+    let x = |pts: &[[f64; 2]]| if log_r { log_radius(pts) } else { pts.to_vec() };
+    let xr = |r: f64| if log_r { r.max(1e-12).log10() } else { r };
+    let lines = series(curves, q, log).map(|s| x(&s));
     let taps = app
         .latest
         .as_ref()
@@ -351,7 +404,24 @@ fn profile_plot_ui(
     let r997 = curves.radius_997_mm;
     let plot = Plot::new("profile_plot")
         .height(280.0)
-        .x_axis_label("radius (mm)")
+        .x_axis_label(if log_r {
+            "radius (mm, log)"
+        } else {
+            "radius (mm)"
+        })
+        .x_axis_formatter(move |mark, _| {
+            if log_r {
+                // The mark is log10(r): label it in mm.
+                let r = 10f64.powf(mark.value);
+                if r >= 1.0 {
+                    format!("{r:.0}")
+                } else {
+                    format!("{r:.prec$}", prec = (-mark.value).ceil() as usize)
+                }
+            } else {
+                format!("{}", mark.value)
+            }
+        })
         .y_axis_label(if log {
             format!("log10 value ({unit})")
         } else {
@@ -366,13 +436,13 @@ fn profile_plot_ui(
                         .width(2.0),
                 );
                 plot.vline(
-                    VLine::new("99.7 % energy radius", r997[c])
+                    VLine::new("99.7 % energy radius", xr(r997[c]))
                         .color(CHANNEL_COLORS[c].gamma_multiply(0.6))
                         .style(egui_plot::LineStyle::dotted_dense()),
                 );
             }
             if let Some(Ok(o)) = &overlay {
-                let ol = series(&o.curves, q, log);
+                let ol = series(&o.curves, q, log).map(|s| x(&s));
                 for c in 0..3 {
                     plot.line(
                         Line::new(o.label.clone(), PlotPoints::from(ol[c].clone()))
@@ -384,7 +454,7 @@ fn profile_plot_ui(
             if let Some((label, b)) = &b_series {
                 for c in 0..3 {
                     plot.line(
-                        Line::new(label.clone(), PlotPoints::from(b[c].clone()))
+                        Line::new(label.clone(), PlotPoints::from(x(&b[c])))
                             .color(CHANNEL_COLORS[c].gamma_multiply(0.5))
                             .style(egui_plot::LineStyle::dotted_loose()),
                     );
@@ -400,6 +470,7 @@ fn profile_plot_ui(
                         .filter(|t| t.offset_mm >= 0.0)
                         .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
                         .collect();
+                    let pts = x(&pts);
                     plot.points(
                         Points::new("separable taps (scaled)", PlotPoints::from(pts))
                             .stems(0.0)

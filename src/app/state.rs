@@ -411,6 +411,8 @@ pub struct UiState {
     pub split: f32,
     pub plot_quantity: PlotQuantity,
     pub log_y: bool,
+    /// A log radius axis; `None`: automatic (`plots::auto_log_radius`).
+    pub log_radius: Option<bool>,
     pub overlay: OverlayModel,
     pub show_taps: bool,
     pub recent: Vec<PathBuf>,
@@ -436,6 +438,7 @@ impl Default for UiState {
             split: 0.5,
             plot_quantity: PlotQuantity::RTimesR,
             log_y: false,
+            log_radius: None,
             overlay: OverlayModel::Jimenez,
             show_taps: true,
             recent: Vec::new(),

@@ -300,3 +300,36 @@ fn a_restart_never_opens_on_a_sliver_of_the_head() {
         0.6 * framing
     );
 }
+
+/// The plot's radius axis: the default skin's r·R(r) (blue halves within
+/// 0.2 mm of a 12.5 mm range) is a spike at zero on a linear axis, so the
+/// axis is logarithmic by itself; one wide Gaussian (variance 4 mm²: half
+/// its peak past 4 mm of 6.8) stays linear; the checkbox overrides the
+/// automatic choice and a right-click gives it back.
+#[test]
+fn the_radius_axis_goes_log_where_linear_would_be_a_spike() {
+    use scatterlab::settings::profile::{GaussianTerm, GaussiansSpec};
+    let mut h = harness(false);
+    h.step();
+    h.step();
+    assert!(h.state().plot_log_radius());
+    // The range ends at the widest 99.7 % radius (red's, 12.5 mm).
+    let last = h.state().plot_series().unwrap()[0].last().unwrap()[0];
+    assert!((last - 12.54).abs() < 0.01, "{last}");
+    h.get_by_label("log r (auto)").click_accesskit();
+    h.run_steps(2);
+    assert!(!h.state().plot_log_radius());
+    assert_eq!(h.state().ui_state.log_radius, Some(false));
+    assert!(h.query_by_label("log r").is_some());
+    h.state_mut().ui_state.log_radius = None;
+    h.state_mut().doc.preset.profile = ProfileSpec::Gaussians(GaussiansSpec {
+        gaussians: vec![GaussianTerm {
+            variance_mm2: 4.0,
+            weights: [0.8, 0.5, 0.3],
+        }],
+        dirac: [0.0; 3],
+    });
+    h.run_steps(3);
+    assert!(!h.state().plot_log_radius());
+    assert!(h.query_by_label("log r (auto)").is_some());
+}
