@@ -160,6 +160,8 @@ pub struct EditorApp {
     /// status bar keeps only the latest), and the status last looked at.
     notices: Vec<String>,
     status_seen: String,
+    /// The scale of the difference view on screen (white, |ΔY|), if one is.
+    difference_shown: Option<f32>,
     /// Help → Shortcuts (F1) and Help → About, open.
     help_open: bool,
     about_open: bool,
@@ -252,6 +254,7 @@ impl EditorApp {
             units_prompt: None,
             maps_window: None,
             help_open: false,
+            difference_shown: None,
             notices: Vec::new(),
             status_seen: String::new(),
             about_open: false,
@@ -763,6 +766,11 @@ impl EditorApp {
         if let Some(i) = dismiss {
             self.notices.remove(i);
         }
+    }
+
+    /// The scale (white, |ΔY|) of the difference view on screen, if any.
+    pub fn difference_scale_shown(&self) -> Option<f32> {
+        self.difference_shown
     }
 
     /// The notifications on screen (errors and warnings not yet dismissed).

@@ -411,6 +411,11 @@ pub struct UiState {
     pub split: f32,
     pub plot_quantity: PlotQuantity,
     pub log_y: bool,
+    /// The difference view's white (|ΔY| of display luminance, 0–1), the
+    /// same for every compare unless `difference_auto`.
+    pub difference_scale: f32,
+    /// Scale each difference view to its own largest difference.
+    pub difference_auto: bool,
     /// A log radius axis; `None`: automatic (`plots::auto_log_radius`).
     pub log_radius: Option<bool>,
     pub overlay: OverlayModel,
@@ -439,6 +444,8 @@ impl Default for UiState {
             plot_quantity: PlotQuantity::RTimesR,
             log_y: false,
             log_radius: None,
+            difference_scale: 0.05,
+            difference_auto: false,
             overlay: OverlayModel::Jimenez,
             show_taps: true,
             recent: Vec::new(),

@@ -51,6 +51,9 @@ pub struct Request {
     pub a: Look,
     /// B and how to show it (`None`: A alone).
     pub b: Option<(Look, CompareMode, f32)>,
+    /// The difference view's white, |ΔY| of display luminance (0–1);
+    /// `None`: the frame's largest difference (auto-scaling).
+    pub difference_scale: Option<f32>,
     /// Show B alone (the A/B toggle key).
     pub show_b: bool,
     pub view: ViewState,
@@ -176,6 +179,8 @@ pub enum Reply {
         wall_ms: f64,
         /// Note for the status bar (difference scale).
         note: Option<String>,
+        /// A difference view's scale: |ΔY| shown white.
+        difference_scale: Option<f32>,
         /// The request it answers.
         seq: u64,
         quality: Quality,
@@ -342,6 +347,7 @@ struct Finished {
     image: image::RgbaImage,
     stats: FrameStats,
     note: Option<String>,
+    difference_scale: Option<f32>,
 }
 
 fn timings_on() -> bool {
@@ -503,6 +509,7 @@ impl Worker {
         let Some((b_look, mode, split)) = b else {
             notes.dedup();
             return Ok(Rendered {
+                difference_scale: None,
                 image: a.image.clone(),
                 sides: vec![a.image],
                 stats: a.stats,
@@ -513,11 +520,21 @@ impl Worker {
         let b_settings = settings(b_look, side_size, &mut notes);
         let bside = self.render_side(1, b_look, b_settings, pass)?;
         use crate::render::compare;
+        let mut difference_scale = None;
         let image = match mode {
             CompareMode::Split => compare::split_view(&a.image, &bside.image, split),
             CompareMode::Difference => {
-                let (d, scale) = compare::difference_view(&a.image, &bside.image, None);
-                notes.push(format!("|A − B| heat map: white = {scale:.3}"));
+                let (d, scale) =
+                    compare::difference_view(&a.image, &bside.image, req.difference_scale);
+                notes.push(format!(
+                    "|A − B| heat map: white = {scale:.3} ΔY{}",
+                    if req.difference_scale.is_none() {
+                        " (auto)"
+                    } else {
+                        ""
+                    }
+                ));
+                difference_scale = Some(scale);
                 d
             }
             _ => {
@@ -529,6 +546,7 @@ impl Worker {
         };
         notes.dedup();
         Ok(Rendered {
+            difference_scale,
             image,
             sides: vec![a.image, bside.image],
             stats: a.stats,
@@ -601,6 +619,8 @@ struct Side {
 /// A composed frame.
 struct Rendered {
     image: image::RgbaImage,
+    /// A difference view's scale (white).
+    difference_scale: Option<f32>,
     /// Each side's own frame (A, and B when comparing): convergence is
     /// judged on these, not on a difference view that magnifies noise.
     sides: Vec<image::RgbaImage>,
@@ -748,6 +768,7 @@ fn worker(
                     format!("{n} · kept from before")
                 }));
                 let reply = Reply::Frame {
+                    difference_scale: f.difference_scale,
                     image: f.image,
                     stats: Box::new(f.stats),
                     wall_ms: t0.elapsed().as_secs_f64() * 1e3,
@@ -839,6 +860,7 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
         let divisor = COARSE_TRUTH_DIVISOR;
         let reply = match w.frame(&r.req, Pass::Coarse(divisor)) {
             Ok(rendered) => Reply::Frame {
+                difference_scale: rendered.difference_scale,
                 image: rendered.image,
                 stats: Box::new(rendered.stats),
                 wall_ms: r.since.elapsed().as_secs_f64() * 1e3,
@@ -912,6 +934,7 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
                         image: rendered.image.clone(),
                         stats: rendered.stats.clone(),
                         note: note.clone(),
+                        difference_scale: rendered.difference_scale,
                     },
                 ),
             );
@@ -919,6 +942,7 @@ fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
         }
     }
     let reply = Reply::Frame {
+        difference_scale: rendered.difference_scale,
         image: rendered.image,
         stats: Box::new(rendered.stats),
         wall_ms: t1.elapsed().as_secs_f64() * 1e3,
@@ -975,6 +999,7 @@ fn send_frame(
     }
     let reply = match frame {
         Ok(r) => Reply::Frame {
+            difference_scale: r.difference_scale,
             quality: quality(&r),
             image: r.image,
             stats: Box::new(r.stats),

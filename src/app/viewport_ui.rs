@@ -66,6 +66,23 @@ impl EditorApp {
                     self.ab = AbView::Both;
                 }
             }
+            let none = CompareB::Method(crate::settings::rendering::MethodId::None);
+            let sss_only = self.ui_state.compare == CompareMode::Difference
+                && self.ui_state.compare_b == none
+                && self.ab == AbView::Both;
+            if ui
+                .selectable_label(sss_only, "SSS only")
+                .on_hover_text("What scattering adds: the difference view of this look against the same look without SSS (method none), |ΔY| on the fixed scale at the right edge. Click again to go back.")
+                .clicked()
+            {
+                if sss_only {
+                    self.ui_state.compare = CompareMode::Off;
+                } else {
+                    self.ui_state.compare = CompareMode::Difference;
+                    self.ui_state.compare_b = none;
+                    self.ab = AbView::Both;
+                }
+            }
             if self.ui_state.compare != CompareMode::Off {
                 // B and its controls on a row of their own: a widget that
                 // overflows a row widens everything under it.
@@ -98,6 +115,20 @@ impl EditorApp {
                     ))
                     .on_hover_text("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.");
                 }
+                if self.ui_state.compare == CompareMode::Difference {
+                    ui.add_enabled(
+                        !self.ui_state.difference_auto,
+                        egui::DragValue::new(&mut self.ui_state.difference_scale)
+                            .range(0.001..=1.0)
+                            .speed(0.001)
+                            .max_decimals(3)
+                            .prefix("white = ")
+                            .suffix(" ΔY"),
+                    )
+                    .on_hover_text("The difference that shows white: |A − B| of display luminance Y (0 black, 1 white). Fixed, so compares read on one scale.");
+                    ui.checkbox(&mut self.ui_state.difference_auto, "auto")
+                        .on_hover_text("Scale each difference view to its own largest difference instead (the scale then changes with every pair).");
+                }
                 if self.ui_state.compare == CompareMode::Split {
                     ui.spacing_mut().slider_width = 90.0;
                     ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"))
@@ -118,41 +149,74 @@ impl EditorApp {
         });
     }
 
-    /// Environment, light, exposure, Reset view, and a loaded mesh's
-    /// Units… and Maps…: rows that wrap. `framing`: the camera distance
-    /// that frames the mesh (m).
+    /// Environment, light (rigs and intensity), exposure, Reset view, and a
+    /// loaded mesh's Units… and Maps…: one row at 1280×720 (the environment
+    /// and the light are menus, the intensity inside the light's). It wraps
+    /// only where the viewport is narrower still. `framing`: the camera
+    /// distance that frames the mesh (m).
     pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
         let mut open_environment = false;
-        // Wraps onto a second row where the viewport is narrow.
         ui.horizontal_wrapped(|ui| {
             let v = &mut self.ui_state.view;
-            ui.label("Environment");
-            ui.selectable_value(
-                &mut v.environment,
-                state::EnvironmentChoice::Studio,
-                "studio sky",
-            );
-            ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black")
-                .on_hover_text("No environment light: the key light alone.");
-            if v.environment_map_sh.is_some() {
-                let name = self
-                    .ui_state
-                    .environment_file
-                    .as_ref()
-                    .and_then(|p| p.file_name())
-                    .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
-                let tip = self.ui_state.environment_file.as_ref().map_or(
-                    "The last HDR map loaded.".into(),
-                    |p| {
-                        format!(
-                            "{} (its irradiance, as order-2 spherical harmonics)",
-                            p.display()
+            let map_name = self
+                .ui_state
+                .environment_file
+                .as_ref()
+                .and_then(|p| p.file_name())
+                .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
+            let current = match v.environment {
+                state::EnvironmentChoice::Studio => "studio sky".to_owned(),
+                state::EnvironmentChoice::Black => "black".to_owned(),
+                state::EnvironmentChoice::Map => map_name.clone(),
+            };
+            let env = egui::ComboBox::from_id_salt("environment")
+                .selected_text(current.clone())
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(
+                        &mut v.environment,
+                        state::EnvironmentChoice::Studio,
+                        "studio sky",
+                    )
+                    .on_hover_text("The procedural studio sky.");
+                    ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black")
+                        .on_hover_text("No environment light: the key light alone.");
+                    if v.environment_map_sh.is_some() {
+                        let tip = self.ui_state.environment_file.as_ref().map_or(
+                            "The last HDR map loaded.".into(),
+                            |p| {
+                                format!(
+                                    "{} (its irradiance, as order-2 spherical harmonics)",
+                                    p.display()
+                                )
+                            },
+                        );
+                        ui.selectable_value(
+                            &mut v.environment,
+                            state::EnvironmentChoice::Map,
+                            map_name,
                         )
-                    },
-                );
-                ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Map, name)
-                    .on_hover_text(tip);
-            }
+                        .on_hover_text(tip);
+                    }
+                    if ui
+                        .button("HDR map…")
+                        .on_hover_text(
+                            "Light the head with an equirectangular Radiance .hdr map \
+                             (or drop one onto the window).",
+                        )
+                        .clicked()
+                    {
+                        open_environment = true;
+                        ui.close();
+                    }
+                })
+                .response;
+            env.widget_info(|| {
+                let mut info =
+                    egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, "Environment");
+                info.current_text_value = Some(current.clone());
+                info
+            });
+            env.on_hover_text("Environment: what lights the head besides the key light.");
             let current = state::LightRig::current(v);
             let rig_label = current.map_or("Light: custom".to_owned(), |r| format!("Light: {}", r.label()));
             ui.menu_button(rig_label, |ui| {
@@ -171,32 +235,24 @@ impl EditorApp {
                         ui.close();
                     }
                 }
+                ui.separator();
+                ui.add(
+                    egui::DragValue::new(&mut v.orbit.light_intensity)
+                        .range(0.0..=50.0)
+                        .speed(0.05)
+                        .prefix("intensity "),
+                )
+                .on_hover_text("Irradiance of the key light (linear).");
+                ui.add(
+                    egui::DragValue::new(&mut v.orbit.exposure)
+                        .range(0.01..=20.0)
+                        .speed(0.01)
+                        .prefix("exposure "),
+                )
+                .on_hover_text("Multiplier before tonemapping.");
             })
             .response
-            .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light.");
-            if ui
-                .button("HDR…")
-                .on_hover_text(
-                    "Light the head with an equirectangular Radiance .hdr map \
-                     (or drop one onto the window).",
-                )
-                .clicked()
-            {
-                open_environment = true;
-            }
-            ui.add(
-                egui::DragValue::new(&mut v.orbit.light_intensity)
-                    .range(0.0..=50.0)
-                    .speed(0.05)
-                    .prefix("light "),
-            )
-            .on_hover_text("Irradiance of the key light (linear).");
-            ui.add(
-                egui::DragValue::new(&mut v.orbit.exposure)
-                    .range(0.01..=20.0)
-                    .speed(0.01)
-                    .prefix("exposure "),
-            );
+            .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. The key light's intensity and the exposure are in here too.");
             if ui
                 .button("Reset view")
                 .on_hover_text(
@@ -304,7 +360,11 @@ impl EditorApp {
                 .request_repaint_after(std::time::Duration::from_millis(260));
         }
         let interactive = ui.ctx().dragged_id().is_some() || wheel_recent;
+        let difference_scale = (self.ui_state.compare == CompareMode::Difference
+            && !self.ui_state.difference_auto)
+            .then_some(self.ui_state.difference_scale);
         let req = viewport::Request {
+            difference_scale,
             interactive,
             refine_to_truth: self.ui_state.refine_to_truth,
             a: viewport::Look::of(&self.doc.preset),
@@ -329,6 +389,7 @@ impl EditorApp {
     pub(super) fn handle_reply(&mut self, ctx: &egui::Context, reply: viewport::Reply) {
         match reply {
             viewport::Reply::Frame {
+                difference_scale,
                 image,
                 stats,
                 wall_ms,
@@ -354,6 +415,7 @@ impl EditorApp {
                     );
                 }
                 self.quality = Some(quality);
+                self.difference_shown = difference_scale;
                 let ci = egui::ColorImage::from_rgba_unmultiplied(
                     [image.width() as usize, image.height() as usize],
                     image.as_raw(),
@@ -535,6 +597,7 @@ impl EditorApp {
             _ => None,
         };
         self.compare_labels_ui(&painter, rect);
+        self.difference_scale_ui(&painter, rect);
         self.light_gizmo_ui(ui, rect);
         self.viewport_rect = Some(rect);
         if let Some(l) = label {
@@ -552,6 +615,72 @@ impl EditorApp {
         }
     }
 
+    /// Numbers beside the difference view's colour bar (the frame's right
+    /// 12 pixels, `compare::difference_view`): 0 at the bottom, the scale at
+    /// the top and half-way, in ΔY of display luminance.
+    fn difference_scale_ui(&self, painter: &egui::Painter, rect: egui::Rect) {
+        let Some(scale) = self.difference_shown else {
+            return;
+        };
+        if self.ui_state.compare != CompareMode::Difference || self.ab != AbView::Both {
+            return;
+        }
+        let ppp = painter.ctx().pixels_per_point();
+        let bar = 12.0 / ppp;
+        let x = rect.right() - bar - 4.0;
+        for (t, text) in [
+            (
+                1.0,
+                format!(
+                    "{scale:.3} ΔY{}",
+                    if self.ui_state.difference_auto {
+                        " (auto)"
+                    } else {
+                        ""
+                    }
+                ),
+            ),
+            (0.5, format!("{:.3}", 0.5 * scale)),
+            (0.0, "0".to_owned()),
+        ] {
+            let y = rect.bottom() - t * rect.height();
+            let align = match t {
+                1.0 => egui::Align2::RIGHT_TOP,
+                0.0 => egui::Align2::RIGHT_BOTTOM,
+                _ => egui::Align2::RIGHT_CENTER,
+            };
+            let galley_rect = painter.text(
+                egui::pos2(
+                    x,
+                    y + if t == 1.0 {
+                        2.0
+                    } else if t == 0.0 {
+                        -2.0
+                    } else {
+                        0.0
+                    },
+                ),
+                align,
+                &text,
+                egui::FontId::proportional(12.0),
+                egui::Color32::WHITE,
+            );
+            // A plate under the number so it reads over the heat map.
+            painter.rect_filled(
+                galley_rect.expand(2.0),
+                2.0,
+                egui::Color32::from_black_alpha(160),
+            );
+            painter.text(
+                galley_rect.min,
+                egui::Align2::LEFT_TOP,
+                &text,
+                egui::FontId::proportional(12.0),
+                egui::Color32::WHITE,
+            );
+        }
+    }
+
     /// The key light's direction as seen from the camera, at the
     /// viewport's bottom right: a disc where the light is, filled when it
     /// faces the viewer and hollow when it is behind the head (the light
@@ -562,7 +691,8 @@ impl EditorApp {
         if rect.width() < 6.0 * radius || rect.height() < 6.0 * radius {
             return;
         }
-        let centre = rect.right_bottom() - egui::vec2(radius + 14.0, radius + 14.0);
+        // Clear of the difference view's colour bar (the right 12 px).
+        let centre = rect.right_bottom() - egui::vec2(radius + 28.0, radius + 14.0);
         let area = egui::Rect::from_center_size(centre, egui::Vec2::splat(2.0 * radius + 8.0));
         let response = ui.interact(area, ui.scope_id().with("light gizmo"), egui::Sense::drag());
         let o = &mut self.ui_state.view.orbit;

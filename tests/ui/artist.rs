@@ -333,3 +333,81 @@ fn the_radius_axis_goes_log_where_linear_would_be_a_spike() {
     assert!(!h.state().plot_log_radius());
     assert!(h.query_by_label("log r (auto)").is_some());
 }
+
+/// At 1280×720 each viewport toolbar is one row: the compare modes with
+/// "SSS only", then environment, light (exposure inside), Reset view and
+/// "refine to the truth" (they wrapped onto 3–4 rows before).
+#[test]
+fn the_toolbars_are_one_row_each_at_1280x720() {
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, false),
+        [1280.0, 720.0],
+    );
+    h.run_steps(3);
+    let top = |label: &str| h.get_by_label(label).rect().center().y;
+    let compare = top("off");
+    assert!((top("difference") - compare).abs() < 2.0);
+    assert!((top("SSS only") - compare).abs() < 2.0);
+    let view = top("Light: custom");
+    assert!(view > compare + 10.0, "{view} vs {compare}");
+    assert!((top("Reset view") - view).abs() < 2.0, "Reset view wrapped");
+    assert!((top("refine to the truth") - view).abs() < 2.0);
+    let env = h
+        .get_all_by_role(egui::accesskit::Role::ComboBox)
+        .map(|n| n.rect().center().y)
+        .fold(f32::INFINITY, |a, y| {
+            if (y - view).abs() < (a - view).abs() {
+                y
+            } else {
+                a
+            }
+        });
+    assert!(
+        (env - view).abs() < 2.0,
+        "the environment menu is not on the light's row"
+    );
+}
+
+/// "SSS only" is the difference view against the same look without
+/// scattering (B = none), on the fixed scale the colour bar's numbers give
+/// (0.05 ΔY by default, the same for another pair); "auto" scales each view
+/// to its own largest difference instead.
+#[test]
+fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    use scatterlab::settings::rendering::MethodId;
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, true),
+        [900.0, 560.0],
+    );
+    h.step();
+    h.get_by_label("SSS only").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().ui_state.compare, CompareMode::Difference);
+    assert_eq!(
+        h.state().ui_state.compare_b,
+        CompareB::Method(MethodId::None)
+    );
+    step_until(&mut h, "the difference view", |a| {
+        a.difference_scale_shown().is_some() && a.viewport_idle()
+    });
+    assert_eq!(h.state().difference_scale_shown(), Some(0.05));
+    // Another pair, the same scale.
+    h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::Separable);
+    h.run_steps(2);
+    step_until(&mut h, "the second pair", |a| a.viewport_idle());
+    assert_eq!(h.state().difference_scale_shown(), Some(0.05));
+    h.get_by_label("auto").click_accesskit();
+    h.run_steps(2);
+    step_until(&mut h, "the auto-scaled view", |a| {
+        a.viewport_idle() && a.difference_scale_shown() != Some(0.05)
+    });
+    let auto = h.state().difference_scale_shown().unwrap();
+    assert!(auto > 0.0 && auto <= 1.0, "{auto}");
+    // Clicked again, SSS only goes back to no comparison.
+    h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::None);
+    h.run_steps(2);
+    h.get_by_label("SSS only").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().ui_state.compare, CompareMode::Off);
+}
