@@ -481,7 +481,7 @@ impl Worker {
         let mut notes: Vec<String> = Vec::new();
         // The ground truth takes seconds to minutes: while the artist
         // works, `burley` stands in for it (and says so).
-        let settings = |look: &Look, size, notes: &mut Vec<String>| {
+        let settings = |look: &Look, size: (u32, u32), notes: &mut Vec<String>| {
             let mut s = render_settings(look, &req.view, size);
             if matches!(pass, Pass::Preview(_)) && s.method == Method::Reference {
                 s.method = Method::Burley;
@@ -504,7 +504,13 @@ impl Worker {
             Some((_, CompareMode::SideBySide, _)) => ((w / 2).max(16), h),
             _ => (w, h),
         };
-        let a_settings = settings(a_look, side_size, &mut notes);
+        // Side by side, each half zooms out to keep the head whole.
+        let zoom = match b {
+            Some((_, CompareMode::SideBySide, _)) => side_by_side_zoom_out(side_size),
+            _ => 1.0,
+        };
+        let mut a_settings = settings(a_look, side_size, &mut notes);
+        a_settings.view.camera_distance_m *= zoom;
         let a = self.render_side(0, a_look, a_settings, pass)?;
         let Some((b_look, mode, split)) = b else {
             notes.dedup();
@@ -517,7 +523,8 @@ impl Worker {
                 stochastic: a.stochastic,
             });
         };
-        let b_settings = settings(b_look, side_size, &mut notes);
+        let mut b_settings = settings(b_look, side_size, &mut notes);
+        b_settings.view.camera_distance_m *= zoom;
         let bside = self.render_side(1, b_look, b_settings, pass)?;
         use crate::render::compare;
         let mut difference_scale = None;
@@ -595,6 +602,25 @@ impl Worker {
         Ok(side)
     }
 }
+
+/// How much farther the camera stands for a side-by-side half of `size`
+/// (w, h): 1 for a half at least [`FRAMED_ASPECT`] wide, more for a
+/// narrower one so that the width the head needs still fits — the
+/// framing distance frames the head by height, and a half 242 px wide at
+/// 1280×720 cut off an eye and the ears. Tested by
+/// `side_by_side_halves_zoom_out_to_keep_the_head_whole`.
+fn side_by_side_zoom_out((w, h): (u32, u32)) -> f32 {
+    if w == 0 || h == 0 {
+        return 1.0;
+    }
+    let aspect = w as f32 / h as f32;
+    (FRAMED_ASPECT / aspect).max(1.0)
+}
+
+/// The narrowest aspect (width / height) that shows the whole head at its
+/// framing distance: the default head is 0.78 as wide as it is tall with
+/// the neck (`Mesh::head_size`), and a little room either side.
+const FRAMED_ASPECT: f32 = 0.85;
 
 /// What a request is rendered as.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1046,4 +1072,19 @@ pub fn load_look(path: &std::path::Path) -> Result<Preset, String> {
         .next()
         .map(|l| l.preset)
         .ok_or_else(|| format!("{}: no look in the file", path.display()))
+}
+
+#[cfg(test)]
+mod side_by_side_tests {
+    use super::*;
+
+    /// At 1280×720 the viewport is 484×585 and each half 242×585 (aspect
+    /// 0.41): the camera stands 0.85/0.41 = 2.05× farther; a half already
+    /// wider than 0.85 keeps the view as it is.
+    #[test]
+    fn side_by_side_halves_zoom_out_to_keep_the_head_whole() {
+        assert!((side_by_side_zoom_out((242, 585)) - 0.85 * 585.0 / 242.0).abs() < 1e-5);
+        assert_eq!(side_by_side_zoom_out((700, 600)), 1.0);
+        assert_eq!(side_by_side_zoom_out((0, 0)), 1.0);
+    }
 }

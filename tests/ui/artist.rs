@@ -411,3 +411,48 @@ fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
     h.run_steps(2);
     assert_eq!(h.state().ui_state.compare, CompareMode::Off);
 }
+
+/// Side by side at 1280×720, each half (242 px of a 484 px viewport) shows
+/// the whole head: in the upper 60 % of the frame (the head, above the
+/// shoulders) no skin touches a half's left or right edge. Before, each
+/// half was a crop of one camera that cut off an eye and the ears.
+#[test]
+fn side_by_side_frames_the_whole_head_in_each_half() {
+    use scatterlab::app::state::CompareMode;
+    let state = UiState {
+        compare: CompareMode::SideBySide,
+        ..UiState::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, true), [1280.0, 720.0]);
+    h.step();
+    step_until(&mut h, "the side-by-side frame", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some()
+    });
+    let (frame, _) = h.state().viewport_frame().unwrap();
+    let (w, fh) = frame.dimensions();
+    let half = w / 2;
+    // Skin: warm and bright, unlike the grey-blue background.
+    let skin = |x: u32, y: u32| {
+        let p = frame.get_pixel(x, y).0;
+        p[0] as i32 > p[2] as i32 + 25 && p[0] > 90
+    };
+    let rows = (fh * 6 / 10) as usize;
+    for (side, x0) in [("A", 0), ("B", half)] {
+        let mut total = 0;
+        for x in [x0, x0 + 1, x0 + half - 2, x0 + half - 1] {
+            let touching = (0..rows as u32).filter(|&y| skin(x, y)).count();
+            assert!(
+                touching == 0,
+                "{side}: skin on column {x} in {touching} rows"
+            );
+        }
+        for x in x0..x0 + half {
+            total += (0..rows as u32).filter(|&y| skin(x, y)).count();
+        }
+        // And the head is there: a good part of the half is skin.
+        assert!(
+            total > half as usize * rows / 10,
+            "{side}: {total} skin pixels"
+        );
+    }
+}
