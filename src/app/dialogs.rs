@@ -518,6 +518,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("F12", "save the viewport image (PNG)"),
     ("Ctrl+Z", "undo"),
     ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
+    ("F", "flicker: the look before the last edit, and back"),
     ("Space", "while comparing: A alone / B alone"),
     ("Escape", "while comparing: both sides again"),
     ("left drag", "orbit the camera"),

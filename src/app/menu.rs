@@ -55,6 +55,13 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
             self.help_open = !self.help_open;
         }
+        // F flickers to the look before the last edit (not while typing).
+        if ctx.memory(|m| m.focused().is_none())
+            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F))
+            && self.doc.before_last_edit().is_some()
+        {
+            self.show_before = !self.show_before;
+        }
         if image {
             self.open_dialog(DialogKind::SaveImage);
         }

@@ -162,6 +162,8 @@ pub struct EditorApp {
     status_seen: String,
     /// The scale of the difference view on screen (white, |ΔY|), if one is.
     difference_shown: Option<f32>,
+    /// The viewport shows the look before the last edit ("before", F).
+    pub show_before: bool,
     /// Help → Shortcuts (F1) and Help → About, open.
     help_open: bool,
     about_open: bool,
@@ -254,6 +256,7 @@ impl EditorApp {
             units_prompt: None,
             maps_window: None,
             help_open: false,
+            show_before: false,
             difference_shown: None,
             notices: Vec::new(),
             status_seen: String::new(),

@@ -57,6 +57,16 @@ impl Document {
         !self.undo.is_empty() || self.preset != self.committed
     }
 
+    /// The look before the last edit (the one in progress, else the last
+    /// undo step): what the viewport's "before" flicker shows.
+    pub fn before_last_edit(&self) -> Option<&Preset> {
+        if self.preset != self.committed {
+            Some(&self.committed)
+        } else {
+            self.undo.last()
+        }
+    }
+
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }

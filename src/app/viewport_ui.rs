@@ -66,6 +66,15 @@ impl EditorApp {
                     self.ab = AbView::Both;
                 }
             }
+            let before = self.doc.before_last_edit().is_some();
+            if !before {
+                self.show_before = false;
+            }
+            ui.add_enabled_ui(before, |ui| {
+                ui.toggle_value(&mut self.show_before, "before")
+                    .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
+                    .on_disabled_hover_text("No edit yet to compare with.");
+            });
             let none = CompareB::Method(crate::settings::rendering::MethodId::None);
             let sss_only = self.ui_state.compare == CompareMode::Difference
                 && self.ui_state.compare_b == none
@@ -367,7 +376,12 @@ impl EditorApp {
             difference_scale,
             interactive,
             refine_to_truth: self.ui_state.refine_to_truth,
-            a: viewport::Look::of(&self.doc.preset),
+            a: viewport::Look::of(
+                self.show_before
+                    .then(|| self.doc.before_last_edit())
+                    .flatten()
+                    .unwrap_or(&self.doc.preset),
+            ),
             b,
             show_b: self.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
             view: self.ui_state.view,
@@ -598,6 +612,24 @@ impl EditorApp {
         };
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
+        if self.show_before {
+            // Say so: the frame is not the look being edited.
+            let at = rect.center_top() + egui::vec2(0.0, 36.0);
+            let font = egui::FontId::proportional(15.0);
+            let text = "before the last edit (F: back)";
+            let galley = painter.layout_no_wrap(text.into(), font, egui::Color32::WHITE);
+            let plate = egui::Rect::from_center_size(at, galley.size()).expand(4.0);
+            painter.rect_filled(
+                plate,
+                3.0,
+                egui::Color32::from_rgba_unmultiplied(120, 60, 0, 220),
+            );
+            painter.galley(
+                plate.min + egui::vec2(4.0, 4.0),
+                galley,
+                egui::Color32::WHITE,
+            );
+        }
         self.light_gizmo_ui(ui, rect);
         self.viewport_rect = Some(rect);
         if let Some(l) = label {

@@ -456,3 +456,57 @@ fn side_by_side_frames_the_whole_head_in_each_half() {
         );
     }
 }
+
+/// "before" (and F) flickers the viewport to the look before the last
+/// edit and back: the frame rendered is the old look's, pixel-equal to the
+/// frame before the edit; with no edit yet it is off.
+#[test]
+fn before_flickers_to_the_look_before_the_last_edit() {
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, true),
+        [900.0, 560.0],
+    );
+    h.step();
+    step_until(&mut h, "the first frame", |a| {
+        a.viewport_idle()
+            && matches!(
+                a.viewport_quality(),
+                Some(scatterlab::app::viewport::Quality::Converged { .. })
+            )
+    });
+    let original = h.state().viewport_frame().unwrap().0.clone();
+    h.key_press(Key::F);
+    h.run_steps(2);
+    assert!(!h.state().show_before, "no edit yet: nothing to flicker to");
+    // An edit: red scattering distance 3 mm.
+    h.get_by_label("R: mm").set_value_accesskit(3.0);
+    h.run_steps(2);
+    step_until(&mut h, "the edited frame", |a| {
+        a.viewport_idle()
+            && matches!(
+                a.viewport_quality(),
+                Some(scatterlab::app::viewport::Quality::Converged { .. })
+            )
+    });
+    let edited = h.state().viewport_frame().unwrap().0.clone();
+    assert!(edited != original, "the edit changed nothing on screen");
+    h.key_press(Key::F);
+    h.run_steps(2);
+    assert!(h.state().show_before);
+    step_until(&mut h, "the frame before the edit", |a| {
+        a.viewport_idle()
+            && matches!(
+                a.viewport_quality(),
+                Some(scatterlab::app::viewport::Quality::Converged { .. })
+            )
+    });
+    assert!(
+        h.state().viewport_frame().unwrap().0 == &original,
+        "before is not the old look"
+    );
+    // The look being edited is untouched.
+    assert_eq!(scattering_distance(h.state())[0], 3.0);
+    h.get_by_label("before").click_accesskit();
+    h.run_steps(2);
+    assert!(!h.state().show_before);
+}
