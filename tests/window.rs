@@ -67,6 +67,14 @@ fn editor_window_opens_shows_the_head_and_closes() {
     assert!(status.success(), "editor exited with {status}: {stderr}");
     assert!(stderr.contains("timing: first UI frame"), "{stderr}");
     assert!(stderr.contains("timing: first viewport frame"), "{stderr}");
+    // The first frame already has the head's skin maps (issue 25): they
+    // bake before it, not after (they used to pop in a second later).
+    let baked = stderr.find("timing: skin maps baked");
+    let shown = stderr.find("timing: first viewport frame");
+    assert!(
+        matches!((baked, shown), (Some(b), Some(s)) if b < s),
+        "the skin maps did not bake before the first viewport frame: {stderr}"
+    );
     // The start-up figures, for the log (budgets are measured, not asserted).
     for line in stderr.lines().filter(|l| l.contains("first")) {
         eprintln!("{line}");

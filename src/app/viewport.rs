@@ -716,6 +716,12 @@ fn worker(
     ) {
         let _ = tx.send(Reply::MeshLoaded(None, info));
     }
+    // The head's skin maps (curvature, thickness: about a second) bake
+    // now, before the first frame, so that frame already has them (they
+    // used to pop in a second or two after it).
+    if let Err(e) = w.apply_pending_maps() {
+        let _ = tx.send(Reply::Error(e));
+    }
     let mut refine: Option<Refine> = None;
     loop {
         // Refining: take a new request if there is one, else add a frame.
