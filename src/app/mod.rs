@@ -834,6 +834,8 @@ impl EditorApp {
                 Ok(Err(e)) => {
                     self.status = format!("Error: {e}");
                     self.environment_load = None;
+                    // The HDR rig that asked for this map is off.
+                    self.hdr_rig_pending = false;
                 }
                 Err(std::sync::mpsc::TryRecvError::Empty) => {}
                 Err(_) => self.environment_load = None,
