@@ -11,6 +11,31 @@ fn gizmo(h: &Harness<'_, EditorApp>) -> String {
         .expect("the light gizmo states the light's direction")
 }
 
+/// Steps until the viewport has converged and stays so: the analysis done
+/// (it can change the panels' widths, and so the viewport's size) and no
+/// new frame over a few more steps. Under parallel tests a first converged
+/// frame can still be at a provisional size.
+fn settle(h: &mut Harness<'_, EditorApp>) {
+    step_until(h, "the analysis", EditorApp::analysis_done);
+    loop {
+        step_until(h, "a converged frame", |a| {
+            a.viewport_idle()
+                && matches!(
+                    a.viewport_quality(),
+                    Some(scatterlab::app::viewport::Quality::Converged { .. })
+                )
+        });
+        let n = h.state().viewport_frame().map(|f| f.1);
+        for _ in 0..5 {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            h.step();
+        }
+        if h.state().viewport_frame().map(|f| f.1) == n && h.state().viewport_idle() {
+            return;
+        }
+    }
+}
+
 fn pick_rig(h: &mut Harness<'_, EditorApp>, menu: &str, rig: &str) {
     h.get_by_label(menu).click_accesskit();
     h.run_steps(2);
@@ -160,7 +185,7 @@ fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
         [900.0, 560.0],
     );
     h.step();
-    step_until(&mut h, "the first frame", |a| a.viewport_frame().is_some());
+    settle(&mut h);
     h.key_press(Key::F12);
     h.run_steps(2);
     assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
@@ -458,8 +483,9 @@ fn side_by_side_frames_the_whole_head_in_each_half() {
 }
 
 /// "before" (and F) flickers the viewport to the look before the last
-/// edit and back: the frame rendered is the old look's, pixel-equal to the
-/// frame before the edit; with no edit yet it is off.
+/// edit and back: the frame rendered is the old look's (within the
+/// refinement's noise of the frame before the edit, far from the edited
+/// one); with no edit yet it is off.
 #[test]
 fn before_flickers_to_the_look_before_the_last_edit() {
     let mut h = harness_of(
@@ -467,13 +493,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
         [900.0, 560.0],
     );
     h.step();
-    step_until(&mut h, "the first frame", |a| {
-        a.viewport_idle()
-            && matches!(
-                a.viewport_quality(),
-                Some(scatterlab::app::viewport::Quality::Converged { .. })
-            )
-    });
+    settle(&mut h);
     let original = h.state().viewport_frame().unwrap().0.clone();
     h.key_press(Key::F);
     h.run_steps(2);
@@ -481,28 +501,31 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     // An edit: red scattering distance 3 mm.
     h.get_by_label("R: mm").set_value_accesskit(3.0);
     h.run_steps(2);
-    step_until(&mut h, "the edited frame", |a| {
-        a.viewport_idle()
-            && matches!(
-                a.viewport_quality(),
-                Some(scatterlab::app::viewport::Quality::Converged { .. })
-            )
-    });
+    settle(&mut h);
     let edited = h.state().viewport_frame().unwrap().0.clone();
     assert!(edited != original, "the edit changed nothing on screen");
     h.key_press(Key::F);
     h.run_steps(2);
     assert!(h.state().show_before);
-    step_until(&mut h, "the frame before the edit", |a| {
-        a.viewport_idle()
-            && matches!(
-                a.viewport_quality(),
-                Some(scatterlab::app::viewport::Quality::Converged { .. })
-            )
-    });
+    settle(&mut h);
+    // With a tolerance (the refinement's noise may differ when the frame
+    // is rendered again rather than kept): far nearer the old frame than
+    // the edited one is.
+    let mean_diff = |a: &image::RgbaImage, b: &image::RgbaImage| -> f64 {
+        assert_eq!(a.dimensions(), b.dimensions());
+        a.as_raw()
+            .iter()
+            .zip(b.as_raw())
+            .map(|(x, y)| (*x as f64 - *y as f64).abs())
+            .sum::<f64>()
+            / a.as_raw().len() as f64
+    };
+    let shown = h.state().viewport_frame().unwrap().0.clone();
+    let (to_old, edit) = (mean_diff(&shown, &original), mean_diff(&edited, &original));
+    eprintln!("before vs original {to_old:.3}, edited vs original {edit:.3} (8-bit levels)");
     assert!(
-        h.state().viewport_frame().unwrap().0 == &original,
-        "before is not the old look"
+        to_old < 0.25 * edit && to_old < 1.0,
+        "before is not the old look: {to_old} vs {edit}"
     );
     // The look being edited is untouched.
     assert_eq!(scattering_distance(h.state())[0], 3.0);

@@ -221,8 +221,7 @@ fn export_and_save_as_ask_before_replacing() {
     path_field(&h).set_text_value_accesskit(&out.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
-    h.run_steps(4);
-    assert!(h.query_by_label("Replace existing files?").is_some());
+    wait_for_label(&mut h, "Replace existing files?");
     h.get_by_label("Cancel").click_accesskit();
     h.run_steps(2);
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
@@ -243,8 +242,7 @@ fn export_and_save_as_ask_before_replacing() {
     path_field(&h).set_text_value_accesskit(&preset.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
-    h.run_steps(4);
-    assert!(h.query_by_label("Replace existing files?").is_some());
+    wait_for_label(&mut h, "Replace existing files?");
     assert_eq!(std::fs::read_to_string(&preset).unwrap(), "old");
     h.get_by_label("Replace").click_accesskit();
     h.run_steps(2);
@@ -425,4 +423,16 @@ fn refine_to_the_truth_goes_coarse_then_full_and_keeps_the_frame() {
         a.frame_info().starts_with("reference") && a.frame_info().contains("kept from before")
     });
     assert_eq!(h.state().viewport_frame().unwrap().0, &truth);
+}
+
+/// Steps (up to 10 s) until a node labelled `label` shows: a prompt opened
+/// by a click can take a few frames longer when the parallel tests load
+/// the machine.
+fn wait_for_label(h: &mut Harness<'_, EditorApp>, label: &str) {
+    let t0 = Instant::now();
+    while h.query_by_label(label).is_none() {
+        assert!(t0.elapsed() < Duration::from_secs(10), "no \"{label}\"");
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
