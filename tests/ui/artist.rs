@@ -192,7 +192,7 @@ fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
     let proposed = path_field(&h).value().unwrap();
     assert!(proposed.ends_with("skin_default_burley.png"), "{proposed}");
     // A folder: refused, named, the dialog stays.
-    path_field(&h).set_text_value_accesskit(&dir.display().to_string());
+    set_path(&mut h, &dir.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.run_steps(3);
@@ -204,7 +204,7 @@ fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
     assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
     assert!(h.query_by_label("Replace existing files?").is_none());
     let out = dir.join("head.png");
-    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    set_path(&mut h, &out.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.run_steps(3);
@@ -260,7 +260,7 @@ fn errors_stay_as_notifications_until_dismissed() {
         std::env::temp_dir().join(format!("scatterlab-ui-noframe-{}.png", std::process::id()));
     h.key_press(Key::F12);
     h.run_steps(2);
-    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    set_path(&mut h, &out.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.run_steps(3);

@@ -180,7 +180,7 @@ fn file_dialogs_remember_their_folder() {
     file_menu(&mut h, "Load mesh…");
     let start = path_field(&h).value().unwrap();
     assert!(!start.starts_with(&meshes.display().to_string()), "{start}");
-    path_field(&h).set_text_value_accesskit(&meshes.join("head.obj").display().to_string());
+    set_path(&mut h, &meshes.join("head.obj").display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.run_steps(2);
@@ -218,7 +218,7 @@ fn export_and_save_as_ask_before_replacing() {
     h.get_by_label_contains("Unity HDRP diffusion profile")
         .click_accesskit();
     h.run_steps(5);
-    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    set_path(&mut h, &out.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     wait_for_label(&mut h, "Replace existing files?");
@@ -239,7 +239,7 @@ fn export_and_save_as_ask_before_replacing() {
     std::fs::write(&preset, "old").unwrap();
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.run_steps(2);
-    path_field(&h).set_text_value_accesskit(&preset.display().to_string());
+    set_path(&mut h, &preset.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     wait_for_label(&mut h, "Replace existing files?");
@@ -297,7 +297,7 @@ fn save_in_the_quit_prompt_saves_and_quits() {
     h.run_steps(2);
     assert!(!h.state().close_allowed());
     let new = dir.join("new.ron");
-    path_field(&h).set_text_value_accesskit(&new.display().to_string());
+    set_path(&mut h, &new.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.step();

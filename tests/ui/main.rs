@@ -55,6 +55,21 @@ fn path_field<'h>(h: &'h Harness<'_, EditorApp>) -> egui_kittest::Node<'h> {
         .expect("no file dialog path field")
 }
 
+/// Types `path` into the file dialog's path field and checks it took: under
+/// parallel load a value set through AccessKit was once not applied, and OK
+/// then wrote the default name into the working directory.
+fn set_path(h: &mut Harness<'_, EditorApp>, path: &str) {
+    for _ in 0..50 {
+        path_field(h).set_text_value_accesskit(path);
+        h.step();
+        if path_field(h).value().as_deref() == Some(path) {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    panic!("the file dialog's path field would not take {path}");
+}
+
 fn scattering_distance_r(app: &EditorApp) -> f64 {
     match &app.doc.preset.profile {
         ProfileSpec::Burley(b) => match &b.shape {
@@ -111,7 +126,7 @@ fn edit_undo_save_and_reload() {
     let path = dir.join("edited.ron");
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.step();
-    path_field(&h).set_text_value_accesskit(&path.display().to_string());
+    set_path(&mut h, &path.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.step();
@@ -126,7 +141,7 @@ fn edit_undo_save_and_reload() {
     h.step();
     h.key_press_modifiers(Modifiers::COMMAND, Key::O);
     h.step();
-    path_field(&h).set_text_value_accesskit(&path.display().to_string());
+    set_path(&mut h, &path.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     // The prompt fades in over a few frames.
@@ -329,7 +344,7 @@ fn a_photogrammetry_scan_with_its_own_maps() {
         h.get_by_label(&format!("{label}: the mesh's own"))
             .click_accesskit();
         h.run_steps(3);
-        path_field(&h).set_text_value_accesskit(&scan.join(file).display().to_string());
+        set_path(&mut h, &scan.join(file).display().to_string());
         h.step();
         h.get_by_label("OK").click_accesskit();
         h.run_steps(2);
@@ -426,7 +441,7 @@ fn compare_toggle_and_export_from_the_ui() {
     h.get_by_label_contains("Unity HDRP diffusion profile")
         .click_accesskit();
     h.run_steps(5);
-    path_field(&h).set_text_value_accesskit(&out.display().to_string());
+    set_path(&mut h, &out.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.step();
@@ -487,7 +502,7 @@ fn environment_map_from_the_toolbar() {
         h.run_steps(2);
         h.get_by_label("HDR map…").click_accesskit();
         h.run_steps(3);
-        path_field(h).set_text_value_accesskit(&path.display().to_string());
+        set_path(h, &path.display().to_string());
         h.step();
         h.get_by_label("OK").click_accesskit();
         h.step();
@@ -638,7 +653,7 @@ fn engine_files_import_and_compare() {
 
     file_menu(&mut h, "Import engine file…");
     let mtlx = data.join("materialx/open_pbr_ketchup.mtlx");
-    path_field(&h).set_text_value_accesskit(&mtlx.display().to_string());
+    set_path(&mut h, &mtlx.display().to_string());
     h.step();
     h.get_by_label("OK").click_accesskit();
     h.run_steps(3);
