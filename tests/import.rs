@@ -841,7 +841,10 @@ fn godot_import_is_what_godot_draws() {
         // written from, the reader finds it and measures what Godot draws
         // against it; that is the export's own fit error (a second
         // computation, through the written and re-read file), and Godot
-        // keeps the colour (its albedo is the look's total).
+        // keeps the colour (its albedo is the look's total). The export's
+        // figure itself is judged outside our code: tests/real_clients.rs
+        // (godot_check.py) rebuilds Godot's kernel from its shader table and
+        // checks the error the file states.
         let note = l
             .notes
             .iter()

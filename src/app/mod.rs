@@ -188,6 +188,14 @@ pub struct EditorApp {
     allow_close: bool,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
     b_curves: Option<(BCurvesKey, BCurves)>,
+    /// B's look from its file, by path and modification time: read again
+    /// only when the file changes, not on every UI frame (an engine file's
+    /// import measures its round trip, `godot::read::round_trip_note`).
+    b_look_cache: Option<(
+        PathBuf,
+        Option<std::time::SystemTime>,
+        Result<Preset, String>,
+    )>,
     /// The engine file the look was last imported from, with its own
     /// fields (the Engines readout shows them).
     imported: Option<(PathBuf, crate::export::ImportedLook)>,
@@ -283,6 +291,7 @@ impl EditorApp {
             allow_close: false,
             preview_textures: None,
             b_curves: None,
+            b_look_cache: None,
             imported: None,
             ui_ms: 0.0,
             started: std::time::Instant::now(),

@@ -350,7 +350,20 @@ impl EditorApp {
         let b = if self.ui_state.compare == CompareMode::Off || self.ab == AbView::A {
             None
         } else {
-            match viewport::b_look(&self.doc.preset, &self.ui_state.compare_b) {
+            let b_look = match &self.ui_state.compare_b {
+                CompareB::Preset(path) => {
+                    let modified = std::fs::metadata(path).and_then(|m| m.modified()).ok();
+                    let entry = match self.b_look_cache.take() {
+                        Some(e) if e.0 == *path && e.1 == modified => e,
+                        _ => (path.clone(), modified, viewport::load_look(path)),
+                    };
+                    let look = entry.2.clone().map(|p| viewport::Look::of(&p));
+                    self.b_look_cache = Some(entry);
+                    look
+                }
+                b => viewport::b_look(&self.doc.preset, b),
+            };
+            match b_look {
                 Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
                 Err(e) => {
                     self.status = format!("Error: compare B: {e}");

@@ -36,13 +36,6 @@ fn settle(h: &mut Harness<'_, EditorApp>) {
     }
 }
 
-fn pick_rig(h: &mut Harness<'_, EditorApp>, menu: &str, rig: &str) {
-    h.get_by_label(menu).click_accesskit();
-    h.run_steps(2);
-    h.get_by_label(rig).click_accesskit();
-    h.run_steps(2);
-}
-
 /// Each rig is one click from the view toolbar and puts the key light
 /// where its tooltip says, relative to the camera (the side light at 90°,
 /// the back light at 135° from the camera's azimuth), with its environment;
@@ -56,14 +49,14 @@ fn light_rigs_are_one_click_and_the_gizmo_shows_the_light() {
     // The default view is no rig: 51.6° from the camera, 20° up.
     assert!(h.query_by_label("Light: custom").is_some());
     assert_eq!(gizmo(&h), "52° from the camera, 20° up, in front");
-    pick_rig(&mut h, "Light: custom", "side");
+    menu_item(&mut h, "Light: custom", "side");
     let v = h.state().ui_state.view;
     let rel = (v.orbit.light_azimuth_rad - v.orbit.camera_yaw_rad).to_degrees();
     assert!((rel - 90.0).abs() < 1e-3, "{rel}");
     assert!((v.orbit.light_elevation_rad.to_degrees() - 10.0).abs() < 1e-3);
     assert_eq!(v.environment, EnvironmentChoice::Black);
     assert_eq!(gizmo(&h), "90° from the camera, 10° up, in front");
-    pick_rig(&mut h, "Light: side", "back, through the ear");
+    menu_item(&mut h, "Light: side", "back, through the ear");
     assert_eq!(gizmo(&h), "135° from the camera, 10° up, behind");
     assert!(h.query_by_label("Light: back, through the ear").is_some());
     // Orbiting keeps the light where it is in the world: no longer the rig.
@@ -72,7 +65,7 @@ fn light_rigs_are_one_click_and_the_gizmo_shows_the_light() {
     assert!(h.query_by_label("Light: custom").is_some());
     assert_eq!(gizmo(&h), "106° from the camera, 10° up, behind");
     // Front, from the new camera: beside it.
-    pick_rig(&mut h, "Light: custom", "front");
+    menu_item(&mut h, "Light: custom", "front");
     assert_eq!(gizmo(&h), "0° from the camera, 20° up, in front");
     assert_eq!(
         h.state().ui_state.view.environment,
@@ -80,7 +73,7 @@ fn light_rigs_are_one_click_and_the_gizmo_shows_the_light() {
     );
     // No map loaded: the HDR rig opens the environment dialog, lighting
     // nothing yet.
-    pick_rig(&mut h, "Light: front", "HDR map");
+    menu_item(&mut h, "Light: front", "HDR map");
     assert!(h.query_by_label_contains("Environment map").is_some());
     assert_eq!(
         h.state().ui_state.view.environment,
@@ -180,10 +173,7 @@ fn picker_field<'h>(h: &'h Harness<'_, EditorApp>, channel: &str) -> egui_kittes
 fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-image-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut h = harness_of(
-        EditorApp::new(None, UiState::default(), None, true),
-        [900.0, 560.0],
-    );
+    let mut h = viewport_harness([900.0, 560.0]);
     h.step();
     settle(&mut h);
     h.key_press(Key::F12);
@@ -401,10 +391,7 @@ fn the_toolbars_are_one_row_each_at_1280x720() {
 fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
     use scatterlab::app::state::{CompareB, CompareMode};
     use scatterlab::settings::rendering::MethodId;
-    let mut h = harness_of(
-        EditorApp::new(None, UiState::default(), None, true),
-        [900.0, 560.0],
-    );
+    let mut h = viewport_harness([900.0, 560.0]);
     h.step();
     h.get_by_label("SSS only").click_accesskit();
     h.run_steps(2);
@@ -488,10 +475,7 @@ fn side_by_side_frames_the_whole_head_in_each_half() {
 /// one); with no edit yet it is off.
 #[test]
 fn before_flickers_to_the_look_before_the_last_edit() {
-    let mut h = harness_of(
-        EditorApp::new(None, UiState::default(), None, true),
-        [900.0, 560.0],
-    );
+    let mut h = viewport_harness([900.0, 560.0]);
     h.step();
     settle(&mut h);
     let original = h.state().viewport_frame().unwrap().0.clone();

@@ -80,12 +80,22 @@ fn scattering_distance_r(app: &EditorApp) -> f64 {
     }
 }
 
-/// Opens File → `item`.
-fn file_menu(h: &mut Harness<'_, EditorApp>, item: &str) {
-    h.get_by_label("File").click_accesskit();
+/// Opens `menu` (a menu button by its label) and clicks its `item`.
+fn menu_item(h: &mut Harness<'_, EditorApp>, menu: &str, item: &str) {
+    h.get_by_label(menu).click_accesskit();
     h.run_steps(2);
     h.get_by_label(item).click_accesskit();
     h.run_steps(2);
+}
+
+/// Opens File → `item`.
+fn file_menu(h: &mut Harness<'_, EditorApp>, item: &str) {
+    menu_item(h, "File", item);
+}
+
+/// An editor with its viewport (the render thread) in a window of `size`.
+fn viewport_harness(size: [f32; 2]) -> Harness<'static, EditorApp> {
+    harness_of(EditorApp::new(None, UiState::default(), None, true), size)
 }
 
 #[test]
