@@ -278,141 +278,92 @@ impl EditorApp {
         }
     }
 
-    /// The open file dialog: a path field, the folder's matching files,
-    /// OK and Cancel.
+    /// The open file dialog (`egui_file`): folders first, then the files
+    /// of this kind; an export's notes in a window above it.
     pub(super) fn file_dialog(&mut self, ctx: &egui::Context) {
-        let Some(mut dialog) = self.dialog.clone() else {
+        let Some(mut dialog) = self.dialog.take() else {
             return;
         };
         if let Some(notes) = self.export_notes.as_ref().and_then(|rx| rx.try_recv().ok()) {
             dialog.notes = Some(notes);
             self.export_notes = None;
         }
-        let title = match &dialog.kind {
-            DialogKind::Open => "Open preset".to_string(),
-            DialogKind::Import => "Import an engine's file (Unity .asset, Unreal .txt/.py, MaterialX .mtlx, Godot .tres, Blender .py)".into(),
-            DialogKind::SaveAs => "Save preset as".into(),
-            DialogKind::Export(f) => format!("Export: {}", f.name()),
-            DialogKind::CompareB => "Preset or engine file to compare against (B): B is what that engine draws".into(),
-            DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
-            DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
-            DialogKind::SaveImage => "Save the viewport image (PNG)".into(),
-            DialogKind::Map(k) => format!(
-                "{} map (.png, .jpg)",
-                crate::render::textures::SLOTS[*k].name()
-            ),
-        };
-        let mut close = false;
-        let mut accept = false;
-        egui::Modal::new(egui::Id::unique("scatterlab_file_dialog")).show(ctx, |ui| {
-            ui.heading(&title);
-            if let DialogKind::Export(_) = dialog.kind {
-                match &dialog.notes {
-                    Some(notes) => {
-                        for n in notes {
-                            ui.label(n);
-                        }
-                    }
-                    None => {
-                        ui.horizontal(|ui| {
-                            ui.spinner();
-                            ui.label("Estimating how closely the target holds this look …");
-                        });
-                    }
-                }
-                ui.separator();
-            }
-            let r = ui.add(egui::TextEdit::singleline(&mut dialog.path).desired_width(520.0));
-            if r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
-                accept = true;
-            }
-            // The folder's matching files, to click.
-            let p = PathBuf::from(&dialog.path);
-            let dir = if p.is_dir() {
-                p.clone()
-            } else {
-                p.parent().map(Path::to_path_buf).unwrap_or_default()
-            };
-            let exts: &[&str] = match dialog.kind {
-                DialogKind::Mesh => &["obj", "gltf", "glb"],
-                DialogKind::Environment => &["hdr"],
-                DialogKind::Map(_) => &["png", "jpg", "jpeg"],
-                DialogKind::SaveImage => &["png"],
-                DialogKind::Export(f) => &[f.extension()],
-                DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
-                DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
-                _ => &["ron"],
-            };
-            egui::ScrollArea::vertical()
-                .max_height(240.0)
-                .show(ui, |ui| {
-                    if let Some(parent) = dir.parent() {
-                        if ui.button("[up] ..").clicked() {
-                            dialog.path = parent.display().to_string();
-                        }
-                    }
-                    let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
-                        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
-                        .unwrap_or_default();
-                    entries.sort();
-                    for e in entries {
-                        let name = e
-                            .file_name()
-                            .map(|n| n.to_string_lossy().into_owned())
-                            .unwrap_or_default();
-                        if name.starts_with('.') {
-                            continue;
-                        }
-                        let is_dir = e.is_dir();
-                        let matches = e
-                            .extension()
-                            .and_then(|x| x.to_str())
-                            .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()));
-                        if is_dir {
-                            if ui.button(format!("{name}/")).clicked() {
-                                dialog.path = e.display().to_string();
+        if let DialogKind::Export(f) = dialog.kind {
+            // Beside the dialog (shifted left for it), not under it.
+            egui::Window::new("Export notes")
+                .id(egui::Id::unique("scatterlab_export_notes"))
+                .anchor(egui::Align2::RIGHT_CENTER, [-8.0, 0.0])
+                .default_width(330.0)
+                .max_width(330.0)
+                .collapsible(false)
+                .resizable(false)
+                .show(ctx, |ui| {
+                    ui.strong(f.name());
+                    ui.label(f.description());
+                    ui.separator();
+                    match &dialog.notes {
+                        Some(notes) => {
+                            for n in notes {
+                                ui.label(n);
                             }
-                        } else if matches && ui.button(&name).clicked() {
-                            dialog.path = e.display().to_string();
+                        }
+                        None => {
+                            ui.horizontal(|ui| {
+                                ui.spinner();
+                                ui.label("Estimating how closely the target holds this look …");
+                            });
                         }
                     }
                 });
-            ui.horizontal(|ui| {
-                if ui.button("OK").clicked() {
-                    accept = true;
+        }
+        let state = dialog.picker.show(ctx).state();
+        let mut close = false;
+        match state {
+            egui_file::State::Selected => {
+                close = true;
+                if let Some(path) = dialog.picker.path().map(Path::to_path_buf) {
+                    self.accept_dialog(&mut dialog, path, &mut close);
                 }
-                if ui.button("Cancel").clicked() {
-                    close = true;
+            }
+            egui_file::State::Open => {}
+            egui_file::State::Cancelled | egui_file::State::Closed => {
+                close = true;
+                if dialog.kind == DialogKind::SaveAs {
+                    // Cancelled: nothing saved, so nothing to carry on with.
+                    self.after_save = None;
                 }
-            });
-        });
-        if close && !accept && dialog.kind == DialogKind::SaveAs {
-            // Cancelled: nothing saved, so nothing to carry on with.
-            self.after_save = None;
+                if dialog.kind == DialogKind::Environment {
+                    // No map chosen: the HDR light rig that asked for it is off.
+                    self.hdr_rig_pending = false;
+                }
+            }
         }
-        if close && !accept && dialog.kind == DialogKind::Environment {
-            // No map chosen: the HDR light rig that asked for it is off.
-            self.hdr_rig_pending = false;
+        if !close && self.dialog.is_none() {
+            self.dialog = Some(dialog);
         }
-        if accept {
-            close = true;
-            self.accept_dialog(&dialog, &mut close);
-        }
-        self.dialog = if close { None } else { Some(dialog) };
     }
 
-    /// OK in a file dialog: remember its folder, then write, open or load
-    /// — or first ask, where a Save As or export would replace files.
-    pub(super) fn accept_dialog(&mut self, dialog: &FileDialog, close: &mut bool) {
-        let path = PathBuf::from(dialog.path.trim());
-        if dialog.kind.writes() && path.is_dir() {
-            // Never offer a folder as a file to replace.
-            self.status = format!(
-                "Error: {} is a folder: type a file name after it",
-                path.display()
-            );
+    /// Open, Save or Export in a file dialog: remember its folder, then
+    /// write, open or load — or first ask, where a Save As or export would
+    /// replace files. A folder given as the file to write is opened
+    /// instead (never offered for replacing).
+    pub(super) fn accept_dialog(
+        &mut self,
+        dialog: &mut FileDialog,
+        mut path: PathBuf,
+        close: &mut bool,
+    ) {
+        if path.is_dir() {
+            dialog.picker.set_path(&path);
+            dialog.picker.open();
             *close = false;
             return;
+        }
+        if dialog.kind.writes() && path.extension().is_none() {
+            // "skin" in the Save dialog means skin.ron.
+            if let Some(x) = dialog.kind.extensions().first() {
+                path.set_extension(x);
+            }
         }
         if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
             self.ui_state
@@ -432,9 +383,14 @@ impl EditorApp {
                 kind: dialog.kind.clone(),
                 path,
                 existing,
+                notes: dialog.notes.clone(),
             });
         } else {
-            self.write_or_open(dialog.kind.clone(), path, close);
+            self.write_or_open(dialog.kind.clone(), path.clone(), close);
+            if !*close {
+                // Kept open (a B that does not load): back to browsing.
+                dialog.picker.open();
+            }
         }
     }
 
@@ -469,11 +425,16 @@ impl EditorApp {
             }
             Some(false) => {
                 self.overwrite = None;
-                self.dialog = Some(FileDialog {
-                    kind: o.kind,
-                    path: o.path.display().to_string(),
-                    notes: None,
-                });
+                let dir = o.path.parent().map(Path::to_path_buf).unwrap_or_default();
+                let name = o
+                    .path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                self.show_dialog(o.kind, &dir, &name);
+                if let Some(d) = self.dialog.as_mut() {
+                    d.notes = o.notes;
+                }
             }
             None => {}
         }

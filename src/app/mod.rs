@@ -52,6 +52,40 @@ impl DialogKind {
         }
     }
 
+    /// The file extensions this dialog lists (lower case, no dot); folders
+    /// are always listed.
+    fn extensions(&self) -> Vec<&'static str> {
+        let exts: &[&'static str] = match self {
+            DialogKind::Mesh => &["obj", "gltf", "glb"],
+            DialogKind::Environment => &["hdr"],
+            DialogKind::Map(_) => &["png", "jpg", "jpeg"],
+            DialogKind::SaveImage => &["png"],
+            DialogKind::Export(f) => return vec![f.extension()],
+            DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
+            DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
+            DialogKind::Open | DialogKind::SaveAs => &["ron"],
+        };
+        exts.to_vec()
+    }
+
+    /// The dialog's title.
+    fn title(&self) -> String {
+        match self {
+            DialogKind::Open => "Open preset (.ron)".to_string(),
+            DialogKind::Import => "Import an engine's file (Unity .asset, Unreal .txt/.py, MaterialX .mtlx, Godot .tres, Blender .py)".into(),
+            DialogKind::SaveAs => "Save preset as (.ron)".into(),
+            DialogKind::Export(f) => format!("Export: {} (.{})", f.name(), f.extension()),
+            DialogKind::CompareB => "Compare against (B): a preset or an engine's file, drawn as that engine draws it".into(),
+            DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
+            DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
+            DialogKind::SaveImage => "Save the viewport image (.png)".into(),
+            DialogKind::Map(k) => format!(
+                "{} map (.png, .jpg)",
+                crate::render::textures::SLOTS[*k].name()
+            ),
+        }
+    }
+
     /// Whether the dialog writes files (and must ask before replacing).
     fn writes(&self) -> bool {
         matches!(
@@ -61,10 +95,12 @@ impl DialogKind {
     }
 }
 
-#[derive(Debug, Clone)]
+/// An open file dialog: what it is for and the picker (`egui_file`, a
+/// maintained egui dialog: folders first, the typed name kept while
+/// browsing folders).
 struct FileDialog {
     kind: DialogKind,
-    path: String,
+    picker: egui_file::FileDialog,
     /// Export only: what the target will not hold exactly
     /// (`export::export_notes`, computed on a thread: fits take a while).
     notes: Option<Vec<String>>,
@@ -76,6 +112,8 @@ struct Overwrite {
     kind: DialogKind,
     path: PathBuf,
     existing: Vec<PathBuf>,
+    /// The export's notes, for the dialog that Cancel goes back to.
+    notes: Option<Vec<String>>,
 }
 
 /// What the viewport shows while comparing.
@@ -560,24 +598,50 @@ impl EditorApp {
         }
     }
 
-    fn open_dialog(&mut self, kind: DialogKind) {
-        // Where this kind of dialog was last used, else the look's folder,
-        // else the working directory.
-        let dir = self
-            .ui_state
-            .folders
-            .get(kind.folder_key())
-            .filter(|d| d.is_dir())
-            .cloned()
+    /// The folder a dialog of `kind` starts in: the folder of the current
+    /// file of that kind (the look for presets, the mesh, the environment
+    /// map, the slot's map, B), else where this kind was last used, else
+    /// the look's folder, else the working directory.
+    fn dialog_folder(&self, kind: &DialogKind) -> PathBuf {
+        let current: Option<PathBuf> = match kind {
+            DialogKind::Open | DialogKind::SaveAs => self.doc.path.clone(),
+            DialogKind::CompareB => match &self.ui_state.compare_b {
+                CompareB::Preset(p) => Some(p.clone()),
+                _ => self.doc.path.clone(),
+            },
+            DialogKind::Mesh => self.mesh.clone(),
+            DialogKind::Environment => self.ui_state.environment_file.clone(),
+            DialogKind::Map(k) => self.mesh.as_ref().and_then(|m| {
+                self.ui_state
+                    .meshes
+                    .get(m)
+                    .and_then(|s| s.maps[*k].path.clone())
+                    .or_else(|| Some(m.clone()))
+            }),
+            DialogKind::Import | DialogKind::Export(_) | DialogKind::SaveImage => None,
+        };
+        let folder_of = |p: &Path| {
+            p.parent()
+                .filter(|d| !d.as_os_str().is_empty() && d.is_dir())
+                .map(Path::to_path_buf)
+        };
+        current
+            .as_deref()
+            .and_then(folder_of)
             .or_else(|| {
-                self.doc
-                    .path
-                    .as_ref()
-                    .and_then(|p| p.parent().map(Path::to_path_buf))
-                    .filter(|d| !d.as_os_str().is_empty())
+                self.ui_state
+                    .folders
+                    .get(kind.folder_key())
+                    .filter(|d| d.is_dir())
+                    .cloned()
             })
+            .or_else(|| self.doc.path.as_deref().and_then(folder_of))
             .or_else(|| std::env::current_dir().ok())
-            .unwrap_or_default();
+            .unwrap_or_default()
+    }
+
+    fn open_dialog(&mut self, kind: DialogKind) {
+        let dir = self.dialog_folder(&kind);
         let name = match &kind {
             DialogKind::SaveAs => format!("{}.ron", file_stem(&self.doc.preset.name)),
             DialogKind::Export(f) => {
@@ -601,11 +665,85 @@ impl EditorApp {
             });
             self.export_notes = Some(rx);
         }
+        self.show_dialog(kind, &dir, &name);
+    }
+
+    /// Opens the file dialog for `kind` in `dir` with `name` in its file
+    /// field.
+    fn show_dialog(&mut self, kind: DialogKind, dir: &Path, name: &str) {
+        let exts = kind.extensions();
+        let picker = if kind.writes() {
+            egui_file::FileDialog::save_file()
+        } else {
+            egui_file::FileDialog::open_file()
+        };
+        let mut picker = picker
+            .id(egui::Id::unique("scatterlab_file_dialog"))
+            .title(&kind.title())
+            .initial_path(dir)
+            .default_filename(name)
+            .anchor(
+                egui::Align2::CENTER_CENTER,
+                // An export's notes stand to the right.
+                [
+                    if matches!(kind, DialogKind::Export(_)) {
+                        -180.0
+                    } else {
+                        0.0
+                    },
+                    0.0,
+                ],
+            )
+            .default_size([620.0, 400.0])
+            .keep_on_top(true)
+            .show_rename(false)
+            .show_new_folder(kind.writes())
+            .open_button_text("Open".into())
+            .file_label_text("File name:".into())
+            .show_files_filter(Box::new(move |p: &Path| {
+                p.extension()
+                    .and_then(|x| x.to_str())
+                    .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()))
+            }));
+        picker.open();
         self.dialog = Some(FileDialog {
             kind,
-            path: dir.join(name).display().to_string(),
+            picker,
             notes: None,
         });
+    }
+
+    /// Test hook: points the open file dialog at `path` as an artist would
+    /// by typing its folder into the folder field and its name into the
+    /// file-name field (AccessKit cannot commit egui_file's folder field,
+    /// which acts on losing focus). Returns false without an open dialog.
+    pub fn dialog_goto(&mut self, path: &Path) -> bool {
+        let Some(d) = self.dialog.take() else {
+            return false;
+        };
+        let (dir, name) = if path.is_dir() {
+            (path.to_path_buf(), String::new())
+        } else {
+            (
+                path.parent().map(Path::to_path_buf).unwrap_or_default(),
+                path.file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+            )
+        };
+        let notes = d.notes;
+        self.show_dialog(d.kind, &dir, &name);
+        if let Some(d) = self.dialog.as_mut() {
+            d.notes = notes;
+        }
+        true
+    }
+
+    /// The open file dialog's folder (UI tests).
+    pub fn dialog_folder_shown(&self) -> Option<PathBuf> {
+        self.dialog
+            .as_ref()
+            .map(|d| d.picker.directory().to_path_buf())
     }
 
     /// Starts an export on its own thread (table bakes take seconds).

@@ -165,39 +165,59 @@ fn picker_field<'h>(h: &'h Harness<'_, EditorApp>, channel: &str) -> egui_kittes
         .unwrap_or_else(|| panic!("no colour picker field {channel}"))
 }
 
-/// F12 saves the viewport's frame as you see it: the dialog proposes a
-/// clean name (the look's words and the method, no "__"), refuses a folder
-/// as the file to write (the old dialog offered to "Replace" one and
-/// failed), and the PNG written is the frame shown, pixel for pixel.
+/// F12 saves the viewport's frame as you see it: the dialog (egui_file)
+/// proposes a clean name (the look's words and the method, no "__"), lists
+/// folders before files, keeps the typed name while a folder is clicked,
+/// opens a folder typed as the file name instead of offering to replace
+/// it (the old dialog offered to "Replace" one and failed), and the PNG
+/// written is the frame shown, pixel for pixel.
 #[test]
 fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-image-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let sub = dir.join("renders");
+    std::fs::create_dir_all(&sub).unwrap();
+    std::fs::write(dir.join("a_first.png"), b"not read").unwrap();
     let mut h = viewport_harness([900.0, 560.0]);
     h.step();
     settle(&mut h);
     h.key_press(Key::F12);
     h.run_steps(2);
-    assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
-    let proposed = path_field(&h).value().unwrap();
-    assert!(proposed.ends_with("skin_default_burley.png"), "{proposed}");
-    // A folder: refused, named, the dialog stays.
-    set_path(&mut h, &dir.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    assert!(h
+        .query_by_label_contains("Save the viewport image")
+        .is_some());
+    assert_eq!(name_field(&h).value().unwrap(), "skin_default_burley.png");
+    // In `dir`: the folder is listed before the file, though "a_first"
+    // sorts first by name.
+    assert!(h.state_mut().dialog_goto(&dir));
+    h.run_steps(2);
+    let folder = h.get_by_label("\u{1f5c0} renders").rect();
+    let file = h.get_by_label("\u{1f5cb} a_first.png").rect();
+    assert!(folder.top() < file.top(), "{folder:?} {file:?}");
+    // The folder's name as the file to write: it is opened, not replaced.
+    name_field(&h).set_text_value_accesskit("renders");
+    h.run_steps(2);
+    h.get_by_label("Save").click_accesskit();
     h.run_steps(3);
-    assert!(
-        h.state().status().contains("is a folder"),
-        "{}",
-        h.state().status()
-    );
-    assert!(h.query_by_label("Save the viewport image (PNG)").is_some());
     assert!(h.query_by_label("Replace existing files?").is_none());
-    let out = dir.join("head.png");
-    set_path(&mut h, &out.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), sub);
+    assert!(sub.is_dir());
+    // Back up; type a name, click the folder, open it: the name stays.
+    h.get_by_label("\u{2b06}").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), dir);
+    name_field(&h).set_text_value_accesskit("head.png");
+    h.run_steps(2);
+    h.get_by_label("\u{1f5c0} renders").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(name_field(&h).value().unwrap(), "head.png");
+    h.get_by_label("Open").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), sub);
+    assert_eq!(name_field(&h).value().unwrap(), "head.png");
+    // Save there under the typed name.
+    h.get_by_label("Save").click_accesskit();
     h.run_steps(3);
+    let out = sub.join("head.png");
     assert!(
         h.state().status().starts_with("Saved image"),
         "{}",
@@ -250,9 +270,7 @@ fn errors_stay_as_notifications_until_dismissed() {
         std::env::temp_dir().join(format!("scatterlab-ui-noframe-{}.png", std::process::id()));
     h.key_press(Key::F12);
     h.run_steps(2);
-    set_path(&mut h, &out.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &out);
     h.run_steps(3);
     assert!(!out.exists());
     let notices = h.state().notices().to_vec();

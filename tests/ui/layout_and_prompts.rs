@@ -168,8 +168,9 @@ fn panel_edges_stay_grabbable() {
     );
 }
 
-/// A file dialog opens where that kind of dialog was last used (a mesh
-/// dialog in the mesh folder), remembered in `UiState` across runs.
+/// A file dialog opens in the folder of the current file of its kind (a
+/// mesh dialog in the loaded mesh's folder), else where that kind was last
+/// used, remembered in `UiState` across runs.
 #[test]
 fn file_dialogs_remember_their_folder() {
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-folders-{}", std::process::id()));
@@ -178,15 +179,19 @@ fn file_dialogs_remember_their_folder() {
     let mut h = harness(false);
     h.step();
     file_menu(&mut h, "Load mesh…");
-    let start = path_field(&h).value().unwrap();
-    assert!(!start.starts_with(&meshes.display().to_string()), "{start}");
-    set_path(&mut h, &meshes.join("head.obj").display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
-    h.run_steps(2);
+    let start = h.state().dialog_folder_shown().unwrap();
+    assert_ne!(start, meshes);
+    // A file to click: Open acts on a file in the list.
+    std::fs::write(meshes.join("head.obj"), "v 0 0 0\n").unwrap();
+    choose(&mut h, &meshes.join("head.obj"));
+    assert_eq!(
+        h.state().dialog_folder_shown(),
+        None,
+        "{}",
+        h.state().status()
+    );
     file_menu(&mut h, "Load mesh…");
-    let again = path_field(&h).value().unwrap();
-    assert!(again.starts_with(&meshes.display().to_string()), "{again}");
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), meshes);
     h.get_by_label("Cancel").click_accesskit();
     h.run_steps(2);
     // Remembered between runs: the stored state opens there too.
@@ -195,11 +200,7 @@ fn file_dialogs_remember_their_folder() {
     let mut h = harness_of(EditorApp::new(None, state, None, false), [1500.0, 900.0]);
     h.step();
     file_menu(&mut h, "Load mesh…");
-    let next_run = path_field(&h).value().unwrap();
-    assert!(
-        next_run.starts_with(&meshes.display().to_string()),
-        "{next_run}"
-    );
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), meshes);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -218,15 +219,14 @@ fn export_and_save_as_ask_before_replacing() {
     h.get_by_label_contains("Unity HDRP diffusion profile")
         .click_accesskit();
     h.run_steps(5);
-    set_path(&mut h, &out.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &out);
     wait_for_label(&mut h, "Replace existing files?");
     h.get_by_label("Cancel").click_accesskit();
     h.run_steps(2);
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
-    assert_eq!(path_field(&h).value().unwrap(), out.display().to_string());
-    h.get_by_label("OK").click_accesskit();
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), dir);
+    assert_eq!(name_field(&h).value().unwrap(), "look.asset");
+    h.get_by_label("Save").click_accesskit();
     h.run_steps(4);
     h.get_by_label("Replace").click_accesskit();
     h.step();
@@ -239,9 +239,7 @@ fn export_and_save_as_ask_before_replacing() {
     std::fs::write(&preset, "old").unwrap();
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.run_steps(2);
-    set_path(&mut h, &preset.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &preset);
     wait_for_label(&mut h, "Replace existing files?");
     assert_eq!(std::fs::read_to_string(&preset).unwrap(), "old");
     h.get_by_label("Replace").click_accesskit();
@@ -297,9 +295,7 @@ fn save_in_the_quit_prompt_saves_and_quits() {
     h.run_steps(2);
     assert!(!h.state().close_allowed());
     let new = dir.join("new.ron");
-    set_path(&mut h, &new.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &new);
     h.step();
     assert_eq!(Preset::load(&new).unwrap().name, "Untitled edit");
     assert!(h.state().close_allowed() && closing(&h));

@@ -47,27 +47,49 @@ fn step_until(h: &mut Harness<'_, EditorApp>, what: &str, done: impl Fn(&EditorA
     h.step();
 }
 
-/// The file dialog's path field (the other text input is the look's name).
-fn path_field<'h>(h: &'h Harness<'_, EditorApp>) -> egui_kittest::Node<'h> {
-    let name = h.state().doc.preset.name.clone();
+/// The file dialog's file-name field: of its two text inputs, the one that
+/// does not hold the folder shown (the window's other text input is the
+/// look's name).
+fn name_field<'h>(h: &'h Harness<'_, EditorApp>) -> egui_kittest::Node<'h> {
+    let look = h.state().doc.preset.name.clone();
+    let folder = h
+        .state()
+        .dialog_folder_shown()
+        .expect("no file dialog open")
+        .display()
+        .to_string();
     h.get_all_by_role(egui::accesskit::Role::TextInput)
-        .find(|n| n.value().as_deref() != Some(name.as_str()))
-        .expect("no file dialog path field")
+        .find(|n| {
+            let v = n.value().unwrap_or_default();
+            v != look && v != folder
+        })
+        .expect("no file-name field in the file dialog")
 }
 
-/// Types `path` into the file dialog's path field and checks it took: under
-/// parallel load a value set through AccessKit was once not applied, and OK
-/// then wrote the default name into the working directory.
-fn set_path(h: &mut Harness<'_, EditorApp>, path: &str) {
-    for _ in 0..50 {
-        path_field(h).set_text_value_accesskit(path);
-        h.step();
-        if path_field(h).value().as_deref() == Some(path) {
-            return;
-        }
-        std::thread::sleep(Duration::from_millis(20));
+/// Chooses `path` in the open file dialog as an artist would: goes to its
+/// folder with its name in the file-name field (`dialog_goto`, the folder
+/// field commits only on losing focus, which AccessKit cannot do), clicks
+/// the file in the list where it exists, then Open or Save.
+fn choose(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
+    assert!(h.state_mut().dialog_goto(path), "no file dialog open");
+    h.run_steps(2);
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if path.is_file() {
+        // egui_file lists a file as a document glyph and its name.
+        h.get_by_label(&format!("\u{1f5cb} {name}"))
+            .click_accesskit();
+        h.run_steps(2);
     }
-    panic!("the file dialog's path field would not take {path}");
+    let action = if h.query_by_label("Save").is_some() {
+        "Save"
+    } else {
+        "Open"
+    };
+    h.get_by_label(action).click_accesskit();
+    h.run_steps(2);
 }
 
 fn scattering_distance_r(app: &EditorApp) -> f64 {
@@ -136,9 +158,7 @@ fn edit_undo_save_and_reload() {
     let path = dir.join("edited.ron");
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.step();
-    set_path(&mut h, &path.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &path);
     h.step();
     h.step();
     assert!(!h.state().doc.is_dirty(), "{}", h.state().status());
@@ -151,9 +171,9 @@ fn edit_undo_save_and_reload() {
     h.step();
     h.key_press_modifiers(Modifiers::COMMAND, Key::O);
     h.step();
-    set_path(&mut h, &path.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    // The open dialog starts in the folder of the look's file.
+    assert_eq!(h.state().dialog_folder_shown().unwrap(), dir);
+    choose(&mut h, &path);
     // The prompt fades in over a few frames.
     h.run_steps(10);
     assert!(
@@ -354,9 +374,7 @@ fn a_photogrammetry_scan_with_its_own_maps() {
         h.get_by_label(&format!("{label}: the mesh's own"))
             .click_accesskit();
         h.run_steps(3);
-        set_path(&mut h, &scan.join(file).display().to_string());
-        h.step();
-        h.get_by_label("OK").click_accesskit();
+        choose(&mut h, &scan.join(file));
         h.run_steps(2);
         h.get_by_label(&format!("{label}: flip V"))
             .click_accesskit();
@@ -451,9 +469,7 @@ fn compare_toggle_and_export_from_the_ui() {
     h.get_by_label_contains("Unity HDRP diffusion profile")
         .click_accesskit();
     h.run_steps(5);
-    set_path(&mut h, &out.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &out);
     h.step();
     step_until(&mut h, "the export", |a| a.status().starts_with("Exported"));
     let text = std::fs::read_to_string(&out).unwrap();
@@ -512,9 +528,7 @@ fn environment_map_from_the_toolbar() {
         h.run_steps(2);
         h.get_by_label("HDR map…").click_accesskit();
         h.run_steps(3);
-        set_path(h, &path.display().to_string());
-        h.step();
-        h.get_by_label("OK").click_accesskit();
+        choose(h, path);
         h.step();
         step_until(h, "the environment", |a| {
             !a.status().starts_with("Loading environment")
@@ -663,9 +677,7 @@ fn engine_files_import_and_compare() {
 
     file_menu(&mut h, "Import engine file…");
     let mtlx = data.join("materialx/open_pbr_ketchup.mtlx");
-    set_path(&mut h, &mtlx.display().to_string());
-    h.step();
-    h.get_by_label("OK").click_accesskit();
+    choose(&mut h, &mtlx);
     h.run_steps(3);
     assert_eq!(
         h.state().doc.preset.name,
