@@ -38,6 +38,7 @@ mod targets;
 pub mod textures;
 #[cfg(feature = "gpu")]
 pub mod timing;
+pub mod uv_layout;
 
 #[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
