@@ -4,6 +4,8 @@
 //! the flip the lips land on the chin) and the same maps mirrored by
 //! `image` (another program), which then line up.
 
+#![allow(clippy::unwrap_used)]
+
 use scatterlab::render::mesh::Mesh;
 use scatterlab::render::textures::{self, TextureSlot};
 use scatterlab::render::uv_layout::{flip_evidence, FlipVerdict};

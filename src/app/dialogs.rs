@@ -1,5 +1,5 @@
-//! The editor's windows and prompts: a mesh's units, its maps, unsaved
-//! changes, the file dialog and the overwrite prompt.
+//! The editor's windows and prompts: a mesh's units, unsaved changes,
+//! the file dialog and the overwrite prompt (a mesh's maps: `maps.rs`).
 
 use super::*;
 
@@ -111,80 +111,6 @@ impl EditorApp {
         }
         if done || !open {
             self.units_prompt = None;
-        }
-    }
-
-    /// The loaded mesh's map slots: for each, the file (or the mesh's own
-    /// map), a V-flip for maps whose V runs up, and the texels' encoding.
-    /// Changes apply at once (the mesh reloads with them) and are
-    /// remembered for the file.
-    pub(super) fn maps_window(&mut self, ctx: &egui::Context) {
-        use crate::render::textures::{MapSlot, TextureSlot, SLOTS};
-        let Some(path) = self.maps_window.clone() else {
-            return;
-        };
-        let mut settings = self.ui_state.meshes.get(&path).cloned().unwrap_or_default();
-        let mut open = true;
-        let mut choose = None;
-        egui::Window::new("Mesh maps")
-            .collapsible(false)
-            .resizable(false)
-            .open(&mut open)
-            .show(ctx, |ui| {
-                egui::Grid::new("mesh_maps").num_columns(5).show(ui, |ui| {
-                    for (k, slot) in SLOTS.into_iter().enumerate() {
-                        let m = &mut settings.maps[k];
-                        let label = match slot {
-                            TextureSlot::Albedo => "Albedo",
-                            TextureSlot::Normal => "Normal",
-                            TextureSlot::Roughness => "Roughness",
-                            TextureSlot::Mask => "SSS mask",
-                            TextureSlot::Thickness => "Thickness",
-                        };
-                        ui.label(label);
-                        let file = m.path.as_ref().and_then(|p| p.file_name()).map_or_else(
-                            || "the mesh's own".to_string(),
-                            |n| n.to_string_lossy().into_owned(),
-                        );
-                        if ui
-                            .button(format!("{label}: {file}"))
-                            .on_hover_text("Choose a PNG or JPEG that replaces this map.")
-                            .clicked()
-                        {
-                            choose = Some(k);
-                        }
-                        if ui
-                            .add_enabled(m.path.is_some(), egui::Button::new("Clear"))
-                            .on_hover_text("Back to the mesh's own map.")
-                            .clicked()
-                        {
-                            m.path = None;
-                        }
-                        ui.checkbox(&mut m.flip_v, format!("{label}: flip V"))
-                            .on_hover_text("For maps made with V up (OpenGL's bottom-left origin) on a mesh with glTF's top-left origin, or the other way round.");
-                        egui::ComboBox::from_id_salt(("map_space", k))
-                            .selected_text(if m.srgb { "sRGB" } else { "linear" })
-                            .show_ui(ui, |ui| {
-                                ui.selectable_value(&mut m.srgb, true, "sRGB");
-                                ui.selectable_value(&mut m.srgb, false, "linear");
-                            })
-                            .response
-                            .on_hover_text(format!(
-                                "How the file's texels are encoded ({} is usual for this map).",
-                                if MapSlot::default_for(slot).srgb { "sRGB" } else { "linear" }
-                            ));
-                        ui.end_row();
-                    }
-                });
-            });
-        if self.ui_state.meshes.get(&path) != Some(&settings) {
-            self.ui_state.meshes.insert(path.clone(), settings);
-        }
-        if let Some(k) = choose {
-            self.open_dialog(DialogKind::Map(k));
-        }
-        if !open {
-            self.maps_window = None;
         }
     }
 

@@ -4,6 +4,7 @@
 
 pub mod analysis;
 mod dialogs;
+mod maps;
 mod menu;
 mod params_ui;
 mod plots;
@@ -192,8 +193,9 @@ pub struct EditorApp {
     framed_for: Option<(Option<PathBuf>, f32)>,
     /// The units prompt, open for this mesh.
     units_prompt: Option<PathBuf>,
-    /// The map slots window, open for this mesh.
+    /// The map slots window, open for this mesh, and its previews.
     maps_window: Option<PathBuf>,
+    maps_preview: Option<maps::MapsPreview>,
     /// Errors and warnings shown as notifications until dismissed (the
     /// status bar keeps only the latest), and the status last looked at.
     notices: Vec<String>,
@@ -301,6 +303,7 @@ impl EditorApp {
             framed_for: None,
             units_prompt: None,
             maps_window: None,
+            maps_preview: None,
             help_open: false,
             show_before: false,
             difference_shown: None,
@@ -737,6 +740,11 @@ impl EditorApp {
             d.notes = notes;
         }
         true
+    }
+
+    /// Whether the Maps window's previews are computed (UI tests).
+    pub fn maps_preview_ready(&self) -> bool {
+        self.maps_preview.as_ref().is_some_and(|p| p.ready())
     }
 
     /// The open file dialog's folder (UI tests).

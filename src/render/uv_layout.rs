@@ -239,8 +239,12 @@ pub fn flip_evidence(uvs: &[[f32; 2]], indices: &[u32], map: &TextureImage) -> F
     }
 }
 
+/// A UV quantised to 1/65536 (a side's end, to find shared sides).
+type UvKey = (i64, i64);
+
 /// A `size`×`size` RGBA preview: the map as the mesh samples it, darkened
-/// where no triangle samples it, with the layout's edges drawn over it.
+/// where no triangle samples it, with the UV islands' outlines drawn over
+/// it in yellow.
 pub fn preview(uvs: &[[f32; 2]], indices: &[u32], map: &TextureImage, size: usize) -> Vec<u8> {
     let (w, h, c) = (
         map.width as usize,
@@ -272,7 +276,25 @@ pub fn preview(uvs: &[[f32; 2]], indices: &[u32], map: &TextureImage, size: usiz
             }
         }
     }
-    // Edges: a line per triangle side, skipping ones that wrap.
+    // The islands' outlines: triangle sides that no other triangle shares
+    // in UV space (keyed by their ends' UVs, so vertices split only for
+    // normals do not draw seams), skipping sides that wrap.
+    let key = |uv: &[f32; 2]| ((uv[0] * 65536.0) as i64, (uv[1] * 65536.0) as i64);
+    let mut sides: std::collections::HashMap<(UvKey, UvKey), (u32, [f32; 4])> =
+        std::collections::HashMap::new();
+    for t in indices.chunks_exact(3) {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (Some(a), Some(b)) = (uvs.get(a as usize), uvs.get(b as usize)) else {
+                continue;
+            };
+            if !a.iter().chain(b).all(|x| x.is_finite()) {
+                continue;
+            }
+            let (ka, kb) = (key(a), key(b));
+            let k = if ka <= kb { (ka, kb) } else { (kb, ka) };
+            sides.entry(k).or_insert((0, [a[0], a[1], b[0], b[1]])).0 += 1;
+        }
+    }
     let s = size as f32;
     let mut plot = |x: i64, y: i64| {
         if (0..size as i64).contains(&x) && (0..size as i64).contains(&y) {
@@ -280,24 +302,19 @@ pub fn preview(uvs: &[[f32; 2]], indices: &[u32], map: &TextureImage, size: usiz
             px[o..o + 3].copy_from_slice(&[255, 220, 60]);
         }
     };
-    for t in indices.chunks_exact(3) {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-            let (Some(a), Some(b)) = (uvs.get(a as usize), uvs.get(b as usize)) else {
-                continue;
-            };
-            let (ax, ay, bx, by) = (a[0] * s, a[1] * s, b[0] * s, b[1] * s);
-            if !(ax.is_finite() && ay.is_finite() && bx.is_finite() && by.is_finite()) {
-                continue;
-            }
-            let steps = (bx - ax).abs().max((by - ay).abs()).ceil();
-            if steps > s {
-                continue;
-            }
-            let steps = steps.max(1.0) as i64;
-            for k in 0..=steps {
-                let f = k as f32 / steps as f32;
-                plot((ax + f * (bx - ax)) as i64, (ay + f * (by - ay)) as i64);
-            }
+    for (count, [ax, ay, bx, by]) in sides.into_values() {
+        if count != 1 {
+            continue;
+        }
+        let (ax, ay, bx, by) = (ax * s, ay * s, bx * s, by * s);
+        let steps = (bx - ax).abs().max((by - ay).abs()).ceil();
+        if steps > s {
+            continue;
+        }
+        let steps = steps.max(1.0) as i64;
+        for k in 0..=steps {
+            let f = k as f32 / steps as f32;
+            plot((ax + f * (bx - ax)) as i64, (ay + f * (by - ay)) as i64);
         }
     }
     px

@@ -420,15 +420,3 @@ fn refine_to_the_truth_goes_coarse_then_full_and_keeps_the_frame() {
     });
     assert_eq!(h.state().viewport_frame().unwrap().0, &truth);
 }
-
-/// Steps (up to 10 s) until a node labelled `label` shows: a prompt opened
-/// by a click can take a few frames longer when the parallel tests load
-/// the machine.
-fn wait_for_label(h: &mut Harness<'_, EditorApp>, label: &str) {
-    let t0 = Instant::now();
-    while h.query_by_label(label).is_none() {
-        assert!(t0.elapsed() < Duration::from_secs(10), "no \"{label}\"");
-        h.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}

@@ -92,6 +92,17 @@ fn choose(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
     h.run_steps(2);
 }
 
+/// Steps until a widget labelled `label` shows (a minute at most: a
+/// preview can load a mesh on a loaded machine).
+fn wait_for_label(h: &mut Harness<'_, EditorApp>, label: &str) {
+    let t0 = Instant::now();
+    while h.query_by_label(label).is_none() {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no \"{label}\"");
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 fn scattering_distance_r(app: &EditorApp) -> f64 {
     match &app.doc.preset.profile {
         ProfileSpec::Burley(b) => match &b.shape {
@@ -352,7 +363,8 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
 /// it: dropped on the window, the suggested units taken (the head above
 /// the neck 4.024 units across by a separate numpy script: 0.186 / 4.024
 /// = 0.0462 m/unit, 18.6 cm across and 7.945 × 0.0462 = 36.7 cm tall),
-/// the colour and normal maps chosen in Maps… with flip V. The frame is
+/// the colour and normal maps chosen in Maps…, whose previews suggest flip
+/// V (taken). The frame is
 /// framed (crown in view, background above it) and the map is on the skin;
 /// with SCATTERLAB_KEEP_UI_OUTPUT the editor's window is kept as a PNG
 /// (docs/images/editor_scan.png is one, looked at).
@@ -375,11 +387,25 @@ fn a_photogrammetry_scan_with_its_own_maps() {
             .click_accesskit();
         h.run_steps(3);
         choose(&mut h, &scan.join(file));
+        // The Maps window previews the map on the UV layout and suggests
+        // flip V (the layout's outlines are drawn in the map mirrored);
+        // taking the suggestion sets it, and then the map lines up.
+        let suggestion = format!("{label}: apply the suggested flip");
+        wait_for_label(&mut h, &suggestion);
+        assert!(!h.state().ui_state.meshes[&mesh].maps[usize::from(label == "Normal")].flip_v);
+        h.get_by_label(&suggestion).click_accesskit();
         h.run_steps(2);
-        h.get_by_label(&format!("{label}: flip V"))
-            .click_accesskit();
+        step_until(&mut h, "the flipped map's preview", |a| {
+            a.maps_preview_ready()
+        });
         h.run_steps(2);
+        assert!(h.query_by_label(&suggestion).is_none());
     }
+    assert_eq!(
+        h.query_all_by_label_contains("Lines up with the UV layout")
+            .count(),
+        2
+    );
     let settings = &h.state().ui_state.meshes[&mesh];
     assert_eq!(settings.maps[0].path, Some(scan.join("Map-COL.jpg")));
     assert!(settings.maps[0].flip_v && settings.maps[1].flip_v);
