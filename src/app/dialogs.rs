@@ -120,6 +120,7 @@ impl EditorApp {
         self.overwrite_prompt(ctx);
         self.unsaved_prompt(ctx);
         self.file_dialog(ctx);
+        self.turntable_window(ctx);
         self.help_windows(ctx);
     }
 
@@ -298,6 +299,9 @@ impl EditorApp {
         }
         let existing: Vec<PathBuf> = match &dialog.kind {
             DialogKind::SaveAs | DialogKind::SaveImage => vec![path.clone()],
+            DialogKind::SaveTurntable => {
+                super::turntable::planned_paths(&path, &self.ui_state.turntable)
+            }
             DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
             _ => Vec::new(),
         }
@@ -384,6 +388,7 @@ impl EditorApp {
                 },
                 DialogKind::Mesh => self.mesh = Some(path),
                 DialogKind::SaveImage => self.save_image(&path),
+                DialogKind::SaveTurntable => self.start_turntable(path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Map(k) => {
                     if let Some(mesh) = self.mesh.clone() {

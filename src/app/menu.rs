@@ -146,6 +146,14 @@ impl EditorApp {
                     self.open_dialog(DialogKind::SaveImage);
                     ui.close();
                 }
+                if ui
+                    .button("Save turntable…")
+                    .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
+                    .clicked()
+                {
+                    self.turntable_open = true;
+                    ui.close();
+                }
                 ui.separator();
                 if ui
                     .button("Load mesh…")

@@ -9,6 +9,7 @@ mod menu;
 mod params_ui;
 mod plots;
 pub mod state;
+pub mod turntable;
 pub mod viewport;
 mod viewport_ui;
 
@@ -37,6 +38,8 @@ pub enum DialogKind {
     Map(usize),
     /// The viewport's frame as a PNG (File → Save image, F12).
     SaveImage,
+    /// A turntable GIF (and its PNG frames): File → Save turntable.
+    SaveTurntable,
 }
 
 impl DialogKind {
@@ -49,7 +52,7 @@ impl DialogKind {
             DialogKind::Mesh => "mesh",
             DialogKind::Environment => "environment",
             DialogKind::Map(_) => "map",
-            DialogKind::SaveImage => "image",
+            DialogKind::SaveImage | DialogKind::SaveTurntable => "image",
         }
     }
 
@@ -61,6 +64,7 @@ impl DialogKind {
             DialogKind::Environment => &["hdr"],
             DialogKind::Map(_) => &["png", "jpg", "jpeg"],
             DialogKind::SaveImage => &["png"],
+            DialogKind::SaveTurntable => &["gif"],
             DialogKind::Export(f) => return vec![f.extension()],
             DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
             DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
@@ -80,6 +84,7 @@ impl DialogKind {
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
+            DialogKind::SaveTurntable => "Save turntable (.gif, and a PNG per frame)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",
                 crate::render::textures::SLOTS[*k].name()
@@ -91,7 +96,10 @@ impl DialogKind {
     fn writes(&self) -> bool {
         matches!(
             self,
-            DialogKind::SaveAs | DialogKind::Export(_) | DialogKind::SaveImage
+            DialogKind::SaveAs
+                | DialogKind::Export(_)
+                | DialogKind::SaveImage
+                | DialogKind::SaveTurntable
         )
     }
 }
@@ -196,6 +204,9 @@ pub struct EditorApp {
     /// The map slots window, open for this mesh, and its previews.
     maps_window: Option<PathBuf>,
     maps_preview: Option<maps::MapsPreview>,
+    /// File → Save turntable: its window, and the turntable rendering.
+    turntable_open: bool,
+    turntable: Option<turntable::TurntableJob>,
     /// Errors and warnings shown as notifications until dismissed (the
     /// status bar keeps only the latest), and the status last looked at.
     notices: Vec<String>,
@@ -304,6 +315,8 @@ impl EditorApp {
             units_prompt: None,
             maps_window: None,
             maps_preview: None,
+            turntable_open: false,
+            turntable: None,
             help_open: false,
             show_before: false,
             difference_shown: None,
@@ -621,7 +634,10 @@ impl EditorApp {
                     .and_then(|s| s.maps[*k].path.clone())
                     .or_else(|| Some(m.clone()))
             }),
-            DialogKind::Import | DialogKind::Export(_) | DialogKind::SaveImage => None,
+            DialogKind::Import
+            | DialogKind::Export(_)
+            | DialogKind::SaveImage
+            | DialogKind::SaveTurntable => None,
         };
         let folder_of = |p: &Path| {
             p.parent()
@@ -652,6 +668,11 @@ impl EditorApp {
             }
             DialogKind::SaveImage => format!(
                 "{}_{}.png",
+                file_stem(&self.doc.preset.name),
+                self.doc.preset.rendering.method.id()
+            ),
+            DialogKind::SaveTurntable => format!(
+                "{}_{}_turntable.gif",
                 file_stem(&self.doc.preset.name),
                 self.doc.preset.rendering.method.id()
             ),

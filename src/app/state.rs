@@ -442,6 +442,8 @@ pub struct UiState {
     pub folders: std::collections::BTreeMap<String, PathBuf>,
     /// Go on from the method's converged frame to the ground truth.
     pub refine_to_truth: bool,
+    /// File → Save turntable's settings.
+    pub turntable: super::turntable::TurntableSettings,
 }
 
 impl Default for UiState {
@@ -464,6 +466,7 @@ impl Default for UiState {
             meshes: Default::default(),
             folders: Default::default(),
             refine_to_truth: false,
+            turntable: Default::default(),
         }
     }
 }

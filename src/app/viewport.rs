@@ -285,6 +285,22 @@ impl Viewport {
         }
     }
 
+    /// The number of the last request sent (a frame's `seq` answers it).
+    pub fn seq(&self) -> u64 {
+        self.seq
+    }
+
+    /// The last request sent (its `seq` is 0).
+    pub fn last_request(&self) -> Option<&Request> {
+        self.last_sent.as_ref()
+    }
+
+    /// Stops a ground truth being computed for the last request.
+    pub fn cancel_current(&self) {
+        self.cancel
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
     /// Replies that arrived since the last call.
     pub fn poll(&mut self) -> Vec<Reply> {
         let replies: Vec<Reply> = self.rx.try_iter().collect();

@@ -233,6 +233,105 @@ fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Mean absolute difference of two equally sized images (8-bit, RGB).
+fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: u64 = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| {
+            (0..3)
+                .map(|c| (p[c] as i64 - q[c] as i64).unsigned_abs())
+                .sum::<u64>()
+        })
+        .sum();
+    sum as f64 / (3 * a.width() * a.height()) as f64
+}
+
+/// File → Save turntable… renders N converged frames around the head and
+/// writes them as a looping GIF and a PNG per frame; the first frame is the
+/// viewport's own view, the half turn shows the back of the head. Read
+/// back with `image`'s GIF decoder (another code path than the encoder).
+/// Cancel stops a long one and writes nothing.
+#[test]
+fn turntable_writes_a_gif_and_pngs_and_cancel_writes_nothing() {
+    use image::AnimationDecoder;
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-turntable-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = viewport_harness([900.0, 560.0]);
+    h.step();
+    settle(&mut h);
+    menu_item(&mut h, "File", "Save turntable…");
+    assert!(h.query_by_label("Save turntable as GIF…").is_some());
+    h.state_mut().ui_state.turntable.frames = 4;
+    h.get_by_label("Save turntable as GIF…").click_accesskit();
+    wait_for_file_dialog(&mut h);
+    assert_eq!(
+        name_field(&h).value().unwrap(),
+        "skin_default_burley_turntable.gif"
+    );
+    let out = dir.join("spin.gif");
+    choose(&mut h, &out);
+    assert!(
+        h.state().turntable_progress().is_some(),
+        "{}",
+        h.state().status()
+    );
+    step_until(&mut h, "the turntable", |a| {
+        a.turntable_progress().is_none()
+    });
+    assert!(
+        h.state().status().starts_with("Saved turntable"),
+        "{}",
+        h.state().status()
+    );
+    let gif = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&out).unwrap(),
+    ))
+    .unwrap();
+    let frames = gif.into_frames().collect_frames().unwrap();
+    assert_eq!(frames.len(), 4);
+    let (shown, _) = h.state().viewport_frame().unwrap();
+    let first = frames[0].buffer();
+    assert_eq!(first.dimensions(), shown.dimensions());
+    // GIF's 256-colour palette costs a little; the view is the viewport's.
+    let d0 = mean_difference(first, shown);
+    let d_half = mean_difference(frames[2].buffer(), shown);
+    assert!(d0 < 3.0, "frame 0 vs the viewport: {d0:.2}");
+    assert!(
+        d_half > 4.0 * d0.max(1.0),
+        "the half turn is the same view: {d_half:.2}"
+    );
+    let pngs: Vec<_> = (0..4)
+        .map(|k| dir.join("spin_frames").join(format!("spin_{k:03}.png")))
+        .collect();
+    for p in &pngs {
+        assert!(p.is_file(), "{} missing", p.display());
+    }
+    let png0 = image::open(&pngs[0]).unwrap().to_rgba8();
+    let dp = mean_difference(&png0, shown);
+    assert!(dp < 0.5, "PNG frame 0 vs the viewport: {dp:.3}");
+
+    // A long one, cancelled after its first frame: nothing written.
+    h.state_mut().ui_state.turntable.frames = 72;
+    h.get_by_label("Save turntable as GIF…").click_accesskit();
+    h.run_steps(2);
+    let long = dir.join("long.gif");
+    choose(&mut h, &long);
+    step_until(&mut h, "a first turntable frame", |a| {
+        a.turntable_progress().is_some_and(|(done, _)| done >= 1)
+    });
+    h.get_by_label("Cancel turntable").click_accesskit();
+    step_until(&mut h, "the cancel", |a| a.turntable_progress().is_none());
+    assert!(
+        h.state().status().contains("cancelled"),
+        "{}",
+        h.state().status()
+    );
+    assert!(!long.exists() && !dir.join("long_frames").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// F1 lists the shortcuts (each one the editor handles, F12 among them);
 /// Help → About gives the version and the bundled assets' licences.
 #[test]

@@ -66,13 +66,32 @@ fn name_field<'h>(h: &'h Harness<'_, EditorApp>) -> egui_kittest::Node<'h> {
         .expect("no file-name field in the file dialog")
 }
 
+/// Steps until the file dialog's fields show (a window can take a few
+/// frames to appear while others ask for repaints).
+fn wait_for_file_dialog(h: &mut Harness<'_, EditorApp>) {
+    let t0 = Instant::now();
+    loop {
+        h.step();
+        let look = h.state().doc.preset.name.clone();
+        let fields = h
+            .get_all_by_role(egui::accesskit::Role::TextInput)
+            .filter(|n| n.value().as_deref() != Some(look.as_str()))
+            .count();
+        if h.state().dialog_folder_shown().is_some() && fields >= 2 {
+            return;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(10), "no file dialog");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// Chooses `path` in the open file dialog as an artist would: goes to its
 /// folder with its name in the file-name field (`dialog_goto`, the folder
 /// field commits only on losing focus, which AccessKit cannot do), clicks
 /// the file in the list where it exists, then Open or Save.
 fn choose(h: &mut Harness<'_, EditorApp>, path: &std::path::Path) {
     assert!(h.state_mut().dialog_goto(path), "no file dialog open");
-    h.run_steps(2);
+    wait_for_file_dialog(h);
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

@@ -1,0 +1,365 @@
+//! File → Save turntable…: N converged frames around the head, written as
+//! an animated GIF and a PNG sequence, on a thread of its own with a
+//! progress bar and Cancel.
+//!
+//! Each frame is the viewport's own request (look, comparison, mesh, maps,
+//! light, environment, size) with the camera turned by 360°·k/N about the
+//! head, rendered by a second render thread (`viewport::Viewport`) until it
+//! converges, so a turntable shows what the viewport would. The key light
+//! turns with the camera unless asked not to (the head then spins under a
+//! fixed studio light); an HDR environment stays put. Nothing is written
+//! until every frame is in: a cancelled turntable leaves no files.
+
+use super::viewport::{Quality, Reply, Request, Viewport};
+use super::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Receiver;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// What the artist set for turntables (remembered in `UiState`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct TurntableSettings {
+    /// Frames in one turn.
+    pub frames: u32,
+    /// One turn's length in the GIF (s).
+    pub seconds: f32,
+    /// The key light turns with the camera (the head spins under it).
+    pub light_follows: bool,
+    /// Also write each frame as a PNG, in `<name>_frames/`.
+    pub png_sequence: bool,
+}
+
+impl Default for TurntableSettings {
+    fn default() -> Self {
+        Self {
+            frames: 36,
+            seconds: 4.0,
+            light_follows: true,
+            png_sequence: true,
+        }
+    }
+}
+
+/// The frame counts the window offers (a field would allow any).
+pub const FRAME_RANGE: std::ops::RangeInclusive<u32> = 2..=360;
+
+/// The files a turntable at `gif` writes: the GIF, then the frames.
+pub fn planned_paths(gif: &Path, settings: &TurntableSettings) -> Vec<PathBuf> {
+    let mut out = vec![gif.to_path_buf()];
+    if settings.png_sequence {
+        let (dir, stem) = frames_dir(gif);
+        out.extend((0..settings.frames).map(|k| dir.join(format!("{stem}_{k:03}.png"))));
+    }
+    out
+}
+
+/// `<folder>/<stem>_frames` and the stem, for the PNG sequence.
+fn frames_dir(gif: &Path) -> (PathBuf, String) {
+    let stem = gif
+        .file_stem()
+        .map_or_else(|| "turntable".into(), |s| s.to_string_lossy().into_owned());
+    let dir = gif
+        .parent()
+        .unwrap_or_else(|| Path::new(""))
+        .join(format!("{stem}_frames"));
+    (dir, stem)
+}
+
+enum Progress {
+    /// Frames rendered so far.
+    Frame(u32),
+    /// Encoding and writing.
+    Writing,
+    Finished(Result<Vec<PathBuf>, String>),
+}
+
+/// A turntable being rendered.
+pub struct TurntableJob {
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<Progress>,
+    pub out: PathBuf,
+    pub total: u32,
+    pub done: u32,
+    writing: bool,
+    started: Instant,
+}
+
+impl TurntableJob {
+    /// Starts rendering `base` turned through one revolution.
+    pub fn start(
+        base: Request,
+        settings: TurntableSettings,
+        out: PathBuf,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (theirs, path) = (cancel.clone(), out.clone());
+        std::thread::spawn(move || {
+            let send = |p: Progress| {
+                let _ = tx.send(p);
+                wake();
+            };
+            let r = render(&base, &settings, &theirs, &send).and_then(|frames| {
+                send(Progress::Writing);
+                write(&frames, &settings, &path)
+            });
+            send(Progress::Finished(r));
+        });
+        Self {
+            cancel,
+            rx,
+            out,
+            total: settings.frames,
+            done: 0,
+            writing: false,
+            started: Instant::now(),
+        }
+    }
+
+    /// Asks the thread to stop (it answers with an error, writing nothing).
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// The result once finished.
+    fn poll(&mut self) -> Option<Result<Vec<PathBuf>, String>> {
+        let mut finished = None;
+        for p in self.rx.try_iter() {
+            match p {
+                Progress::Frame(k) => self.done = k,
+                Progress::Writing => self.writing = true,
+                Progress::Finished(r) => finished = Some(r),
+            }
+        }
+        finished
+    }
+
+    /// For the progress bar.
+    fn text(&self) -> String {
+        if self.writing {
+            return format!("writing {} …", self.out.display());
+        }
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let left = if self.done > 0 {
+            let per = elapsed / self.done as f64;
+            format!(
+                " · about {:.0} s left",
+                per * (self.total - self.done) as f64
+            )
+        } else {
+            String::new()
+        };
+        format!("frame {} of {}{left}", self.done + 1, self.total)
+    }
+}
+
+const CANCELLED: &str = "cancelled: nothing written";
+
+/// Renders the frames, each until it converges.
+fn render(
+    base: &Request,
+    settings: &TurntableSettings,
+    cancel: &AtomicBool,
+    send: &dyn Fn(Progress),
+) -> Result<Vec<image::RgbaImage>, String> {
+    let mut viewport = Viewport::start(|| {});
+    let n = settings.frames.max(1);
+    let mut frames = Vec::with_capacity(n as usize);
+    for k in 0..n {
+        let turn = std::f32::consts::TAU * k as f32 / n as f32;
+        let mut req = base.clone();
+        req.interactive = false;
+        req.view.orbit.camera_yaw_rad += turn;
+        if settings.light_follows {
+            req.view.orbit.light_azimuth_rad += turn;
+        }
+        viewport.request(req);
+        let want = viewport.seq();
+        let image = loop {
+            if cancel.load(Ordering::Relaxed) {
+                viewport.cancel_current();
+                return Err(CANCELLED.into());
+            }
+            let mut got = None;
+            for reply in viewport.poll() {
+                match reply {
+                    Reply::Frame {
+                        image,
+                        seq,
+                        quality: Quality::Converged { .. },
+                        ..
+                    } if seq == want => got = Some(image),
+                    Reply::Error(e) => return Err(format!("frame {}: {e}", k + 1)),
+                    _ => {}
+                }
+            }
+            if let Some(image) = got {
+                break image;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        frames.push(image);
+        send(Progress::Frame(k + 1));
+    }
+    Ok(frames)
+}
+
+/// Encodes the GIF (looping, `seconds` a turn) and the PNG sequence, each
+/// file written to a temporary path and renamed.
+fn write(
+    frames: &[image::RgbaImage],
+    settings: &TurntableSettings,
+    gif: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let at = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+    let delay_ms = (1000.0 * settings.seconds / frames.len().max(1) as f32)
+        .round()
+        .max(20.0) as u32;
+    let mut bytes = Vec::new();
+    {
+        // Speed 10 of 30: NeuQuant's palette per frame, good for skin.
+        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+        enc.set_repeat(Repeat::Infinite).map_err(|e| at(gif, &e))?;
+        let delay = image::Delay::from_numer_denom_ms(delay_ms, 1);
+        enc.encode_frames(
+            frames
+                .iter()
+                .map(|f| image::Frame::from_parts(f.clone(), 0, 0, delay)),
+        )
+        .map_err(|e| at(gif, &e))?;
+    }
+    let mut written = Vec::new();
+    if settings.png_sequence {
+        let (dir, _) = frames_dir(gif);
+        std::fs::create_dir_all(&dir).map_err(|e| at(&dir, &e))?;
+        for (f, path) in frames
+            .iter()
+            .zip(planned_paths(gif, settings).into_iter().skip(1))
+        {
+            let mut png = Vec::new();
+            f.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                .map_err(|e| at(&path, &e))?;
+            crate::fsutil::write_atomic(&path, &png).map_err(|e| at(&path, &e))?;
+            written.push(path);
+        }
+    }
+    crate::fsutil::write_atomic(gif, &bytes).map_err(|e| at(gif, &e))?;
+    written.insert(0, gif.to_path_buf());
+    Ok(written)
+}
+
+impl EditorApp {
+    /// File → Save turntable…: its settings, Save…, then the progress
+    /// with Cancel.
+    pub(super) fn turntable_window(&mut self, ctx: &egui::Context) {
+        if let Some(job) = self.turntable.as_mut() {
+            if let Some(r) = job.poll() {
+                let out = job.out.clone();
+                self.turntable = None;
+                self.status = match r {
+                    Ok(files) => format!(
+                        "Saved turntable {} ({} frames{})",
+                        out.display(),
+                        self.ui_state.turntable.frames,
+                        if files.len() > 1 {
+                            format!(", and {} PNGs", files.len() - 1)
+                        } else {
+                            String::new()
+                        }
+                    ),
+                    Err(e) if e == CANCELLED => format!("Turntable {CANCELLED}"),
+                    Err(e) => format!("Error: turntable {}: {e}", out.display()),
+                };
+            } else {
+                ctx.request_repaint_after(Duration::from_millis(200));
+            }
+        }
+        if !self.turntable_open && self.turntable.is_none() {
+            return;
+        }
+        let mut open = true;
+        let mut save = false;
+        let mut cancel = false;
+        let running = self.turntable.is_some();
+        egui::Window::new("Save turntable")
+            .collapsible(false)
+            .resizable(false)
+            .open(&mut open)
+            .show(ctx, |ui| {
+                let s = &mut self.ui_state.turntable;
+                ui.add_enabled_ui(!running, |ui| {
+                    egui::Grid::new("turntable_settings").num_columns(2).show(ui, |ui| {
+                        ui.label("Frames");
+                        ui.add(egui::DragValue::new(&mut s.frames).range(FRAME_RANGE).suffix(" frames"))
+                            .on_hover_text("Frames in one turn (360° / frames apart). Each is rendered until it converges.");
+                        ui.end_row();
+                        ui.label("One turn");
+                        ui.add(egui::DragValue::new(&mut s.seconds).range(0.5..=60.0).speed(0.1).suffix(" s"))
+                            .on_hover_text("How long the GIF takes for one turn.");
+                        ui.end_row();
+                    });
+                    ui.checkbox(&mut s.light_follows, "Key light turns with the camera")
+                        .on_hover_text("On: the head spins under a fixed studio light. Off: the camera walks round a head lit from one side. An HDR environment never turns.");
+                    ui.checkbox(&mut s.png_sequence, "Also a PNG per frame")
+                        .on_hover_text("Written to <name>_frames/ beside the GIF.");
+                });
+                ui.label("At the viewport's size and view, as the viewport shows it (a comparison too): the method's converged frames.");
+                match self.turntable.as_ref() {
+                    Some(job) => {
+                        let f = if job.writing { 1.0 } else { job.done as f32 / job.total.max(1) as f32 };
+                        ui.add(egui::ProgressBar::new(f).text(job.text()).desired_width(360.0));
+                        if ui.button("Cancel turntable").clicked() {
+                            cancel = true;
+                        }
+                    }
+                    None => {
+                        if ui.button("Save turntable as GIF…").clicked() {
+                            save = true;
+                        }
+                    }
+                }
+            });
+        if cancel {
+            if let Some(job) = &self.turntable {
+                job.cancel();
+            }
+        }
+        if save {
+            self.open_dialog(DialogKind::SaveTurntable);
+        }
+        if !open {
+            self.turntable_open = false;
+            if let Some(job) = &self.turntable {
+                job.cancel();
+            }
+        }
+    }
+
+    /// Frames done and in all of the turntable rendering (UI tests).
+    pub fn turntable_progress(&self) -> Option<(u32, u32)> {
+        self.turntable.as_ref().map(|j| (j.done, j.total))
+    }
+
+    /// Starts a turntable to `gif` from the viewport's current request
+    /// (the window polls it while it runs).
+    pub(super) fn start_turntable(&mut self, gif: PathBuf) {
+        let Some(base) = self.viewport.as_ref().and_then(|v| v.last_request()) else {
+            self.status = format!(
+                "Error: {}: no viewport to turn (wait for the head to appear)",
+                gif.display()
+            );
+            return;
+        };
+        self.turntable = Some(TurntableJob::start(
+            base.clone(),
+            self.ui_state.turntable,
+            gif,
+            || {},
+        ));
+        self.turntable_open = true;
+    }
+}
