@@ -121,6 +121,7 @@ impl EditorApp {
         self.unsaved_prompt(ctx);
         self.file_dialog(ctx);
         self.turntable_window(ctx);
+        self.browser_window(ctx);
         self.help_windows(ctx);
     }
 

@@ -97,6 +97,14 @@ impl EditorApp {
     pub(super) fn menu_bar(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
+                if ui
+                    .button("Browse presets…")
+                    .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
+                    .clicked()
+                {
+                    self.browser = Some(browser::PresetBrowser::open(self.thumbnail_dir.clone()));
+                    ui.close();
+                }
                 ui.menu_button("New from preset", |ui| {
                     for (file, _) in library::PRESETS {
                         if let Ok(p) = library::load(file) {

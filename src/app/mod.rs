@@ -3,6 +3,7 @@
 //! undo, compare and export from the menu bar.
 
 pub mod analysis;
+pub mod browser;
 mod dialogs;
 mod maps;
 mod menu;
@@ -207,6 +208,10 @@ pub struct EditorApp {
     /// File → Save turntable: its window, and the turntable rendering.
     turntable_open: bool,
     turntable: Option<turntable::TurntableJob>,
+    /// File → Browse presets: the window, and where its thumbnails are
+    /// cached.
+    browser: Option<browser::PresetBrowser>,
+    thumbnail_dir: Option<PathBuf>,
     /// Errors and warnings shown as notifications until dismissed (the
     /// status bar keeps only the latest), and the status last looked at.
     notices: Vec<String>,
@@ -317,6 +322,8 @@ impl EditorApp {
             maps_preview: None,
             turntable_open: false,
             turntable: None,
+            browser: None,
+            thumbnail_dir: Self::default_thumbnail_dir(),
             help_open: false,
             show_before: false,
             difference_shown: None,

@@ -634,3 +634,62 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     h.run_steps(2);
     assert!(!h.state().show_before);
 }
+
+/// File → Browse presets… shows every shipped preset as a thumbnail that
+/// our renderer drew of the head (ketchup's red differs from skin's),
+/// cached on disk: a second editor over the same cache renders none. A
+/// click starts a new look from that preset.
+#[test]
+fn preset_browser_renders_thumbnails_once_and_opens_a_preset() {
+    let cache = std::env::temp_dir().join(format!("scatterlab-ui-thumbs-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&cache);
+    let browse = |h: &mut Harness<'_, EditorApp>| {
+        h.state_mut().set_thumbnail_dir(cache.clone());
+        menu_item(h, "File", "Browse presets…");
+        step_until(h, "every thumbnail", |a| {
+            a.preset_browser()
+                .is_some_and(|b| b.progress().0 == b.progress().1)
+        });
+    };
+    let mut h = harness(false);
+    h.step();
+    browse(&mut h);
+    let b = h.state().preset_browser().unwrap();
+    let all = b.progress().1;
+    assert_eq!(all, scatterlab::settings::library::PRESETS.len());
+    assert_eq!(b.rendered, all);
+    let stored = std::fs::read_dir(&cache).unwrap().count();
+    assert_eq!(stored, all, "one cached PNG a preset");
+    let skin = b.thumbnail("Skin (default)").unwrap().clone();
+    let ketchup = b.thumbnail("Ketchup (Jensen 2001)").unwrap().clone();
+    assert_eq!(skin.dimensions(), scatterlab::app::browser::THUMB);
+    // The head fills the middle; ketchup is far redder than skin there.
+    let centre = |img: &image::RgbaImage| {
+        let p = img.get_pixel(img.width() / 2, img.height() / 2);
+        (p[0] as f64, p[1] as f64)
+    };
+    let (skin_r, skin_g) = centre(&skin);
+    let (ketchup_r, ketchup_g) = centre(&ketchup);
+    assert!(
+        ketchup_r / ketchup_g.max(1.0) > 1.5 * skin_r / skin_g.max(1.0),
+        "ketchup {ketchup_r}/{ketchup_g} vs skin {skin_r}/{skin_g}"
+    );
+
+    // A second editor over the same cache renders nothing.
+    let mut h2 = harness(false);
+    h2.step();
+    browse(&mut h2);
+    assert_eq!(h2.state().preset_browser().unwrap().rendered, 0);
+    assert_eq!(
+        h2.state()
+            .preset_browser()
+            .unwrap()
+            .thumbnail("Ketchup (Jensen 2001)"),
+        Some(&ketchup)
+    );
+    h2.get_by_label("Ketchup (Jensen 2001)").click_accesskit();
+    h2.run_steps(2);
+    assert_eq!(h2.state().doc.preset.name, "Ketchup (Jensen 2001)");
+    assert!(h2.state().preset_browser().is_none());
+    std::fs::remove_dir_all(&cache).unwrap();
+}
