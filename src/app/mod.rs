@@ -216,7 +216,7 @@ pub struct EditorApp {
     /// status bar keeps only the latest), and the status last looked at.
     notices: Vec<String>,
     status_seen: String,
-    /// The scale of the difference view on screen (white, |ΔY|), if one is.
+    /// The scale of the difference view on screen (white, |ΔL*|), if one is.
     difference_shown: Option<f32>,
     /// The viewport shows the look before the last edit ("before", F).
     pub show_before: bool,
@@ -954,7 +954,7 @@ impl EditorApp {
         }
     }
 
-    /// The scale (white, |ΔY|) of the difference view on screen, if any.
+    /// The scale (white, |ΔL*|) of the difference view on screen, if any.
     pub fn difference_scale_shown(&self) -> Option<f32> {
         self.difference_shown
     }

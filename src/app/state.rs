@@ -9,6 +9,10 @@ use std::path::{Path, PathBuf};
 pub const HISTORY_LIMIT: usize = 200;
 /// Recent files listed.
 pub const RECENT_LIMIT: usize = 10;
+/// The difference view's default white: 5 ΔL*, a few just-noticeable
+/// differences (about 0.05 of display luminance at mid grey, the scale
+/// the editor used in ΔY).
+pub const DEFAULT_DIFFERENCE_SCALE: f32 = 5.0;
 
 /// A preset, where it lives, and what was last saved there.
 #[derive(Debug, Clone)]
@@ -421,8 +425,11 @@ pub struct UiState {
     pub split: f32,
     pub plot_quantity: PlotQuantity,
     pub log_y: bool,
-    /// The difference view's white (|ΔY| of display luminance, 0–1), the
-    /// same for every compare unless `difference_auto`.
+    /// The difference view's white, |ΔL*| (CIE lightness, 0–100), the same
+    /// for every compare unless `difference_auto`. Stored under a new name:
+    /// states before 2026-12 kept a ΔY (0–1) under `difference_scale`,
+    /// which is not read as a ΔL*.
+    #[serde(rename = "difference_scale_lstar")]
     pub difference_scale: f32,
     /// Scale each difference view to its own largest difference.
     pub difference_auto: bool,
@@ -456,7 +463,7 @@ impl Default for UiState {
             plot_quantity: PlotQuantity::RTimesR,
             log_y: false,
             log_radius: None,
-            difference_scale: 0.05,
+            difference_scale: DEFAULT_DIFFERENCE_SCALE,
             difference_auto: false,
             overlay: OverlayModel::Jimenez,
             show_taps: true,

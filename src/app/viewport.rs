@@ -51,7 +51,7 @@ pub struct Request {
     pub a: Look,
     /// B and how to show it (`None`: A alone).
     pub b: Option<(Look, CompareMode, f32)>,
-    /// The difference view's white, |ΔY| of display luminance (0–1);
+    /// The difference view's white, |ΔL*| of CIE lightness (0–100);
     /// `None`: the frame's largest difference (auto-scaling).
     pub difference_scale: Option<f32>,
     /// Show B alone (the A/B toggle key).
@@ -179,7 +179,7 @@ pub enum Reply {
         wall_ms: f64,
         /// Note for the status bar (difference scale).
         note: Option<String>,
-        /// A difference view's scale: |ΔY| shown white.
+        /// A difference view's scale: |ΔL*| shown white.
         difference_scale: Option<f32>,
         /// The request it answers.
         seq: u64,
@@ -550,7 +550,7 @@ impl Worker {
                 let (d, scale) =
                     compare::difference_view(&a.image, &bside.image, req.difference_scale);
                 notes.push(format!(
-                    "|A − B| heat map: white = {scale:.3} ΔY{}",
+                    "|A − B| heat map: white = {scale:.1} ΔL*{}",
                     if req.difference_scale.is_none() {
                         " (auto)"
                     } else {

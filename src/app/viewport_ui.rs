@@ -81,7 +81,7 @@ impl EditorApp {
                 && self.ab == AbView::Both;
             if ui
                 .selectable_label(sss_only, "SSS only")
-                .on_hover_text("What scattering adds: the difference view of this look against the same look without SSS (method none), |ΔY| on the fixed scale at the right edge. Click again to go back.")
+                .on_hover_text("What scattering adds: the difference view of this look against the same look without SSS (method none), |ΔL*| on the fixed scale at the right edge. Click again to go back.")
                 .clicked()
             {
                 if sss_only {
@@ -128,13 +128,13 @@ impl EditorApp {
                     ui.add_enabled(
                         !self.ui_state.difference_auto,
                         egui::DragValue::new(&mut self.ui_state.difference_scale)
-                            .range(0.001..=1.0)
-                            .speed(0.001)
-                            .max_decimals(3)
+                            .range(0.1..=100.0)
+                            .speed(0.05)
+                            .max_decimals(1)
                             .prefix("white = ")
-                            .suffix(" ΔY"),
+                            .suffix(" ΔL*"),
                     )
-                    .on_hover_text("The difference that shows white: |A − B| of display luminance Y (0 black, 1 white). Fixed, so compares read on one scale.");
+                    .on_hover_text("The difference that shows white: |A − B| of CIE lightness L* (0 black, 100 white; about 1 is just noticeable side by side). Fixed, so compares read on one scale.");
                     ui.checkbox(&mut self.ui_state.difference_auto, "auto")
                         .on_hover_text("Scale each difference view to its own largest difference instead (the scale then changes with every pair).");
                 }
@@ -662,7 +662,7 @@ impl EditorApp {
 
     /// Numbers beside the difference view's colour bar (the frame's right
     /// 12 pixels, `compare::difference_view`): 0 at the bottom, the scale at
-    /// the top and half-way, in ΔY of display luminance.
+    /// the top and half-way, in ΔL* (CIE lightness).
     fn difference_scale_ui(&self, painter: &egui::Painter, rect: egui::Rect) {
         let Some(scale) = self.difference_shown else {
             return;
@@ -677,7 +677,7 @@ impl EditorApp {
             (
                 1.0,
                 format!(
-                    "{scale:.3} ΔY{}",
+                    "{scale:.1} ΔL*{}",
                     if self.ui_state.difference_auto {
                         " (auto)"
                     } else {
@@ -685,7 +685,7 @@ impl EditorApp {
                     }
                 ),
             ),
-            (0.5, format!("{:.3}", 0.5 * scale)),
+            (0.5, format!("{:.1}", 0.5 * scale)),
             (0.0, "0".to_owned()),
         ] {
             let y = rect.bottom() - t * rect.height();

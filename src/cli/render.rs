@@ -43,10 +43,10 @@ pub struct RenderArgs {
     /// (against `reference` when no --compare is given).
     #[arg(long)]
     pub diff: bool,
-    /// With --diff: the |ΔL| (linear luminance) at the top of the colour
-    /// bar, so that several heat maps share one scale; default: the
+    /// With --diff: the |ΔL*| (CIE lightness, 0–100) at the top of the
+    /// colour bar, so that several heat maps share one scale; default: the
     /// frame's largest difference.
-    #[arg(long, value_name = "ΔL")]
+    #[arg(long, value_name = "ΔL*")]
     pub diff_scale: Option<f32>,
 }
 

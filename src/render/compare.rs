@@ -53,15 +53,34 @@ pub fn heat(t: f32) -> [u8; 3] {
     [0, 1, 2].map(|c| ((a.1[c] + f * (b.1[c] - a.1[c])) * 255.0).round() as u8)
 }
 
-/// |A − B| of linear luminance as a heat map scaled to `scale` (or to the
-/// largest difference when `None`), with a 12-pixel colour bar at the right
-/// edge (bottom 0, top = scale). Returns the image and the scale used.
+/// CIE 1976 lightness L* (0 black … 100 white) of a displayed sRGB pixel:
+/// Y from the decoded channels (Rec. 709 weights, white Y = 1), then
+/// L* = 116 f(Y) − 16 with f(t) = t^(1/3) above (6/29)³ and
+/// t / (3 (6/29)²) + 4/29 below (CIE 15:2004, eq. 8.1 and 8.11; Poynton,
+/// "Digital Video and HD", 2nd ed., eq. 25.8). Tested against published
+/// values in `lightness_matches_published_values`.
+pub fn lightness(p: &Rgba<u8>) -> f32 {
+    const D: f32 = 6.0 / 29.0;
+    let y = luminance(p);
+    let f = if y > D * D * D {
+        y.cbrt()
+    } else {
+        y / (3.0 * D * D) + 4.0 / 29.0
+    };
+    116.0 * f - 16.0
+}
+
+/// |A − B| of CIE L* (perceived lightness, 0–100: a difference of about 1
+/// is just noticeable side by side) as a heat map scaled to `scale` (or to
+/// the largest difference when `None`), with a 12-pixel colour bar at the
+/// right edge (bottom 0, top = scale). Returns the image and the scale
+/// used, in ΔL*.
 pub fn difference_view(a: &RgbaImage, b: &RgbaImage, scale: Option<f32>) -> (RgbaImage, f32) {
     let (w, h) = a.dimensions();
     let diffs: Vec<f32> = a
         .pixels()
         .zip(b.pixels())
-        .map(|(p, q)| (luminance(p) - luminance(q)).abs())
+        .map(|(p, q)| (lightness(p) - lightness(q)).abs())
         .collect();
     let max = scale
         .unwrap_or_else(|| diffs.iter().copied().fold(0.0, f32::max))
@@ -96,14 +115,37 @@ mod tests {
     #[test]
     fn identical_frames_give_a_black_difference_and_the_bar_spans_the_ramp() {
         let a = RgbaImage::from_pixel(64, 32, Rgba([120, 90, 80, 255]));
-        let (d, _) = difference_view(&a, &a, Some(0.1));
+        let (d, _) = difference_view(&a, &a, Some(5.0));
         assert_eq!(*d.get_pixel(5, 5), Rgba([0, 0, 5, 255]));
         assert_eq!(&d.get_pixel(60, 0).0[..3], &heat(1.0)[..]);
         assert_eq!(&d.get_pixel(60, 31).0[..3], &heat(0.0)[..]);
-        // The auto scale is the largest difference: white vs black is ~1.
+        // The auto scale is the largest difference: white vs black is 100.
         let b = RgbaImage::from_pixel(64, 32, Rgba([255, 255, 255, 255]));
         let c = RgbaImage::from_pixel(64, 32, Rgba([0, 0, 0, 255]));
         let (_, s) = difference_view(&b, &c, None);
-        assert!((s - 1.0).abs() < 1e-4, "{s}");
+        assert!((s - 100.0).abs() < 1e-3, "{s}");
+    }
+
+    /// Published CIELAB values of sRGB colours (Lindbloom's calculator and
+    /// the CSS Color 4 specification's examples, D65): sRGB 119 grey is
+    /// L* 50.0 (the middle of CIELAB), 255 is 100, 0 is 0, 18 % grey (Y =
+    /// 0.18) is L* 49.5, and pure sRGB red (255, 0, 0) is L* 53.24.
+    #[test]
+    fn lightness_matches_published_values() {
+        let l = |r, g, b| lightness(&Rgba([r, g, b, 255]));
+        assert!(
+            (l(119, 119, 119) - 50.0).abs() < 0.1,
+            "{}",
+            l(119, 119, 119)
+        );
+        assert!((l(255, 255, 255) - 100.0).abs() < 1e-3);
+        assert!(l(0, 0, 0).abs() < 1e-4);
+        assert!((l(255, 0, 0) - 53.24).abs() < 0.02, "{}", l(255, 0, 0));
+        // sRGB 118 decodes to Y = 0.1812: L* = 116 · 0.1812^(1/3) − 16.
+        assert!(
+            (l(118, 118, 118) - 49.6).abs() < 0.1,
+            "{}",
+            l(118, 118, 118)
+        );
     }
 }

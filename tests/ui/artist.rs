@@ -502,7 +502,7 @@ fn the_toolbars_are_one_row_each_at_1280x720() {
 
 /// "SSS only" is the difference view against the same look without
 /// scattering (B = none), on the fixed scale the colour bar's numbers give
-/// (0.05 ΔY by default, the same for another pair); "auto" scales each view
+/// (5 ΔL* by default, the same for another pair); "auto" scales each view
 /// to its own largest difference instead.
 #[test]
 fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
@@ -520,19 +520,19 @@ fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
     step_until(&mut h, "the difference view", |a| {
         a.difference_scale_shown().is_some() && a.viewport_idle()
     });
-    assert_eq!(h.state().difference_scale_shown(), Some(0.05));
+    assert_eq!(h.state().difference_scale_shown(), Some(5.0));
     // Another pair, the same scale.
     h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::Separable);
     h.run_steps(2);
     step_until(&mut h, "the second pair", |a| a.viewport_idle());
-    assert_eq!(h.state().difference_scale_shown(), Some(0.05));
+    assert_eq!(h.state().difference_scale_shown(), Some(5.0));
     h.get_by_label("auto").click_accesskit();
     h.run_steps(2);
     step_until(&mut h, "the auto-scaled view", |a| {
-        a.viewport_idle() && a.difference_scale_shown() != Some(0.05)
+        a.viewport_idle() && a.difference_scale_shown() != Some(5.0)
     });
     let auto = h.state().difference_scale_shown().unwrap();
-    assert!(auto > 0.0 && auto <= 1.0, "{auto}");
+    assert!(auto > 0.0 && auto <= 100.0, "{auto}");
     // Clicked again, SSS only goes back to no comparison.
     h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::None);
     h.run_steps(2);
