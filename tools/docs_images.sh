@@ -64,7 +64,7 @@ for v in "${views[@]}"; do
   r --method reference --no-lod "${args[@]}" --width 256 --height 256 --out "$tmp/gt_$name.png"
   for m in none preintegrated separable gaussians burley; do
     r --method "$m" --no-lod "${args[@]}" --width 256 --height 256 --out "$tmp/${m}_$name.png"
-    r --method "$m" --compare reference --diff --diff-scale 0.1 --no-lod "${args[@]}" \
+    r --method "$m" --compare reference --diff --diff-scale 10 --no-lod "${args[@]}" \
       --width 256 --height 256 --out "$tmp/${m}_${name}_diff.png"
   done
   montage -label '%t' -font DejaVu-Sans -pointsize 14 \
