@@ -202,7 +202,7 @@ impl EditorApp {
                 }
             });
             ui.menu_button("Export", |ui| {
-                for f in Format::ALL {
+                for &f in Format::all() {
                     // The name, and what it writes on a second, dimmer line.
                     let mut text = egui::text::LayoutJob::default();
                     let style = ui.style();

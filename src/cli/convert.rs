@@ -2,15 +2,11 @@
 //! Burley fit when needed).
 
 use super::args::ModelArgs;
-use super::{built, rgb};
+use super::built;
 use crate::export::{import_file, Format, ImportOptions};
 use crate::model::burley::Burley;
-use crate::model::units::{
-    BlenderSubsurface, UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE,
-};
-use crate::settings::{Preset, ProfileSpec};
+use crate::settings::ProfileSpec;
 use anyhow::{bail, Context, Result};
-use clap::ValueEnum;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -48,35 +44,37 @@ impl ConvertArgs {
         if !self.from.is_empty() {
             return convert_files(&self);
         }
-        let to = match self.to {
-            Format::Unity => Engine::Unity,
-            Format::Unreal => Engine::Unreal,
-            Format::Blender => Engine::Blender,
-            other => bail!(
-                "--to {}: engine parameters are printed for unity, unreal and blender; to write {} files give --from FILE… --out DIR",
-                other.id(),
-                other.id()
-            ),
+        let Some(params) = self.to.target().params else {
+            bail!(
+                "--to {}: engine parameters are printed for {}; to write {} files give --from FILE… --out DIR",
+                self.to.id(),
+                Format::all()
+                    .iter()
+                    .filter(|f| f.target().params.is_some())
+                    .map(|f| f.id())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                self.to.id()
+            );
         };
-        convert(&self.model, to, self.world_scale, self.json)
+        convert(&self.model, self.to, params, self.world_scale, self.json)
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Engine {
-    Unity,
-    Unreal,
-    Blender,
-}
-
-fn convert(model: &ModelArgs, to: Engine, world_scale: Option<f64>, as_json: bool) -> Result<()> {
+fn convert(
+    model: &ModelArgs,
+    to: Format,
+    params_of: crate::export::EngineParams,
+    world_scale: Option<f64>,
+    as_json: bool,
+) -> Result<()> {
     let (spec, _) = built(model)?;
     let (burley, fit_error) = crate::export::burley_of(&spec)?;
-    let params = engine_params(&burley, to, world_scale)?;
+    let params = params_of(&burley, world_scale)?;
     if as_json {
         println!(
             "{}",
-            json!({ "engine": format!("{to:?}").to_lowercase(), "burley_fit_relative_l2_error": fit_error, "params": params })
+            json!({ "engine": to.id(), "burley_fit_relative_l2_error": fit_error, "params": params })
         );
     } else {
         if fit_error > 0.0 {
@@ -112,23 +110,6 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(out)
-}
-
-/// How far `format` keeps the look: the relative L2 error of r·R(r) of
-/// what the engine will draw (a Burley fit, Godot's kernel), if any.
-fn round_trip_error(preset: &Preset, format: Format) -> Option<f64> {
-    match format {
-        Format::Unity | Format::Unreal | Format::Blender | Format::Materialx => {
-            crate::export::burley_of(&preset.profile)
-                .ok()
-                .map(|(_, e)| e)
-        }
-        Format::Godot => crate::export::godot_subsurface(preset)
-            .ok()
-            .map(|g| g.error.into_iter().fold(0.0, f64::max)),
-        Format::Ron => Some(0.0),
-        _ => None,
-    }
 }
 
 /// `convert --from`: every look of every file written in `--to`'s format
@@ -179,7 +160,7 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
                     "look": l.preset.name,
                     "kind": l.kind,
                     "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-                    "round_trip_relative_l2_error": round_trip_error(&l.preset, args.to),
+                    "round_trip_relative_l2_error": (args.to.target().fidelity)(&l.preset),
                 }));
             }
             Ok(json!({ "file": file.display().to_string(), "looks": converted }))
@@ -251,44 +232,6 @@ fn one_line(message: &str, file: &std::path::Path) -> String {
         .strip_prefix(&prefix)
         .unwrap_or(message)
         .replace('\n', " ")
-}
-
-/// Engine parameters of a Burley profile as JSON, with units in the keys.
-pub fn engine_params(b: &Burley, to: Engine, world_scale: Option<f64>) -> Result<Value> {
-    Ok(match to {
-        Engine::Unity => {
-            let u = UnityProfile::from_burley(b, world_scale.unwrap_or(1.0))?;
-            json!({
-                "scattering_distance_color": rgb(u.scattering_distance_color),
-                "scattering_distance_multiplier": u.scattering_distance_multiplier,
-                "world_scale_m_per_unit": u.world_scale_m_per_unit,
-                "albedo_for_material": rgb(b.albedo()),
-            })
-        }
-        Engine::Unreal => {
-            let u = UnrealProfile::from_burley(
-                b,
-                world_scale.unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE),
-            )?;
-            json!({
-                "surface_albedo": rgb(u.surface_albedo),
-                "mean_free_path_color": rgb(u.mean_free_path_color),
-                "mean_free_path_distance_cm": u.mean_free_path_distance_cm,
-                "world_unit_scale": u.world_unit_scale,
-                "struct_text": u.to_struct_text(),
-            })
-        }
-        Engine::Blender => {
-            let u = BlenderSubsurface::from_burley(b, world_scale.unwrap_or(1.0))?;
-            json!({
-                "base_color": rgb(u.base_color),
-                "subsurface_radius": rgb(u.subsurface_radius),
-                "subsurface_scale": u.subsurface_scale,
-                "metres_per_unit": u.metres_per_unit,
-                "subsurface_method": "Christensen-Burley",
-            })
-        }
-    })
 }
 
 /// A Burley profile (used by tests and exporters).

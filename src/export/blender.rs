@@ -203,3 +203,35 @@ pub fn read(
         ],
     }])
 }
+
+/// Blender's Principled BSDF snippet as an export target.
+pub(super) const TARGET: super::Target = super::Target {
+    id: "blender",
+    name: "Blender Principled BSDF",
+    description: "a .py snippet setting subsurface radius, scale and weight",
+    extension: "py",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _| super::write(out, blender_python(preset, prov)?.as_bytes()),
+    notes: |preset| {
+        Ok(vec![
+            super::burley_note(preset)?,
+            "Cycles renders it exactly (Christensen–Burley); EEVEE approximates it. Blender 4.0+ (checked with 4.5 and 5.0).".into(),
+        ])
+    },
+    fidelity: super::burley_fidelity,
+    params: Some(|b, world_scale| {
+        let u = BlenderSubsurface::from_burley(b, world_scale.unwrap_or(1.0))?;
+        Ok(serde_json::json!({
+            "base_color": u.base_color,
+            "subsurface_radius": u.subsurface_radius,
+            "subsurface_scale": u.subsurface_scale,
+            "metres_per_unit": u.metres_per_unit,
+            "subsurface_method": "Christensen-Burley",
+        }))
+    }),
+    reader: Some(super::Reader {
+        claims: |ext, text| ext == "py" && text.contains("import bpy"),
+        read: |text, path, _| read(text, path),
+    }),
+};

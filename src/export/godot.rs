@@ -71,15 +71,10 @@ const GODOT_UNITS_PER_M: f64 = 1.0;
 const DEPTH_RANGE_M: (f64, f64) = (0.001, 8.0);
 
 /// The skin-mode transmittance curve (`scene_forward_lights_inc.glsl`,
-/// `light_compute`, SSS_MODE_SKIN), dd = −(8.25·z/depth)².
-const SKIN_TRANSMITTANCE: [(f64, Rgb); 6] = [
-    (0.0064, [0.233, 0.455, 0.649]),
-    (0.0484, [0.1, 0.336, 0.344]),
-    (0.187, [0.118, 0.198, 0.0]),
-    (0.567, [0.113, 0.007, 0.007]),
-    (1.99, [0.358, 0.004, 0.0]),
-    (7.41, [0.078, 0.0, 0.0]),
-];
+/// `light_compute`, SSS_MODE_SKIN), dd = −(8.25·z/depth)²: Godot's shader
+/// hard-codes d'Eon's six Gaussians (variances and weights), the same
+/// numbers as `DEON_SKIN`.
+const SKIN_TRANSMITTANCE: [(f64, Rgb); 6] = crate::model::gaussian::DEON_SKIN;
 
 /// What a Godot material can carry of a look.
 #[derive(Debug, Clone)]
@@ -381,6 +376,28 @@ fn linear_to_srgb(v: f64) -> f64 {
 mod read;
 pub use read::read;
 
+/// Godot 4's StandardMaterial3D as an export target.
+pub(super) const TARGET: super::Target = super::Target {
+    id: "godot",
+    name: "Godot 4 material",
+    description: "a StandardMaterial3D .tres; its fixed kernel's error is stated",
+    extension: "tres",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _| super::write(out, godot_material(preset, prov)?.as_bytes()),
+    notes: godot_notes,
+    fidelity: |preset| {
+        godot_subsurface(preset)
+            .ok()
+            .map(|g| g.error.into_iter().fold(0.0, f64::max))
+    },
+    params: None,
+    reader: Some(super::Reader {
+        claims: |ext, text| ext == "tres" || text.trim_start().starts_with("[gd_resource"),
+        read: |text, path, _| read(text, path),
+    }),
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -391,29 +408,14 @@ mod tests {
     /// red channel. Numbers copied from Godot's shader.
     #[test]
     fn godot_tables_are_the_demo_kernel() {
-        let godot_25: [[f64; 4]; 13] = [
-            [0.530605, 0.613514, 0.739601, 0.0],
-            [0.0211412, 0.0459286, 0.0378196, 0.0208333],
-            [0.0402784, 0.0657244, 0.04631, 0.0833333],
-            [0.0493588, 0.0367726, 0.0219485, 0.1875],
-            [0.0410172, 0.0199899, 0.0118481, 0.333333],
-            [0.0263642, 0.0119715, 0.00684598, 0.520833],
-            [0.017924, 0.00711691, 0.00347194, 0.75],
-            [0.0128496, 0.00356329, 0.00132016, 1.02083],
-            [0.0094389, 0.00139119, 0.000416598, 1.33333],
-            [0.00700976, 0.00049366, 0.000151938, 1.6875],
-            [0.00500364, 0.00020094, 5.28848e-005, 2.08333],
-            [0.00333804, 7.85443e-005, 1.2945e-005, 2.52083],
-            [0.000973794, 1.11862e-005, 9.43437e-007, 3.0],
-        ];
-        let godot_11: [[f64; 4]; 6] = [
-            [0.560479, 0.669086, 0.784728, 0.0],
-            [0.0771802, 0.113491, 0.0793803, 0.08],
-            [0.0821904, 0.0358608, 0.0209261, 0.32],
-            [0.03639, 0.0130999, 0.00643685, 0.72],
-            [0.0192831, 0.00282018, 0.00084214, 1.28],
-            [0.00471691, 0.000184771, 5.07565e-005, 2.0],
-        ];
+        // Godot's tables are the demo's non-negative offsets (compared
+        // by hand with the shader; `PUBLISHED_*` holds them once).
+        use crate::model::jimenez::{PUBLISHED_11, PUBLISHED_25};
+        let half = |t: &[[f64; 4]]| -> Vec<[f64; 4]> {
+            t.iter().copied().filter(|r| r[3] >= 0.0).collect()
+        };
+        let (godot_25, godot_11) = (half(&PUBLISHED_25), half(&PUBLISHED_11));
+        assert_eq!((godot_25.len(), godot_11.len()), (13, 6));
         let demo = Jimenez2012::new(DEFAULT_STRENGTH, DEFAULT_FALLOFF).unwrap();
         for (taps, table) in [(25, &godot_25[..]), (11, &godot_11[..])] {
             let k = demo.kernel(taps).unwrap();

@@ -263,3 +263,64 @@ fn png16(path: &Path, row: &[Rgb], scale: f64, description: &str) -> Result<(), 
     let bytes = png_bytes(path, (row.len(), 1), true, &data, description)?;
     write(path, &bytes)
 }
+
+/// An image target: the tables (with the shadow table beside them) or the
+/// profile texture (with the transmittance strip), PNG or EXR.
+macro_rules! image_target {
+    ($id:literal, $name:literal, $desc:literal, $ext:literal, $suffix:literal, $slow:literal, $writer:ident, $exr:literal) => {
+        super::Target {
+            id: $id,
+            name: $name,
+            description: $desc,
+            extension: $ext,
+            companion: Some(|out| super::companion(out, $suffix, $ext)),
+            slow: $slow,
+            write: |preset, prov, out, second| $writer(preset, prov, $exr, out, second),
+            notes: super::no_notes,
+            fidelity: super::no_fidelity,
+            params: None,
+            reader: None,
+        }
+    };
+}
+
+pub(super) const LUT_PNG: super::Target = image_target!(
+    "lut-png",
+    "Pre-integrated tables (PNG)",
+    "pre-integrated and shadow tables, 8-bit (takes a few seconds)",
+    "png",
+    "_shadow",
+    true,
+    write_luts,
+    false
+);
+pub(super) const LUT_EXR: super::Target = image_target!(
+    "lut-exr",
+    "Pre-integrated tables (OpenEXR)",
+    "pre-integrated and shadow tables, float (takes a few seconds)",
+    "exr",
+    "_shadow",
+    true,
+    write_luts,
+    true
+);
+pub(super) const PROFILE_EXR: super::Target = image_target!(
+    "profile-exr",
+    "Profile texture (OpenEXR)",
+    "r·R(r) as a 1D float texture, and the transmittance strip",
+    "exr",
+    "_transmittance",
+    false,
+    write_profile,
+    true
+);
+pub(super) const PROFILE_PNG: super::Target = image_target!(
+    "profile-png",
+    "Profile texture (PNG)",
+    "r·R(r) as a 16-bit texture, and the transmittance strip",
+    "png",
+    "_transmittance",
+    false,
+    write_profile,
+    false
+);

@@ -136,36 +136,17 @@ pub fn import_text(
     path: &Path,
     options: &ImportOptions,
 ) -> Result<Vec<ImportedLook>, ImportError> {
-    let text = text.to_owned();
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    let head = text.trim_start();
-    if ext == "asset" || head.starts_with("%YAML") {
-        return super::unity::read(&text, path);
-    }
-    if (ext == "py" && text.contains("import unreal")) || head.starts_with('(') {
-        return super::unreal::read(&text, path);
-    }
-    if ext == "mtlx" || head.starts_with("<?xml") || head.starts_with("<materialx") {
-        return super::materialx::read(&text, path, options);
-    }
-    if ext == "tres" || head.starts_with("[gd_resource") {
-        return super::godot::read(&text, path);
-    }
-    if ext == "py" && text.contains("import bpy") {
-        return super::blender::read(&text, path);
-    }
-    if ext == "ron" {
-        let preset = Preset::from_ron(&text, path)
-            .map_err(|e| ImportError::file(path, strip_path(&e.to_string(), path)))?;
-        return Ok(vec![ImportedLook {
-            fields: Vec::new(),
-            kind: "scatterlab preset",
-            notes: Vec::new(),
-            preset,
-        }]);
+    // The first target that claims the file reads it (`Target::reader`).
+    for format in super::Format::all() {
+        if let Some(reader) = &format.target().reader {
+            if (reader.claims)(&ext, text) {
+                return (reader.read)(text, path, options);
+            }
+        }
     }
     Err(ImportError::file(
         path,
@@ -174,7 +155,7 @@ pub fn import_text(
 }
 
 /// An error message without its leading "path: " (the caller adds it).
-fn strip_path(message: &str, path: &Path) -> String {
+pub(super) fn strip_path(message: &str, path: &Path) -> String {
     let prefix = format!("{}: ", path.display());
     message.strip_prefix(&prefix).unwrap_or(message).to_owned()
 }

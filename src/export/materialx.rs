@@ -113,6 +113,32 @@ pub fn materialx_document(preset: &Preset, prov: &Provenance) -> Result<String, 
 mod read;
 pub use read::read;
 
+/// MaterialX OpenPBR as an export target.
+pub(super) const TARGET: super::Target = super::Target {
+    id: "materialx",
+    name: "MaterialX OpenPBR",
+    description: "an .mtlx document with an open_pbr_surface",
+    extension: "mtlx",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _| super::write(out, materialx_document(preset, prov)?.as_bytes()),
+    notes: |preset| {
+        Ok(vec![
+            super::burley_note(preset)?,
+            "The dual-lobe specular is not representable in OpenPBR: the base roughness is written.".into(),
+        ])
+    },
+    fidelity: super::burley_fidelity,
+    params: None,
+    reader: Some(super::Reader {
+        claims: |ext, text| {
+            let head = text.trim_start();
+            ext == "mtlx" || head.starts_with("<?xml") || head.starts_with("<materialx")
+        },
+        read,
+    }),
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

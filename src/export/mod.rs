@@ -8,6 +8,7 @@ mod godot;
 mod images;
 pub mod import;
 mod materialx;
+mod preset;
 mod shaders;
 mod unity;
 mod unreal;
@@ -64,109 +65,127 @@ pub enum Format {
     Godot,
 }
 
+/// One export target, declared once, in its engine's module: everything
+/// the Export menu, the command line, [`planned_paths`], [`export`],
+/// [`export_notes`], `convert` and the importer know of it.
+pub struct Target {
+    /// The command-line name (`--format`); `targets_match_the_command_line`
+    /// checks it against clap's.
+    pub id: &'static str,
+    /// The name an artist knows the target by (the Export menu, dialogs).
+    pub name: &'static str,
+    /// What the export writes, in one line (the Export menu's second line).
+    pub description: &'static str,
+    /// The extension an exported file gets by default.
+    pub extension: &'static str,
+    /// The second file written beside `out`, if the target has one.
+    pub companion: Option<fn(&Path) -> PathBuf>,
+    /// Whether the export needs the slow table bakes (off the UI thread).
+    pub slow: bool,
+    /// Writes the look to `out` and to the companion path (the second
+    /// argument; `out` again for a target without one).
+    pub write: fn(&Preset, &Provenance, &Path, &Path) -> Result<(), ExportError>,
+    /// What the target will not hold exactly, one sentence each.
+    pub notes: fn(&Preset) -> Result<Vec<String>, ModelError>,
+    /// How far what the engine draws is from the look: the relative L2
+    /// error of r·R(r) (a Burley fit, Godot's kernel), where known.
+    pub fidelity: fn(&Preset) -> Option<f64>,
+    /// The engine's parameters for a Burley profile as JSON, units in the
+    /// keys (`convert --to` without files), given the world scale.
+    pub params: Option<EngineParams>,
+    /// Reads a file of this target back, if scatterlab can.
+    pub reader: Option<Reader>,
+}
+
+/// A target's engine parameters of a Burley profile, given the world
+/// scale (metres per unit; the engine's default when `None`).
+pub type EngineParams = fn(&Burley, Option<f64>) -> Result<serde_json::Value, ModelError>;
+
+/// How the importer finds and reads a target's files.
+pub struct Reader {
+    /// Whether a file with this (lower-case) extension and text is one.
+    pub claims: fn(&str, &str) -> bool,
+    pub read: fn(&str, &Path, &ImportOptions) -> Result<Vec<ImportedLook>, ImportError>,
+}
+
 impl Format {
-    pub const ALL: [Format; 14] = [
-        Format::Ron,
-        Format::Unity,
-        Format::Unreal,
-        Format::Hlsl,
-        Format::Glsl,
-        Format::Wgsl,
-        Format::SamplesJson,
-        Format::LutPng,
-        Format::LutExr,
-        Format::ProfileExr,
-        Format::ProfilePng,
-        Format::Blender,
-        Format::Materialx,
-        Format::Godot,
-    ];
+    /// Every target, in the Export menu's order (clap's list of the enum).
+    pub fn all() -> &'static [Format] {
+        <Format as clap::ValueEnum>::value_variants()
+    }
+
+    /// The target's declaration.
+    pub fn target(self) -> &'static Target {
+        match self {
+            Format::Ron => &preset::RON,
+            Format::Unity => &unity::TARGET,
+            Format::Unreal => &unreal::TARGET,
+            Format::Hlsl => &shaders::HLSL,
+            Format::Glsl => &shaders::GLSL,
+            Format::Wgsl => &shaders::WGSL,
+            Format::SamplesJson => &shaders::SAMPLES_JSON,
+            Format::LutPng => &images::LUT_PNG,
+            Format::LutExr => &images::LUT_EXR,
+            Format::ProfileExr => &images::PROFILE_EXR,
+            Format::ProfilePng => &images::PROFILE_PNG,
+            Format::Blender => &blender::TARGET,
+            Format::Materialx => &materialx::TARGET,
+            Format::Godot => &godot::TARGET,
+        }
+    }
 
     /// The command-line name (`--format`).
     pub fn id(self) -> &'static str {
-        match self {
-            Format::Ron => "ron",
-            Format::Unity => "unity",
-            Format::Unreal => "unreal",
-            Format::Hlsl => "hlsl",
-            Format::Glsl => "glsl",
-            Format::Wgsl => "wgsl",
-            Format::SamplesJson => "samples-json",
-            Format::LutPng => "lut-png",
-            Format::LutExr => "lut-exr",
-            Format::ProfileExr => "profile-exr",
-            Format::ProfilePng => "profile-png",
-            Format::Blender => "blender",
-            Format::Materialx => "materialx",
-            Format::Godot => "godot",
-        }
+        self.target().id
     }
 
-    /// The name an artist knows the target by (the editor's Export menu
-    /// and dialog; the command line takes [`Format::id`]).
+    /// The name an artist knows the target by.
     pub fn name(self) -> &'static str {
-        match self {
-            Format::Ron => "scatterlab preset",
-            Format::Unity => "Unity HDRP diffusion profile",
-            Format::Unreal => "Unreal subsurface profile",
-            Format::Hlsl => "HLSL kernel and samples",
-            Format::Glsl => "GLSL kernel and samples",
-            Format::Wgsl => "WGSL kernel and samples",
-            Format::SamplesJson => "Burley samples (JSON)",
-            Format::LutPng => "Pre-integrated tables (PNG)",
-            Format::LutExr => "Pre-integrated tables (OpenEXR)",
-            Format::ProfileExr => "Profile texture (OpenEXR)",
-            Format::ProfilePng => "Profile texture (PNG)",
-            Format::Blender => "Blender Principled BSDF",
-            Format::Materialx => "MaterialX OpenPBR",
-            Format::Godot => "Godot 4 material",
-        }
+        self.target().name
     }
 
-    /// What the export writes, in one line (the Export menu's second line).
+    /// What the export writes, in one line.
     pub fn description(self) -> &'static str {
-        match self {
-            Format::Ron => "the look as a .ron preset, exactly",
-            Format::Unity => {
-                "DiffusionProfileSettings .asset (a Burley fit where the look is not Burley)"
-            }
-            Format::Unreal => "SubsurfaceProfile struct text, and a .py that sets it",
-            Format::Hlsl | Format::Glsl | Format::Wgsl => {
-                "separable kernel and Burley sample pattern as arrays"
-            }
-            Format::SamplesJson => "Burley sample pattern: radius (mm), angle, weights",
-            Format::LutPng => "pre-integrated and shadow tables, 8-bit (takes a few seconds)",
-            Format::LutExr => "pre-integrated and shadow tables, float (takes a few seconds)",
-            Format::ProfileExr => "r·R(r) as a 1D float texture, and the transmittance strip",
-            Format::ProfilePng => "r·R(r) as a 16-bit texture, and the transmittance strip",
-            Format::Blender => "a .py snippet setting subsurface radius, scale and weight",
-            Format::Materialx => "an .mtlx document with an open_pbr_surface",
-            Format::Godot => "a StandardMaterial3D .tres; its fixed kernel's error is stated",
-        }
+        self.target().description
     }
 
     /// The file extension an exported file gets by default.
     pub fn extension(self) -> &'static str {
-        match self {
-            Format::Ron => "ron",
-            Format::Unity => "asset",
-            Format::Unreal => "txt",
-            Format::Hlsl => "hlsl",
-            Format::Glsl => "glsl",
-            Format::Wgsl => "wgsl",
-            Format::SamplesJson => "json",
-            Format::LutPng | Format::ProfilePng => "png",
-            Format::LutExr | Format::ProfileExr => "exr",
-            Format::Blender => "py",
-            Format::Materialx => "mtlx",
-            Format::Godot => "tres",
-        }
+        self.target().extension
     }
 
     /// Whether the export needs the slow table bakes (run off the UI thread).
     pub fn is_slow(self) -> bool {
-        matches!(self, Format::LutPng | Format::LutExr)
+        self.target().slow
     }
+}
+
+/// The export-dialog note on a look that reaches an engine through a
+/// Burley fit (or exactly).
+pub(crate) fn burley_note(preset: &Preset) -> Result<String, ModelError> {
+    let (_, e) = burley_of(&preset.profile)?;
+    Ok(if e > 0.0 {
+        format!(
+            "The look reaches the engine through a Burley fit: relative L2 error of r·R(r) {e:.4}."
+        )
+    } else {
+        "The Burley profile goes across exactly.".into()
+    })
+}
+
+/// `fidelity` of a target that holds the look's Burley fit.
+pub(crate) fn burley_fidelity(preset: &Preset) -> Option<f64> {
+    burley_of(&preset.profile).ok().map(|(_, e)| e)
+}
+
+/// `notes` of a target that holds the look exactly.
+pub(crate) fn no_notes(_: &Preset) -> Result<Vec<String>, ModelError> {
+    Ok(Vec::new())
+}
+
+/// `fidelity` of a target that is no engine's material (tables, code).
+pub(crate) fn no_fidelity(_: &Preset) -> Option<f64> {
+    None
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -253,48 +272,7 @@ pub fn burley_of(profile: &ProfileSpec) -> Result<(Burley, f64), ModelError> {
 /// engine clamps, and fields a target cannot express. Fits run here, so
 /// call it off the UI thread.
 pub fn export_notes(preset: &Preset, format: Format) -> Result<Vec<String>, ModelError> {
-    let burley_note = || -> Result<String, ModelError> {
-        let (_, e) = burley_of(&preset.profile)?;
-        Ok(if e > 0.0 {
-            format!("The look reaches the engine through a Burley fit: relative L2 error of r·R(r) {e:.4}.")
-        } else {
-            "The Burley profile goes across exactly.".into()
-        })
-    };
-    let mut notes = Vec::new();
-    match format {
-        Format::Unity => {
-            notes.push(burley_note()?);
-            let s = &preset.rendering.specular;
-            let l = unity_dual_lobe(preset);
-            notes.push(format!(
-                "HDRP scales smoothness, not roughness: its two lobes match ours at base roughness {} (smoothness multipliers {:.4} and {:.4}, lobeMix {:.4} on the smoother lobe).",
-                s.roughness, l.secondary, l.primary, l.lobe_mix
-            ));
-            notes.push("Add the asset to HDRP's Diffusion Profile List (at most 15); dual lobe needs HDRP 15+.".into());
-        }
-        Format::Unreal => {
-            notes.extend(unreal_notes(preset)?.into_iter().map(|n| {
-                let mut n = n;
-                if let Some(f) = n.get_mut(0..1) {
-                    f.make_ascii_uppercase();
-                }
-                format!("{n}.")
-            }));
-            notes.push("Needs Unreal Engine 5.1 or later.".into());
-        }
-        Format::Blender => {
-            notes.push(burley_note()?);
-            notes.push("Cycles renders it exactly (Christensen–Burley); EEVEE approximates it. Blender 4.0+ (checked with 4.5 and 5.0).".into());
-        }
-        Format::Materialx => {
-            notes.push(burley_note()?);
-            notes.push("The dual-lobe specular is not representable in OpenPBR: the base roughness is written.".into());
-        }
-        Format::Godot => notes.extend(godot_notes(preset)?),
-        _ => {}
-    }
-    Ok(notes)
+    (format.target().notes)(preset)
 }
 
 /// Path of a companion file: `out` with `suffix` added to its stem and `ext`.
@@ -317,23 +295,8 @@ pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), ExportError> {
 /// companion if the format has one (Unreal's Python, the shadow table, the
 /// transmittance strip). The editor asks before replacing any of them.
 pub fn planned_paths(format: Format, out: &Path) -> Vec<PathBuf> {
-    let companion_path = match format {
-        Format::Unreal => {
-            let py = companion(out, "", "py");
-            Some(if py == out {
-                companion(out, "_unreal", "py")
-            } else {
-                py
-            })
-        }
-        Format::LutPng | Format::LutExr => Some(companion(out, "_shadow", format.extension())),
-        Format::ProfileExr | Format::ProfilePng => {
-            Some(companion(out, "_transmittance", format.extension()))
-        }
-        _ => None,
-    };
     std::iter::once(out.to_owned())
-        .chain(companion_path)
+        .chain(format.target().companion.map(|c| c(out)))
         .collect()
 }
 
@@ -349,42 +312,46 @@ pub fn export(
     let prov = Provenance::new(preset, source);
     let written = planned_paths(format, out);
     // The companion file, where the format has one.
-    let second = || written.get(1).cloned().unwrap_or_else(|| out.to_owned());
-    match format {
-        Format::Ron => {
-            let text = format!("// Exported: {}.\n{}", prov.line(), preset.to_ron());
-            write(out, text.as_bytes())?;
-        }
-        Format::Unity => {
-            let stem = out
-                .file_stem()
-                .map(|s| s.to_string_lossy())
-                .unwrap_or_default();
-            write(out, unity_asset(preset, &prov, &stem)?.as_bytes())?
-        }
-        Format::Unreal => {
-            let (text, py) = (unreal_struct(preset)?, unreal_python(preset, &prov)?);
-            write(out, text.as_bytes())?;
-            write(&second(), py.as_bytes())?;
-        }
-        Format::Hlsl | Format::Glsl | Format::Wgsl => {
-            let lang = match format {
-                Format::Hlsl => ShaderLanguage::Hlsl,
-                Format::Glsl => ShaderLanguage::Glsl,
-                _ => ShaderLanguage::Wgsl,
-            };
-            write(out, kernel_source(preset, lang, &prov)?.as_bytes())?;
-        }
-        Format::SamplesJson => write(out, samples_json(preset, &prov)?.as_bytes())?,
-        Format::LutPng | Format::LutExr => {
-            images::write_luts(preset, &prov, format == Format::LutExr, out, &second())?;
-        }
-        Format::ProfileExr | Format::ProfilePng => {
-            images::write_profile(preset, &prov, format == Format::ProfileExr, out, &second())?;
-        }
-        Format::Blender => write(out, blender_python(preset, &prov)?.as_bytes())?,
-        Format::Materialx => write(out, materialx_document(preset, &prov)?.as_bytes())?,
-        Format::Godot => write(out, godot_material(preset, &prov)?.as_bytes())?,
-    }
+    let second = written.get(1).cloned().unwrap_or_else(|| out.to_owned());
+    (format.target().write)(preset, &prov, out, &second)?;
     Ok(written)
+}
+
+#[cfg(test)]
+mod target_tests {
+    use super::*;
+
+    /// Each target's id is clap's name for its `Format` variant (the
+    /// command line and the descriptor cannot drift apart), ids and names
+    /// are unique, the first planned path is the one asked for and a
+    /// companion never is it (Unreal's text given a .py name keeps its
+    /// script apart).
+    #[test]
+    fn targets_match_the_command_line() {
+        use clap::ValueEnum;
+        let mut ids = std::collections::HashSet::new();
+        let mut names = std::collections::HashSet::new();
+        assert_eq!(Format::all().len(), 14);
+        for &f in Format::all() {
+            let clap_name = f.to_possible_value().map(|v| v.get_name().to_owned());
+            assert_eq!(clap_name.as_deref(), Some(f.id()));
+            assert!(ids.insert(f.id()), "{} twice", f.id());
+            assert!(names.insert(f.name()), "{} twice", f.name());
+            let out = Path::new("exports").join(format!("look.{}", f.extension()));
+            let planned = planned_paths(f, &out);
+            assert_eq!(planned[0], out);
+            assert!(planned[1..].iter().all(|p| *p != out), "{planned:?}");
+        }
+        assert_eq!(
+            planned_paths(Format::Unreal, Path::new("a/look.py")),
+            vec![
+                PathBuf::from("a/look.py"),
+                PathBuf::from("a/look_unreal.py")
+            ]
+        );
+        assert_eq!(
+            planned_paths(Format::LutExr, Path::new("a/t.exr"))[1],
+            PathBuf::from("a/t_shadow.exr")
+        );
+    }
 }

@@ -116,3 +116,58 @@ pub fn samples_json(preset: &Preset, prov: &Provenance) -> Result<String, ModelE
     });
     Ok(serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n")
 }
+
+/// A shader-array target: the kernel and sample pattern in `lang`.
+macro_rules! shader_target {
+    ($id:literal, $name:literal, $ext:literal, $lang:expr) => {
+        super::Target {
+            id: $id,
+            name: $name,
+            description: "separable kernel and Burley sample pattern as arrays",
+            extension: $ext,
+            companion: None,
+            slow: false,
+            write: |preset, prov, out, _| {
+                super::write(out, kernel_source(preset, $lang, prov)?.as_bytes())
+            },
+            notes: super::no_notes,
+            fidelity: super::no_fidelity,
+            params: None,
+            reader: None,
+        }
+    };
+}
+
+pub(super) const HLSL: super::Target = shader_target!(
+    "hlsl",
+    "HLSL kernel and samples",
+    "hlsl",
+    ShaderLanguage::Hlsl
+);
+pub(super) const GLSL: super::Target = shader_target!(
+    "glsl",
+    "GLSL kernel and samples",
+    "glsl",
+    ShaderLanguage::Glsl
+);
+pub(super) const WGSL: super::Target = shader_target!(
+    "wgsl",
+    "WGSL kernel and samples",
+    "wgsl",
+    ShaderLanguage::Wgsl
+);
+
+/// The Burley sample pattern as JSON.
+pub(super) const SAMPLES_JSON: super::Target = super::Target {
+    id: "samples-json",
+    name: "Burley samples (JSON)",
+    description: "Burley sample pattern: radius (mm), angle, weights",
+    extension: "json",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _| super::write(out, samples_json(preset, prov)?.as_bytes()),
+    notes: super::no_notes,
+    fidelity: super::no_fidelity,
+    params: None,
+    reader: None,
+};

@@ -189,6 +189,50 @@ fn yaml_name(name: &str) -> String {
 mod read;
 pub use read::read;
 
+/// Unity HDRP's diffusion profile as an export target (see the module's
+/// sources for every field).
+pub(super) const TARGET: super::Target = super::Target {
+    id: "unity",
+    name: "Unity HDRP diffusion profile",
+    description: "DiffusionProfileSettings .asset (a Burley fit where the look is not Burley)",
+    extension: "asset",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _| {
+        let stem = out
+            .file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default();
+        super::write(out, unity_asset(preset, prov, &stem)?.as_bytes())
+    },
+    notes: |preset| {
+        let s = &preset.rendering.specular;
+        let l = unity_dual_lobe(preset);
+        Ok(vec![
+            super::burley_note(preset)?,
+            format!(
+                "HDRP scales smoothness, not roughness: its two lobes match ours at base roughness {} (smoothness multipliers {:.4} and {:.4}, lobeMix {:.4} on the smoother lobe).",
+                s.roughness, l.secondary, l.primary, l.lobe_mix
+            ),
+            "Add the asset to HDRP's Diffusion Profile List (at most 15); dual lobe needs HDRP 15+.".into(),
+        ])
+    },
+    fidelity: super::burley_fidelity,
+    params: Some(|b, world_scale| {
+        let u = crate::model::units::UnityProfile::from_burley(b, world_scale.unwrap_or(1.0))?;
+        Ok(serde_json::json!({
+            "scattering_distance_color": u.scattering_distance_color,
+            "scattering_distance_multiplier": u.scattering_distance_multiplier,
+            "world_scale_m_per_unit": u.world_scale_m_per_unit,
+            "albedo_for_material": b.albedo(),
+        }))
+    }),
+    reader: Some(super::Reader {
+        claims: |ext, text| ext == "asset" || text.trim_start().starts_with("%YAML"),
+        read: |text, path, _| read(text, path),
+    }),
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -183,3 +183,59 @@ unreal.EditorAssetLibrary.save_loaded_asset(profile)
 
 mod read;
 pub use read::read;
+
+/// Unreal's SubsurfaceProfile as an export target: the struct text, and
+/// the Python snippet beside it (`_unreal.py` where the text itself was
+/// given a .py name).
+pub(super) const TARGET: super::Target = super::Target {
+    id: "unreal",
+    name: "Unreal subsurface profile",
+    description: "SubsurfaceProfile struct text, and a .py that sets it",
+    extension: "txt",
+    companion: Some(|out| {
+        let py = super::companion(out, "", "py");
+        if py == out {
+            super::companion(out, "_unreal", "py")
+        } else {
+            py
+        }
+    }),
+    slow: false,
+    write: |preset, prov, out, py| {
+        let (text, script) = (unreal_struct(preset)?, unreal_python(preset, prov)?);
+        super::write(out, text.as_bytes())?;
+        super::write(py, script.as_bytes())
+    },
+    notes: |preset| {
+        let mut notes: Vec<String> = unreal_notes(preset)?
+            .into_iter()
+            .map(|n| {
+                let mut n = n;
+                if let Some(f) = n.get_mut(0..1) {
+                    f.make_ascii_uppercase();
+                }
+                format!("{n}.")
+            })
+            .collect();
+        notes.push("Needs Unreal Engine 5.1 or later.".into());
+        Ok(notes)
+    },
+    fidelity: super::burley_fidelity,
+    params: Some(|b, world_scale| {
+        let u =
+            UnrealProfile::from_burley(b, world_scale.unwrap_or(UNREAL_DEFAULT_WORLD_UNIT_SCALE))?;
+        Ok(serde_json::json!({
+            "surface_albedo": u.surface_albedo,
+            "mean_free_path_color": u.mean_free_path_color,
+            "mean_free_path_distance_cm": u.mean_free_path_distance_cm,
+            "world_unit_scale": u.world_unit_scale,
+            "struct_text": u.to_struct_text(),
+        }))
+    }),
+    reader: Some(super::Reader {
+        claims: |ext, text| {
+            (ext == "py" && text.contains("import unreal")) || text.trim_start().starts_with('(')
+        },
+        read: |text, path, _| read(text, path),
+    }),
+};

@@ -9,7 +9,7 @@ use super::{check_range, rgb_map, ModelError, RadialProfile, Rgb, CHANNEL_NAMES}
 use std::f64::consts::PI;
 
 /// d'Eon's six-Gaussian skin fit: (variance mm², weights R, G, B), verbatim
-/// from `shared/data/deon2007_skin_six_gaussians.csv` (GPU Gems 3 ch. 14;
+/// from `assets/data/deon2007_skin_six_gaussians.csv` (GPU Gems 3 ch. 14;
 /// also Mikkelsen 2009 Table 4).
 pub const DEON_SKIN: [(f64, Rgb); 6] = [
     (0.0064, [0.233, 0.455, 0.649]),

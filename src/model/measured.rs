@@ -1,5 +1,5 @@
 //! Measured σ′s and σa (mm⁻¹) of Jensen et al. 2001 and Narasimhan et al.
-//! 2006, from pbrt (`shared/data/measured_media_jensen2001_narasimhan2006.csv`).
+//! 2006, from pbrt (`assets/data/measured_media_jensen2001_narasimhan2006.csv`).
 
 use super::dipole::Medium;
 use super::{ModelError, Rgb};
