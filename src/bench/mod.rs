@@ -9,6 +9,7 @@
 //! the CPU, so the ratios, not the milliseconds, are what carries over.
 
 pub mod chart;
+pub mod csv;
 pub mod floor;
 pub mod metrics;
 pub mod report;

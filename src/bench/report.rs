@@ -65,94 +65,46 @@ pub fn write_floor_csv(path: &Path, floors: &[(&'static str, Floor)]) -> Result<
 /// Reads a `floor.csv` back (for `--replot`).
 pub fn read_floor_csv(path: &Path) -> Result<Vec<(&'static str, Floor)>> {
     let scenes = super::scenes::scenes((1, 1));
-    csv_body(path, FLOOR_HEADER)?
+    let ids: Vec<&'static str> = scenes.iter().map(|s| s.id).collect();
+    super::csv::read(path, FLOOR_HEADER, 4)?
         .iter()
-        .enumerate()
-        .map(|(i, line)| {
-            let f: Vec<&str> = line.split(',').collect();
-            let at = || format!("{} line {}", path.display(), i + 2);
-            anyhow::ensure!(f.len() == 4, "{}: {} fields, expected 4", at(), f.len());
-            let scene = scenes
-                .iter()
-                .find(|s| s.id == f[0])
-                .map(|s| s.id)
-                .with_context(|| format!("{}: unknown scene {}", at(), f[0]))?;
-            let num = |k: usize| finite_field(&f, k, &at);
+        .map(|r| {
+            r.expect_fields(&[4])?;
             Ok((
-                scene,
+                r.one_of(0, &ids)?,
                 Floor {
-                    d_to_zero: num(1)?,
-                    supersampled: num(2)?,
-                    mixed_fraction: num(3)?,
+                    d_to_zero: r.num(1)?,
+                    supersampled: r.num(2)?,
+                    mixed_fraction: r.num(3)?,
                 },
             ))
         })
         .collect()
 }
 
-/// The data lines of a CSV `bench` wrote, after checking its header.
-pub fn csv_body(path: &Path, header: &str) -> Result<Vec<String>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text.lines();
-    anyhow::ensure!(
-        lines.next() == Some(header),
-        "{}: not a file `bench` wrote (the header differs)",
-        path.display()
-    );
-    Ok(lines.map(str::to_string).collect())
-}
-
-/// Field `k` of a CSV row as a finite number; `at` names file and line.
-pub fn finite_field(f: &[&str], k: usize, at: &dyn Fn() -> String) -> Result<f64> {
-    f[k].parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .with_context(|| {
-            format!(
-                "{}: field {} = {:?} is not a finite number",
-                at(),
-                k + 1,
-                f[k]
-            )
-        })
-}
-
 /// Reads a `results.csv` written by [`write_csv`] back (for `--replot`).
 pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
-    let lines = csv_body(path, CSV_HEADER)?;
     let scenes = super::scenes::scenes((1, 1));
+    let ids: Vec<&'static str> = scenes.iter().map(|s| s.id).collect();
     let mut configs = super::scenes::configs();
     configs.push(Config::Reference);
-    lines
+    super::csv::read(path, CSV_HEADER, 19)?
         .iter()
-        .enumerate()
-        .map(|(i, line)| {
-            let f: Vec<&str> = line.split(',').collect();
-            let at = || format!("{} line {}", path.display(), i + 2);
+        .map(|r| {
             // Runs before issue 22 have no edge_error_share (column 19).
-            anyhow::ensure!(
-                f.len() == 18 || f.len() == 19,
-                "{}: {} fields, expected 19",
-                at(),
-                f.len()
-            );
-            let scene = scenes
-                .iter()
-                .find(|s| s.id == f[0])
-                .map(|s| s.id)
-                .with_context(|| format!("{}: unknown scene {}", at(), f[0]))?;
+            r.expect_fields(&[18, 19])?;
+            let f = |k: usize| r.text(k);
             let config = *configs
                 .iter()
                 .find(|c| {
-                    c.method().id() == f[1] && c.variant() == f[2] && c.count().to_string() == f[3]
+                    c.method().id() == f(1) && c.variant() == f(2) && c.count().to_string() == f(3)
                 })
                 .with_context(|| {
-                    format!("{}: unknown configuration {} {} {}", at(), f[1], f[2], f[3])
+                    format!("{}: unknown configuration {} {} {}", r.at, f(1), f(2), f(3))
                 })?;
-            let num = |k: usize| finite_field(&f, k, &at);
+            let num = |k: usize| r.num(k);
             Ok(Row {
-                scene,
+                scene: r.one_of(0, &ids)?,
                 config,
                 width: num(4)? as u32,
                 height: num(5)? as u32,
@@ -163,10 +115,14 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
                 none_frame_ms: num(10)?,
                 rel_rmse: num(13)?,
                 rel_rmse_interior: num(17)?,
-                edge_error_share: if f.len() > 18 { num(18)? } else { f64::NAN },
+                edge_error_share: if r.fields.len() > 18 {
+                    num(18)?
+                } else {
+                    f64::NAN
+                },
                 flip_sss: num(14)?,
                 flip_image: num(15)?,
-                timing: match f[16] {
+                timing: match f(16) {
                     "wall-clock" => "wall-clock",
                     "cpu-wall-clock" => "cpu-wall-clock",
                     _ => "gpu-timestamps",

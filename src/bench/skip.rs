@@ -1,7 +1,6 @@
 //! Measured proof that unused work is skipped: SSS cost against screen
 //! coverage, strength 0, transmission off, and the LOD on the far shot.
 
-use super::report::{csv_body, finite_field};
 use super::scenes::{plane_settings, scenes, Config, Stage};
 use super::{measure, renderer_for, Options, Prepared};
 use crate::model::jimenez::{Jimenez2012, DEFAULT_FALLOFF};
@@ -286,34 +285,20 @@ pub fn write_csv(path: &Path, rows: &[SkipRow]) -> Result<()> {
 
 /// Reads a `skip.csv` written by [`write_csv`] back (for `--replot`).
 pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
-    let lines = csv_body(path, CSV_HEADER)?;
     const STUDIES: [&str; 4] = ["coverage", "strength", "transmission", "lod"];
-    const METHODS: [&str; 6] = [
-        "none",
-        "burley",
-        "separable",
-        "gaussians",
-        "preintegrated",
-        "reference",
-    ];
-    lines
+    let methods: Vec<&'static str> = crate::settings::rendering::MethodId::ALL
         .iter()
-        .enumerate()
-        .map(|(i, line)| {
-            let f: Vec<&str> = line.splitn(14, ',').collect();
-            let at = || format!("{} line {}", path.display(), i + 2);
-            anyhow::ensure!(f.len() == 14, "{}: {} fields, expected 14", at(), f.len());
-            let pick = |list: &[&'static str], v: &str| {
-                list.iter()
-                    .copied()
-                    .find(|x| *x == v)
-                    .with_context(|| format!("{}: unknown {v}", at()))
-            };
-            let num = |k: usize| finite_field(&f, k, &at);
+        .map(|m| m.id())
+        .collect();
+    super::csv::read(path, CSV_HEADER, 14)?
+        .iter()
+        .map(|r| {
+            r.expect_fields(&[14])?;
+            let num = |k: usize| r.num(k);
             Ok(SkipRow {
-                study: pick(&STUDIES, f[0])?,
-                case: f[1].to_string(),
-                method: pick(&METHODS, f[2])?,
+                study: r.one_of(0, &STUDIES)?,
+                case: r.text(1).to_string(),
+                method: r.one_of(2, &methods)?,
                 pixels: num(3)? as u64,
                 sss_pixels: num(4)? as u64,
                 sss_samples: num(5)? as u64,
@@ -323,7 +308,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
                 sss_ms: num(9)?,
                 frame_ms: num(10)?,
                 none_frame_ms: num(11)?,
-                passes: f[13].to_string(),
+                passes: r.text(13).to_string(),
             })
         })
         .collect()
