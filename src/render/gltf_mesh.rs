@@ -4,7 +4,7 @@
 //! (generated otherwise); base colour, normal and metallic-roughness
 //! (green = roughness) textures come from the materials.
 
-use super::gpu_types::Vertex;
+use super::gpu_types::{SurfaceKind, Vertex};
 use super::mesh::{Mesh, MeshError};
 use super::textures::{
     from_dynamic, AlbedoMode, MeshTextures, RoughnessMode, TextureImage, TextureSlot,
@@ -105,7 +105,7 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
                     normal: n.into(),
                     uv: uvs[i],
                     tangent,
-                    material: kind,
+                    material: kind.code(),
                     ..Vertex::zeroed()
                 });
             }
@@ -117,7 +117,7 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
                 return Err(load_error(format!("{part}: index {bad} is out of range")));
             }
             // The skin's maps: the first primitive that is not an eye or teeth.
-            if !material_seen && kind == 0.0 {
+            if !material_seen && kind == SurfaceKind::Skin {
                 material_seen = true;
                 read_material(&prim.material(), &images, &origin, &mut textures)?;
             }
@@ -133,17 +133,17 @@ pub(super) fn load(path: &Path, metres_per_unit: f32) -> Result<Mesh, MeshError>
 /// eye, 2 for teeth, gums or tongue, 0 (skin) otherwise. Eyebrows, lashes
 /// and lids are skin-side parts, not eyes. Eyes and teeth take no SSS and
 /// the eye is drawn with an iris (`shaders/scene.wgsl`).
-pub fn part_kind(names: &str) -> f32 {
+pub fn part_kind(names: &str) -> SurfaceKind {
     let n = names.to_ascii_lowercase();
     let has = |ks: &[&str]| ks.iter().any(|k| n.contains(k));
     if has(&["brow", "lash", "lid"]) {
-        0.0
+        SurfaceKind::Skin
     } else if has(&["eye", "cornea", "iris", "sclera", "pupil"]) {
-        1.0
+        SurfaceKind::Eye
     } else if has(&["teeth", "tooth", "gum", "tongue"]) {
-        2.0
+        SurfaceKind::Teeth
     } else {
-        0.0
+        SurfaceKind::Skin
     }
 }
 
@@ -415,7 +415,7 @@ mod part_tests {
             ("Teeth_Upper", 2.0),
             ("", 0.0),
         ] {
-            assert_eq!(part_kind(name), kind, "{name}");
+            assert_eq!(part_kind(name).code(), kind, "{name}");
         }
     }
 }

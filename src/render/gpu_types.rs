@@ -226,6 +226,40 @@ gpu_struct! {
 }
 const _: () = assert!(std::mem::size_of::<CompositeUniforms>() == 16);
 
+/// What a surface is: skin scatters; eyes and teeth do not (the eye is
+/// drawn with an iris). On the GPU a float vertex attribute
+/// (`Vertex::material`, `shaders/scene.wgsl`: 0 skin, 1 eye, 2 teeth, read
+/// with thresholds at 0.5 and 1.5 because it is interpolated).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SurfaceKind {
+    Skin,
+    Eye,
+    Teeth,
+}
+
+impl SurfaceKind {
+    /// The vertex attribute's value.
+    pub fn code(self) -> f32 {
+        match self {
+            SurfaceKind::Skin => 0.0,
+            SurfaceKind::Eye => 1.0,
+            SurfaceKind::Teeth => 2.0,
+        }
+    }
+
+    /// The kind an (interpolated) attribute value stands for, with the
+    /// shader's thresholds.
+    pub fn of(code: f32) -> Self {
+        if code < 0.5 {
+            SurfaceKind::Skin
+        } else if code < 1.5 {
+            SurfaceKind::Eye
+        } else {
+            SurfaceKind::Teeth
+        }
+    }
+}
+
 /// Mesh vertex (locations 0–3 in `shaders/scene.wgsl`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -233,7 +267,7 @@ pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub uv: [f32; 2],
-    /// 0 skin, 1 eye, 2 teeth.
+    /// [`SurfaceKind::code`]: 0 skin, 1 eye, 2 teeth.
     pub material: f32,
     /// Mean curvature 1/radius in 1/mm (FaceWorks' per-vertex estimate).
     pub curvature_per_mm: f32,

@@ -1,6 +1,6 @@
 //! Meshes: the embedded default head and OBJ files, with smooth normals.
 
-use super::gpu_types::Vertex;
+use super::gpu_types::{SurfaceKind, Vertex};
 use super::textures::MeshTextures;
 use bytemuck::Zeroable;
 use glam::{Vec2, Vec3};
@@ -244,10 +244,11 @@ impl Mesh {
         let mut indices = Vec::new();
         for m in &models {
             let material = match m.name.as_str() {
-                "eyes" => 1.0,
-                "teeth" => 2.0,
-                _ => 0.0,
-            };
+                "eyes" => SurfaceKind::Eye,
+                "teeth" => SurfaceKind::Teeth,
+                _ => SurfaceKind::Skin,
+            }
+            .code();
             let base = vertices.len() as u32;
             let p = &m.mesh.positions;
             let t = &m.mesh.texcoords;
@@ -422,7 +423,7 @@ impl Mesh {
         let eye: Vec<Vec3> = self
             .vertices
             .iter()
-            .filter(|v| v.material > 0.5 && v.material < 1.5)
+            .filter(|v| SurfaceKind::of(v.material) == SurfaceKind::Eye)
             .map(|v| Vec3::from(v.position))
             .collect();
         let mut out = [[0.0; 4]; 2];

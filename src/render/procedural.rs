@@ -5,6 +5,7 @@
 //! functions of that 3D point. Landmarks are in the embedded head's units
 //! (decimetres, recentred; see assets/head/).
 
+use super::gpu_types::SurfaceKind;
 use super::mesh::Mesh;
 use super::textures::{AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
 use glam::{Vec2, Vec3};
@@ -167,7 +168,7 @@ fn texel_triangles(mesh: &Mesh, size: u32) -> Vec<u32> {
     let mut map = vec![EMPTY; n * n];
     let uv = |i: u32| Vec2::from(mesh.vertices[i as usize].uv) * size as f32;
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
-        if mesh.vertices[tri[0] as usize].material != 0.0 {
+        if SurfaceKind::of(mesh.vertices[tri[0] as usize].material) != SurfaceKind::Skin {
             continue;
         }
         let [a, b, c] = [uv(tri[0]), uv(tri[1]), uv(tri[2])];

@@ -20,7 +20,9 @@
 //! own diffuse target on the visible pixels: `scene_twin_matches_the_scene_pass`
 //! and the d → 0 limit in tests/render_physics.rs.
 
-use super::gpu_types::{SceneUniforms, MAP_ABSOLUTE, PATTERN_CHECKERBOARD, PATTERN_STEP};
+use super::gpu_types::{
+    SceneUniforms, SurfaceKind, MAP_ABSOLUTE, PATTERN_CHECKERBOARD, PATTERN_STEP,
+};
 use super::ground_truth::{Footprint, SurfaceIrradiance};
 use super::mesh::Mesh;
 use super::textures::TextureImage;
@@ -354,7 +356,7 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
         let w = [b.x, b.y, b.z];
         let mix3 = |f: &dyn Fn(usize) -> Vec3| f(0) * w[0] + f(1) * w[1] + f(2) * w[2];
         let material = v[0].material * w[0] + v[1].material * w[1] + v[2].material * w[2];
-        if material > 0.5 {
+        if SurfaceKind::of(material) != SurfaceKind::Skin {
             return [0.0; 3];
         }
         let world = mix3(&|k| Vec3::from(v[k].position));

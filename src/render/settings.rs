@@ -52,10 +52,18 @@ impl BurleySampling {
         centre_weight: false,
     };
 
-    /// Bit 0: R2 rotation, bit 1: centre weight, bit 2: bilinear (the
-    /// shader's `BurleyUniforms::flags`).
+    /// The shader's `BurleyUniforms::flags`: the `SAMPLING_*` bit of each
+    /// option that is on.
     pub fn shader_flags(self) -> u32 {
-        self.r2_rotation as u32 | (self.centre_weight as u32) << 1 | (self.bilinear as u32) << 2
+        use super::gpu_types::{SAMPLING_BILINEAR, SAMPLING_CENTRE_WEIGHT, SAMPLING_R2_ROTATION};
+        [
+            (self.r2_rotation, SAMPLING_R2_ROTATION),
+            (self.centre_weight, SAMPLING_CENTRE_WEIGHT),
+            (self.bilinear, SAMPLING_BILINEAR),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(0, |bits, (_, bit)| bits | bit)
     }
 
     /// A short name: `golubev`, `improved`, or the flags that are on.

@@ -8,7 +8,7 @@
 //! target, and the composite pass applies albedo^post and specular to it as
 //! to every method's output.
 
-use crate::render::gpu_types::SceneUniforms;
+use crate::render::gpu_types::{SceneUniforms, SurfaceKind};
 use crate::render::ground_truth::{Cloud, Probe};
 use crate::render::mesh::Mesh;
 use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
@@ -269,7 +269,9 @@ fn build_cloud(
     // point (a triangle with one vertex on an eye is skin over part of it).
     let skin = |t: usize| {
         let m = &mesh.vertices;
-        triangles[t].iter().any(|&i| m[i as usize].material < 0.5)
+        triangles[t]
+            .iter()
+            .any(|&i| SurfaceKind::of(m[i as usize].material) == SurfaceKind::Skin)
     };
     let cloud = Cloud::build(
         &positions,
