@@ -48,8 +48,12 @@ fn out_dir() -> PathBuf {
     d
 }
 
-/// RMSE over RGB in [0, 1]; on failure writes actual and |a − b|×8 images.
-fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, tolerance: f64) {
+/// Compares with the golden image by FLIP (Andersson et al. 2020, NVIDIA's
+/// reference implementation through `nv-flip`, as wgpu's own image tests
+/// do): the mean of the per-pixel FLIP error at 67 pixels per degree must
+/// stay under `mean_tolerance`. On failure the actual image and the FLIP
+/// error map (white = 1) go to target/test-output/.
+fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, mean_tolerance: f32) {
     let bless = std::env::var_os("SCATTERLAB_BLESS").is_some();
     if bless || !golden_path.exists() {
         actual.save(golden_path).unwrap();
@@ -63,27 +67,22 @@ fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, tolera
     }
     let golden = image::open(golden_path).unwrap().to_rgba8();
     assert_eq!(golden.dimensions(), actual.dimensions());
-    let mut se = 0.0;
-    let mut diff = RgbaImage::new(actual.width(), actual.height());
-    for (x, y, p) in actual.enumerate_pixels() {
-        let g = golden.get_pixel(x, y);
-        let mut d = [0u8; 4];
-        for c in 0..3 {
-            let e = (p[c] as f64 - g[c] as f64) / 255.0;
-            se += e * e;
-            d[c] = ((e.abs() * 8.0).min(1.0) * 255.0) as u8;
-        }
-        d[3] = 255;
-        diff.put_pixel(x, y, image::Rgba(d));
-    }
-    let rmse = (se / (3.0 * (actual.width() * actual.height()) as f64)).sqrt();
-    if rmse > tolerance {
+    let map = scatterlab::bench::metrics::flip_map(&golden, actual);
+    let mean = map.iter().sum::<f32>() / map.len() as f32;
+    eprintln!("{name}: mean FLIP {mean:.5}");
+    if mean > mean_tolerance {
         actual
             .save(out_dir().join(format!("{name}-actual.png")))
             .unwrap();
-        diff.save(out_dir().join(format!("{name}-diff.png")))
+        let (w, h) = actual.dimensions();
+        let diff = image::GrayImage::from_fn(w, h, |x, y| {
+            image::Luma([(map[(y * w + x) as usize].clamp(0.0, 1.0) * 255.0) as u8])
+        });
+        diff.save(out_dir().join(format!("{name}-flip.png")))
             .unwrap();
-        panic!("{name}: RMSE {rmse:.5} > {tolerance} (actual and diff in target/test-output)");
+        panic!(
+            "{name}: mean FLIP {mean:.5} > {mean_tolerance} (actual and FLIP map in target/test-output)"
+        );
     }
 }
 
@@ -111,7 +110,11 @@ fn golden_head_renders_match() {
         assert_eq!(stats.method, method.id());
         let golden =
             PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/golden/{name}_160.png"));
-        compare(name, &img, &golden, 0.01);
+        // Renders here are deterministic (FLIP 0 run to run); the goldens
+        // before they were re-blessed with FLIP had drifted by 0.012–0.017
+        // (within the 8-bit RMSE 0.01 of the time): room for another
+        // lavapipe build.
+        compare(name, &img, &golden, 0.02);
     }
 }
 

@@ -274,7 +274,10 @@ fn panels_snapshot() {
     );
 }
 
-/// The viewport renders the head on the render thread, off the UI thread.
+/// The viewport renders the head on the render thread, off the UI thread:
+/// the frame shows a head (a fifth to most of it differs from the corner's
+/// background) whose middle is skin, redder than blue (a black or empty
+/// frame fails here, as it did not before).
 #[test]
 fn viewport_renders_the_head() {
     let mut h = harness(true);
@@ -288,6 +291,20 @@ fn viewport_renders_the_head() {
         !h.state().status().starts_with("Error"),
         "{}",
         h.state().status()
+    );
+    let (img, _) = h.state().viewport_frame().unwrap();
+    let bg = *img.get_pixel(0, 0);
+    let differs = |p: &image::Rgba<u8>| (0..3).any(|c| (p[c] as i32 - bg[c] as i32).abs() > 12);
+    let covered =
+        img.pixels().filter(|p| differs(p)).count() as f64 / (img.width() * img.height()) as f64;
+    assert!(
+        (0.2..0.95).contains(&covered),
+        "the head covers {covered:.2} of the frame"
+    );
+    let centre = img.get_pixel(img.width() / 2, img.height() / 2);
+    assert!(
+        differs(centre) && centre[0] as i32 > centre[2] as i32 + 20,
+        "the middle of the frame is not skin: {centre:?}"
     );
 }
 
