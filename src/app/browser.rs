@@ -207,17 +207,17 @@ impl EditorApp {
 
     /// Test hook: keep thumbnails in `dir` instead.
     pub fn set_thumbnail_dir(&mut self, dir: PathBuf) {
-        self.thumbnail_dir = Some(dir);
+        self.dialogs.thumbnail_dir = Some(dir);
     }
 
     /// The open preset browser (UI tests).
     pub fn preset_browser(&self) -> Option<&PresetBrowser> {
-        self.browser.as_ref()
+        self.dialogs.browser.as_ref()
     }
 
     /// The preset browser window, while open.
     pub(super) fn browser_window(&mut self, ctx: &egui::Context) {
-        let Some(mut browser) = self.browser.take() else {
+        let Some(mut browser) = self.dialogs.browser.take() else {
             return;
         };
         browser.poll();
@@ -294,7 +294,7 @@ impl EditorApp {
             open = false;
         }
         if open {
-            self.browser = Some(browser);
+            self.dialogs.browser = Some(browser);
         }
     }
 }

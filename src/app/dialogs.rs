@@ -9,10 +9,10 @@ impl EditorApp {
     /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
     /// the camera frames it) and is remembered for the file.
     pub(super) fn units_prompt(&mut self, ctx: &egui::Context) {
-        let Some(path) = self.units_prompt.clone() else {
+        let Some(path) = self.meshes.units_prompt.clone() else {
             return;
         };
-        let Some(info) = self.mesh_info else {
+        let Some(info) = self.meshes.mesh_info else {
             return;
         };
         let size = info.size;
@@ -110,7 +110,7 @@ impl EditorApp {
                 .metres_per_unit = mpu;
         }
         if done || !open {
-            self.units_prompt = None;
+            self.meshes.units_prompt = None;
         }
     }
 
@@ -129,7 +129,7 @@ impl EditorApp {
     /// closed.
     pub(super) fn help_windows(&mut self, ctx: &egui::Context) {
         egui::Window::new("Shortcuts")
-            .open(&mut self.help_open)
+            .open(&mut self.dialogs.help_open)
             .resizable(false)
             .collapsible(false)
             .show(ctx, |ui| {
@@ -142,7 +142,7 @@ impl EditorApp {
                 });
             });
         egui::Window::new("About scatterlab")
-            .open(&mut self.about_open)
+            .open(&mut self.dialogs.about_open)
             .resizable(false)
             .collapsible(false)
             .show(ctx, |ui| {
@@ -160,7 +160,7 @@ impl EditorApp {
     /// The unsaved-changes prompt for a pending open, new or quit: Save
     /// (Save As first for a look without a file), Discard, Cancel.
     pub(super) fn unsaved_prompt(&mut self, ctx: &egui::Context) {
-        if let Some(pending) = self.pending.clone() {
+        if let Some(pending) = self.dialogs.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
                     ui.heading("Unsaved changes");
@@ -184,10 +184,10 @@ impl EditorApp {
                 });
             match modal.inner {
                 Some(0) => {
-                    self.pending = None;
+                    self.dialogs.pending = None;
                     if self.doc.path.is_none() {
                         // No file yet: Save As first, then carry on.
-                        self.after_save = Some(pending);
+                        self.dialogs.after_save = Some(pending);
                         self.open_dialog(DialogKind::SaveAs);
                     } else {
                         self.save();
@@ -197,10 +197,10 @@ impl EditorApp {
                     }
                 }
                 Some(1) => {
-                    self.pending = None;
+                    self.dialogs.pending = None;
                     self.run_pending(pending);
                 }
-                Some(_) => self.pending = None,
+                Some(_) => self.dialogs.pending = None,
                 None => {}
             }
         }
@@ -209,12 +209,17 @@ impl EditorApp {
     /// The open file dialog (`egui_file`): folders first, then the files
     /// of this kind; an export's notes in a window above it.
     pub(super) fn file_dialog(&mut self, ctx: &egui::Context) {
-        let Some(mut dialog) = self.dialog.take() else {
+        let Some(mut dialog) = self.dialogs.dialog.take() else {
             return;
         };
-        if let Some(notes) = self.export_notes.as_ref().and_then(|rx| rx.try_recv().ok()) {
+        if let Some(notes) = self
+            .dialogs
+            .export_notes
+            .as_ref()
+            .and_then(|rx| rx.try_recv().ok())
+        {
             dialog.notes = Some(notes);
-            self.export_notes = None;
+            self.dialogs.export_notes = None;
         }
         if let DialogKind::Export(f) = dialog.kind {
             // Beside the dialog (shifted left for it), not under it.
@@ -258,16 +263,16 @@ impl EditorApp {
                 close = true;
                 if dialog.kind == DialogKind::SaveAs {
                     // Cancelled: nothing saved, so nothing to carry on with.
-                    self.after_save = None;
+                    self.dialogs.after_save = None;
                 }
                 if dialog.kind == DialogKind::Environment {
                     // No map chosen: the HDR light rig that asked for it is off.
-                    self.hdr_rig_pending = false;
+                    self.view.hdr_rig_pending = false;
                 }
             }
         }
-        if !close && self.dialog.is_none() {
-            self.dialog = Some(dialog);
+        if !close && self.dialogs.dialog.is_none() {
+            self.dialogs.dialog = Some(dialog);
         }
     }
 
@@ -310,7 +315,7 @@ impl EditorApp {
         .filter(|p| p.exists())
         .collect();
         if dialog.kind.writes() && !existing.is_empty() {
-            self.overwrite = Some(Overwrite {
+            self.dialogs.overwrite = Some(Overwrite {
                 kind: dialog.kind.clone(),
                 path,
                 existing,
@@ -328,7 +333,7 @@ impl EditorApp {
     /// Asks before a Save As or export replaces files; Replace writes,
     /// Cancel goes back to the dialog at the same path.
     pub(super) fn overwrite_prompt(&mut self, ctx: &egui::Context) {
-        let Some(o) = self.overwrite.clone() else {
+        let Some(o) = self.dialogs.overwrite.clone() else {
             return;
         };
         let modal =
@@ -350,12 +355,12 @@ impl EditorApp {
             });
         match modal.inner {
             Some(true) => {
-                self.overwrite = None;
+                self.dialogs.overwrite = None;
                 let mut close = true;
                 self.write_or_open(o.kind, o.path, &mut close);
             }
             Some(false) => {
-                self.overwrite = None;
+                self.dialogs.overwrite = None;
                 let dir = o.path.parent().map(Path::to_path_buf).unwrap_or_default();
                 let name = o
                     .path
@@ -363,7 +368,7 @@ impl EditorApp {
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_default();
                 self.show_dialog(o.kind, &dir, &name);
-                if let Some(d) = self.dialog.as_mut() {
+                if let Some(d) = self.dialogs.dialog.as_mut() {
                     d.notes = o.notes;
                 }
             }
@@ -383,16 +388,16 @@ impl EditorApp {
                 DialogKind::CompareB => match super::viewport::load_look(&path) {
                     Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
                     Err(e) => {
-                        self.status = format!("Error: {e}");
+                        self.report.status = format!("Error: {e}");
                         *close = false;
                     }
                 },
-                DialogKind::Mesh => self.mesh = Some(path),
+                DialogKind::Mesh => self.meshes.mesh = Some(path),
                 DialogKind::SaveImage => self.save_image(&path),
                 DialogKind::SaveTurntable => self.start_turntable(path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Map(k) => {
-                    if let Some(mesh) = self.mesh.clone() {
+                    if let Some(mesh) = self.meshes.mesh.clone() {
                         self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);
                     }
                 }

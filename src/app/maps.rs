@@ -129,16 +129,16 @@ impl EditorApp {
     /// Changes apply at once (the mesh reloads with them) and are
     /// remembered for the file.
     pub(super) fn maps_window(&mut self, ctx: &egui::Context) {
-        let Some(path) = self.maps_window.clone() else {
-            self.maps_preview = None;
+        let Some(path) = self.meshes.maps_window.clone() else {
+            self.meshes.maps_preview = None;
             return;
         };
         let mut settings = self.ui_state.meshes.get(&path).cloned().unwrap_or_default();
         let key = (path.clone(), settings.clone());
-        if self.maps_preview.as_ref().map(|p| &p.key) != Some(&key) {
-            self.maps_preview = Some(MapsPreview::start(path.clone(), settings.clone()));
+        if self.meshes.maps_preview.as_ref().map(|p| &p.key) != Some(&key) {
+            self.meshes.maps_preview = Some(MapsPreview::start(path.clone(), settings.clone()));
         }
-        let mut preview = self.maps_preview.take();
+        let mut preview = self.meshes.maps_preview.take();
         let waiting = preview.as_ref().is_some_and(|p| p.rx.is_some());
         let mut open = true;
         let mut choose = None;
@@ -236,7 +236,7 @@ impl EditorApp {
                     });
                 });
             });
-        self.maps_preview = preview;
+        self.meshes.maps_preview = preview;
         if waiting {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         }
@@ -247,7 +247,7 @@ impl EditorApp {
             self.open_dialog(DialogKind::Map(k));
         }
         if !open {
-            self.maps_window = None;
+            self.meshes.maps_window = None;
         }
     }
 }

@@ -23,12 +23,12 @@ impl EditorApp {
                 "ron" => self.guarded(Pending::Open(path)),
                 "asset" | "mtlx" | "tres" | "txt" | "py" => self.import_now(&path),
                 "obj" | "gltf" | "glb" => {
-                    self.status = format!("Loading mesh {} …", path.display());
-                    self.mesh = Some(path);
+                    self.report.status = format!("Loading mesh {} …", path.display());
+                    self.meshes.mesh = Some(path);
                 }
                 "hdr" => self.load_environment(path),
                 _ => {
-                    self.status = format!(
+                    self.report.status = format!(
                         "Error: {}: not a preset (.ron), engine file (.asset, .mtlx, .tres, .txt, .py), mesh (.obj, .gltf, .glb) or environment (.hdr)",
                         path.display()
                     )
@@ -53,14 +53,14 @@ impl EditorApp {
             )
         });
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
-            self.help_open = !self.help_open;
+            self.dialogs.help_open = !self.dialogs.help_open;
         }
         // F flickers to the look before the last edit (not while typing).
         if ctx.memory(|m| m.focused().is_none())
             && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F))
             && self.doc.before_last_edit().is_some()
         {
-            self.show_before = !self.show_before;
+            self.view.show_before = !self.view.show_before;
         }
         if image {
             self.open_dialog(DialogKind::SaveImage);
@@ -84,12 +84,12 @@ impl EditorApp {
         let escape = ctx.input(|i| i.key_pressed(Key::Escape));
         if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {
             if toggle {
-                self.ab = match self.ab {
+                self.view.ab = match self.view.ab {
                     AbView::B => AbView::A,
                     AbView::Both | AbView::A => AbView::B,
                 };
             } else if escape {
-                self.ab = AbView::Both;
+                self.view.ab = AbView::Both;
             }
         }
     }
@@ -102,7 +102,7 @@ impl EditorApp {
                     .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
                     .clicked()
                 {
-                    self.browser = Some(browser::PresetBrowser::open(self.thumbnail_dir.clone()));
+                    self.dialogs.browser = Some(browser::PresetBrowser::open(self.dialogs.thumbnail_dir.clone()));
                     ui.close();
                 }
                 ui.menu_button("New from preset", |ui| {
@@ -159,7 +159,7 @@ impl EditorApp {
                     .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
                     .clicked()
                 {
-                    self.turntable_open = true;
+                    self.dialogs.turntable_open = true;
                     ui.close();
                 }
                 ui.separator();
@@ -172,10 +172,10 @@ impl EditorApp {
                     ui.close();
                 }
                 if ui.button("Default head").clicked() {
-                    if self.mesh.is_some() {
-                        self.status = "Loading the default head …".into();
+                    if self.meshes.mesh.is_some() {
+                        self.report.status = "Loading the default head …".into();
                     }
-                    self.mesh = None;
+                    self.meshes.mesh = None;
                     ui.close();
                 }
                 ui.separator();
@@ -239,11 +239,11 @@ impl EditorApp {
             });
             ui.menu_button("Help", |ui| {
                 if ui.button("Shortcuts  (F1)").clicked() {
-                    self.help_open = true;
+                    self.dialogs.help_open = true;
                     ui.close();
                 }
                 if ui.button("About scatterlab").clicked() {
-                    self.about_open = true;
+                    self.dialogs.about_open = true;
                     ui.close();
                 }
             });
@@ -256,13 +256,13 @@ impl EditorApp {
 
     pub(super) fn status_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
-            if !self.exports.is_empty()
-                || self.analysis.busy()
-                || self.environment_load.is_some()
+            if !self.jobs.exports.is_empty()
+                || self.profile.analysis.busy()
+                || self.jobs.environment_load.is_some()
             {
                 ui.spinner();
             }
-            let color = if self.status.starts_with("Error") {
+            let color = if self.report.status.starts_with("Error") {
                 ui.visuals().error_fg_color
             } else {
                 ui.visuals().text_color()
@@ -272,16 +272,16 @@ impl EditorApp {
             // written over it in a narrow window.
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                 ui.add(
-                    egui::Label::new(format!("{} · UI {:.1} ms", self.frame_info, self.ui_ms))
+                    egui::Label::new(format!("{} · UI {:.1} ms", self.view.frame_info, self.report.ui_ms))
                         .wrap_mode(egui::TextWrapMode::Extend),
                 )
                     .on_hover_text("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
                 ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
                     ui.add(
-                        egui::Label::new(egui::RichText::new(&self.status).color(color))
+                        egui::Label::new(egui::RichText::new(&self.report.status).color(color))
                             .truncate(),
                     )
-                    .on_hover_text(&self.status);
+                    .on_hover_text(&self.report.status);
                 });
             });
         });
@@ -301,7 +301,7 @@ impl EditorApp {
         params_ui::model_params(ui, &mut p.profile);
         // The model's error, from the last build (never rebuilt per frame:
         // layered stacks take seconds).
-        if let Some(Err(e)) = &self.curves {
+        if let Some(Err(e)) = &self.profile.curves {
             ui.colored_label(ui.visuals().error_fg_color, e);
         }
         if let Err(e) = p.rendering.validate() {
@@ -321,7 +321,7 @@ impl EditorApp {
         use crate::model::units::{UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
         // The file the look came from, as that engine wrote it (while the
         // look is still the one imported).
-        if let Some((path, look)) = &self.imported {
+        if let Some((path, look)) = &self.profile.imported {
             if look.preset == self.doc.preset {
                 let name = path.file_name().map_or_else(
                     || path.display().to_string(),
@@ -352,7 +352,12 @@ impl EditorApp {
             crate::settings::ProfileSpec::Burley(b) => {
                 b.build().map(|b| (b, 0.0)).map_err(|e| e.to_string())
             }
-            _ => match self.latest.as_ref().filter(|a| a.key.profile == p.profile) {
+            _ => match self
+                .profile
+                .latest
+                .as_ref()
+                .filter(|a| a.key.profile == p.profile)
+            {
                 Some(a) => a.burley_fit.clone().unwrap_or_else(|| Err("no fit".into())),
                 None => {
                     ui.horizontal(|ui| {

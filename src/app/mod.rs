@@ -8,6 +8,7 @@ mod dialogs;
 mod maps;
 mod menu;
 mod params_ui;
+mod parts;
 mod plots;
 pub mod state;
 pub mod turntable;
@@ -18,6 +19,7 @@ use crate::export::Format;
 use crate::render::mesh::{CRANIUM_M, PLAUSIBLE_CRANIUM_M, PLAUSIBLE_HEIGHT_M};
 use crate::settings::{library, Preset};
 use analysis::{Analysis, AnalysisKey, Background, Curves};
+use parts::{Dialogs, Jobs, Layout, MeshState, ProfileState, Report, ViewportState};
 use state::{CompareB, CompareMode, Document, UiState};
 use std::path::{Path, PathBuf};
 
@@ -169,107 +171,21 @@ type EnvironmentResult = Result<(PathBuf, [[f32; 3]; 9]), String>;
 pub struct EditorApp {
     pub doc: Document,
     pub ui_state: UiState,
-    analysis: Background<AnalysisKey, Result<Analysis, String>>,
-    pub latest: Option<Analysis>,
-    /// Curves of the current look (computed in the frame of the edit).
-    pub curves: Option<Result<Curves, String>>,
-    curves_for: Option<crate::settings::ProfileSpec>,
-    viewport: Option<viewport::Viewport>,
-    texture: Option<egui::TextureHandle>,
-    frame_info: String,
-    status: String,
-    dialog: Option<FileDialog>,
-    pending: Option<Pending>,
-    /// Run after the Save As dialog saves (Save in the unsaved-changes
-    /// prompt of a look that has no file yet).
-    after_save: Option<Pending>,
-    /// Files a Save As or export would replace, waiting for a yes.
-    overwrite: Option<Overwrite>,
-    exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
-    /// The open export dialog's notes, while they are being computed.
-    export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
-    /// An HDR environment map loading on its own thread.
-    environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
-    /// The HDR light rig was chosen with no map loaded: apply it once the
-    /// map the dialog asked for has loaded.
-    hdr_rig_pending: bool,
-    /// While comparing: both as the mode shows them, or one side alone.
-    pub ab: AbView,
-    mesh: Option<PathBuf>,
-    /// The loaded mesh's size and framing (from the render thread).
-    mesh_info: Option<viewport::MeshInfo>,
-    /// The mesh and units the camera was last framed for.
-    framed_for: Option<(Option<PathBuf>, f32)>,
-    /// The units prompt, open for this mesh.
-    units_prompt: Option<PathBuf>,
-    /// The map slots window, open for this mesh, and its previews.
-    maps_window: Option<PathBuf>,
-    maps_preview: Option<maps::MapsPreview>,
-    /// File → Save turntable: its window, and the turntable rendering.
-    turntable_open: bool,
-    turntable: Option<turntable::TurntableJob>,
-    /// File → Browse presets: the window, and where its thumbnails are
-    /// cached.
-    browser: Option<browser::PresetBrowser>,
-    thumbnail_dir: Option<PathBuf>,
-    /// Errors and warnings shown as notifications until dismissed (the
-    /// status bar keeps only the latest), and the status last looked at.
-    notices: Vec<String>,
-    status_seen: String,
-    /// The scale of the difference view on screen (white, |ΔL*|), if one is.
-    difference_shown: Option<f32>,
-    /// The viewport shows the look before the last edit ("before", F).
-    pub show_before: bool,
-    /// Help → Shortcuts (F1) and Help → About, open.
-    help_open: bool,
-    about_open: bool,
-    /// Where the viewport was drawn, and the compare labels on it.
-    viewport_rect: Option<egui::Rect>,
-    compare_labels: Vec<(String, egui::Rect)>,
-    /// The side panels' rects (the viewport must stay between them).
-    panel_rects: [Option<egui::Rect>; 2],
-    /// The last viewport frame, and how many have arrived.
-    last_frame: Option<(image::RgbaImage, u64)>,
-    /// How far the last frame had got (preview, refining, converged).
-    quality: Option<viewport::Quality>,
-    /// The ground truth's (phase, items) on its progress bar, when the UI
-    /// first saw it, the fraction then and the last fraction seen (for the
-    /// time left).
-    truth_phase: Option<((u32, u32), std::time::Instant, f32, f32)>,
-    /// When the mouse wheel last zoomed (zooming is live input too).
-    last_wheel: Option<std::time::Instant>,
-    /// SCATTERLAB_FRAME_LOG: a line per viewport frame and UI frame
-    /// (`tools/measure_live.sh` reads it).
-    frame_log: Option<std::io::LineWriter<std::fs::File>>,
     allow_close: bool,
-    /// Curves of a compared preset (B), keyed by its file and the plot range.
-    b_curves: Option<(BCurvesKey, BCurves)>,
-    /// B's look from its file, by path and modification time: read again
-    /// only when the file changes, not on every UI frame (an engine file's
-    /// import measures its round trip, `godot::read::round_trip_note`).
-    b_look_cache: Option<(
-        PathBuf,
-        Option<std::time::SystemTime>,
-        Result<Preset, String>,
-    )>,
-    /// The engine file the look was last imported from, with its own
-    /// fields (the Engines readout shows them).
-    imported: Option<(PathBuf, crate::export::ImportedLook)>,
-    /// The table preview and transmittance strip, with the analysis they show.
-    preview_textures: Option<(
-        AnalysisKey,
-        Option<egui::TextureHandle>,
-        egui::TextureHandle,
-    )>,
-    /// Where the profile plot was drawn (its legend goes under it).
-    pub plot_rect: Option<egui::Rect>,
-    /// UI time of the last frame outside the viewport (ms).
-    pub ui_ms: f64,
-    /// When the editor was created, and whether the first UI frame and the
-    /// first viewport frame were reported (SCATTERLAB_TIMINGS=1 prints them).
-    started: std::time::Instant,
-    reported: (bool, bool),
-    last_title: String,
+    /// The look's analysis and curves, B's curves and look, the imported file, and the table previews.
+    profile: ProfileState,
+    /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
+    view: ViewportState,
+    /// The loaded mesh, its size, and its units prompt and Maps window.
+    meshes: MeshState,
+    /// Open dialogs, prompts and windows, and what waits on them.
+    dialogs: Dialogs,
+    /// Work on other threads: exports, an environment map loading, a turntable.
+    jobs: Jobs,
+    /// The status line, notifications, the frame log and timings.
+    report: Report,
+    /// Where things were drawn (the viewport, labels, panels, plot), for layout and UI tests.
+    layout: Layout,
 }
 
 impl EditorApp {
@@ -295,85 +211,119 @@ impl EditorApp {
         let mut app = Self {
             doc: Document::new(preset, path),
             ui_state,
-            analysis: Background::start("scatterlab-analysis", analysis::analyse, c1),
-            latest: None,
-            curves: None,
-            curves_for: None,
-            viewport: viewport.then(|| viewport::Viewport::start(c2)),
-            texture: None,
-            frame_info: String::new(),
-            status:
-                "Ready. Drag a preset (.ron), mesh (.obj/.gltf/.glb) or environment (.hdr) onto the window to open it."
-                    .into(),
-            dialog: None,
-            pending: None,
-            after_save: None,
-            overwrite: None,
-            exports: Vec::new(),
-            export_notes: None,
-            environment_load: None,
-            hdr_rig_pending: false,
-            ab: AbView::Both,
-            mesh: None,
-            mesh_info: None,
-            framed_for: None,
-            units_prompt: None,
-            maps_window: None,
-            maps_preview: None,
-            turntable_open: false,
-            turntable: None,
-            browser: None,
-            thumbnail_dir: Self::default_thumbnail_dir(),
-            help_open: false,
-            show_before: false,
-            difference_shown: None,
-            notices: Vec::new(),
-            status_seen: String::new(),
-            about_open: false,
-            last_frame: None,
-            viewport_rect: None,
-            plot_rect: None,
-            compare_labels: Vec::new(),
-            panel_rects: [None, None],
-            quality: None,
-            truth_phase: None,
-            last_wheel: None,
-            frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
-                std::fs::File::create(&p)
-                    .map_err(|e| {
-                        eprintln!(
-                            "warning: SCATTERLAB_FRAME_LOG {}: {e}",
-                            PathBuf::from(&p).display()
-                        )
-                    })
-                    .ok()
-                    .map(std::io::LineWriter::new)
-            }),
             allow_close: false,
-            preview_textures: None,
-            b_curves: None,
-            b_look_cache: None,
-            imported: None,
-            ui_ms: 0.0,
-            started: std::time::Instant::now(),
-            reported: (false, false),
-            last_title: String::new(),
+            profile: ProfileState {
+                analysis: Background::start("scatterlab-analysis", analysis::analyse, c1),
+                latest: None,
+                curves: None,
+                curves_for: None,
+                preview_textures: None,
+                b_curves: None,
+                b_look_cache: None,
+                imported: None,
+            },
+            view: ViewportState {
+                viewport: viewport.then(|| viewport::Viewport::start(c2)),
+                texture: None,
+                frame_info: String::new(),
+                hdr_rig_pending: false,
+                ab: AbView::Both,
+                framed_for: None,
+                show_before: false,
+                difference_shown: None,
+                last_frame: None,
+                quality: None,
+                truth_phase: None,
+                last_wheel: None,
+            },
+            meshes: MeshState {
+                mesh: None,
+                mesh_info: None,
+                units_prompt: None,
+                maps_window: None,
+                maps_preview: None,
+            },
+            dialogs: Dialogs {
+                dialog: None,
+                pending: None,
+                after_save: None,
+                overwrite: None,
+                export_notes: None,
+                turntable_open: false,
+                browser: None,
+                thumbnail_dir: Self::default_thumbnail_dir(),
+                help_open: false,
+                about_open: false,
+            },
+            jobs: Jobs {
+                exports: Vec::new(),
+                environment_load: None,
+                turntable: None,
+            },
+            report: Report {
+                status:
+                    "Ready. Drag a preset (.ron), mesh (.obj/.gltf/.glb) or environment (.hdr) onto the window to open it."
+                        .into(),
+                notices: Vec::new(),
+                status_seen: String::new(),
+                frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
+                    std::fs::File::create(&p)
+                        .map_err(|e| {
+                            eprintln!(
+                                "warning: SCATTERLAB_FRAME_LOG {}: {e}",
+                                PathBuf::from(&p).display()
+                            )
+                        })
+                        .ok()
+                        .map(std::io::LineWriter::new)
+                }),
+                ui_ms: 0.0,
+                started: std::time::Instant::now(),
+                reported: (false, false),
+                last_title: String::new(),
+            },
+            layout: Layout {
+                viewport_rect: None,
+                plot_rect: None,
+                compare_labels: Vec::new(),
+                panel_rects: [None, None],
+            },
         };
         app.refresh_curves();
         app
+    }
+
+    /// While comparing: both sides, or A or B alone.
+    pub fn ab(&self) -> AbView {
+        self.view.ab
+    }
+
+    /// Whether the viewport shows the look before the last edit.
+    pub fn show_before(&self) -> bool {
+        self.view.show_before
+    }
+
+    /// Where the profile plot was drawn (UI tests).
+    pub fn plot_rect(&self) -> Option<egui::Rect> {
+        self.layout.plot_rect
+    }
+
+    /// The latest finished analysis of the look (fits, tables), if any.
+    pub fn latest_analysis(&self) -> Option<&Analysis> {
+        self.profile.latest.as_ref()
     }
 
     /// What the main plot draws now, per channel (for tests).
     /// Whether the plot's radius axis is logarithmic now (set, or
     /// automatic for these curves).
     pub fn plot_log_radius(&self) -> bool {
-        self.ui_state
-            .log_radius
-            .unwrap_or_else(|| matches!(&self.curves, Some(Ok(c)) if plots::auto_log_radius(c)))
+        self.ui_state.log_radius.unwrap_or_else(
+            || matches!(&self.profile.curves, Some(Ok(c)) if plots::auto_log_radius(c)),
+        )
     }
 
     pub fn plot_series(&self) -> Option<[Vec<[f64; 2]>; 3]> {
-        match &self.curves {
+        match &self.profile.curves {
             Some(Ok(c)) => Some(plots::series(
                 c,
                 self.ui_state.plot_quantity,
@@ -385,17 +335,17 @@ impl EditorApp {
 
     /// The status bar's viewport readout (method, size, time, adapter).
     pub fn frame_info(&self) -> &str {
-        &self.frame_info
+        &self.view.frame_info
     }
 
     /// Whether the viewport has shown a rendered frame.
     pub fn has_viewport_frame(&self) -> bool {
-        self.texture.is_some()
+        self.view.texture.is_some()
     }
 
     /// The last viewport frame and the number of frames received so far.
     pub fn viewport_frame(&self) -> Option<(&image::RgbaImage, u64)> {
-        self.last_frame.as_ref().map(|(i, n)| (i, *n))
+        self.view.last_frame.as_ref().map(|(i, n)| (i, *n))
     }
 
     /// Whether the viewport has rendered everything asked of it.
@@ -403,10 +353,10 @@ impl EditorApp {
     /// and the left and right panels' rects, as last drawn.
     pub fn viewport_layout(&self) -> ViewportLayout {
         ViewportLayout {
-            viewport: self.viewport_rect,
-            labels: self.compare_labels.clone(),
-            params: self.panel_rects[0],
-            plots: self.panel_rects[1],
+            viewport: self.layout.viewport_rect,
+            labels: self.layout.compare_labels.clone(),
+            params: self.layout.panel_rects[0],
+            plots: self.layout.panel_rects[1],
         }
     }
 
@@ -432,7 +382,7 @@ impl EditorApp {
                 let more = looks.len() - 1;
                 let first = looks.remove(0);
                 self.guarded(Pending::New(Box::new(first.preset.clone())));
-                self.status = if more > 0 {
+                self.report.status = if more > 0 {
                     format!(
                         "Imported \"{}\" from {} ({more} more profile(s) in the file: `scatterlab import FILE --out DIR` writes them all)",
                         first.preset.name,
@@ -446,48 +396,50 @@ impl EditorApp {
                         first.kind
                     )
                 };
-                self.imported = Some((path.to_owned(), first));
+                self.profile.imported = Some((path.to_owned(), first));
             }
-            Ok(_) => self.status = format!("Error: {}: no look in the file", path.display()),
-            Err(e) => self.status = format!("Error: {e}"),
+            Ok(_) => self.report.status = format!("Error: {}: no look in the file", path.display()),
+            Err(e) => self.report.status = format!("Error: {e}"),
         }
     }
 
     /// How far the last viewport frame had got.
     pub fn viewport_quality(&self) -> Option<viewport::Quality> {
-        self.quality
+        self.view.quality
     }
 
     pub fn viewport_idle(&self) -> bool {
-        self.viewport
+        self.view
+            .viewport
             .as_ref()
             .is_none_or(|v| v.busy_since.is_none())
     }
 
     /// The loaded mesh's size and framing, once the viewport has it.
     pub fn mesh_info(&self) -> Option<viewport::MeshInfo> {
-        self.mesh_info
+        self.meshes.mesh_info
     }
 
     /// The mesh whose units prompt is open.
     pub fn units_prompt_for(&self) -> Option<&Path> {
-        self.units_prompt.as_deref()
+        self.meshes.units_prompt.as_deref()
     }
 
     /// Whether the unsaved-changes prompt is waiting for an answer.
     pub fn prompt_open(&self) -> bool {
-        self.pending.is_some()
+        self.dialogs.pending.is_some()
     }
 
     /// The status bar's message.
     pub fn status(&self) -> &str {
-        &self.status
+        &self.report.status
     }
 
     /// Whether the background analysis (fits, taps, tables) is current.
     pub fn analysis_done(&self) -> bool {
-        !self.analysis.busy()
+        !self.profile.analysis.busy()
             && self
+                .profile
                 .latest
                 .as_ref()
                 .is_some_and(|a| a.key == self.analysis_key())
@@ -497,12 +449,13 @@ impl EditorApp {
     /// here, layered stacks come from the analysis thread).
     fn refresh_curves(&mut self) {
         let spec = &self.doc.preset.profile;
-        if self.curves_for.as_ref() == Some(spec) {
+        if self.profile.curves_for.as_ref() == Some(spec) {
             return;
         }
-        self.curves_for = Some(spec.clone());
-        self.curves = if analysis::is_slow(spec) {
-            self.latest
+        self.profile.curves_for = Some(spec.clone());
+        self.profile.curves = if analysis::is_slow(spec) {
+            self.profile
+                .latest
                 .as_ref()
                 .filter(|a| a.key.profile == *spec)
                 .map(|a| Ok(a.curves.clone()))
@@ -530,9 +483,9 @@ impl EditorApp {
             Ok(p) => {
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
-                self.status = format!("Opened {}", path.display());
+                self.report.status = format!("Opened {}", path.display());
             }
-            Err(e) => self.status = format!("Error: {e}"),
+            Err(e) => self.report.status = format!("Error: {e}"),
         }
     }
 
@@ -548,17 +501,17 @@ impl EditorApp {
         match self.doc.save_as(path) {
             Ok(()) => {
                 self.ui_state.add_recent(path);
-                self.status = format!("Saved {}", path.display());
+                self.report.status = format!("Saved {}", path.display());
                 // Save, then what the unsaved-changes prompt was for.
-                if let Some(action) = self.after_save.take() {
+                if let Some(action) = self.dialogs.after_save.take() {
                     self.run_pending(action);
                 }
             }
             Err(e) => {
                 // Not saved: the quit (or open) it was for does not happen,
                 // now or after some later save.
-                self.after_save = None;
-                self.status = format!("Error: {e}");
+                self.dialogs.after_save = None;
+                self.report.status = format!("Error: {e}");
             }
         }
     }
@@ -566,8 +519,8 @@ impl EditorApp {
     /// Writes the viewport's frame, as shown (a comparison with both sides,
     /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
     pub fn save_image(&mut self, path: &Path) {
-        let Some((frame, _)) = &self.last_frame else {
-            self.status = format!(
+        let Some((frame, _)) = &self.view.last_frame else {
+            self.report.status = format!(
                 "Error: {}: no viewport frame to save yet (wait for the head to appear)",
                 path.display()
             );
@@ -578,9 +531,9 @@ impl EditorApp {
             .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
             .map_err(|e| e.to_string())
             .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
-        self.status = match written {
+        self.report.status = match written {
             Ok(()) => {
-                let state = match self.quality {
+                let state = match self.view.quality {
                     Some(viewport::Quality::Converged { .. }) => "converged",
                     _ => "not converged yet: a preview",
                 };
@@ -589,7 +542,7 @@ impl EditorApp {
                     path.display(),
                     frame.width(),
                     frame.height(),
-                    self.frame_info.split(" · ").next().unwrap_or("")
+                    self.view.frame_info.split(" · ").next().unwrap_or("")
                 )
             }
             Err(e) => format!("Error: {}: {e}", path.display()),
@@ -604,7 +557,7 @@ impl EditorApp {
     /// Runs `action` now, or asks first if there are unsaved changes.
     fn guarded(&mut self, action: Pending) {
         if self.doc.is_dirty() {
-            self.pending = Some(action);
+            self.dialogs.pending = Some(action);
         } else {
             self.run_pending(action);
         }
@@ -614,7 +567,7 @@ impl EditorApp {
         match action {
             Pending::Open(p) => self.open_now(&p),
             Pending::New(p) => {
-                self.status = format!("New look from \"{}\"", p.name);
+                self.report.status = format!("New look from \"{}\"", p.name);
                 self.doc = Document::new(*p, None);
             }
             Pending::Quit => self.allow_close = true,
@@ -632,9 +585,9 @@ impl EditorApp {
                 CompareB::Preset(p) => Some(p.clone()),
                 _ => self.doc.path.clone(),
             },
-            DialogKind::Mesh => self.mesh.clone(),
+            DialogKind::Mesh => self.meshes.mesh.clone(),
             DialogKind::Environment => self.ui_state.environment_file.clone(),
-            DialogKind::Map(k) => self.mesh.as_ref().and_then(|m| {
+            DialogKind::Map(k) => self.meshes.mesh.as_ref().and_then(|m| {
                 self.ui_state
                     .meshes
                     .get(m)
@@ -685,7 +638,7 @@ impl EditorApp {
             ),
             _ => String::new(),
         };
-        self.export_notes = None;
+        self.dialogs.export_notes = None;
         if let DialogKind::Export(format) = kind {
             let preset = self.doc.preset.clone();
             let (tx, rx) = std::sync::mpsc::channel();
@@ -694,7 +647,7 @@ impl EditorApp {
                     .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
                 let _ = tx.send(notes);
             });
-            self.export_notes = Some(rx);
+            self.dialogs.export_notes = Some(rx);
         }
         self.show_dialog(kind, &dir, &name);
     }
@@ -737,7 +690,7 @@ impl EditorApp {
                     .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()))
             }));
         picker.open();
-        self.dialog = Some(FileDialog {
+        self.dialogs.dialog = Some(FileDialog {
             kind,
             picker,
             notes: None,
@@ -749,7 +702,7 @@ impl EditorApp {
     /// file-name field (AccessKit cannot commit egui_file's folder field,
     /// which acts on losing focus). Returns false without an open dialog.
     pub fn dialog_goto(&mut self, path: &Path) -> bool {
-        let Some(d) = self.dialog.take() else {
+        let Some(d) = self.dialogs.dialog.take() else {
             return false;
         };
         let (dir, name) = if path.is_dir() {
@@ -764,7 +717,7 @@ impl EditorApp {
         };
         let notes = d.notes;
         self.show_dialog(d.kind, &dir, &name);
-        if let Some(d) = self.dialog.as_mut() {
+        if let Some(d) = self.dialogs.dialog.as_mut() {
             d.notes = notes;
         }
         true
@@ -772,12 +725,13 @@ impl EditorApp {
 
     /// Whether the Maps window's previews are computed (UI tests).
     pub fn maps_preview_ready(&self) -> bool {
-        self.maps_preview.as_ref().is_some_and(|p| p.ready())
+        self.meshes.maps_preview.as_ref().is_some_and(|p| p.ready())
     }
 
     /// The open file dialog's folder (UI tests).
     pub fn dialog_folder_shown(&self) -> Option<PathBuf> {
-        self.dialog
+        self.dialogs
+            .dialog
             .as_ref()
             .map(|d| d.picker.directory().to_path_buf())
     }
@@ -792,22 +746,22 @@ impl EditorApp {
                 .map_err(|e| e.to_string());
             let _ = tx.send(r);
         });
-        self.exports.push(rx);
-        self.status = format!("Exporting {} …", format.id());
+        self.jobs.exports.push(rx);
+        self.report.status = format!("Exporting {} …", format.id());
     }
 
     /// Loads an equirectangular HDR map on its own thread (decoding and
     /// projecting a large map takes a while) and lights the head with it.
     pub fn load_environment(&mut self, path: PathBuf) {
         let (tx, rx) = std::sync::mpsc::channel();
-        self.status = format!("Loading environment {} …", path.display());
+        self.report.status = format!("Loading environment {} …", path.display());
         std::thread::spawn(move || {
             let r = crate::render::environment::Environment::load(&path)
                 .map(|e| (path, e.irradiance_sh()))
                 .map_err(|e| e.to_string());
             let _ = tx.send(r);
         });
-        self.environment_load = Some(rx);
+        self.jobs.environment_load = Some(rx);
     }
 
     /// The whole editor for one frame.
@@ -855,10 +809,10 @@ impl EditorApp {
             .show(ui, |ui| {
                 egui::ScrollArea::both().show(ui, |ui| self.params_panel(ui));
             });
-        self.panel_rects[0] = Some(params.response.rect);
+        self.layout.panel_rects[0] = Some(params.response.rect);
         // Edits above change the preset; the plots below use it this frame.
         self.refresh_curves();
-        self.analysis.request(self.analysis_key());
+        self.profile.analysis.request(self.analysis_key());
         let plots = egui::Panel::right("plots")
             .frame(side)
             .resizable(true)
@@ -869,7 +823,7 @@ impl EditorApp {
                 // wrap rather than widen it).
                 egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
             });
-        self.panel_rects[1] = Some(plots.response.rect);
+        self.layout.panel_rects[1] = Some(plots.response.rect);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
         egui::CentralPanel::default()
             .frame(bare(egui::Frame::central_panel(&style)))
@@ -887,13 +841,13 @@ impl EditorApp {
             self.doc.commit();
         }
         let title = self.doc.title();
-        if title != self.last_title {
+        if title != self.report.last_title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
-            self.last_title = title;
+            self.report.last_title = title;
         }
-        self.ui_ms = ui_ms;
+        self.report.ui_ms = ui_ms;
         self.report_timings();
-        if let Some(log) = self.frame_log.as_mut() {
+        if let Some(log) = self.report.frame_log.as_mut() {
             use std::io::Write;
             let _ = writeln!(log, "{:.3} ui {ui_ms:.1}", unix_seconds());
         }
@@ -904,17 +858,19 @@ impl EditorApp {
     /// same message again is not stacked twice); at most five, oldest first
     /// dropped.
     fn notices_ui(&mut self, ctx: &egui::Context) {
-        if self.status != self.status_seen {
-            self.status_seen = self.status.clone();
-            let s = &self.status;
-            if (s.starts_with("Error") || s.starts_with("Warning")) && !self.notices.contains(s) {
-                self.notices.push(s.clone());
-                if self.notices.len() > 5 {
-                    self.notices.remove(0);
+        if self.report.status != self.report.status_seen {
+            self.report.status_seen = self.report.status.clone();
+            let s = &self.report.status;
+            if (s.starts_with("Error") || s.starts_with("Warning"))
+                && !self.report.notices.contains(s)
+            {
+                self.report.notices.push(s.clone());
+                if self.report.notices.len() > 5 {
+                    self.report.notices.remove(0);
                 }
             }
         }
-        let Some(rect) = self.viewport_rect else {
+        let Some(rect) = self.layout.viewport_rect else {
             return;
         };
         let mut dismiss = None;
@@ -924,7 +880,7 @@ impl EditorApp {
             .fixed_pos(rect.right_top() + egui::vec2(-width - 8.0, 8.0))
             .show(ctx, |ui| {
                 ui.set_width(width);
-                for (i, n) in self.notices.iter().enumerate() {
+                for (i, n) in self.report.notices.iter().enumerate() {
                     egui::Frame::popup(ui.style()).show(ui, |ui| {
                         ui.set_width(width - 16.0);
                         ui.horizontal_top(|ui| {
@@ -950,18 +906,18 @@ impl EditorApp {
                 }
             });
         if let Some(i) = dismiss {
-            self.notices.remove(i);
+            self.report.notices.remove(i);
         }
     }
 
     /// The scale (white, |ΔL*|) of the difference view on screen, if any.
     pub fn difference_scale_shown(&self) -> Option<f32> {
-        self.difference_shown
+        self.view.difference_shown
     }
 
     /// The notifications on screen (errors and warnings not yet dismissed).
     pub fn notices(&self) -> &[String] {
-        &self.notices
+        &self.report.notices
     }
 
     /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1
@@ -970,62 +926,62 @@ impl EditorApp {
         if std::env::var_os("SCATTERLAB_TIMINGS").is_none() {
             return;
         }
-        let t = self.started.elapsed().as_secs_f64();
-        if !self.reported.0 {
-            self.reported.0 = true;
+        let t = self.report.started.elapsed().as_secs_f64();
+        if !self.report.reported.0 {
+            self.report.reported.0 = true;
             eprintln!(
                 "timing: first UI frame {t:.2} s after start-up (UI {:.2} ms)",
-                self.ui_ms
+                self.report.ui_ms
             );
         }
-        if !self.reported.1 && self.texture.is_some() {
-            self.reported.1 = true;
+        if !self.report.reported.1 && self.view.texture.is_some() {
+            self.report.reported.1 = true;
             eprintln!("timing: first viewport frame {t:.2} s after start-up");
         }
-        eprintln!("timing: UI {:.2} ms", self.ui_ms);
+        eprintln!("timing: UI {:.2} ms", self.report.ui_ms);
     }
 
     fn poll_workers(&mut self) {
-        if let Some((key, result)) = self.analysis.poll() {
+        if let Some((key, result)) = self.profile.analysis.poll() {
             match result {
                 Ok(a) => {
                     if analysis::is_slow(&key.profile) && key.profile == self.doc.preset.profile {
-                        self.curves = Some(Ok(a.curves.clone()));
+                        self.profile.curves = Some(Ok(a.curves.clone()));
                     }
-                    self.latest = Some(a);
+                    self.profile.latest = Some(a);
                 }
                 Err(e) => {
                     if key.profile == self.doc.preset.profile {
-                        self.curves = Some(Err(e));
+                        self.profile.curves = Some(Err(e));
                     }
                 }
             }
         }
-        if let Some(rx) = &self.environment_load {
+        if let Some(rx) = &self.jobs.environment_load {
             match rx.try_recv() {
                 Ok(Ok((path, sh))) => {
                     let v = &mut self.ui_state.view;
                     v.environment_map_sh = Some(sh);
                     v.environment = state::EnvironmentChoice::Map;
-                    self.status = format!("Environment {}", path.display());
+                    self.report.status = format!("Environment {}", path.display());
                     self.ui_state.environment_file = Some(path);
-                    if std::mem::take(&mut self.hdr_rig_pending) {
+                    if std::mem::take(&mut self.view.hdr_rig_pending) {
                         state::LightRig::Hdr.apply(&mut self.ui_state.view);
                     }
-                    self.environment_load = None;
+                    self.jobs.environment_load = None;
                 }
                 Ok(Err(e)) => {
-                    self.status = format!("Error: {e}");
-                    self.environment_load = None;
+                    self.report.status = format!("Error: {e}");
+                    self.jobs.environment_load = None;
                     // The HDR rig that asked for this map is off.
-                    self.hdr_rig_pending = false;
+                    self.view.hdr_rig_pending = false;
                 }
                 Err(std::sync::mpsc::TryRecvError::Empty) => {}
-                Err(_) => self.environment_load = None,
+                Err(_) => self.jobs.environment_load = None,
             }
         }
         let mut done = Vec::new();
-        self.exports.retain(|rx| match rx.try_recv() {
+        self.jobs.exports.retain(|rx| match rx.try_recv() {
             Ok(r) => {
                 done.push(r);
                 false
@@ -1034,7 +990,7 @@ impl EditorApp {
             Err(_) => false,
         });
         for r in done {
-            self.status = match r {
+            self.report.status = match r {
                 Ok(paths) => format!(
                     "Exported {}",
                     paths
@@ -1098,7 +1054,7 @@ impl eframe::App for EframeApp {
         {
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            app.pending = Some(Pending::Quit);
+            app.dialogs.pending = Some(Pending::Quit);
         }
         if app.allow_close {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
@@ -1162,7 +1118,7 @@ pub fn run(
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))
             });
             let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
-            app.started = started;
+            app.report.started = started;
             if let Some(f) = &import {
                 app.import_now(f);
             }

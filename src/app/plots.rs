@@ -184,7 +184,7 @@ fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
 }
 
 pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
-    let auto = matches!(&app.curves, Some(Ok(c)) if auto_log_radius(c));
+    let auto = matches!(&app.profile.curves, Some(Ok(c)) if auto_log_radius(c));
     controls_ui(ui, &mut app.ui_state, auto);
     let s = &app.ui_state;
     let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
@@ -194,13 +194,14 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
         PlotQuantity::RTimesR => "1/mm",
     };
     let overlay = app
+        .profile
         .latest
         .as_ref()
         .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == s.overlay)
         .and_then(|a| a.overlay.clone());
     let apply = overlay_status_ui(ui, &overlay, s.overlay);
     let b_series = compared_preset_series(ui, app, q, log);
-    let plot_rect = match &app.curves {
+    let plot_rect = match &app.profile.curves {
         Some(Ok(curves)) => Some(profile_plot_ui(
             ui,
             app,
@@ -221,7 +222,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
             None
         }
     };
-    app.plot_rect = plot_rect;
+    app.layout.plot_rect = plot_rect;
     if let Some(spec) = apply {
         let mut p = app.doc.preset.clone();
         p.profile = spec;
@@ -348,13 +349,17 @@ fn compared_preset_series(
     q: PlotQuantity,
     log: bool,
 ) -> Option<NamedSeries> {
-    match (&app.ui_state.compare, &app.ui_state.compare_b, &app.curves) {
+    match (
+        &app.ui_state.compare,
+        &app.ui_state.compare_b,
+        &app.profile.curves,
+    ) {
         (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
         (_, CompareB::Preset(path), Some(Ok(curves))) => {
             let r_max = curves.radius_mm.last().copied();
             let a_spec = &app.doc.preset.profile;
             let key = (path.clone(), r_max.map(f64::to_bits), format!("{a_spec:?}"));
-            if app.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
+            if app.profile.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
                 let loaded = super::viewport::load_look(path).and_then(|p| {
                     if super::analysis::is_slow(&p.profile) || super::analysis::is_slow(a_spec) {
                         return Err("layered stacks are not overlaid".into());
@@ -366,9 +371,9 @@ fn compared_preset_series(
                     let d = crate::model::relative_l2_rr(a.as_ref(), m.as_ref(), reach);
                     Ok((p.name, Curves::of(m.as_ref(), r_max), d))
                 });
-                app.b_curves = Some((key, loaded));
+                app.profile.b_curves = Some((key, loaded));
             }
-            match app.b_curves.as_ref().map(|b| &b.1) {
+            match app.profile.b_curves.as_ref().map(|b| &b.1) {
                 Some(Ok((name, c, _))) => Some((format!("B: {name}"), series(c, q, log))),
                 Some(Err(e)) => {
                     ui.colored_label(ui.visuals().warn_fg_color, format!("B overlay: {e}"));
@@ -396,6 +401,7 @@ fn profile_plot_ui(
     let xr = |r: f64| if log_r { r.max(1e-12).log10() } else { r };
     let lines = series(curves, q, log).map(|s| x(&s));
     let taps = app
+        .profile
         .latest
         .as_ref()
         .filter(|a| a.key.profile == app.doc.preset.profile)
@@ -510,6 +516,7 @@ fn profile_plot_ui(
 fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     // Borrowed, not cloned per frame: only `preview_textures` changes below.
     let Some(a) = app
+        .profile
         .latest
         .as_ref()
         .filter(|a| a.key.profile == app.doc.preset.profile)
@@ -523,7 +530,7 @@ fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     ui.label("Pre-integrated table D(N·L, 1/r)")
         .on_hover_text("Penner 2011: x = N·L from −1 to 1, y = curvature 1/r from 1/100 to 1/1 mm⁻¹ (top to bottom). Linear D shown in sRGB.");
     // Uploaded once per analysis result, not per frame.
-    if app.preview_textures.as_ref().map(|t| &t.0) != Some(&a.key) {
+    if app.profile.preview_textures.as_ref().map(|t| &t.0) != Some(&a.key) {
         let n = a.lut_size;
         let rgba: Vec<u8> = a
             .lut_preview
@@ -547,9 +554,9 @@ fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
         let strip = ui
             .ctx()
             .load_texture("transmittance", img, egui::TextureOptions::LINEAR);
-        app.preview_textures = Some((a.key.clone(), lut, strip));
+        app.profile.preview_textures = Some((a.key.clone(), lut, strip));
     }
-    let Some((_, lut, strip)) = &app.preview_textures else {
+    let Some((_, lut, strip)) = &app.profile.preview_textures else {
         return;
     };
     if let Some(lut) = lut {

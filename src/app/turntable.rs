@@ -256,11 +256,11 @@ impl EditorApp {
     /// File → Save turntable…: its settings, Save…, then the progress
     /// with Cancel.
     pub(super) fn turntable_window(&mut self, ctx: &egui::Context) {
-        if let Some(job) = self.turntable.as_mut() {
+        if let Some(job) = self.jobs.turntable.as_mut() {
             if let Some(r) = job.poll() {
                 let out = job.out.clone();
-                self.turntable = None;
-                self.status = match r {
+                self.jobs.turntable = None;
+                self.report.status = match r {
                     Ok(files) => format!(
                         "Saved turntable {} ({} frames{})",
                         out.display(),
@@ -278,13 +278,13 @@ impl EditorApp {
                 ctx.request_repaint_after(Duration::from_millis(200));
             }
         }
-        if !self.turntable_open && self.turntable.is_none() {
+        if !self.dialogs.turntable_open && self.jobs.turntable.is_none() {
             return;
         }
         let mut open = true;
         let mut save = false;
         let mut cancel = false;
-        let running = self.turntable.is_some();
+        let running = self.jobs.turntable.is_some();
         egui::Window::new("Save turntable")
             .collapsible(false)
             .resizable(false)
@@ -308,7 +308,7 @@ impl EditorApp {
                         .on_hover_text("Written to <name>_frames/ beside the GIF.");
                 });
                 ui.label("At the viewport's size and view, as the viewport shows it (a comparison too): the method's converged frames.");
-                match self.turntable.as_ref() {
+                match self.jobs.turntable.as_ref() {
                     Some(job) => {
                         let f = if job.writing { 1.0 } else { job.done as f32 / job.total.max(1) as f32 };
                         ui.add(egui::ProgressBar::new(f).text(job.text()).desired_width(360.0));
@@ -324,7 +324,7 @@ impl EditorApp {
                 }
             });
         if cancel {
-            if let Some(job) = &self.turntable {
+            if let Some(job) = &self.jobs.turntable {
                 job.cancel();
             }
         }
@@ -332,8 +332,8 @@ impl EditorApp {
             self.open_dialog(DialogKind::SaveTurntable);
         }
         if !open {
-            self.turntable_open = false;
-            if let Some(job) = &self.turntable {
+            self.dialogs.turntable_open = false;
+            if let Some(job) = &self.jobs.turntable {
                 job.cancel();
             }
         }
@@ -341,25 +341,25 @@ impl EditorApp {
 
     /// Frames done and in all of the turntable rendering (UI tests).
     pub fn turntable_progress(&self) -> Option<(u32, u32)> {
-        self.turntable.as_ref().map(|j| (j.done, j.total))
+        self.jobs.turntable.as_ref().map(|j| (j.done, j.total))
     }
 
     /// Starts a turntable to `gif` from the viewport's current request
     /// (the window polls it while it runs).
     pub(super) fn start_turntable(&mut self, gif: PathBuf) {
-        let Some(base) = self.viewport.as_ref().and_then(|v| v.last_request()) else {
-            self.status = format!(
+        let Some(base) = self.view.viewport.as_ref().and_then(|v| v.last_request()) else {
+            self.report.status = format!(
                 "Error: {}: no viewport to turn (wait for the head to appear)",
                 gif.display()
             );
             return;
         };
-        self.turntable = Some(TurntableJob::start(
+        self.jobs.turntable = Some(TurntableJob::start(
             base.clone(),
             self.ui_state.turntable,
             gif,
             || {},
         ));
-        self.turntable_open = true;
+        self.dialogs.turntable_open = true;
     }
 }

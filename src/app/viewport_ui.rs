@@ -7,7 +7,7 @@ use super::*;
 impl EditorApp {
     pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
         // Camera distance that frames the mesh (Reset view, zoom limits).
-        let framing = self.mesh_info.map_or(
+        let framing = self.meshes.mesh_info.map_or(
             crate::settings::OrbitView::default().camera_distance_m,
             |i| i.framing_distance_m,
         );
@@ -26,9 +26,9 @@ impl EditorApp {
         self.viewport_input(ui, rect, &response, framing);
         response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
         let req = self.frame_request(ui, rect);
-        let valid =
-            self.doc.preset.rendering.validate().is_ok() && !matches!(self.curves, Some(Err(_)));
-        let replies = match self.viewport.as_mut() {
+        let valid = self.doc.preset.rendering.validate().is_ok()
+            && !matches!(self.profile.curves, Some(Err(_)));
+        let replies = match self.view.viewport.as_mut() {
             Some(vp) => {
                 if valid {
                     vp.request(req);
@@ -59,26 +59,26 @@ impl EditorApp {
                 (CompareMode::Difference, "difference"),
             ] {
                 if ui
-                    .selectable_label(self.ui_state.compare == m && self.ab == AbView::Both, name)
+                    .selectable_label(self.ui_state.compare == m && self.view.ab == AbView::Both, name)
                     .clicked()
                 {
                     self.ui_state.compare = m;
-                    self.ab = AbView::Both;
+                    self.view.ab = AbView::Both;
                 }
             }
             let before = self.doc.before_last_edit().is_some();
             if !before {
-                self.show_before = false;
+                self.view.show_before = false;
             }
             ui.add_enabled_ui(before, |ui| {
-                ui.toggle_value(&mut self.show_before, "before")
+                ui.toggle_value(&mut self.view.show_before, "before")
                     .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
                     .on_disabled_hover_text("No edit yet to compare with.");
             });
             let none = CompareB::Method(crate::settings::rendering::MethodId::None);
             let sss_only = self.ui_state.compare == CompareMode::Difference
                 && self.ui_state.compare_b == none
-                && self.ab == AbView::Both;
+                && self.view.ab == AbView::Both;
             if ui
                 .selectable_label(sss_only, "SSS only")
                 .on_hover_text("What scattering adds: the difference view of this look against the same look without SSS (method none), |ΔL*| on the fixed scale at the right edge. Click again to go back.")
@@ -89,7 +89,7 @@ impl EditorApp {
                 } else {
                     self.ui_state.compare = CompareMode::Difference;
                     self.ui_state.compare_b = none;
-                    self.ab = AbView::Both;
+                    self.view.ab = AbView::Both;
                 }
             }
             if self.ui_state.compare != CompareMode::Off {
@@ -114,7 +114,7 @@ impl EditorApp {
                 });
                 // How far a file's look is from A: what the round trip costs.
                 if let (CompareB::Preset(_), Some((_, Ok((_, _, d))))) =
-                    (&self.ui_state.compare_b, self.b_curves.as_ref())
+                    (&self.ui_state.compare_b, self.profile.b_curves.as_ref())
                 {
                     ui.label(format!(
                         "B − A: {:.1} / {:.1} / {:.1} %",
@@ -145,13 +145,13 @@ impl EditorApp {
                 }
                 for (side, name) in [(AbView::A, "A alone"), (AbView::B, "B alone")] {
                     if ui
-                        .selectable_label(self.ab == side, name)
+                        .selectable_label(self.view.ab == side, name)
                         .on_hover_text(format!(
                             "Space flips between A alone and B alone (A: {a_name}, B: {b_name})."
                         ))
                         .clicked()
                     {
-                        self.ab = if self.ab == side { AbView::Both } else { side };
+                        self.view.ab = if self.view.ab == side { AbView::Both } else { side };
                     }
                 }
             }
@@ -239,7 +239,7 @@ impl EditorApp {
                             // The HDR rig with no map loaded: ask for one;
                             // the map lights the head once it has loaded.
                             open_environment = true;
-                            self.hdr_rig_pending = true;
+                            self.view.hdr_rig_pending = true;
                         }
                         ui.close();
                     }
@@ -278,20 +278,20 @@ impl EditorApp {
                 .on_hover_text(
                     "Once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
                 );
-            if let Some(p) = self.mesh.clone() {
+            if let Some(p) = self.meshes.mesh.clone() {
                 if ui
                     .button("Units…")
                     .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
                     .clicked()
                 {
-                    self.units_prompt = Some(p.clone());
+                    self.meshes.units_prompt = Some(p.clone());
                 }
                 if ui
                     .button("Maps…")
                     .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
                     .clicked()
                 {
-                    self.maps_window = Some(p);
+                    self.meshes.maps_window = Some(p);
                 }
             }
         });
@@ -330,7 +330,7 @@ impl EditorApp {
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                self.last_wheel = Some(std::time::Instant::now());
+                self.view.last_wheel = Some(std::time::Instant::now());
                 // Zoom from a close-up of a pore to the whole mesh in a
                 // corner, whatever its size.
                 v.orbit.camera_distance_m = (v.orbit.camera_distance_m * (-scroll * 0.002).exp())
@@ -347,18 +347,18 @@ impl EditorApp {
             ((rect.width() * ppp) as u32).clamp(16, 4096),
             ((rect.height() * ppp) as u32).clamp(16, 4096),
         );
-        let b = if self.ui_state.compare == CompareMode::Off || self.ab == AbView::A {
+        let b = if self.ui_state.compare == CompareMode::Off || self.view.ab == AbView::A {
             None
         } else {
             let b_look = match &self.ui_state.compare_b {
                 CompareB::Preset(path) => {
                     let modified = std::fs::metadata(path).and_then(|m| m.modified()).ok();
-                    let entry = match self.b_look_cache.take() {
+                    let entry = match self.profile.b_look_cache.take() {
                         Some(e) if e.0 == *path && e.1 == modified => e,
                         _ => (path.clone(), modified, viewport::load_look(path)),
                     };
                     let look = entry.2.clone().map(|p| viewport::Look::of(&p));
-                    self.b_look_cache = Some(entry);
+                    self.profile.b_look_cache = Some(entry);
                     look
                 }
                 b => viewport::b_look(&self.doc.preset, b),
@@ -366,7 +366,7 @@ impl EditorApp {
             match b_look {
                 Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
                 Err(e) => {
-                    self.status = format!("Error: compare B: {e}");
+                    self.report.status = format!("Error: compare B: {e}");
                     None
                 }
             }
@@ -375,6 +375,7 @@ impl EditorApp {
         // or the wheel in the last quarter second. Previews while it lasts;
         // the full frame, refined, once it stops.
         let wheel_recent = self
+            .view
             .last_wheel
             .is_some_and(|t| t.elapsed() < std::time::Duration::from_millis(250));
         if wheel_recent {
@@ -390,18 +391,20 @@ impl EditorApp {
             interactive,
             refine_to_truth: self.ui_state.refine_to_truth,
             a: viewport::Look::of(
-                self.show_before
+                self.view
+                    .show_before
                     .then(|| self.doc.before_last_edit())
                     .flatten()
                     .unwrap_or(&self.doc.preset),
             ),
             b,
-            show_b: self.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
+            show_b: self.view.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
             view: self.ui_state.view,
             size,
-            mesh: self.mesh.clone(),
+            mesh: self.meshes.mesh.clone(),
             seq: 0,
             mesh_settings: self
+                .meshes
                 .mesh
                 .as_ref()
                 .and_then(|p| self.ui_state.meshes.get(p))
@@ -424,7 +427,7 @@ impl EditorApp {
                 quality,
                 seq,
             } => {
-                if let Some(log) = self.frame_log.as_mut() {
+                if let Some(log) = self.report.frame_log.as_mut() {
                     use std::io::Write;
                     let _ = writeln!(
                         log,
@@ -441,22 +444,22 @@ impl EditorApp {
                         stats.method,
                     );
                 }
-                self.quality = Some(quality);
-                self.difference_shown = difference_scale;
+                self.view.quality = Some(quality);
+                self.view.difference_shown = difference_scale;
                 let ci = egui::ColorImage::from_rgba_unmultiplied(
                     [image.width() as usize, image.height() as usize],
                     image.as_raw(),
                 );
-                let n = self.last_frame.as_ref().map_or(0, |f| f.1) + 1;
-                self.last_frame = Some((image, n));
-                match &mut self.texture {
+                let n = self.view.last_frame.as_ref().map_or(0, |f| f.1) + 1;
+                self.view.last_frame = Some((image, n));
+                match &mut self.view.texture {
                     Some(t) => t.set(ci, egui::TextureOptions::LINEAR),
                     None => {
-                        self.texture =
+                        self.view.texture =
                             Some(ctx.load_texture("viewport", ci, egui::TextureOptions::LINEAR))
                     }
                 }
-                self.frame_info = format!(
+                self.view.frame_info = format!(
                     "{} · {} · {}×{} · {:.0} ms{}{} · {}",
                     stats.method,
                     quality.describe(),
@@ -473,15 +476,15 @@ impl EditorApp {
             }
             // The same request is not sent again (it would fail
             // again); the next change renders.
-            viewport::Reply::Error(e) => self.status = format!("Error: viewport: {e}"),
+            viewport::Reply::Error(e) => self.report.status = format!("Error: viewport: {e}"),
             viewport::Reply::MeshLoaded(p, info) => {
-                self.mesh_info = Some(info);
+                self.meshes.mesh_info = Some(info);
                 // Frame a mesh the artist loads, or new units of
                 // it; the default head at start-up keeps the
                 // remembered view.
                 let key = (p.clone(), info.metres_per_unit);
-                let first_head = self.framed_for.is_none() && p.is_none();
-                if self.framed_for.as_ref() != Some(&key) && !first_head {
+                let first_head = self.view.framed_for.is_none() && p.is_none();
+                if self.view.framed_for.as_ref() != Some(&key) && !first_head {
                     self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
                     self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
                 } else if first_head {
@@ -497,29 +500,31 @@ impl EditorApp {
                         let o = &mut self.ui_state.view.orbit;
                         o.camera_distance_m = info.framing_distance_m;
                         o.camera_pan_m = [0.0; 2];
-                        self.status = format!(
+                        self.report.status = format!(
                             "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
                             100.0 * seen
                         );
                     }
                 }
-                self.framed_for = Some(key);
+                self.view.framed_for = Some(key);
                 if let Some(p) = &p {
                     if !self.ui_state.meshes.contains_key(p) {
-                        self.units_prompt = Some(p.clone());
+                        self.meshes.units_prompt = Some(p.clone());
                     }
                 }
                 match &p {
-                    Some(p) => self.status = format!("Mesh {}", p.display()),
+                    Some(p) => self.report.status = format!("Mesh {}", p.display()),
                     // The first load of the default head is not news.
                     // After a failed load the error stays readable.
-                    None if self.status.starts_with("Error") => {
-                        self.status.push_str(" (showing the default head)");
-                        self.mesh = None;
+                    None if self.report.status.starts_with("Error") => {
+                        self.report.status.push_str(" (showing the default head)");
+                        self.meshes.mesh = None;
                     }
-                    None if self.mesh.is_some() || self.status.starts_with("Loading") => {
-                        self.status = "Default head".into();
-                        self.mesh = None;
+                    None if self.meshes.mesh.is_some()
+                        || self.report.status.starts_with("Loading") =>
+                    {
+                        self.report.status = "Default head".into();
+                        self.meshes.mesh = None;
                     }
                     None => {}
                 }
@@ -531,14 +536,15 @@ impl EditorApp {
     /// compare labels and the rendering note.
     pub(super) fn viewport_overlays_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
         let painter = ui.painter_at(rect);
-        if self.texture.is_none() {
+        if self.view.texture.is_none() {
             painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
         }
-        if let Some(t) = &self.texture {
+        if let Some(t) = &self.view.texture {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             painter.image(t.id(), rect, uv, egui::Color32::WHITE);
         }
         let busy = self
+            .view
             .viewport
             .as_ref()
             .and_then(|v| v.busy_since)
@@ -557,7 +563,7 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         };
-        if self.status.starts_with("Loading mesh") {
+        if self.report.status.starts_with("Loading mesh") {
             // The mesh loads and bakes thickness and curvature on the
             // render thread; show how far the bake has got.
             let done = crate::render::mesh::bake_fraction();
@@ -572,7 +578,8 @@ impl EditorApp {
         // longer "busy": its full frame is on the way). The progress is the
         // process's: only an editor with a viewport has a ground truth of
         // its own (the UI tests run several editors in one process).
-        let truth = crate::render::ground_truth::progress().filter(|_| self.viewport.is_some());
+        let truth =
+            crate::render::ground_truth::progress().filter(|_| self.view.viewport.is_some());
         if let Some((phase, done, total)) = truth {
             // `reference` is the ground truth, computed on the CPU on the
             // render thread: tens of seconds for a full viewport. Above the
@@ -585,11 +592,11 @@ impl EditorApp {
             // The time left, from this phase's pace since the UI first saw
             // it (a new phase, or a new frame's: its fraction starts again).
             let now = std::time::Instant::now();
-            let (first_at, first_done) = match self.truth_phase {
+            let (first_at, first_done) = match self.view.truth_phase {
                 Some((p, t, d0, last)) if p == (phase, total) && done >= last => (t, d0),
                 _ => (now, done),
             };
-            self.truth_phase = Some(((phase, total), first_at, first_done, done));
+            self.view.truth_phase = Some(((phase, total), first_at, first_done, done));
             let (spent, gained) = ((now - first_at).as_secs_f32(), done - first_done);
             let left = if gained > 0.02 && spent > 0.5 {
                 format!(" · {:.0} s left", spent / gained * (1.0 - done))
@@ -604,20 +611,20 @@ impl EditorApp {
             );
         }
         if crate::render::ground_truth::progress().is_none() {
-            self.truth_phase = None;
+            self.view.truth_phase = None;
         }
         // After a coarse ground truth the full one is on its way with no
         // reply to wake the UI: look again for its progress bar.
-        if matches!(self.quality, Some(viewport::Quality::Coarse { .. })) {
+        if matches!(self.view.quality, Some(viewport::Quality::Coarse { .. })) {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(250));
         }
-        let label = match (self.viewport.is_none(), busy) {
+        let label = match (self.view.viewport.is_none(), busy) {
             (true, _) => Some("viewport off".to_string()),
             // Not while dragging: previews keep coming, and the wait runs
             // from the drag's first request (the status bar says "preview").
             (_, Some(s))
-                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.texture.is_none() =>
+                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.view.texture.is_none() =>
             {
                 Some(format!("rendering … {s:.1} s"))
             }
@@ -625,7 +632,7 @@ impl EditorApp {
         };
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
-        if self.show_before {
+        if self.view.show_before {
             // Say so: the frame is not the look being edited.
             let at = rect.center_top() + egui::vec2(0.0, 36.0);
             let font = egui::FontId::proportional(15.0);
@@ -644,7 +651,7 @@ impl EditorApp {
             );
         }
         self.light_gizmo_ui(ui, rect);
-        self.viewport_rect = Some(rect);
+        self.layout.viewport_rect = Some(rect);
         if let Some(l) = label {
             painter.text(
                 rect.center_bottom() - egui::vec2(0.0, 12.0),
@@ -664,10 +671,10 @@ impl EditorApp {
     /// 12 pixels, `compare::difference_view`): 0 at the bottom, the scale at
     /// the top and half-way, in ΔL* (CIE lightness).
     fn difference_scale_ui(&self, painter: &egui::Painter, rect: egui::Rect) {
-        let Some(scale) = self.difference_shown else {
+        let Some(scale) = self.view.difference_shown else {
             return;
         };
-        if self.ui_state.compare != CompareMode::Difference || self.ab != AbView::Both {
+        if self.ui_state.compare != CompareMode::Difference || self.view.ab != AbView::Both {
             return;
         }
         let ppp = painter.ctx().pixels_per_point();
@@ -813,13 +820,13 @@ impl EditorApp {
     /// Each side of a comparison labelled on its own half, on a dark plate
     /// that reads over skin (kept for the UI tests: `viewport_layout`).
     pub(super) fn compare_labels_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
-        self.compare_labels.clear();
+        self.layout.compare_labels.clear();
         if self.ui_state.compare != CompareMode::Off {
             let (a_name, b_name) = self.side_names();
             let (a, b) = (format!("A · {a_name}"), format!("B · {b_name}"));
             let top = rect.top() + 8.0;
             let labels: Vec<(String, egui::Pos2, egui::Align2)> =
-                match (self.ab, self.ui_state.compare) {
+                match (self.view.ab, self.ui_state.compare) {
                     (AbView::A, _) => vec![(
                         a,
                         egui::pos2(rect.left() + 8.0, top),
@@ -870,7 +877,7 @@ impl EditorApp {
                 ));
                 painter.rect_filled(r, 4.0, egui::Color32::from_black_alpha(150));
                 painter.galley(r.min + egui::vec2(4.0, 4.0), galley, egui::Color32::WHITE);
-                self.compare_labels.push((text, r));
+                self.layout.compare_labels.push((text, r));
             }
         }
     }

@@ -598,7 +598,10 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     let original = h.state().viewport_frame().unwrap().0.clone();
     h.key_press(Key::F);
     h.run_steps(2);
-    assert!(!h.state().show_before, "no edit yet: nothing to flicker to");
+    assert!(
+        !h.state().show_before(),
+        "no edit yet: nothing to flicker to"
+    );
     // An edit: red scattering distance 3 mm.
     h.get_by_label("R: mm").set_value_accesskit(3.0);
     h.run_steps(2);
@@ -607,7 +610,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     assert!(edited != original, "the edit changed nothing on screen");
     h.key_press(Key::F);
     h.run_steps(2);
-    assert!(h.state().show_before);
+    assert!(h.state().show_before());
     settle(&mut h);
     // With a tolerance (the refinement's noise may differ when the frame
     // is rendered again rather than kept): far nearer the old frame than
@@ -632,7 +635,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     assert_eq!(scattering_distance(h.state())[0], 3.0);
     h.get_by_label("before").click_accesskit();
     h.run_steps(2);
-    assert!(!h.state().show_before);
+    assert!(!h.state().show_before());
 }
 
 /// File → Browse presets… shows every shipped preset as a thumbnail that

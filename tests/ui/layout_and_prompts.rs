@@ -95,7 +95,7 @@ fn space_flips_a_and_b_in_every_mode() {
     // Not comparing: Space does nothing.
     h.key_press(Key::Space);
     h.step();
-    assert_eq!(h.state().ab, AbView::Both);
+    assert_eq!(h.state().ab(), AbView::Both);
     let shown = |h: &Harness<'_, EditorApp>| -> Vec<String> {
         let l = h.state().viewport_layout();
         l.labels.iter().map(|(t, _)| t[..1].to_string()).collect()
@@ -111,13 +111,13 @@ fn space_flips_a_and_b_in_every_mode() {
         for expected in [AbView::B, AbView::A, AbView::B, AbView::A] {
             h.key_press(Key::Space);
             h.run_steps(2);
-            assert_eq!(h.state().ab, expected, "{mode:?}");
+            assert_eq!(h.state().ab(), expected, "{mode:?}");
             let tag = if expected == AbView::A { "A" } else { "B" };
             assert_eq!(shown(&h), vec![tag.to_string()], "{mode:?}");
         }
         h.key_press(Key::Escape);
         h.run_steps(2);
-        assert_eq!(h.state().ab, AbView::Both, "{mode:?}");
+        assert_eq!(h.state().ab(), AbView::Both, "{mode:?}");
         assert_eq!(shown(&h), both, "{mode:?}");
     }
 }
@@ -309,9 +309,9 @@ fn save_in_the_quit_prompt_saves_and_quits() {
 fn legend_under_the_plot_in_rgb_order_naming_the_fit() {
     let mut h = harness(false);
     h.step();
-    step_until(&mut h, "the overlay fit", |a| a.latest.is_some());
+    step_until(&mut h, "the overlay fit", |a| a.latest_analysis().is_some());
     h.run_steps(3);
-    let plot = h.state().plot_rect.expect("the plot");
+    let plot = h.state().plot_rect().expect("the plot");
     let panel = h.state().viewport_layout().plots.unwrap();
     let under = |h: &Harness<'_, EditorApp>, label: &str| -> egui::Rect {
         let found: Vec<egui::Rect> = h

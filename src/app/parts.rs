@@ -1,0 +1,133 @@
+//! The parts `EditorApp` is made of, each owning one concern's state: the
+//! profile's analysis, the viewport, the mesh, dialogs, background jobs,
+//! the status report and the layout.
+
+use super::*;
+
+/// The look's analysis and curves, B's curves and look, the imported file, and the table previews.
+pub(super) struct ProfileState {
+    pub(super) analysis: Background<AnalysisKey, Result<Analysis, String>>,
+    pub(super) latest: Option<Analysis>,
+    /// Curves of the current look (computed in the frame of the edit).
+    pub(super) curves: Option<Result<Curves, String>>,
+    pub(super) curves_for: Option<crate::settings::ProfileSpec>,
+    /// Curves of a compared preset (B), keyed by its file and the plot range.
+    pub(super) b_curves: Option<(BCurvesKey, BCurves)>,
+    /// B's look from its file, by path and modification time: read again
+    /// only when the file changes, not on every UI frame (an engine file's
+    /// import measures its round trip, `godot::read::round_trip_note`).
+    pub(super) b_look_cache: Option<(
+        PathBuf,
+        Option<std::time::SystemTime>,
+        Result<Preset, String>,
+    )>,
+    /// The engine file the look was last imported from, with its own
+    /// fields (the Engines readout shows them).
+    pub(super) imported: Option<(PathBuf, crate::export::ImportedLook)>,
+    /// The table preview and transmittance strip, with the analysis they show.
+    pub(super) preview_textures: Option<(
+        AnalysisKey,
+        Option<egui::TextureHandle>,
+        egui::TextureHandle,
+    )>,
+}
+
+/// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
+pub(super) struct ViewportState {
+    pub(super) viewport: Option<viewport::Viewport>,
+    pub(super) texture: Option<egui::TextureHandle>,
+    pub(super) frame_info: String,
+    /// The HDR light rig was chosen with no map loaded: apply it once the
+    /// map the dialog asked for has loaded.
+    pub(super) hdr_rig_pending: bool,
+    /// While comparing: both as the mode shows them, or one side alone.
+    pub(super) ab: AbView,
+    /// The mesh and units the camera was last framed for.
+    pub(super) framed_for: Option<(Option<PathBuf>, f32)>,
+    /// The scale of the difference view on screen (white, |ΔL*|), if one is.
+    pub(super) difference_shown: Option<f32>,
+    /// The viewport shows the look before the last edit ("before", F).
+    pub(super) show_before: bool,
+    /// The last viewport frame, and how many have arrived.
+    pub(super) last_frame: Option<(image::RgbaImage, u64)>,
+    /// How far the last frame had got (preview, refining, converged).
+    pub(super) quality: Option<viewport::Quality>,
+    /// The ground truth's (phase, items) on its progress bar, when the UI
+    /// first saw it, the fraction then and the last fraction seen (for the
+    /// time left).
+    pub(super) truth_phase: Option<((u32, u32), std::time::Instant, f32, f32)>,
+    /// When the mouse wheel last zoomed (zooming is live input too).
+    pub(super) last_wheel: Option<std::time::Instant>,
+}
+
+/// The loaded mesh, its size, and its units prompt and Maps window.
+pub(super) struct MeshState {
+    pub(super) mesh: Option<PathBuf>,
+    /// The loaded mesh's size and framing (from the render thread).
+    pub(super) mesh_info: Option<viewport::MeshInfo>,
+    /// The units prompt, open for this mesh.
+    pub(super) units_prompt: Option<PathBuf>,
+    /// The map slots window, open for this mesh, and its previews.
+    pub(super) maps_window: Option<PathBuf>,
+    pub(super) maps_preview: Option<maps::MapsPreview>,
+}
+
+/// Open dialogs, prompts and windows, and what waits on them.
+pub(super) struct Dialogs {
+    pub(super) dialog: Option<FileDialog>,
+    pub(super) pending: Option<Pending>,
+    /// Run after the Save As dialog saves (Save in the unsaved-changes
+    /// prompt of a look that has no file yet).
+    pub(super) after_save: Option<Pending>,
+    /// Files a Save As or export would replace, waiting for a yes.
+    pub(super) overwrite: Option<Overwrite>,
+    /// The open export dialog's notes, while they are being computed.
+    pub(super) export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
+    /// File → Save turntable: its window, and the turntable rendering.
+    pub(super) turntable_open: bool,
+    /// File → Browse presets: the window, and where its thumbnails are
+    /// cached.
+    pub(super) browser: Option<browser::PresetBrowser>,
+    pub(super) thumbnail_dir: Option<PathBuf>,
+    /// Help → Shortcuts (F1) and Help → About, open.
+    pub(super) help_open: bool,
+    pub(super) about_open: bool,
+}
+
+/// Work on other threads: exports, an environment map loading, a turntable.
+pub(super) struct Jobs {
+    pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
+    /// An HDR environment map loading on its own thread.
+    pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
+    pub(super) turntable: Option<turntable::TurntableJob>,
+}
+
+/// The status line, notifications, the frame log and timings.
+pub(super) struct Report {
+    pub(super) status: String,
+    /// Errors and warnings shown as notifications until dismissed (the
+    /// status bar keeps only the latest), and the status last looked at.
+    pub(super) notices: Vec<String>,
+    pub(super) status_seen: String,
+    /// SCATTERLAB_FRAME_LOG: a line per viewport frame and UI frame
+    /// (`tools/measure_live.sh` reads it).
+    pub(super) frame_log: Option<std::io::LineWriter<std::fs::File>>,
+    /// UI time of the last frame outside the viewport (ms).
+    pub(super) ui_ms: f64,
+    /// When the editor was created, and whether the first UI frame and the
+    /// first viewport frame were reported (SCATTERLAB_TIMINGS=1 prints them).
+    pub(super) started: std::time::Instant,
+    pub(super) reported: (bool, bool),
+    pub(super) last_title: String,
+}
+
+/// Where things were drawn (the viewport, labels, panels, plot), for layout and UI tests.
+pub(super) struct Layout {
+    /// Where the viewport was drawn, and the compare labels on it.
+    pub(super) viewport_rect: Option<egui::Rect>,
+    pub(super) compare_labels: Vec<(String, egui::Rect)>,
+    /// The side panels' rects (the viewport must stay between them).
+    pub(super) panel_rects: [Option<egui::Rect>; 2],
+    /// Where the profile plot was drawn (its legend goes under it).
+    pub(super) plot_rect: Option<egui::Rect>,
+}
