@@ -339,7 +339,7 @@ fn burley(ui: &mut Ui, b: &mut BurleySpec) {
                 (true, None) => BurleySpec::default().shape,
                 (false, _) => BurleyShape::MeanFreePath {
                     mm: [1.0, 0.5, 0.25],
-                    fit: ScalingFitId::DiffuseMeanFreePath,
+                    fit: ScalingFit::DiffuseMeanFreePath,
                 },
             };
         }
@@ -371,15 +371,11 @@ fn burley(ui: &mut Ui, b: &mut BurleySpec) {
             egui::ComboBox::from_label("Scaling fit")
                 .selected_text(format!("{fit:?}"))
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(fit, ScalingFitId::Perpendicular, "Perpendicular (eq. 5)");
+                    ui.selectable_value(fit, ScalingFit::Perpendicular, "Perpendicular (eq. 5)");
+                    ui.selectable_value(fit, ScalingFit::DiffuseSurface, "Diffuse surface (eq. 6)");
                     ui.selectable_value(
                         fit,
-                        ScalingFitId::DiffuseSurface,
-                        "Diffuse surface (eq. 6)",
-                    );
-                    ui.selectable_value(
-                        fit,
-                        ScalingFitId::DiffuseMeanFreePath,
+                        ScalingFit::DiffuseMeanFreePath,
                         "Diffuse mean free path (eq. 8)",
                     );
                 })

@@ -7,7 +7,7 @@ use crate::model::units::{
 use crate::model::Rgb;
 use crate::settings::profile::{
     ArtistSpec, BurleyShape, BurleySpec, DipoleSpec, GaussianTerm, GaussiansSpec, Jimenez2012Spec,
-    MeasuredSpec, MultipoleSpec, ScalingFitId,
+    MeasuredSpec, MultipoleSpec, ScalingFit,
 };
 use crate::settings::{Preset, ProfileSpec};
 use anyhow::{bail, Context, Result};
@@ -86,12 +86,12 @@ pub enum FitArg {
     DiffuseMeanFreePath,
 }
 
-impl From<FitArg> for ScalingFitId {
+impl From<FitArg> for ScalingFit {
     fn from(v: FitArg) -> Self {
         match v {
-            FitArg::Perpendicular => ScalingFitId::Perpendicular,
-            FitArg::DiffuseSurface => ScalingFitId::DiffuseSurface,
-            FitArg::DiffuseMeanFreePath => ScalingFitId::DiffuseMeanFreePath,
+            FitArg::Perpendicular => ScalingFit::Perpendicular,
+            FitArg::DiffuseSurface => ScalingFit::DiffuseSurface,
+            FitArg::DiffuseMeanFreePath => ScalingFit::DiffuseMeanFreePath,
         }
     }
 }
@@ -287,9 +287,7 @@ impl ModelArgs {
             },
             (None, Some(m)) => BurleyShape::MeanFreePath {
                 mm: m.0,
-                fit: self
-                    .fit
-                    .map_or(ScalingFitId::DiffuseMeanFreePath, Into::into),
+                fit: self.fit.map_or(ScalingFit::DiffuseMeanFreePath, Into::into),
             },
             (None, None) => d.shape,
         };

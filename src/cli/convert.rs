@@ -4,8 +4,6 @@
 use super::args::ModelArgs;
 use super::built;
 use crate::export::{import_file, Format, ImportOptions};
-use crate::model::burley::Burley;
-use crate::settings::ProfileSpec;
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -232,12 +230,4 @@ fn one_line(message: &str, file: &std::path::Path) -> String {
         .strip_prefix(&prefix)
         .unwrap_or(message)
         .replace('\n', " ")
-}
-
-/// A Burley profile (used by tests and exporters).
-pub fn burley_from(spec: &ProfileSpec) -> Option<Burley> {
-    match spec {
-        ProfileSpec::Burley(b) => b.build().ok(),
-        _ => None,
-    }
 }

@@ -25,8 +25,6 @@ use args::ModelArgs;
 use clap::{Parser, Subcommand};
 use serde_json::{json, Value};
 
-pub use convert::burley_from;
-
 #[derive(Debug, Parser)]
 #[command(name = "scatterlab", version, about = "Author subsurface-scattering diffusion profiles.", long_about = None)]
 pub struct Cli {

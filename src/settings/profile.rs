@@ -1,6 +1,8 @@
 //! The profile part of a look: which model and its parameters, in units.
 
-use crate::model::burley::{Burley, ScalingFit};
+use crate::model::burley::Burley;
+/// How a mean free path becomes a shape; presets store it by name.
+pub use crate::model::burley::ScalingFit;
 use crate::model::dipole::{Dipole, Medium};
 use crate::model::gaussian::{GaussianSum, DEON_SKIN};
 use crate::model::jimenez::{Jimenez2012, DEFAULT_FALLOFF, DEFAULT_STRENGTH};
@@ -43,25 +45,7 @@ pub enum BurleyShape {
     /// Unity's parameter: d per channel (mm) times a multiplier.
     ScatteringDistance { mm: Rgb, multiplier: f64 },
     /// A (diffuse) mean free path (mm) through one of the published fits.
-    MeanFreePath { mm: Rgb, fit: ScalingFitId },
-}
-
-/// Serializable names of [`ScalingFit`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ScalingFitId {
-    Perpendicular,
-    DiffuseSurface,
-    DiffuseMeanFreePath,
-}
-
-impl From<ScalingFitId> for ScalingFit {
-    fn from(v: ScalingFitId) -> Self {
-        match v {
-            ScalingFitId::Perpendicular => ScalingFit::Perpendicular,
-            ScalingFitId::DiffuseSurface => ScalingFit::DiffuseSurface,
-            ScalingFitId::DiffuseMeanFreePath => ScalingFit::DiffuseMeanFreePath,
-        }
-    }
+    MeanFreePath { mm: Rgb, fit: ScalingFit },
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -94,7 +78,7 @@ impl BurleySpec {
                 Burley::from_scattering_distance(self.albedo, d).map_err(|e| prefix("shape.", e))
             }
             BurleyShape::MeanFreePath { mm, fit } => {
-                Burley::from_mean_free_path(self.albedo, *mm, (*fit).into())
+                Burley::from_mean_free_path(self.albedo, *mm, *fit)
             }
         }
     }
