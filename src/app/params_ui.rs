@@ -2,7 +2,7 @@
 //! rendering settings, each field with its unit and a tooltip that says
 //! what it does physically.
 
-use crate::model::{measured, Rgb, CHANNEL_NAMES};
+use crate::model::{dipole, jimenez, measured, separable, Rgb, CHANNEL_NAMES};
 use crate::settings::profile::*;
 use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{ProfileSpec, RenderingSpec};
@@ -164,45 +164,18 @@ fn count(ui: &mut Ui, label: &str, tip: &str, v: &mut usize, range: (usize, usiz
     });
 }
 
+/// A field's range from the model's own validation limits (one source of
+/// truth: the field cannot take a value `validate` refuses).
+fn span((lo, hi): (f64, f64)) -> std::ops::RangeInclusive<f64> {
+    lo..=hi
+}
+
 /// The model picker; switching model starts from that model's defaults.
 pub fn model_picker(ui: &mut Ui, spec: &mut ProfileSpec) {
-    let models: [(&str, ProfileSpec, &str); 7] = [
-        (
-            "Burley (normalized diffusion)",
-            ProfileSpec::Burley(Default::default()),
-            "Christensen & Burley 2015; Unity HDRP and Unreal's Burley profile.",
-        ),
-        (
-            "Jimenez 2012 (strength/falloff)",
-            ProfileSpec::Jimenez2012(Default::default()),
-            "The separable SSS demo's kernel; Unreal's separable profile.",
-        ),
-        (
-            "Artist two-Gaussian (Jimenez 2015)",
-            ProfileSpec::Artist(Default::default()),
-            "Near and far Gaussians, weight and global scale.",
-        ),
-        (
-            "Sum of Gaussians (d'Eon 2007)",
-            ProfileSpec::Gaussians(Default::default()),
-            "Weighted 2D Gaussians, one table row each.",
-        ),
-        (
-            "Dipole (σa, σs', η)",
-            ProfileSpec::Dipole(Default::default()),
-            "Jensen 2001 diffusion dipole from optical properties.",
-        ),
-        (
-            "Measured material",
-            ProfileSpec::Measured(Default::default()),
-            "Dipole of a material measured by Jensen 2001 or Narasimhan 2006.",
-        ),
-        (
-            "Multipole layer stack",
-            ProfileSpec::Multipole(Default::default()),
-            "Donner & Jensen 2005 slabs; stacks bake in the background.",
-        ),
-    ];
+    let models = ProfileSpec::models().map(|m| {
+        let (name, tip) = m.describe();
+        (name, m, tip)
+    });
     let current = models
         .iter()
         .find(|(_, m, _)| m.model_name() == spec.model_name())
@@ -227,18 +200,18 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
     match spec {
         ProfileSpec::Burley(b) => burley(ui, b),
         ProfileSpec::Jimenez2012(j) => {
-            rgb(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", &mut j.strength, 0.0..=1.0, 0.005, false);
-            rgb(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", &mut j.falloff, 0.001..=1.0, 0.005, false);
+            rgb(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", &mut j.strength, span(jimenez::STRENGTH_RANGE), 0.005, false);
+            rgb(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", &mut j.falloff, span(jimenez::FALLOFF_RANGE), 0.005, false);
         }
         ProfileSpec::Artist(a) => {
-            rgb(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", &mut a.sigma_near, 0.0..=10.0, 0.002, false);
+            rgb(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", &mut a.sigma_near, span(separable::ARTIST_SIGMA_RANGE), 0.002, false);
             rgb(
                 ui,
                 "σf (far)",
                 "",
                 "Width of the far Gaussian per channel, relative to s: the long red tail.",
                 &mut a.sigma_far,
-                0.0..=10.0,
+                span(separable::ARTIST_SIGMA_RANGE),
                 0.005,
                 false,
             );
@@ -248,7 +221,7 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
                 "",
                 "Share of the energy in the near Gaussian; 1 − w goes to the far one.",
                 &mut a.weight,
-                0.0..=1.0,
+                span(separable::ARTIST_WEIGHT_RANGE),
                 0.005,
             );
             scalar(
@@ -257,7 +230,7 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
                 " mm",
                 "Global width of both Gaussians in millimetres: how far light travels.",
                 &mut a.scale_mm,
-                0.01..=100.0,
+                span(separable::ARTIST_SCALE_RANGE_MM),
                 0.05,
             );
         }
@@ -279,9 +252,9 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
                         "Copy σa and σs' of a measured material (Jensen 2001, Narasimhan 2006).",
                     );
             });
-            rgb(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", &mut d.sigma_a_per_mm, 0.0..=100.0, 0.001, false);
-            rgb(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", &mut d.sigma_s_prime_per_mm, 0.0..=1000.0, 0.005, false);
-            scalar(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", &mut d.eta, 1.0..=2.0, 0.005);
+            rgb(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", &mut d.sigma_a_per_mm, span(dipole::SIGMA_A_RANGE), 0.001, false);
+            rgb(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", &mut d.sigma_s_prime_per_mm, span(dipole::SIGMA_S_PRIME_RANGE), 0.005, false);
+            scalar(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", &mut d.eta, span(dipole::ETA_RANGE), 0.005);
         }
         ProfileSpec::Measured(m) => {
             egui::ComboBox::from_label("Material")

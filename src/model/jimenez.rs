@@ -35,6 +35,11 @@ pub const DEFAULT_STRENGTH: Rgb = [0.48, 0.41, 0.28];
 /// Unreal's and the Jimenez 2012 demo's default Falloff Color / SSS Falloff.
 pub const DEFAULT_FALLOFF: Rgb = [1.0, 0.37, 0.3];
 
+/// Valid strength and falloff per channel (`Jimenez2012::new` checks them;
+/// the editor's fields take their range from here).
+pub const STRENGTH_RANGE: (f64, f64) = (0.0, 1.0);
+pub const FALLOFF_RANGE: (f64, f64) = (0.0, 1.0);
+
 /// Tap counts the renderer supports (odd, so that offset 0 exists).
 pub const TAPS_RANGE: (usize, usize) = (3, 127);
 
@@ -76,8 +81,8 @@ fn radial_terms(strength: Rgb, falloff: Rgb, width_mm: f64) -> GaussianSum {
 impl Jimenez2012 {
     /// strength and falloff ∈ [0, 1] per channel.
     pub fn new(strength: Rgb, falloff: Rgb) -> Result<Self, ModelError> {
-        check_rgb("strength", strength, 0.0, 1.0, "")?;
-        check_rgb("falloff", falloff, 0.0, 1.0, "")?;
+        check_rgb("strength", strength, STRENGTH_RANGE.0, STRENGTH_RANGE.1, "")?;
+        check_rgb("falloff", falloff, FALLOFF_RANGE.0, FALLOFF_RANGE.1, "")?;
         let profile = radial_terms(strength, falloff, 1.0);
         Ok(Self {
             strength,

@@ -197,6 +197,13 @@ pub struct ArtistTwoGaussian {
     profile: GaussianSum,
 }
 
+/// Valid widths σ′ (relative to the scale), near weight w and scale s (mm)
+/// of the artist model (`ArtistTwoGaussian::new` checks them; the editor's
+/// fields take their range from here).
+pub const ARTIST_SIGMA_RANGE: (f64, f64) = (1e-6, 1.0);
+pub const ARTIST_WEIGHT_RANGE: (f64, f64) = (0.0, 1.0);
+pub const ARTIST_SCALE_RANGE_MM: (f64, f64) = (1e-4, 1e3);
+
 impl ArtistTwoGaussian {
     /// σ′n, σ′f ∈ (0, 1] per channel, w ∈ [0, 1], s ∈ [1e-4, 1e3] mm.
     pub fn new(
@@ -205,10 +212,13 @@ impl ArtistTwoGaussian {
         weight: f64,
         scale_mm: f64,
     ) -> Result<Self, ModelError> {
-        check_rgb("sigma_near", sigma_near, 1e-6, 1.0, " (relative to scale)")?;
-        check_rgb("sigma_far", sigma_far, 1e-6, 1.0, " (relative to scale)")?;
-        check_range("weight", weight, 0.0, 1.0, "")?;
-        check_range("scale_mm", scale_mm, 1e-4, 1e3, " mm")?;
+        let (s0, s1) = ARTIST_SIGMA_RANGE;
+        check_rgb("sigma_near", sigma_near, s0, s1, " (relative to scale)")?;
+        check_rgb("sigma_far", sigma_far, s0, s1, " (relative to scale)")?;
+        let (w0, w1) = ARTIST_WEIGHT_RANGE;
+        check_range("weight", weight, w0, w1, "")?;
+        let (m0, m1) = ARTIST_SCALE_RANGE_MM;
+        check_range("scale_mm", scale_mm, m0, m1, " mm")?;
         let channels: [Vec<Term>; 3] = [0, 1, 2].map(|c| {
             let vn = (sigma_near[c] * scale_mm).powi(2);
             let vf = (sigma_far[c] * scale_mm).powi(2);

@@ -335,6 +335,56 @@ fn prefix(p: &str, e: ModelError) -> ModelError {
 }
 
 impl ProfileSpec {
+    /// Every model with its defaults, in the editor's picker order
+    /// (`models_lists_every_variant_once` checks the list against
+    /// [`ProfileSpec::describe`]'s exhaustive match).
+    pub fn models() -> [ProfileSpec; 7] {
+        [
+            ProfileSpec::Burley(Default::default()),
+            ProfileSpec::Jimenez2012(Default::default()),
+            ProfileSpec::Artist(Default::default()),
+            ProfileSpec::Gaussians(Default::default()),
+            ProfileSpec::Dipole(Default::default()),
+            ProfileSpec::Measured(Default::default()),
+            ProfileSpec::Multipole(Default::default()),
+        ]
+    }
+
+    /// The model's name in the editor and a one-line description (one
+    /// exhaustive match: a new model does not compile until it has them).
+    pub fn describe(&self) -> (&'static str, &'static str) {
+        match self {
+            ProfileSpec::Burley(_) => (
+                "Burley (normalized diffusion)",
+                "Christensen & Burley 2015; Unity HDRP and Unreal's Burley profile.",
+            ),
+            ProfileSpec::Jimenez2012(_) => (
+                "Jimenez 2012 (strength/falloff)",
+                "The separable SSS demo's kernel; Unreal's separable profile.",
+            ),
+            ProfileSpec::Artist(_) => (
+                "Artist two-Gaussian (Jimenez 2015)",
+                "Near and far Gaussians, weight and global scale.",
+            ),
+            ProfileSpec::Gaussians(_) => (
+                "Sum of Gaussians (d'Eon 2007)",
+                "Weighted 2D Gaussians, one table row each.",
+            ),
+            ProfileSpec::Dipole(_) => (
+                "Dipole (σa, σs', η)",
+                "Jensen 2001 diffusion dipole from optical properties.",
+            ),
+            ProfileSpec::Measured(_) => (
+                "Measured material",
+                "Dipole of a material measured by Jensen 2001 or Narasimhan 2006.",
+            ),
+            ProfileSpec::Multipole(_) => (
+                "Multipole layer stack",
+                "Donner & Jensen 2005 slabs; stacks bake in the background.",
+            ),
+        }
+    }
+
     /// Short model name used by the CLI and the UI.
     pub fn model_name(&self) -> &'static str {
         match self {
@@ -381,5 +431,36 @@ impl ProfileSpec {
             ProfileSpec::Multipole(m) => m.build(),
         };
         built.map_err(|e| prefix("profile.", e))
+    }
+}
+
+#[cfg(test)]
+mod model_list_tests {
+    use super::*;
+
+    /// `models` holds each variant once (the index is an exhaustive match,
+    /// so a new variant fails to compile here until it has one), and every
+    /// model's defaults validate and have a distinct editor name.
+    #[test]
+    fn models_lists_every_variant_once() {
+        fn index(s: &ProfileSpec) -> usize {
+            match s {
+                ProfileSpec::Burley(_) => 0,
+                ProfileSpec::Gaussians(_) => 1,
+                ProfileSpec::Jimenez2012(_) => 2,
+                ProfileSpec::Artist(_) => 3,
+                ProfileSpec::Dipole(_) => 4,
+                ProfileSpec::Measured(_) => 5,
+                ProfileSpec::Multipole(_) => 6,
+            }
+        }
+        let mut seen = [0; 7];
+        let mut names = std::collections::HashSet::new();
+        for m in ProfileSpec::models() {
+            seen[index(&m)] += 1;
+            assert!(names.insert(m.describe().0));
+            assert!(m.build().is_ok(), "{}", m.model_name());
+        }
+        assert_eq!(seen, [1; 7]);
     }
 }
