@@ -35,6 +35,18 @@ pub struct Mesh {
     pub coarse: Option<Box<Mesh>>,
 }
 
+/// A mesh's scale must be a positive, finite number of metres per unit.
+fn check_scale(origin: &str, metres_per_unit: f32) -> Result<(), MeshError> {
+    if metres_per_unit.is_finite() && metres_per_unit > 0.0 {
+        Ok(())
+    } else {
+        Err(MeshError::Scale {
+            path: origin.into(),
+            value: metres_per_unit,
+        })
+    }
+}
+
 /// OBJ face indices count back from the elements read so far when
 /// negative; tobj 4.0 turns one that reaches before the first element into
 /// an overflowing multiplication (a panic in debug builds, a wrapped index
@@ -218,12 +230,7 @@ impl Mesh {
         origin: &str,
         metres_per_unit: f32,
     ) -> Result<Self, MeshError> {
-        if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
-            return Err(MeshError::Scale {
-                path: origin.into(),
-                value: metres_per_unit,
-            });
-        }
+        check_scale(origin, metres_per_unit)?;
         check_relative_indices(text).map_err(|message| MeshError::Load {
             path: origin.into(),
             message,
@@ -281,12 +288,7 @@ impl Mesh {
         metres_per_unit: f32,
         has_normals: bool,
     ) -> Result<Self, MeshError> {
-        if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
-            return Err(MeshError::Scale {
-                path: origin.into(),
-                value: metres_per_unit,
-            });
-        }
+        check_scale(origin, metres_per_unit)?;
         let mut mesh = Mesh {
             vertices,
             indices,
