@@ -562,7 +562,9 @@ fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     if let Some(lut) = lut {
         ui.image((lut.id(), egui::vec2(192.0, 192.0)));
     }
-    ui.small(format!("background bake {:.0} ms", a.seconds * 1e3));
+    // Seconds to one decimal: a width that does not change with load (the
+    // panels snapshot failed once when the bake passed 1000 ms).
+    ui.small(format!("background bake {:.1} s", a.seconds));
     ui.label(format!(
         "Transmittance T(d), d = 0 … {:.1} mm",
         a.key.thickness_max_mm
