@@ -1,0 +1,385 @@
+//! The look's files: open, save, save as, import, export, save image, the
+//! unsaved-changes guard, where each file dialog starts and what it shows,
+//! and the results of the background jobs (analysis, environment loads,
+//! exports) as they come in.
+
+use super::*;
+
+impl EditorApp {
+    /// Imports the engine file at `path` as a new, unsaved look (the first
+    /// of several, with a note), keeping the file's own fields for the
+    /// Engines readout.
+    pub fn import_now(&mut self, path: &Path) {
+        match crate::export::import_file(path, &crate::export::ImportOptions::default()) {
+            Ok(mut looks) if !looks.is_empty() => {
+                let more = looks.len() - 1;
+                let first = looks.remove(0);
+                self.guarded(Pending::New(Box::new(first.preset.clone())));
+                self.report.status = if more > 0 {
+                    format!(
+                        "Imported \"{}\" from {} ({more} more profile(s) in the file: `scatterlab import FILE --out DIR` writes them all)",
+                        first.preset.name,
+                        path.display()
+                    )
+                } else {
+                    format!(
+                        "Imported \"{}\" from {} ({})",
+                        first.preset.name,
+                        path.display(),
+                        first.kind
+                    )
+                };
+                self.profile.imported = Some((path.to_owned(), first));
+            }
+            Ok(_) => self.report.status = format!("Error: {}: no look in the file", path.display()),
+            Err(e) => self.report.status = format!("Error: {e}"),
+        }
+    }
+
+    /// Opens `path` now (the caller has dealt with unsaved changes).
+    pub fn open_now(&mut self, path: &Path) {
+        match Preset::load(path) {
+            Ok(p) => {
+                self.doc = Document::new(p, Some(path.to_owned()));
+                self.ui_state.add_recent(path);
+                self.report.status = format!("Opened {}", path.display());
+            }
+            Err(e) => self.report.status = format!("Error: {e}"),
+        }
+    }
+
+    /// Saves to the document's file (or asks where).
+    pub fn save(&mut self) {
+        match self.doc.path.clone() {
+            Some(p) => self.save_as(&p),
+            None => self.open_dialog(DialogKind::SaveAs),
+        }
+    }
+
+    pub fn save_as(&mut self, path: &Path) {
+        match self.doc.save_as(path) {
+            Ok(()) => {
+                self.ui_state.add_recent(path);
+                self.report.status = format!("Saved {}", path.display());
+                // Save, then what the unsaved-changes prompt was for.
+                if let Some(action) = self.dialogs.after_save.take() {
+                    self.run_pending(action);
+                }
+            }
+            Err(e) => {
+                // Not saved: the quit (or open) it was for does not happen,
+                // now or after some later save.
+                self.dialogs.after_save = None;
+                self.report.status = format!("Error: {e}");
+            }
+        }
+    }
+
+    /// Writes the viewport's frame, as shown (a comparison with both sides,
+    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
+    pub fn save_image(&mut self, path: &Path) {
+        let Some((frame, _)) = &self.view.last_frame else {
+            self.report.status = format!(
+                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
+                path.display()
+            );
+            return;
+        };
+        let mut png = Vec::new();
+        let written = frame
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .map_err(|e| e.to_string())
+            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
+        self.report.status = match written {
+            Ok(()) => {
+                let state = match self.view.quality {
+                    Some(viewport::Quality::Converged { .. }) => "converged",
+                    _ => "not converged yet: a preview",
+                };
+                format!(
+                    "Saved image {} ({}×{}, {}, {state})",
+                    path.display(),
+                    frame.width(),
+                    frame.height(),
+                    self.view.frame_info.split(" · ").next().unwrap_or("")
+                )
+            }
+            Err(e) => format!("Error: {}: {e}", path.display()),
+        };
+    }
+
+    /// Whether the editor may close now (Quit answered).
+    pub fn close_allowed(&self) -> bool {
+        self.allow_close
+    }
+
+    /// Runs `action` now, or asks first if there are unsaved changes.
+    pub(super) fn guarded(&mut self, action: Pending) {
+        if self.doc.is_dirty() {
+            self.dialogs.pending = Some(action);
+        } else {
+            self.run_pending(action);
+        }
+    }
+
+    pub(super) fn run_pending(&mut self, action: Pending) {
+        match action {
+            Pending::Open(p) => self.open_now(&p),
+            Pending::New(p) => {
+                self.report.status = format!("New look from \"{}\"", p.name);
+                self.doc = Document::new(*p, None);
+            }
+            Pending::Quit => self.allow_close = true,
+        }
+    }
+
+    /// The folder a dialog of `kind` starts in: the folder of the current
+    /// file of that kind (the look for presets, the mesh, the environment
+    /// map, the slot's map, B), else where this kind was last used, else
+    /// the look's folder, else the working directory.
+    pub(super) fn dialog_folder(&self, kind: &DialogKind) -> PathBuf {
+        let current: Option<PathBuf> = match kind {
+            DialogKind::Open | DialogKind::SaveAs => self.doc.path.clone(),
+            DialogKind::CompareB => match &self.ui_state.compare_b {
+                CompareB::Preset(p) => Some(p.clone()),
+                _ => self.doc.path.clone(),
+            },
+            DialogKind::Mesh => self.meshes.mesh.clone(),
+            DialogKind::Environment => self.ui_state.environment_file.clone(),
+            DialogKind::Map(k) => self.meshes.mesh.as_ref().and_then(|m| {
+                self.ui_state
+                    .meshes
+                    .get(m)
+                    .and_then(|s| s.maps[*k].path.clone())
+                    .or_else(|| Some(m.clone()))
+            }),
+            DialogKind::Import
+            | DialogKind::Export(_)
+            | DialogKind::SaveImage
+            | DialogKind::SaveTurntable => None,
+        };
+        let folder_of = |p: &Path| {
+            p.parent()
+                .filter(|d| !d.as_os_str().is_empty() && d.is_dir())
+                .map(Path::to_path_buf)
+        };
+        current
+            .as_deref()
+            .and_then(folder_of)
+            .or_else(|| {
+                self.ui_state
+                    .folders
+                    .get(kind.folder_key())
+                    .filter(|d| d.is_dir())
+                    .cloned()
+            })
+            .or_else(|| self.doc.path.as_deref().and_then(folder_of))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default()
+    }
+
+    pub(super) fn open_dialog(&mut self, kind: DialogKind) {
+        let dir = self.dialog_folder(&kind);
+        let name = match &kind {
+            DialogKind::SaveAs => format!("{}.ron", file_stem(&self.doc.preset.name)),
+            DialogKind::Export(f) => {
+                format!("{}.{}", file_stem(&self.doc.preset.name), f.extension())
+            }
+            DialogKind::SaveImage => format!(
+                "{}_{}.png",
+                file_stem(&self.doc.preset.name),
+                self.doc.preset.rendering.method.id()
+            ),
+            DialogKind::SaveTurntable => format!(
+                "{}_{}_turntable.gif",
+                file_stem(&self.doc.preset.name),
+                self.doc.preset.rendering.method.id()
+            ),
+            _ => String::new(),
+        };
+        self.dialogs.export_notes = None;
+        if let DialogKind::Export(format) = kind {
+            let preset = self.doc.preset.clone();
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let notes = crate::export::export_notes(&preset, format)
+                    .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
+                let _ = tx.send(notes);
+            });
+            self.dialogs.export_notes = Some(rx);
+        }
+        self.show_dialog(kind, &dir, &name);
+    }
+
+    /// Opens the file dialog for `kind` in `dir` with `name` in its file
+    /// field.
+    pub(super) fn show_dialog(&mut self, kind: DialogKind, dir: &Path, name: &str) {
+        let exts = kind.extensions();
+        let picker = if kind.writes() {
+            egui_file::FileDialog::save_file()
+        } else {
+            egui_file::FileDialog::open_file()
+        };
+        let mut picker = picker
+            .id(egui::Id::unique("scatterlab_file_dialog"))
+            .title(&kind.title())
+            .initial_path(dir)
+            .default_filename(name)
+            .anchor(
+                egui::Align2::CENTER_CENTER,
+                // An export's notes stand to the right.
+                [
+                    if matches!(kind, DialogKind::Export(_)) {
+                        -180.0
+                    } else {
+                        0.0
+                    },
+                    0.0,
+                ],
+            )
+            .default_size([620.0, 400.0])
+            .keep_on_top(true)
+            .show_rename(false)
+            .show_new_folder(kind.writes())
+            .open_button_text("Open".into())
+            .file_label_text("File name:".into())
+            .show_files_filter(Box::new(move |p: &Path| {
+                p.extension()
+                    .and_then(|x| x.to_str())
+                    .is_some_and(|x| exts.contains(&x.to_ascii_lowercase().as_str()))
+            }));
+        picker.open();
+        self.dialogs.dialog = Some(FileDialog {
+            kind,
+            picker,
+            notes: None,
+        });
+    }
+
+    /// Test hook: points the open file dialog at `path` as an artist would
+    /// by typing its folder into the folder field and its name into the
+    /// file-name field (AccessKit cannot commit egui_file's folder field,
+    /// which acts on losing focus). Returns false without an open dialog.
+    pub fn dialog_goto(&mut self, path: &Path) -> bool {
+        let Some(d) = self.dialogs.dialog.take() else {
+            return false;
+        };
+        let (dir, name) = if path.is_dir() {
+            (path.to_path_buf(), String::new())
+        } else {
+            (
+                path.parent().map(Path::to_path_buf).unwrap_or_default(),
+                path.file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+            )
+        };
+        let notes = d.notes;
+        self.show_dialog(d.kind, &dir, &name);
+        if let Some(d) = self.dialogs.dialog.as_mut() {
+            d.notes = notes;
+        }
+        true
+    }
+
+    /// The open file dialog's folder (UI tests).
+    pub fn dialog_folder_shown(&self) -> Option<PathBuf> {
+        self.dialogs
+            .dialog
+            .as_ref()
+            .map(|d| d.picker.directory().to_path_buf())
+    }
+
+    /// Starts an export on its own thread (table bakes take seconds).
+    pub fn export(&mut self, format: Format, out: PathBuf) {
+        let preset = self.doc.preset.clone();
+        let source = self.doc.path.clone();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let r = crate::export::export(&preset, source.as_deref(), format, &out)
+                .map_err(|e| e.to_string());
+            let _ = tx.send(r);
+        });
+        self.jobs.exports.push(rx);
+        self.report.status = format!("Exporting {} …", format.id());
+    }
+
+    /// Loads an equirectangular HDR map on its own thread (decoding and
+    /// projecting a large map takes a while) and lights the head with it.
+    pub fn load_environment(&mut self, path: PathBuf) {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.report.status = format!("Loading environment {} …", path.display());
+        std::thread::spawn(move || {
+            let r = crate::render::environment::Environment::load(&path)
+                .map(|e| (path, e.irradiance_sh()))
+                .map_err(|e| e.to_string());
+            let _ = tx.send(r);
+        });
+        self.jobs.environment_load = Some(rx);
+    }
+
+    /// Takes in what the background threads finished: the analysis (fits,
+    /// tables, a slow model's curves), an environment map, exports.
+    pub(super) fn poll_workers(&mut self) {
+        if let Some((key, result)) = self.profile.analysis.poll() {
+            match result {
+                Ok(a) => {
+                    if analysis::is_slow(&key.profile) && key.profile == self.doc.preset.profile {
+                        self.profile.curves = Some(Ok(a.curves.clone()));
+                    }
+                    self.profile.latest = Some(a);
+                }
+                Err(e) => {
+                    if key.profile == self.doc.preset.profile {
+                        self.profile.curves = Some(Err(e));
+                    }
+                }
+            }
+        }
+        if let Some(rx) = &self.jobs.environment_load {
+            match rx.try_recv() {
+                Ok(Ok((path, sh))) => {
+                    let v = &mut self.ui_state.view;
+                    v.environment_map_sh = Some(sh);
+                    v.environment = state::EnvironmentChoice::Map;
+                    self.report.status = format!("Environment {}", path.display());
+                    self.ui_state.environment_file = Some(path);
+                    if std::mem::take(&mut self.view.hdr_rig_pending) {
+                        state::LightRig::Hdr.apply(&mut self.ui_state.view);
+                    }
+                    self.jobs.environment_load = None;
+                }
+                Ok(Err(e)) => {
+                    self.report.status = format!("Error: {e}");
+                    self.jobs.environment_load = None;
+                    // The HDR rig that asked for this map is off.
+                    self.view.hdr_rig_pending = false;
+                }
+                Err(std::sync::mpsc::TryRecvError::Empty) => {}
+                Err(_) => self.jobs.environment_load = None,
+            }
+        }
+        let mut done = Vec::new();
+        self.jobs.exports.retain(|rx| match rx.try_recv() {
+            Ok(r) => {
+                done.push(r);
+                false
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => true,
+            Err(_) => false,
+        });
+        for r in done {
+            self.report.status = match r {
+                Ok(paths) => format!(
+                    "Exported {}",
+                    paths
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                Err(e) => format!("Error: {e}"),
+            };
+        }
+    }
+}
