@@ -1,0 +1,404 @@
+//! The render thread's loop: the newest request first, a quick preview
+//! while input lasts, then refinement to the converged frame (and the
+//! ground truth after it where asked), each frame sent back as it lands.
+
+use super::*;
+
+/// The request being refined once input stopped.
+pub(super) struct Refine {
+    pub(super) req: Request,
+    /// Frames in the running mean so far.
+    pub(super) frames: u32,
+    /// The sides of the last frame (to see whether the means still change).
+    pub(super) prev: Option<Vec<image::RgbaImage>>,
+    /// When the request arrived (input stopped).
+    pub(super) since: Instant,
+    /// The coarse ground truth has been shown.
+    pub(super) coarse_done: bool,
+    /// The request as the artist made it, when `req` is its ground truth
+    /// ("refine to the truth"), with the method it was refined from.
+    pub(super) truth_of: Option<(Request, MethodId)>,
+}
+
+/// The newest request waiting, without blocking; `Err` when the UI has
+/// gone.
+pub(super) fn try_newest(rx: &Receiver<Request>) -> Result<Option<Request>, ()> {
+    let mut newest = None;
+    loop {
+        match rx.try_recv() {
+            Ok(r) => newest = Some(r),
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(newest),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return newest.map(Some).ok_or(());
+            }
+        }
+    }
+}
+
+pub(super) fn worker(
+    rx: Receiver<Request>,
+    tx: Sender<Reply>,
+    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    wake: impl Fn(),
+) {
+    let mut w = Worker {
+        renderer: None,
+        mesh_path: None,
+        mesh_settings: Default::default(),
+        mesh_info: None,
+        reframed: false,
+        cache: Vec::new(),
+        pending_maps: None,
+        kept: [None, None],
+        divisor: None,
+        full_frame_ms: None,
+        finished: Vec::new(),
+        cancel,
+    };
+    // Set up the default head before the UI's first request arrives (an
+    // error here recurs, and is reported, at that request).
+    // The editor learns the head's framing from it (Reset view, zoom limits,
+    // and the start-up check of a remembered view).
+    if let (Ok(true), Some(info)) = (
+        w.ensure_renderer(&None, &Default::default(), 1.0),
+        w.mesh_info,
+    ) {
+        let _ = tx.send(Reply::MeshLoaded(None, info));
+    }
+    // The head's skin maps (curvature, thickness: about a second) bake
+    // now, before the first frame, so that frame already has them (they
+    // used to pop in a second or two after it).
+    if let Err(e) = w.apply_pending_maps() {
+        let _ = tx.send(Reply::Error(e));
+    }
+    let mut refine: Option<Refine> = None;
+    loop {
+        // Refining: take a new request if there is one, else add a frame.
+        // Otherwise wait for the next request. Either way only the newest.
+        let next = match &refine {
+            Some(_) => match try_newest(&rx) {
+                Ok(r) => r,
+                Err(()) => return,
+            },
+            None => match crate::app::analysis::recv_newest(&rx) {
+                Some(r) => Some(r),
+                None => return,
+            },
+        };
+        let Some(mut req) = next else {
+            if let Some(r) = refine.as_mut() {
+                if !refine_step(&mut w, r, &tx) {
+                    refine = None;
+                }
+                wake();
+            }
+            continue;
+        };
+        refine = None;
+        // The newest request is taken: a cancel set before now was for the
+        // requests it replaces (one sent from here on cancels its work).
+        w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
+        let t0 = Instant::now();
+        let range = req.a.rendering.thickness_remap_mm.1 as f32;
+        match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
+            Err(e) => {
+                // Fall back to the head so the viewport keeps working.
+                let _ = tx.send(Reply::Error(e));
+                if req.mesh.is_some() {
+                    req.mesh = None;
+                    let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
+                    if let Some(info) = w.mesh_info {
+                        let _ = tx.send(Reply::MeshLoaded(None, info));
+                    }
+                }
+                if w.renderer.is_none() {
+                    wake();
+                    continue;
+                }
+            }
+            Ok(true) => {
+                if let Some(info) = w.mesh_info {
+                    let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
+                    // The editor frames a new mesh (or new units) when this
+                    // reply arrives; frame this first frame the same way,
+                    // so a stale camera never shows. A change of maps
+                    // alone keeps the artist's view.
+                    if w.reframed {
+                        req.view.orbit.camera_distance_m = info.framing_distance_m;
+                        req.view.orbit.camera_pan_m = [0.0; 2];
+                    }
+                }
+            }
+            Ok(false) => {}
+        }
+        if req.interactive && w.pending_maps.is_none() {
+            if !send_preview(&mut w, &req, t0, &tx) {
+                return;
+            }
+            wake();
+            continue;
+        }
+        // A view finished before: shown again at once.
+        if w.pending_maps.is_none() {
+            let key = req.key();
+            if let Some(i) = w.finished.iter().position(|(k, _)| *k == key) {
+                let kept = w.finished.remove(i);
+                let f = kept.1.clone();
+                w.finished.insert(0, kept);
+                let note = Some(f.note.map_or("kept from before".into(), |n| {
+                    format!("{n} · kept from before")
+                }));
+                let reply = Reply::Frame {
+                    difference_scale: f.difference_scale,
+                    image: f.image,
+                    stats: Box::new(f.stats),
+                    wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+                    note,
+                    seq: req.seq,
+                    quality: Quality::Converged { frames: 1, ms: 0.0 },
+                };
+                if tx.send(reply).is_err() {
+                    return;
+                }
+                wake();
+                continue;
+            }
+        }
+        let mut r = Refine {
+            req,
+            frames: 0,
+            prev: None,
+            since: t0,
+            coarse_done: false,
+            truth_of: None,
+        };
+        if w.pending_maps.is_some() {
+            // The head first, with neutral maps; then the same view with
+            // its skin maps, refined from there. The ground truth of a head
+            // about to change would be seconds thrown away: a preview.
+            let sent = if r.req.has_truth() {
+                send_frame(&mut w, &r.req, Pass::Preview(1.0), t0, &tx, |_| {
+                    Quality::Preview { divisor: 1.0 }
+                })
+            } else {
+                send_frame(&mut w, &r.req, Pass::Refine(0), t0, &tx, |_| {
+                    Quality::Refining { frames: 1 }
+                })
+            };
+            if !sent {
+                return;
+            }
+            wake();
+            if let Err(e) = w.apply_pending_maps() {
+                let _ = tx.send(Reply::Error(e));
+                wake();
+                continue;
+            }
+        }
+        if refine_step(&mut w, &mut r, &tx) {
+            refine = Some(r);
+        }
+        wake();
+    }
+}
+
+/// Renders a preview of `req` at the divisor that keeps a frame near
+/// [`PREVIEW_BUDGET_MS`], and adapts the divisor to what it took. False
+/// when the UI has gone.
+pub(super) fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) -> bool {
+    // The first preview guesses from the last full frame: its time scales
+    // with the pixel count, so with the divisor squared.
+    let estimate = w.divisor.unwrap_or_else(|| {
+        w.full_frame_ms
+            .map_or(2.0, |ms| (ms / PREVIEW_BUDGET_MS).sqrt() as f32)
+            .clamp(1.0, 6.0)
+    });
+    // A few fixed steps, so that the preview's render targets keep their
+    // size from frame to frame instead of being made anew for each.
+    let divisor = PREVIEW_DIVISORS
+        .into_iter()
+        .min_by(|a, b| (a - estimate).abs().total_cmp(&(b - estimate).abs()))
+        .unwrap_or(estimate);
+    let t1 = Instant::now();
+    let sent = send_frame(w, req, Pass::Preview(divisor), t0, tx, |_| {
+        Quality::Preview { divisor }
+    });
+    let ms = t1.elapsed().as_secs_f64() * 1e3;
+    // Halfway towards the divisor that would have met the budget.
+    let ideal = divisor * (ms / PREVIEW_BUDGET_MS).sqrt() as f32;
+    w.divisor = Some((0.5 * (estimate + ideal)).clamp(1.0, 6.0));
+    sent
+}
+
+/// Renders the next refinement frame of `r` and sends it. Returns whether
+/// more frames would still change the image (false: converged, failed, or
+/// the UI has gone).
+pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    // The ground truth takes seconds: a coarse one over the whole view
+    // first (a new request in between is taken before the full frame).
+    if r.frames == 0 && !r.coarse_done && r.req.has_truth() {
+        r.coarse_done = true;
+        let divisor = COARSE_TRUTH_DIVISOR;
+        let reply = match w.frame(&r.req, Pass::Coarse(divisor)) {
+            Ok(rendered) => Reply::Frame {
+                difference_scale: rendered.difference_scale,
+                image: rendered.image,
+                stats: Box::new(rendered.stats),
+                wall_ms: r.since.elapsed().as_secs_f64() * 1e3,
+                note: with_truth_note(&r.truth_of, rendered.note),
+                seq: r.req.seq,
+                quality: Quality::Coarse { divisor },
+            },
+            Err(e) if is_cancelled(&e) => return true,
+            Err(e) => {
+                let _ = tx.send(Reply::Error(e));
+                return false;
+            }
+        };
+        return tx.send(reply).is_ok();
+    }
+    let frame = r.frames;
+    let t1 = Instant::now();
+    let rendered = w.frame(&r.req, Pass::Refine(frame));
+    if frame == 0 {
+        w.full_frame_ms = Some(t1.elapsed().as_secs_f64() * 1e3);
+    }
+    let rendered = match rendered {
+        Ok(x) => x,
+        // A newer request is waiting: nothing to report.
+        Err(e) if is_cancelled(&e) => return false,
+        Err(e) => {
+            let _ = tx.send(Reply::Error(e));
+            return false;
+        }
+    };
+    r.frames += 1;
+    let done = !rendered.stochastic
+        || r.frames >= MAX_REFINE_FRAMES
+        || r.prev.as_ref().is_some_and(|p| {
+            r.frames >= 3
+                && p.len() == rendered.sides.len()
+                && p.iter().zip(&rendered.sides).all(|(a, b)| converged(a, b))
+        });
+    let quality = if done {
+        Quality::Converged {
+            frames: r.frames,
+            ms: r.since.elapsed().as_secs_f64() * 1e3,
+        }
+    } else {
+        Quality::Refining { frames: r.frames }
+    };
+    if !done {
+        r.prev = Some(rendered.sides);
+    }
+    let note = with_truth_note(&r.truth_of, rendered.note);
+    // "Refine to the truth": the method's converged frame is shown, and
+    // the ground truth of the same view follows, kept as the view's
+    // finished frame.
+    let to_truth = done
+        && r.req.refine_to_truth
+        && r.truth_of.is_none()
+        && !r.req.has_truth()
+        && r.req.b.is_none();
+    if done {
+        let key = r
+            .truth_of
+            .as_ref()
+            .map_or_else(|| r.req.key(), |(k, _)| k.key());
+        if !to_truth {
+            w.finished.retain(|(k, _)| *k != key);
+            w.finished.insert(
+                0,
+                (
+                    key,
+                    Finished {
+                        image: rendered.image.clone(),
+                        stats: rendered.stats.clone(),
+                        note: note.clone(),
+                        difference_scale: rendered.difference_scale,
+                    },
+                ),
+            );
+            w.finished.truncate(KEPT_FRAMES);
+        }
+    }
+    let reply = Reply::Frame {
+        difference_scale: rendered.difference_scale,
+        image: rendered.image,
+        stats: Box::new(rendered.stats),
+        wall_ms: t1.elapsed().as_secs_f64() * 1e3,
+        note,
+        seq: r.req.seq,
+        quality,
+    };
+    let sent = tx.send(reply).is_ok();
+    if sent && to_truth {
+        let from = r.req.a.rendering.method;
+        let mut truth = r.req.clone();
+        truth.a.rendering.method = MethodId::Reference;
+        truth.show_b = false;
+        r.truth_of = Some((r.req.clone(), from));
+        r.req = truth;
+        r.frames = 0;
+        r.prev = None;
+        r.coarse_done = false;
+        return true;
+    }
+    sent && !done
+}
+
+/// A frame's note, led by "the ground truth, refined from …" when it is
+/// the ground truth the artist asked to refine to.
+pub(super) fn with_truth_note(
+    truth_of: &Option<(Request, MethodId)>,
+    note: Option<String>,
+) -> Option<String> {
+    match (truth_of, note) {
+        (Some((_, m)), n) => {
+            let lead = format!("the ground truth, refined from {}", m.id());
+            Some(n.map_or(lead.clone(), |n| format!("{lead} · {n}")))
+        }
+        (None, n) => n,
+    }
+}
+
+/// Renders `req` as `pass` and sends the frame (or the error); false when
+/// the UI has gone.
+pub(super) fn send_frame(
+    w: &mut Worker,
+    req: &Request,
+    pass: Pass,
+    t0: Instant,
+    tx: &Sender<Reply>,
+    quality: impl Fn(&Rendered) -> Quality,
+) -> bool {
+    let t1 = Instant::now();
+    let frame = w.frame(req, pass);
+    if timings_on() {
+        eprintln!(
+            "timing: render thread frame {:.2} s ({:.2} s since the request)",
+            t1.elapsed().as_secs_f64(),
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    let reply = match frame {
+        Ok(r) => Reply::Frame {
+            difference_scale: r.difference_scale,
+            quality: quality(&r),
+            image: r.image,
+            stats: Box::new(r.stats),
+            wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+            note: r.note,
+            seq: req.seq,
+        },
+        Err(e) if is_cancelled(&e) => return true,
+        Err(e) => Reply::Error(e),
+    };
+    tx.send(reply).is_ok()
+}
+
+/// Whether a frame's error is the ground truth stopping for a newer
+/// request.
+pub(super) fn is_cancelled(e: &str) -> bool {
+    e == crate::render::GpuError::Cancelled.to_string()
+}
