@@ -8,6 +8,7 @@ mod dialogs;
 mod files;
 mod maps;
 mod menu;
+mod overlays;
 mod params_ui;
 mod parts;
 mod plots;
