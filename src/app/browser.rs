@@ -216,7 +216,7 @@ impl EditorApp {
     }
 
     /// The preset browser window, while open.
-    pub(super) fn browser_window(&mut self, ctx: &egui::Context) {
+    pub(super) fn browser_window_ui(&mut self, ctx: &egui::Context) {
         let Some(mut browser) = self.dialogs.browser.take() else {
             return;
         };

@@ -8,7 +8,7 @@ impl EditorApp {
     /// live height readout and a suggestion from the bounds (a head is
     /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
     /// the camera frames it) and is remembered for the file.
-    pub(super) fn units_prompt(&mut self, ctx: &egui::Context) {
+    pub(super) fn units_prompt_ui(&mut self, ctx: &egui::Context) {
         let Some(path) = self.meshes.units_prompt.clone() else {
             return;
         };
@@ -114,20 +114,20 @@ impl EditorApp {
         }
     }
 
-    pub(super) fn dialogs(&mut self, ctx: &egui::Context) {
-        self.units_prompt(ctx);
-        self.maps_window(ctx);
-        self.overwrite_prompt(ctx);
-        self.unsaved_prompt(ctx);
-        self.file_dialog(ctx);
-        self.turntable_window(ctx);
-        self.browser_window(ctx);
-        self.help_windows(ctx);
+    pub(super) fn dialogs_ui(&mut self, ctx: &egui::Context) {
+        self.units_prompt_ui(ctx);
+        self.maps_window_ui(ctx);
+        self.overwrite_prompt_ui(ctx);
+        self.unsaved_prompt_ui(ctx);
+        self.file_dialog_ui(ctx);
+        self.turntable_window_ui(ctx);
+        self.browser_window_ui(ctx);
+        self.help_windows_ui(ctx);
     }
 
     /// Help → Shortcuts (F1) and Help → About: windows that stay until
     /// closed.
-    pub(super) fn help_windows(&mut self, ctx: &egui::Context) {
+    pub(super) fn help_windows_ui(&mut self, ctx: &egui::Context) {
         egui::Window::new("Shortcuts")
             .open(&mut self.dialogs.help_open)
             .resizable(false)
@@ -159,7 +159,7 @@ impl EditorApp {
 
     /// The unsaved-changes prompt for a pending open, new or quit: Save
     /// (Save As first for a look without a file), Discard, Cancel.
-    pub(super) fn unsaved_prompt(&mut self, ctx: &egui::Context) {
+    pub(super) fn unsaved_prompt_ui(&mut self, ctx: &egui::Context) {
         if let Some(pending) = self.dialogs.pending.clone() {
             let modal =
                 egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
@@ -208,7 +208,7 @@ impl EditorApp {
 
     /// The open file dialog (`egui_file`): folders first, then the files
     /// of this kind; an export's notes in a window above it.
-    pub(super) fn file_dialog(&mut self, ctx: &egui::Context) {
+    pub(super) fn file_dialog_ui(&mut self, ctx: &egui::Context) {
         let Some(mut dialog) = self.dialogs.dialog.take() else {
             return;
         };
@@ -332,7 +332,7 @@ impl EditorApp {
 
     /// Asks before a Save As or export replaces files; Replace writes,
     /// Cancel goes back to the dialog at the same path.
-    pub(super) fn overwrite_prompt(&mut self, ctx: &egui::Context) {
+    pub(super) fn overwrite_prompt_ui(&mut self, ctx: &egui::Context) {
         let Some(o) = self.dialogs.overwrite.clone() else {
             return;
         };

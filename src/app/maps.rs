@@ -128,7 +128,7 @@ impl EditorApp {
     /// the map previewed on the UV layout with a flip-V suggestion.
     /// Changes apply at once (the mesh reloads with them) and are
     /// remembered for the file.
-    pub(super) fn maps_window(&mut self, ctx: &egui::Context) {
+    pub(super) fn maps_window_ui(&mut self, ctx: &egui::Context) {
         let Some(path) = self.meshes.maps_window.clone() else {
             self.meshes.maps_preview = None;
             return;

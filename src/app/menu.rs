@@ -94,7 +94,7 @@ impl EditorApp {
         }
     }
 
-    pub(super) fn menu_bar(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
                 if ui
@@ -254,7 +254,7 @@ impl EditorApp {
         });
     }
 
-    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn status_bar_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             if !self.jobs.exports.is_empty()
                 || self.profile.analysis.busy()
@@ -287,7 +287,7 @@ impl EditorApp {
         });
     }
 
-    pub(super) fn params_panel(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn params_panel_ui(&mut self, ui: &mut egui::Ui) {
         let p = &mut self.doc.preset;
         ui.heading("Look");
         ui.horizontal(|ui| {
@@ -297,8 +297,8 @@ impl EditorApp {
             );
         });
         ui.separator();
-        params_ui::model_picker(ui, &mut p.profile);
-        params_ui::model_params(ui, &mut p.profile);
+        params_ui::model_picker_ui(ui, &mut p.profile);
+        params_ui::model_params_ui(ui, &mut p.profile);
         // The model's error, from the last build (never rebuilt per frame:
         // layered stacks take seconds).
         if let Some(Err(e)) = &self.profile.curves {
@@ -310,14 +310,14 @@ impl EditorApp {
         ui.separator();
         egui::CollapsingHeader::new("Rendering")
             .default_open(true)
-            .show(ui, |ui| params_ui::rendering(ui, &mut p.rendering));
+            .show(ui, |ui| params_ui::rendering_ui(ui, &mut p.rendering));
         ui.separator();
         egui::CollapsingHeader::new("Engines (live)")
             .default_open(true)
-            .show(ui, |ui| self.engine_readouts(ui));
+            .show(ui, |ui| self.engine_readouts_ui(ui));
     }
 
-    pub(super) fn engine_readouts(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn engine_readouts_ui(&mut self, ui: &mut egui::Ui) {
         use crate::model::units::{UnityProfile, UnrealProfile, UNREAL_DEFAULT_WORLD_UNIT_SCALE};
         // The file the look came from, as that engine wrote it (while the
         // look is still the one imported).

@@ -487,17 +487,17 @@ impl EditorApp {
         let side = bare(egui::Frame::side_top_panel(&style));
         egui::Panel::top("menu")
             .frame(side)
-            .show(ui, |ui| self.menu_bar(ui));
+            .show(ui, |ui| self.menu_bar_ui(ui));
         egui::Panel::bottom("status")
             .frame(side)
-            .show(ui, |ui| self.status_bar(ui));
+            .show(ui, |ui| self.status_bar_ui(ui));
         let params = egui::Panel::left("params")
             .frame(side)
             .resizable(true)
             .default_size(360.0)
             .max_size(max_side[0])
             .show(ui, |ui| {
-                egui::ScrollArea::both().show(ui, |ui| self.params_panel(ui));
+                egui::ScrollArea::both().show(ui, |ui| self.params_panel_ui(ui));
             });
         self.layout.panel_rects[0] = Some(params.response.rect);
         // Edits above change the preset; the plots below use it this frame.
@@ -517,8 +517,8 @@ impl EditorApp {
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
         egui::CentralPanel::default()
             .frame(bare(egui::Frame::central_panel(&style)))
-            .show(ui, |ui| self.viewport_panel(ui));
-        self.dialogs(&ctx);
+            .show(ui, |ui| self.viewport_panel_ui(ui));
+        self.dialogs_ui(&ctx);
         self.notices_ui(&ctx);
         if self.allow_close {
             // Quit answered (Save or Discard): close now, not at the next

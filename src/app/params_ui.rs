@@ -137,7 +137,14 @@ pub fn colour_picker(
     true
 }
 
-fn count(ui: &mut Ui, label: &str, tip: &str, v: &mut usize, range: (usize, usize), step: usize) {
+fn count_ui(
+    ui: &mut Ui,
+    label: &str,
+    tip: &str,
+    v: &mut usize,
+    range: (usize, usize),
+    step: usize,
+) {
     ui.horizontal(|ui| {
         ui.label(label).on_hover_text(tip);
         let mut x = *v as u32;
@@ -171,7 +178,7 @@ fn span((lo, hi): (f64, f64)) -> std::ops::RangeInclusive<f64> {
 }
 
 /// The model picker; switching model starts from that model's defaults.
-pub fn model_picker(ui: &mut Ui, spec: &mut ProfileSpec) {
+pub fn model_picker_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
     let models = ProfileSpec::models().map(|m| {
         let (name, tip) = m.describe();
         (name, m, tip)
@@ -196,9 +203,9 @@ pub fn model_picker(ui: &mut Ui, spec: &mut ProfileSpec) {
 }
 
 /// The parameters of the current model.
-pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
+pub fn model_params_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
     match spec {
-        ProfileSpec::Burley(b) => burley(ui, b),
+        ProfileSpec::Burley(b) => burley_ui(ui, b),
         ProfileSpec::Jimenez2012(j) => {
             rgb(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", &mut j.strength, span(jimenez::STRENGTH_RANGE), 0.005, false);
             rgb(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", &mut j.falloff, span(jimenez::FALLOFF_RANGE), 0.005, false);
@@ -234,7 +241,7 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
                 0.05,
             );
         }
-        ProfileSpec::Gaussians(g) => gaussians(ui, g),
+        ProfileSpec::Gaussians(g) => gaussians_ui(ui, g),
         ProfileSpec::Dipole(d) => {
             ui.horizontal(|ui| {
                 egui::ComboBox::from_label("Fill from measured")
@@ -287,11 +294,11 @@ pub fn model_params(ui: &mut Ui, spec: &mut ProfileSpec) {
                 ));
             }
         }
-        ProfileSpec::Multipole(m) => multipole(ui, m),
+        ProfileSpec::Multipole(m) => multipole_ui(ui, m),
     }
 }
 
-fn burley(ui: &mut Ui, b: &mut BurleySpec) {
+fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
     rgb(ui, "Albedo", "", "Total diffuse reflectance A per channel (Burley's volume albedo): how much light comes back out; it also sets the profile's shape through s(A).", &mut b.albedo, 0.0..=1.0, 0.003, true);
     let mut is_sd = matches!(b.shape, BurleyShape::ScatteringDistance { .. });
     ui.horizontal(|ui| {
@@ -360,7 +367,7 @@ fn burley(ui: &mut Ui, b: &mut BurleySpec) {
     }
 }
 
-fn gaussians(ui: &mut Ui, g: &mut GaussiansSpec) {
+fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
     let mut remove = None;
     egui::Grid::new("gaussians").striped(true).show(ui, |ui| {
         ui.label("#");
@@ -417,7 +424,7 @@ fn gaussians(ui: &mut Ui, g: &mut GaussiansSpec) {
     }
 }
 
-fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
+fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
     scalar(
         ui,
         "η above",
@@ -437,7 +444,7 @@ fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
         0.005,
     );
     let mut d = m.dipoles as usize;
-    count(
+    count_ui(
         ui,
         "Dipole pairs",
         "Mirrored dipole pairs n per slab (2n + 1 dipoles): more is more accurate and slower.",
@@ -537,7 +544,7 @@ fn multipole(ui: &mut Ui, m: &mut MultipoleSpec) {
 }
 
 /// Rendering and engine-side material settings.
-pub fn rendering(ui: &mut Ui, r: &mut RenderingSpec) {
+pub fn rendering_ui(ui: &mut Ui, r: &mut RenderingSpec) {
     method_ui(ui, r);
     transmission_ui(ui, r);
     specular_ui(ui, r);
@@ -554,7 +561,7 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
         })
         .response
         .on_hover_text("The real-time SSS method the viewport renders with.");
-    count(
+    count_ui(
         ui,
         "Burley samples",
         "Disk samples per pixel of the burley method (Golubev 2018): more is smoother and slower.",
@@ -562,7 +569,7 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
         crate::settings::rendering::SAMPLES_RANGE,
         1,
     );
-    count(
+    count_ui(
         ui,
         "Separable taps",
         "Taps of each 1D pass of the separable method (odd).",

@@ -129,7 +129,7 @@ enum Stroke {
 
 /// One legend entry: a short line in the entry's colour, then its name.
 /// The legend sits under the plot, never over the curves.
-fn legend_entry(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
+fn legend_entry_ui(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str) {
     // The line and its name stay together: start a row if both do not fit.
     let text = egui::WidgetText::from(name).into_galley(
         ui,
@@ -491,17 +491,17 @@ fn profile_plot_ui(
     // the fit by its name; under the plot, off the curves.
     ui.horizontal_wrapped(|ui| {
         for c in 0..3 {
-            legend_entry(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
+            legend_entry_ui(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
         }
-        legend_entry(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
+        legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
         if let Some(Ok(o)) = &overlay {
-            legend_entry(ui, Color32::GRAY, Stroke::Dashed, &o.label);
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Dashed, &o.label);
         }
         if let Some((label, _)) = &b_series {
-            legend_entry(ui, Color32::GRAY, Stroke::Dotted, label);
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, label);
         }
         if show_taps && !log && !taps.is_empty() {
-            legend_entry(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
         }
     });
     ui.label(format!(

@@ -255,7 +255,7 @@ fn write(
 impl EditorApp {
     /// File → Save turntable…: its settings, Save…, then the progress
     /// with Cancel.
-    pub(super) fn turntable_window(&mut self, ctx: &egui::Context) {
+    pub(super) fn turntable_window_ui(&mut self, ctx: &egui::Context) {
         if let Some(job) = self.jobs.turntable.as_mut() {
             if let Some(r) = job.poll() {
                 let out = job.out.clone();

@@ -5,7 +5,7 @@
 use super::*;
 
 impl EditorApp {
-    pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn viewport_panel_ui(&mut self, ui: &mut egui::Ui) {
         // Camera distance that frames the mesh (Reset view, zoom limits).
         let framing = self.meshes.mesh_info.map_or(
             crate::settings::OrbitView::default().camera_distance_m,
