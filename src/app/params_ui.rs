@@ -555,7 +555,7 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
     egui::ComboBox::from_label("Method")
         .selected_text(r.method.label())
         .show_ui(ui, |ui| {
-            for m in MethodId::ALL {
+            for &m in MethodId::all() {
                 ui.selectable_value(&mut r.method, m, m.label());
             }
         })

@@ -97,7 +97,7 @@ impl EditorApp {
                 // overflows a row widens everything under it.
                 ui.end_row();
                 ui.menu_button(format!("B: {b_name}"), |ui| {
-                    for m in crate::settings::rendering::MethodId::ALL {
+                    for &m in crate::settings::rendering::MethodId::all() {
                         if ui.button(m.label()).clicked() {
                             self.ui_state.compare_b = CompareB::Method(m);
                             ui.close();

@@ -286,7 +286,7 @@ pub fn write_csv(path: &Path, rows: &[SkipRow]) -> Result<()> {
 /// Reads a `skip.csv` written by [`write_csv`] back (for `--replot`).
 pub fn read_csv(path: &Path) -> Result<Vec<SkipRow>> {
     const STUDIES: [&str; 4] = ["coverage", "strength", "transmission", "lod"];
-    let methods: Vec<&'static str> = crate::settings::rendering::MethodId::ALL
+    let methods: Vec<&'static str> = crate::settings::rendering::MethodId::all()
         .iter()
         .map(|m| m.id())
         .collect();

@@ -35,14 +35,11 @@ pub enum MethodId {
 }
 
 impl MethodId {
-    pub const ALL: [MethodId; 6] = [
-        MethodId::None,
-        MethodId::Burley,
-        MethodId::Separable,
-        MethodId::Gaussians,
-        MethodId::Preintegrated,
-        MethodId::Reference,
-    ];
+    /// Every method, in the editor's and reports' order: clap's list of
+    /// the enum (the declaration order), not a list kept by hand.
+    pub fn all() -> &'static [MethodId] {
+        <MethodId as clap::ValueEnum>::value_variants()
+    }
 
     /// The name the command line and reports use.
     pub fn id(self) -> &'static str {
@@ -282,5 +279,33 @@ mod tests {
     fn f0_from_ior() {
         let r = RenderingSpec::default();
         assert!((r.f0() - 0.027_777_8).abs() < 1e-6);
+    }
+}
+
+#[cfg(test)]
+mod method_list_tests {
+    use super::*;
+
+    /// The six methods, each once, and each one's `id` is its `--method`
+    /// name (clap's, from the same enum).
+    #[test]
+    fn methods_come_from_the_enum_and_ids_match_the_command_line() {
+        use clap::ValueEnum;
+        let ids: Vec<&str> = MethodId::all().iter().map(|m| m.id()).collect();
+        assert_eq!(
+            ids,
+            [
+                "none",
+                "burley",
+                "separable",
+                "gaussians",
+                "preintegrated",
+                "reference"
+            ]
+        );
+        for &m in MethodId::all() {
+            let name = m.to_possible_value().map(|v| v.get_name().to_owned());
+            assert_eq!(name.as_deref(), Some(m.id()));
+        }
     }
 }
