@@ -4,7 +4,7 @@
 //! starts a new look from that preset, asking first if the open one has
 //! unsaved changes.
 
-use super::viewport::{Look, Quality, Reply, Request, Viewport};
+use super::viewport::{Look, Request, Viewport};
 use super::*;
 use crate::settings::rendering::MethodId;
 use std::sync::mpsc::Receiver;
@@ -112,29 +112,13 @@ impl PresetBrowser {
                     continue;
                 }
                 let vp = viewport.get_or_insert_with(|| Viewport::start(|| {}));
-                vp.request(thumbnail_request(preset));
-                let want = vp.seq();
-                let img = loop {
-                    let mut got = None;
-                    for reply in vp.poll() {
-                        match reply {
-                            Reply::Frame {
-                                image,
-                                seq,
-                                quality: Quality::Converged { .. },
-                                ..
-                            } if seq == want => got = Some(image),
-                            Reply::Error(e) => {
-                                let _ = tx.send(Message::Failed(format!("{}: {e}", preset.name)));
-                                return;
-                            }
-                            _ => {}
-                        }
+                let img = match vp.render_converged(thumbnail_request(preset), &|| false) {
+                    Ok(Some(img)) => img,
+                    Ok(None) => return,
+                    Err(e) => {
+                        let _ = tx.send(Message::Failed(format!("{}: {e}", preset.name)));
+                        return;
                     }
-                    if let Some(img) = got {
-                        break img;
-                    }
-                    std::thread::sleep(Duration::from_millis(5));
                 };
                 if let Some(p) = &cached {
                     // A cache that cannot be written costs a render next

@@ -10,7 +10,7 @@
 //! fixed studio light); an HDR environment stays put. Nothing is written
 //! until every frame is in: a cancelled turntable leaves no files.
 
-use super::viewport::{Quality, Reply, Request, Viewport};
+use super::viewport::{Request, Viewport};
 use super::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
@@ -176,31 +176,10 @@ fn render(
         if settings.light_follows {
             req.view.orbit.light_azimuth_rad += turn;
         }
-        viewport.request(req);
-        let want = viewport.seq();
-        let image = loop {
-            if cancel.load(Ordering::Relaxed) {
-                viewport.cancel_current();
-                return Err(CANCELLED.into());
-            }
-            let mut got = None;
-            for reply in viewport.poll() {
-                match reply {
-                    Reply::Frame {
-                        image,
-                        seq,
-                        quality: Quality::Converged { .. },
-                        ..
-                    } if seq == want => got = Some(image),
-                    Reply::Error(e) => return Err(format!("frame {}: {e}", k + 1)),
-                    _ => {}
-                }
-            }
-            if let Some(image) = got {
-                break image;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        };
+        let image = viewport
+            .render_converged(req, &|| cancel.load(Ordering::Relaxed))
+            .map_err(|e| format!("frame {}: {e}", k + 1))?
+            .ok_or_else(|| CANCELLED.to_string())?;
         frames.push(image);
         send(Progress::Frame(k + 1));
     }

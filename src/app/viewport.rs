@@ -288,11 +288,6 @@ impl Viewport {
         }
     }
 
-    /// The number of the last request sent (a frame's `seq` answers it).
-    pub fn seq(&self) -> u64 {
-        self.seq
-    }
-
     /// The last request sent (its `seq` is 0).
     pub fn last_request(&self) -> Option<&Request> {
         self.last_sent.as_ref()
@@ -302,6 +297,38 @@ impl Viewport {
     pub fn cancel_current(&self) {
         self.cancel
             .store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Renders `req` until its frame converges, waiting on this thread
+    /// (never the UI's: the turntable and the preset browser call it from
+    /// their own). `Ok(None)` once `cancelled` says so; the error of a
+    /// frame that failed.
+    pub fn render_converged(
+        &mut self,
+        req: Request,
+        cancelled: &dyn Fn() -> bool,
+    ) -> Result<Option<image::RgbaImage>, String> {
+        self.request(req);
+        let want = self.seq;
+        loop {
+            if cancelled() {
+                self.cancel_current();
+                return Ok(None);
+            }
+            for reply in self.poll() {
+                match reply {
+                    Reply::Frame {
+                        image,
+                        seq,
+                        quality: Quality::Converged { .. },
+                        ..
+                    } if seq == want => return Ok(Some(image)),
+                    Reply::Error(e) => return Err(e),
+                    _ => {}
+                }
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
     }
 
     /// Replies that arrived since the last call.
