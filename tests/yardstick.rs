@@ -351,27 +351,18 @@ fn the_methods_against_the_ground_truth_on_a_held_out_scan_view() {
             .unwrap()
             .1
     };
-    let truth = render(&mut r, Config::Reference);
+    let truth = render(&mut r, Config::reference());
     let mask = sss_mask(&truth);
     let inner = interior(&mask, s.width as usize, 3);
     let configs = [
-        ("none", Config::None),
-        ("preintegrated", Config::Preintegrated),
+        ("none", Config::none()),
+        ("preintegrated", Config::fixed(Method::Preintegrated)),
         (
             "separable 2015 17",
-            Config::Separable {
-                taps: 17,
-                kernel: Kernel::Preintegrated2015,
-            },
+            Config::taps(17, Kernel::Preintegrated2015),
         ),
-        (
-            "burley 21",
-            Config::Burley {
-                samples: 21,
-                sampling: BurleySampling::IMPROVED,
-            },
-        ),
-        ("gaussians", Config::Gaussians),
+        ("burley 21", Config::samples(21, BurleySampling::IMPROVED)),
+        ("gaussians", Config::fixed(Method::Gaussians)),
     ];
     let mut csv = String::from("method,rel_rmse,rel_rmse_interior,share_of_none_removed\n");
     let mut none = (0.0, 0.0);

@@ -6,7 +6,6 @@
 
 use super::viewport::{Look, Request, Viewport};
 use super::*;
-use crate::settings::rendering::MethodId;
 use std::sync::mpsc::Receiver;
 use std::time::Duration;
 
@@ -60,9 +59,7 @@ fn cache_path(dir: &Path, preset: &Preset) -> PathBuf {
 /// truth, which takes minutes).
 fn thumbnail_request(preset: &Preset) -> Request {
     let mut look = Look::of(preset);
-    if look.rendering.method == MethodId::Reference {
-        look.rendering.method = MethodId::Burley;
-    }
+    look.rendering.method = look.rendering.method.preview();
     let mut view = state::ViewState::default();
     // Closer than the framing of the whole head: the face fills it.
     view.orbit.camera_distance_m *= 0.7;

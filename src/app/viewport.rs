@@ -81,7 +81,7 @@ impl Request {
         let b = self.b.as_ref().map(|b| &b.0);
         std::iter::once(&self.a)
             .chain(b)
-            .any(|l| l.rendering.method == MethodId::Reference)
+            .any(|l| l.rendering.method.sss().ground_truth)
     }
 
     /// The request as a finished frame is kept under (its number and
@@ -529,9 +529,12 @@ impl Worker {
         // works, `burley` stands in for it (and says so).
         let settings = |look: &Look, size: (u32, u32), notes: &mut Vec<String>| {
             let mut s = render_settings(look, &req.view, size);
-            if matches!(pass, Pass::Preview(_)) && s.method == Method::Reference {
-                s.method = Method::Burley;
-                notes.push("burley while you work, the ground truth when you stop".into());
+            if matches!(pass, Pass::Preview(_)) && s.method.preview() != s.method {
+                s.method = s.method.preview();
+                notes.push(format!(
+                    "{} while you work, the ground truth when you stop",
+                    s.method.id()
+                ));
             }
             s
         };

@@ -75,7 +75,7 @@ impl EditorApp {
                     .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
                     .on_disabled_hover_text("No edit yet to compare with.");
             });
-            let none = CompareB::Method(crate::settings::rendering::MethodId::None);
+            let none = CompareB::Method(crate::settings::rendering::MethodId::baseline());
             let sss_only = self.ui_state.compare == CompareMode::Difference
                 && self.ui_state.compare_b == none
                 && self.view.ab == AbView::Both;

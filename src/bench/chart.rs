@@ -3,7 +3,7 @@
 //! beside the points, and the Pareto front of time against RMSE drawn.
 
 use super::report::pareto_front;
-use super::scenes::{Config, Kernel, Scene};
+use super::scenes::{Config, Kernel, Knob, Scene};
 use super::Row;
 use crate::render::BurleySampling;
 use anyhow::{anyhow, Context as _, Result};
@@ -26,28 +26,41 @@ fn register_font() -> Result<()> {
         .ok_or_else(|| anyhow!("the chart font did not load"))
 }
 
-/// The series a row belongs to, and its colour.
-fn series(c: Config) -> (&'static str, RGBColor) {
-    match c {
-        Config::None => ("none", RGBColor(120, 120, 120)),
-        Config::Preintegrated => ("preintegrated", RGBColor(140, 86, 75)),
-        Config::Gaussians => ("gaussians (6 × 2 passes)", RGBColor(148, 103, 189)),
-        Config::Reference => ("reference", BLACK),
-        Config::Separable {
+/// The series a row belongs to, and its colour: a method of fixed quality
+/// in its own colour (the registry's), the tapped method by kernel, the
+/// sampled one by sampling.
+fn series(c: Config) -> (String, RGBColor) {
+    let own = |label: String| {
+        let [r, g, b] = c.method.sss().colour;
+        (label, RGBColor(r, g, b))
+    };
+    match c.knob {
+        Knob::Fixed => own(match c.method.sss().variant {
+            "" => c.method.id().to_string(),
+            v => format!("{} ({v})", c.method.id()),
+        }),
+        Knob::Taps {
             kernel: Kernel::Jimenez2012,
             ..
-        } => ("separable, 2012 kernel", RGBColor(44, 160, 44)),
-        Config::Separable {
+        } => own(format!("{}, 2012 kernel", c.method.id())),
+        Knob::Taps {
             kernel: Kernel::Preintegrated2015,
             ..
-        } => ("separable, 2015 kernel", RGBColor(23, 190, 207)),
-        Config::Burley { sampling, .. } if sampling == BurleySampling::IMPROVED => {
-            ("burley (improved)", RGBColor(214, 39, 40))
+        } => (
+            format!("{}, 2015 kernel", c.method.id()),
+            RGBColor(23, 190, 207),
+        ),
+        Knob::Samples { sampling, .. } if sampling == BurleySampling::IMPROVED => (
+            format!("{} (improved)", c.method.id()),
+            RGBColor(214, 39, 40),
+        ),
+        Knob::Samples { sampling, .. } if sampling == BurleySampling::GOLUBEV => {
+            own(format!("{} (Golubev 2018)", c.method.id()))
         }
-        Config::Burley { sampling, .. } if sampling == BurleySampling::GOLUBEV => {
-            ("burley (Golubev 2018)", RGBColor(31, 119, 180))
-        }
-        Config::Burley { .. } => ("burley, one improvement", RGBColor(255, 127, 14)),
+        Knob::Samples { .. } => (
+            format!("{}, one improvement", c.method.id()),
+            RGBColor(255, 127, 14),
+        ),
     }
 }
 
@@ -85,7 +98,7 @@ fn panel(
     y: fn(&Row) -> f64,
     front: bool,
 ) -> Result<()> {
-    let plotted = || rows.iter().filter(|r| r.config != Config::Reference);
+    let plotted = || rows.iter().filter(|r| !r.config.method.sss().ground_truth);
     let x_range = log_range(plotted().map(|r| r.frame_ratio()));
     let y_range = log_range(plotted().map(|r| y(r)));
     let mut chart = ChartBuilder::on(area)
@@ -108,7 +121,7 @@ fn panel(
     let points: Vec<&Row> = rows
         .iter()
         .copied()
-        .filter(|r| y(r) > 0.0 && r.config != Config::Reference)
+        .filter(|r| y(r) > 0.0 && !r.config.method.sss().ground_truth)
         .collect();
     if front {
         let line: Vec<(f64, f64)> = pareto_front(&points)
@@ -121,7 +134,7 @@ fn panel(
             .label("Pareto front (time vs RMSE)")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2)));
     }
-    let mut names: Vec<&'static str> = Vec::new();
+    let mut names: Vec<String> = Vec::new();
     for r in &points {
         let (name, colour) = series(r.config);
         let first = !names.contains(&name);
@@ -138,8 +151,8 @@ fn panel(
             ))
             .map_err(|e| anyhow!("{e}"))?;
         if first {
-            names.push(name);
-            dot.label(name)
+            names.push(name.clone());
+            dot.label(name.as_str())
                 .legend(move |(x, y)| Circle::new((x + 9, y), 5, colour.filled()));
         }
     }

@@ -68,15 +68,15 @@ pub fn measure(
     };
     let zero = d_to_zero_inputs(look)?;
     let (_, none, _) = renderer
-        .render_with_diffuse(&zero, &with(Method::None, 1))
+        .render_with_diffuse(&zero, &with(Method::baseline(), 1))
         .context("floor: the none frame at d → 0")?;
     let (_, truth, _) = renderer
-        .render_with_diffuse(&zero, &with(Method::Reference, 1))
+        .render_with_diffuse(&zero, &with(Method::ground_truth(), 1))
         .context("floor: the ground truth at d → 0")?;
     let mask = metrics::sss_mask(&none);
     let d_to_zero = metrics::relative_rmse(&truth, &none, &mask);
     let (_, fine, _) = renderer
-        .render_with_diffuse(look, &with(Method::Reference, 2))
+        .render_with_diffuse(look, &with(Method::ground_truth(), 2))
         .context("floor: the supersampled ground truth")?;
     let sss = metrics::sss_mask(plain);
     let one_surface: Vec<bool> = sss

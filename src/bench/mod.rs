@@ -26,7 +26,7 @@ use crate::render::{
 use crate::settings::{Preset, ProfileSpec};
 use anyhow::{Context, Result};
 use image::RgbaImage;
-use scenes::{Config, Kernel, Scene, Stage};
+use scenes::{Config, Kernel, Knob, Scene, Stage};
 use std::path::Path;
 use std::time::Instant;
 
@@ -131,11 +131,11 @@ impl Prepared {
     /// The inputs of one configuration.
     pub fn inputs(&self, config: Config) -> Result<ProfileInputs> {
         let mut i = self.base.clone();
-        match config {
-            Config::Burley { samples, sampling } => {
+        match config.knob {
+            Knob::Samples { samples, sampling } => {
                 i.set_burley(self.profile.as_ref(), samples, sampling)?
             }
-            Config::Separable { taps, kernel } => match kernel {
+            Knob::Taps { taps, kernel } => match kernel {
                 Kernel::Jimenez2012 => i.set_separable_kernel(&self.jimenez.kernel(taps)?, true),
                 Kernel::Preintegrated2015 => {
                     let k = self.kernels_2015.iter().find(|k| k.0 == taps);
@@ -143,8 +143,8 @@ impl Prepared {
                     i.set_separable_kernel(&k.1, false)
                 }
             },
-            Config::Gaussians => i.set_gaussians(&self.gaussians),
-            Config::None | Config::Preintegrated | Config::Reference => {}
+            Knob::Fixed if config.method.sss().reads.gaussians => i.set_gaussians(&self.gaussians),
+            Knob::Fixed => {}
         }
         Ok(i)
     }
@@ -234,8 +234,8 @@ pub fn bench_scene(
         let start = Instant::now();
         let (image, diffuse, stats) = renderer
             .render_with_diffuse(
-                &prepared.inputs(Config::Reference)?,
-                &settings(Config::Reference),
+                &prepared.inputs(Config::reference())?,
+                &settings(Config::reference()),
             )
             .with_context(|| format!("{}: reference", scene.id))?;
         let wall = start.elapsed().as_secs_f64() * 1e3;
@@ -251,8 +251,8 @@ pub fn bench_scene(
     };
     let floor = floor::measure(
         renderer,
-        &prepared.inputs(Config::Reference)?,
-        &settings(Config::Reference),
+        &prepared.inputs(Config::reference())?,
+        &settings(Config::reference()),
         &reference.diffuse,
     )
     .with_context(|| format!("{}: the ground truth's floor", scene.id))?;
@@ -278,15 +278,15 @@ pub fn bench_scene(
             timing: m.timing,
         }
     };
-    let mut rows = vec![row(Config::Reference, &reference)];
+    let mut rows = vec![row(Config::reference(), &reference)];
     for c in scenes::configs() {
         rows.push(row(c, &run(renderer, c)?));
     }
     // `none` again at the end: the smaller of the two brackets drift.
-    let none_again = run(renderer, Config::None)?.frame_ms;
+    let none_again = run(renderer, Config::none())?.frame_ms;
     let none_frame_ms = rows
         .iter()
-        .filter(|r| r.config == Config::None)
+        .filter(|r| r.config == Config::none())
         .map(|r| r.frame_ms)
         .fold(none_again, f64::min);
     for r in &mut rows {

@@ -1,7 +1,7 @@
 //! `results.csv` and the generated `accuracy.md`.
 
 use super::floor::Floor;
-use super::scenes::{Config, Scene};
+use super::scenes::{Config, Knob, Scene};
 use super::skip::SkipRow;
 use super::{Options, Row};
 use crate::render::BurleySampling;
@@ -87,7 +87,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
     let scenes = super::scenes::scenes((1, 1));
     let ids: Vec<&'static str> = scenes.iter().map(|s| s.id).collect();
     let mut configs = super::scenes::configs();
-    configs.push(Config::Reference);
+    configs.push(Config::reference());
     super::csv::read(path, CSV_HEADER, 19)?
         .iter()
         .map(|r| {
@@ -138,7 +138,7 @@ pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
     let cand: Vec<&Row> = rows
         .iter()
         .copied()
-        .filter(|r| r.config != Config::Reference)
+        .filter(|r| !r.config.method.sss().ground_truth)
         .collect();
     let mut front: Vec<&Row> = cand
         .iter()
@@ -158,9 +158,9 @@ pub fn pareto_front<'a>(rows: &[&'a Row]) -> Vec<&'a Row> {
 /// Whether an artist can pick this configuration (the single-flag Burley
 /// variants are measurements, not options).
 pub fn shipped(c: Config) -> bool {
-    match c {
-        Config::Reference => false,
-        Config::Burley { sampling, .. } => {
+    match c.knob {
+        _ if c.method.sss().ground_truth => false,
+        Knob::Samples { sampling, .. } => {
             sampling == BurleySampling::IMPROVED || sampling == BurleySampling::GOLUBEV
         }
         _ => true,
@@ -227,10 +227,7 @@ fn scene_table(s: &mut String, scene: &Scene, rows: &[&Row]) {
 }
 
 fn sampling_target(s: &mut String, c: &Context) {
-    let b = |n, sampling| Config::Burley {
-        samples: n,
-        sampling,
-    };
+    let b = Config::samples;
     let _ = writeln!(
         s,
         "## Beating the published sampling\n\nBaseline: Golubev 2018 as published (`golubev`). Target: `burley` (`improved`) at 21 samples no worse than `golubev` at 55 on the head scenes.\n\n| Scene | golubev 21 | golubev 55 | improved 21 | antithetic 21 | mis 21 | r2 21 | bilinear 21 | centre 21 | improved 55 | met (RMSE) | met (FLIP) |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
@@ -295,7 +292,7 @@ fn picks(s: &mut String, c: &Context) {
     );
     for scene in c.scenes {
         let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();
-        let Some(none) = rows.iter().find(|r| r.config == Config::None) else {
+        let Some(none) = rows.iter().find(|r| r.config == Config::none()) else {
             continue;
         };
         let cell = |f: f64| match cheapest_within(&rows, f * none.rel_rmse) {
@@ -323,7 +320,7 @@ fn floor_table(s: &mut String, c: &Context) {
         let truth = c
             .rows
             .iter()
-            .find(|r| r.scene == *scene && r.config == Config::Reference);
+            .find(|r| r.scene == *scene && r.config == Config::reference());
         let (secs, ratio) = truth.map_or(("—".into(), "—".into()), |r| {
             (
                 format!("{:.2}", r.frame_ms / 1e3),
@@ -348,7 +345,7 @@ pub fn markdown(c: &Context) -> String {
     let timing = c
         .rows
         .iter()
-        .find(|r| r.config != Config::Reference)
+        .find(|r| !r.config.method.sss().ground_truth)
         .map(|r| r.timing)
         .unwrap_or("gpu-timestamps");
     let _ = writeln!(
@@ -407,16 +404,13 @@ mod tests {
 
     #[test]
     fn pareto_front_by_hand() {
-        let b = |n| Config::Burley {
-            samples: n,
-            sampling: BurleySampling::GOLUBEV,
-        };
+        let b = |n| Config::samples(n, BurleySampling::GOLUBEV);
         let rows = [
-            row(Config::None, 1.0, 0.5),
+            row(Config::none(), 1.0, 0.5),
             row(b(7), 2.0, 0.2),
             row(b(13), 3.0, 0.3), // dominated by b(7)
             row(b(21), 4.0, 0.1),
-            row(Config::Reference, 30.0, 0.0), // never a candidate
+            row(Config::reference(), 30.0, 0.0), // never a candidate
         ];
         let refs: Vec<&Row> = rows.iter().collect();
         let front: Vec<usize> = pareto_front(&refs)

@@ -1,6 +1,8 @@
 //! The fixed scenes and the method configurations `bench` measures.
 
-use crate::render::{BurleySampling, IrradiancePattern, Method, RenderSettings, Transmission};
+use crate::render::{
+    BurleySampling, IrradiancePattern, Method, Quality, RenderSettings, Transmission,
+};
 use crate::settings::OrbitView;
 
 /// What a scene renders.
@@ -138,21 +140,25 @@ pub enum Kernel {
     Preintegrated2015,
 }
 
-/// One method at one count.
+/// How a configuration sets its method's quality ([`Quality`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Config {
-    None,
-    Preintegrated,
-    Gaussians,
-    Reference,
-    Burley {
+pub enum Knob {
+    /// The method's one configuration (`Quality::Fixed`).
+    Fixed,
+    /// Samples per pixel and the sampling strategy (`Quality::Samples`).
+    Samples {
         samples: usize,
         sampling: BurleySampling,
     },
-    Separable {
-        taps: usize,
-        kernel: Kernel,
-    },
+    /// Taps of the separable kernel and which kernel (`Quality::Taps`).
+    Taps { taps: usize, kernel: Kernel },
+}
+
+/// One method at one setting of its quality.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Config {
+    pub method: Method,
+    pub knob: Knob,
 }
 
 pub const BURLEY_SAMPLES: [usize; 7] = [7, 13, 21, 34, 55, 89, 144];
@@ -161,36 +167,62 @@ pub const SEPARABLE_TAPS: [usize; 5] = [7, 11, 17, 25, 33];
 pub const ABLATION_SAMPLES: [usize; 2] = [21, 55];
 
 impl Config {
-    pub fn method(self) -> Method {
-        match self {
-            Config::None => Method::None,
-            Config::Preintegrated => Method::Preintegrated,
-            Config::Gaussians => Method::Gaussians,
-            Config::Reference => Method::Reference,
-            Config::Burley { .. } => Method::Burley,
-            Config::Separable { .. } => Method::Separable,
+    /// A method whose quality is fixed.
+    pub fn fixed(method: Method) -> Self {
+        Self {
+            method,
+            knob: Knob::Fixed,
         }
+    }
+
+    /// The ground truth, every scene's yardstick.
+    pub fn reference() -> Self {
+        Self::fixed(Method::ground_truth())
+    }
+
+    /// The baseline that scatters nothing.
+    pub fn none() -> Self {
+        Self::fixed(Method::baseline())
+    }
+
+    /// The sampled method (`burley`) at `samples` with `sampling`.
+    pub fn samples(samples: usize, sampling: BurleySampling) -> Self {
+        Self {
+            method: Method::by_quality(Quality::Samples),
+            knob: Knob::Samples { samples, sampling },
+        }
+    }
+
+    /// The separable method at `taps` with `kernel`.
+    pub fn taps(taps: usize, kernel: Kernel) -> Self {
+        Self {
+            method: Method::by_quality(Quality::Taps),
+            knob: Knob::Taps { taps, kernel },
+        }
+    }
+
+    pub fn method(self) -> Method {
+        self.method
     }
 
     /// The CSV's `variant` column.
     pub fn variant(self) -> String {
-        match self {
-            Config::Burley { sampling, .. } => sampling.id(),
-            Config::Separable { kernel, .. } => match kernel {
+        match self.knob {
+            Knob::Samples { sampling, .. } => sampling.id(),
+            Knob::Taps { kernel, .. } => match kernel {
                 Kernel::Jimenez2012 => "2012".into(),
                 Kernel::Preintegrated2015 => "2015".into(),
             },
-            Config::Gaussians => "6x2-passes".into(),
-            _ => String::new(),
+            Knob::Fixed => self.method.sss().variant.into(),
         }
     }
 
     /// Samples per pixel (burley), taps (separable), else 0.
     pub fn count(self) -> usize {
-        match self {
-            Config::Burley { samples, .. } => samples,
-            Config::Separable { taps, .. } => taps,
-            _ => 0,
+        match self.knob {
+            Knob::Samples { samples, .. } => samples,
+            Knob::Taps { taps, .. } => taps,
+            Knob::Fixed => 0,
         }
     }
 
@@ -206,14 +238,22 @@ impl Config {
 }
 
 /// Every configuration measured on every scene (the reference is rendered
-/// first and separately).
+/// first and separately): each method of fixed quality, in the registry's
+/// order, then the tapped method at every kernel and tap count, the
+/// sampled one at every count of both samplings, then each single
+/// improvement to the sampling alone.
 pub fn configs() -> Vec<Config> {
-    let mut c = vec![Config::None, Config::Preintegrated, Config::Gaussians];
+    let quality = |m: &Method| m.sss().quality;
+    let mut c: Vec<Config> = Method::all()
+        .iter()
+        .filter(|m| quality(m) == Quality::Fixed && !m.sss().ground_truth)
+        .map(|&m| Config::fixed(m))
+        .collect();
     for kernel in [Kernel::Jimenez2012, Kernel::Preintegrated2015] {
-        c.extend(SEPARABLE_TAPS.map(|taps| Config::Separable { taps, kernel }));
+        c.extend(SEPARABLE_TAPS.map(|taps| Config::taps(taps, kernel)));
     }
     for sampling in [BurleySampling::IMPROVED, BurleySampling::GOLUBEV] {
-        c.extend(BURLEY_SAMPLES.map(|samples| Config::Burley { samples, sampling }));
+        c.extend(BURLEY_SAMPLES.map(|samples| Config::samples(samples, sampling)));
     }
     let single = [
         BurleySampling {
@@ -238,7 +278,7 @@ pub fn configs() -> Vec<Config> {
         },
     ];
     for sampling in single {
-        c.extend(ABLATION_SAMPLES.map(|samples| Config::Burley { samples, sampling }));
+        c.extend(ABLATION_SAMPLES.map(|samples| Config::samples(samples, sampling)));
     }
     c
 }

@@ -115,17 +115,14 @@ fn masked_plane(fraction: f32, settings: &RenderSettings) -> Mesh {
 }
 
 fn burley(prepared: &Prepared) -> Result<ProfileInputs> {
-    prepared.inputs(Config::Burley {
-        samples: 21,
-        sampling: BurleySampling::IMPROVED,
-    })
+    prepared.inputs(Config::samples(21, BurleySampling::IMPROVED))
 }
 
 /// SSS cost at 0, 10, 50 and 100 % coverage of a lit plane.
 fn coverage(prepared: &Prepared, options: Options) -> Result<Vec<SkipRow>> {
     let base = plane_settings(options.size, IrradiancePattern::Lit);
     let inputs = burley(prepared)?;
-    let none_inputs = prepared.inputs(Config::None)?;
+    let none_inputs = prepared.inputs(Config::none())?;
     let mut rows = Vec::new();
     for pct in [0u32, 10, 50, 100] {
         let mesh = masked_plane(pct as f32 / 100.0, &base);
@@ -133,18 +130,12 @@ fn coverage(prepared: &Prepared, options: Options) -> Result<Vec<SkipRow>> {
         let none = measure(
             &mut r,
             &none_inputs,
-            &with(&base, Config::None),
+            &with(&base, Config::none()),
             options.repeats,
         )?;
         for (c, i) in [
-            (
-                Config::Burley {
-                    samples: 21,
-                    sampling: BurleySampling::IMPROVED,
-                },
-                &inputs,
-            ),
-            (Config::None, &none_inputs),
+            (Config::samples(21, BurleySampling::IMPROVED), &inputs),
+            (Config::none(), &none_inputs),
         ] {
             let m = measure(&mut r, i, &with(&base, c), options.repeats)?;
             rows.push(row("coverage", format!("{pct}%"), &m, none.frame_ms));
@@ -171,18 +162,15 @@ fn head_studies(prepared: &Prepared, options: Options, r: &mut Renderer) -> Resu
             .map(|s| s.settings.clone())
             .context("a bench scene is missing")
     };
-    let b21 = Config::Burley {
-        samples: 21,
-        sampling: BurleySampling::IMPROVED,
-    };
+    let b21 = Config::samples(21, BurleySampling::IMPROVED);
     let inputs = burley(prepared)?;
-    let none_inputs = prepared.inputs(Config::None)?;
+    let none_inputs = prepared.inputs(Config::none())?;
     let mut rows = Vec::new();
     let front = shot("head_front")?;
     let none = measure(
         r,
         &none_inputs,
-        &with(&front, Config::None),
+        &with(&front, Config::none()),
         options.repeats,
     )?;
     let zero = Jimenez2012::new([0.0; 3], DEFAULT_FALLOFF)?;
@@ -197,7 +185,12 @@ fn head_studies(prepared: &Prepared, options: Options, r: &mut Renderer) -> Resu
     let m = measure(r, &inputs, &with(&front, b21), options.repeats)?;
     rows.push(row("strength", "default skin".into(), &m, none.frame_ms));
     let ear = shot("head_backlit_ear")?;
-    let none = measure(r, &none_inputs, &with(&ear, Config::None), options.repeats)?;
+    let none = measure(
+        r,
+        &none_inputs,
+        &with(&ear, Config::none()),
+        options.repeats,
+    )?;
     for (name, t) in [
         ("off", Transmission::Off),
         ("thin", Transmission::ThinObject),
@@ -216,7 +209,12 @@ fn head_studies(prepared: &Prepared, options: Options, r: &mut Renderer) -> Resu
         ));
     }
     let far = shot("head_far")?;
-    let none = measure(r, &none_inputs, &with(&far, Config::None), options.repeats)?;
+    let none = measure(
+        r,
+        &none_inputs,
+        &with(&far, Config::none()),
+        options.repeats,
+    )?;
     for lod in [true, false] {
         let s = RenderSettings {
             lod,

@@ -135,7 +135,7 @@ impl RenderArgs {
     ) -> Result<Option<f32>> {
         let other = match (self.compare, self.diff) {
             (Some(m), _) => m,
-            (None, true) => MethodId::Reference,
+            (None, true) => MethodId::ground_truth(),
             (None, false) => return Ok(None),
         };
         crate::model::check_range("split", self.split as f64, 0.0, 1.0, "")?;

@@ -4,6 +4,7 @@
 
 use super::gpu_types::{GpuSample, GpuTap};
 use super::settings::BurleySampling;
+use super::sss::Reads;
 use crate::model::sampling::{AngleSequence, SamplePattern};
 use crate::model::separable::SeparableKernel;
 use crate::model::{ModelError, RadialProfile, Rgb};
@@ -64,8 +65,9 @@ pub struct ProfileInputs {
     /// How `burley` samples (the pattern here, the rest in the shader).
     pub burley_sampling: BurleySampling,
     /// Which of the method-specific tables hold the profile (the others
-    /// are neutral placeholders of the same sizes).
-    baked: Tables,
+    /// are neutral placeholders of the same sizes; the Gaussians are
+    /// set afterwards, [`ProfileInputs::set_gaussians`]).
+    baked: Reads,
 }
 
 pub(super) const LUT_SIZE: usize = 256;
@@ -110,7 +112,7 @@ impl ProfileInputs {
                 true,
             );
         }
-        if method == super::Method::Gaussians {
+        if method.sss().reads.gaussians {
             inputs.set_gaussians(&gaussian_terms(spec, profile)?);
             inputs.gaussian_taps = gaussian_taps;
         }
@@ -131,12 +133,7 @@ impl ProfileInputs {
         (samples, taps): (usize, usize),
         gaussian_taps: usize,
     ) -> Result<Self, ModelError> {
-        use super::Method;
-        let tables = Tables {
-            separable: method == Method::Separable,
-            preintegrated: method == Method::Preintegrated,
-        };
-        let mut inputs = Self::with_tables(profile, samples, taps, tables)?;
+        let mut inputs = Self::with_tables(profile, samples, taps, method.sss().reads)?;
         inputs.finish_look(spec, profile, method, taps, gaussian_taps)?;
         Ok(inputs)
     }
@@ -151,9 +148,10 @@ impl ProfileInputs {
             profile,
             samples,
             taps,
-            Tables {
-                separable: true,
-                preintegrated: true,
+            Reads {
+                separable_kernel: true,
+                penner_tables: true,
+                gaussians: false,
             },
         )
     }
@@ -162,7 +160,7 @@ impl ProfileInputs {
         profile: &dyn RadialProfile,
         samples: usize,
         taps: usize,
-        tables: Tables,
+        tables: Reads,
     ) -> Result<Self, ModelError> {
         let sampling = BurleySampling::default();
         let (gpu_samples, low_samples) = burley_patterns(profile, samples, sampling)?;
@@ -177,7 +175,7 @@ impl ProfileInputs {
             .into_iter()
             .fold(1e-6, f64::max);
         let lut = profile_lut(profile, r_max, total);
-        let (taps, separable_depth_sigma_mm) = if tables.separable {
+        let (taps, separable_depth_sigma_mm) = if tables.separable_kernel {
             let kernel = SeparableKernel::importance_sampled(profile, taps)?;
             (gpu_taps(&kernel), rms_width_mm(&kernel))
         } else {
@@ -197,7 +195,7 @@ impl ProfileInputs {
         };
         let penumbra_layout = crate::model::lut::ShadowLayout::default();
         let (preintegrated_lut, penumbra_lut) =
-            penner_tables(profile, tables.preintegrated, lut_layout, penumbra_layout)?;
+            penner_tables(profile, tables.penner_tables, lut_layout, penumbra_layout)?;
         let radii = profile.radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION);
         let normal_blend = radii.map(|r| (r / (r + 1.0)) as f32);
         let transmittance_range_mm = r_max as f32;
@@ -233,14 +231,15 @@ impl ProfileInputs {
     /// placeholder), or `None` when they can: B of a comparison drawn with
     /// A's inputs drew `gaussians` as `none` and said nothing (issue 22).
     pub fn missing_for(&self, method: super::Method) -> Option<&'static str> {
-        use super::Method;
-        match method {
-            Method::Separable if !self.baked.separable => Some("the separable kernel's taps"),
-            Method::Preintegrated if !self.baked.preintegrated => {
-                Some("Penner's pre-integrated and penumbra tables")
-            }
-            Method::Gaussians if self.gaussians.is_empty() => Some("the Gaussians"),
-            _ => None,
+        let reads = method.sss().reads;
+        if reads.separable_kernel && !self.baked.separable_kernel {
+            Some("the separable kernel's taps")
+        } else if reads.penner_tables && !self.baked.penner_tables {
+            Some("Penner's pre-integrated and penumbra tables")
+        } else if reads.gaussians && self.gaussians.is_empty() {
+            Some("the Gaussians")
+        } else {
+            None
         }
     }
 
@@ -433,7 +432,7 @@ impl ProfileInputs {
     /// `demo_2012` keeps the demo's follow-surface lerp, otherwise the depth
     /// weight's σ is the kernel's RMS width.
     pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel, demo_2012: bool) {
-        self.baked.separable = true;
+        self.baked.separable_kernel = true;
         self.taps = gpu_taps(kernel);
         self.separable_depth_sigma_mm = if demo_2012 { 0.0 } else { rms_width_mm(kernel) };
     }
@@ -462,13 +461,6 @@ impl ProfileInputs {
 }
 
 /// A separable kernel's taps as the GPU reads them: rgb weight, offset (mm).
-/// Which of the expensive tables [`ProfileInputs::with_tables`] bakes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Tables {
-    separable: bool,
-    preintegrated: bool,
-}
-
 fn gpu_taps(kernel: &SeparableKernel) -> Vec<GpuTap> {
     kernel
         .taps

@@ -52,5 +52,6 @@ pub use settings::{
     BurleySampling, IrradiancePattern, Method, Progressive, RenderSettings, Specular,
     TexturingMode, Transmission,
 };
+pub use sss::{MethodInfo, Quality, Reads, Stochastic};
 #[cfg(feature = "gpu")]
 pub use timing::PassStats;

@@ -273,7 +273,7 @@ impl Renderer {
         let camera = self.framing.camera_and_light(s);
         let scene_u = self.scene.uniforms(&self.framing, &camera, inputs, s);
         // The ground truth integrates the finest surface: draw that one.
-        let lod_index = if s.method == Method::Reference || !s.mesh_lod {
+        let lod_index = if s.method.sss().ground_truth || !s.mesh_lod {
             0
         } else {
             pick_lod(&self.lods, &self.framing, s)
@@ -305,7 +305,7 @@ impl Renderer {
         let method = if sss_pixels > 0 && inputs.scatters {
             s.method
         } else {
-            Method::None
+            Method::baseline()
         };
         // Samples taken, pixels convolved, pixels skipped by the LOD.
         let (counters, counters_read) = counter_buffers(&ctx.device, "sss counters");
@@ -318,7 +318,7 @@ impl Renderer {
             lod: s.lod,
             rotate_separable: s.separable_rotation && !s.deterministic,
         };
-        let reference_cpu_ms = if method == Method::Reference {
+        let reference_cpu_ms = if method.sss().ground_truth {
             // The scene pass must be on the GPU before it is read back.
             ctx.queue.submit([f.take().finish()]);
             let io = sss::reference::Io::new(ctx, t, &self.shadow);
@@ -338,7 +338,7 @@ impl Renderer {
         } else {
             None
         };
-        let scattered = sss::encode(method, &mut f, &self.sss, &io);
+        let scattered = (method.sss().encode)(&mut f, &self.sss, &io);
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let shown = match s.progressive {

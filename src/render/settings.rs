@@ -209,8 +209,11 @@ impl RenderSettings {
     /// sample disks) and `separable` with stochastic axis rotation.
     pub fn is_stochastic(&self) -> bool {
         !self.deterministic
-            && (self.method == Method::Burley
-                || (self.method == Method::Separable && self.separable_rotation))
+            && match self.method.sss().stochastic {
+                super::sss::Stochastic::Always => true,
+                super::sss::Stochastic::WhenRotated => self.separable_rotation,
+                super::sss::Stochastic::Never => false,
+            }
     }
 }
 
@@ -259,7 +262,7 @@ impl Default for RenderSettings {
         Self {
             width: 512,
             height: 512,
-            method: Method::Burley,
+            method: Method::default(),
             texturing: TexturingMode::PreAndPostScatter,
             view: OrbitView::default(),
             deterministic: false,

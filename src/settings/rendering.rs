@@ -7,9 +7,11 @@
 use crate::model::{check_range, check_rgb, ModelError, Rgb};
 use serde::{Deserialize, Serialize};
 
-/// Screen-space SSS method: the one definition, used by presets (serde),
-/// the command line (`clap::ValueEnum`: `--method burley`) and the
-/// renderer (`render::Method` is this type).
+/// SSS method: the one definition, used by presets (serde), the command
+/// line (`clap::ValueEnum`: `--method burley`) and the renderer
+/// (`render::Method` is this type). What each method is, its id, label and
+/// properties, is in its own file under `render/sss/`, reached through the
+/// registry `Method::sss` (`render/sss/mod.rs`).
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
 )]
@@ -39,29 +41,6 @@ impl MethodId {
     /// the enum (the declaration order), not a list kept by hand.
     pub fn all() -> &'static [MethodId] {
         <MethodId as clap::ValueEnum>::value_variants()
-    }
-
-    /// The name the command line and reports use.
-    pub fn id(self) -> &'static str {
-        match self {
-            MethodId::None => "none",
-            MethodId::Burley => "burley",
-            MethodId::Separable => "separable",
-            MethodId::Reference => "reference",
-            MethodId::Gaussians => "gaussians",
-            MethodId::Preintegrated => "preintegrated",
-        }
-    }
-
-    pub fn label(self) -> &'static str {
-        match self {
-            MethodId::None => "none (no scattering)",
-            MethodId::Burley => "burley (Golubev 2018 disk)",
-            MethodId::Separable => "separable (Jimenez 2015)",
-            MethodId::Gaussians => "gaussians (d'Eon 2007)",
-            MethodId::Preintegrated => "preintegrated (Penner 2011)",
-            MethodId::Reference => "reference (exact, slow)",
-        }
     }
 }
 
@@ -158,7 +137,7 @@ pub struct RenderingSpec {
 impl Default for RenderingSpec {
     fn default() -> Self {
         Self {
-            method: MethodId::Burley,
+            method: MethodId::default(),
             samples: 21,
             taps: 17,
             lod: true,
@@ -279,33 +258,5 @@ mod tests {
     fn f0_from_ior() {
         let r = RenderingSpec::default();
         assert!((r.f0() - 0.027_777_8).abs() < 1e-6);
-    }
-}
-
-#[cfg(test)]
-mod method_list_tests {
-    use super::*;
-
-    /// The six methods, each once, and each one's `id` is its `--method`
-    /// name (clap's, from the same enum).
-    #[test]
-    fn methods_come_from_the_enum_and_ids_match_the_command_line() {
-        use clap::ValueEnum;
-        let ids: Vec<&str> = MethodId::all().iter().map(|m| m.id()).collect();
-        assert_eq!(
-            ids,
-            [
-                "none",
-                "burley",
-                "separable",
-                "gaussians",
-                "preintegrated",
-                "reference"
-            ]
-        );
-        for &m in MethodId::all() {
-            let name = m.to_possible_value().map(|v| v.get_name().to_owned());
-            assert_eq!(name.as_deref(), Some(m.id()));
-        }
     }
 }

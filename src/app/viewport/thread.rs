@@ -335,7 +335,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
     if sent && to_truth {
         let from = r.req.a.rendering.method;
         let mut truth = r.req.clone();
-        truth.a.rendering.method = MethodId::Reference;
+        truth.a.rendering.method = MethodId::ground_truth();
         truth.show_b = false;
         r.truth_of = Some((r.req.clone(), from));
         r.req = truth;

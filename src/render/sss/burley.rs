@@ -16,6 +16,25 @@ use crate::render::pipelines::{
 use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
 
+/// `burley` in the registry (`sss::Method::sss`).
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "burley",
+    label: "burley (Golubev 2018 disk)",
+    quality: super::Quality::Samples,
+    stochastic: super::Stochastic::Always,
+    reads: super::Reads {
+        separable_kernel: false,
+        penner_tables: false,
+        gaussians: false,
+    },
+    penner_in_scene_pass: false,
+    ground_truth: false,
+    baseline: false,
+    variant: "",
+    colour: [31, 119, 180],
+    encode,
+};
+
 /// `burley`'s share of the profile on the GPU.
 pub(in crate::render) struct Buffers {
     /// The main pattern followed by the LOD's short one.

@@ -11,6 +11,25 @@ use crate::render::inputs::{gaussian_taps, ProfileInputs};
 use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
 
+/// `gaussians` in the registry (`sss::Method::sss`).
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "gaussians",
+    label: "gaussians (d'Eon 2007)",
+    quality: super::Quality::Fixed,
+    stochastic: super::Stochastic::Never,
+    reads: super::Reads {
+        separable_kernel: false,
+        penner_tables: false,
+        gaussians: true,
+    },
+    penner_in_scene_pass: false,
+    ground_truth: false,
+    baseline: false,
+    variant: "6x2-passes",
+    colour: [148, 103, 189],
+    encode,
+};
+
 /// `gaussians`' share of the profile on the GPU: one tap buffer per
 /// Gaussian, with its RGB weight and σ (mm).
 pub(in crate::render) struct Buffers {

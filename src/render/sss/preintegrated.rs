@@ -8,6 +8,25 @@ use crate::render::inputs::ProfileInputs;
 use crate::render::profile_gpu::table;
 use crate::render::settings::Method;
 
+/// `preintegrated` in the registry (`sss::Method::sss`).
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "preintegrated",
+    label: "preintegrated (Penner 2011)",
+    quality: super::Quality::Fixed,
+    stochastic: super::Stochastic::Never,
+    reads: super::Reads {
+        separable_kernel: false,
+        penner_tables: true,
+        gaussians: false,
+    },
+    penner_in_scene_pass: true,
+    ground_truth: false,
+    baseline: false,
+    variant: "",
+    colour: [140, 86, 75],
+    encode: super::no_pass,
+};
+
 /// Penner's tables on the GPU, filterable, read by the scene pass.
 pub(in crate::render) struct Tables {
     /// D(θ, κ) − saturate(N·L).
@@ -43,7 +62,7 @@ impl Tables {
 /// (`lut_curvature_first`, `lut_curvature_last`).
 pub(in crate::render) fn uniforms(method: Method, layout: &LutLayout) -> (u32, f32, f32) {
     (
-        (method == Method::Preintegrated) as u32,
+        method.sss().penner_in_scene_pass as u32,
         1.0 / layout.curvature_radius(0) as f32,
         1.0 / layout.curvature_radius(layout.height - 1) as f32,
     )

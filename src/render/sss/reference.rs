@@ -20,6 +20,31 @@ use glam::{Mat4, Vec3, Vec4};
 use std::sync::Arc;
 use std::time::Instant;
 
+/// `reference` in the registry (`sss::Method::sss`): computed on the CPU
+/// into the ping target before the frame's composite ([`scatter`]), so it
+/// records no pass.
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "reference",
+    label: "reference (exact, slow)",
+    quality: super::Quality::Fixed,
+    stochastic: super::Stochastic::Never,
+    reads: super::Reads {
+        separable_kernel: false,
+        penner_tables: false,
+        gaussians: false,
+    },
+    penner_in_scene_pass: false,
+    ground_truth: true,
+    baseline: false,
+    variant: "",
+    colour: [0, 0, 0],
+    encode: |_, _, _| super::Scattered {
+        target: HdrTarget::Ping,
+        samples_per_pixel: 0,
+        counted_pass: None,
+    },
+};
+
 /// Largest cell side of the ground truth's irradiance cloud (mm). The
 /// gather splits cells further wherever its rule asks (within about
 /// 1.4 mm of each shaded point for skin) and evaluates those pieces

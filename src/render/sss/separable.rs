@@ -13,6 +13,25 @@ use crate::render::pipelines::{
 use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
 
+/// `separable` in the registry (`sss::Method::sss`).
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "separable",
+    label: "separable (Jimenez 2015)",
+    quality: super::Quality::Taps,
+    stochastic: super::Stochastic::WhenRotated,
+    reads: super::Reads {
+        separable_kernel: true,
+        penner_tables: false,
+        gaussians: false,
+    },
+    penner_in_scene_pass: false,
+    ground_truth: false,
+    baseline: false,
+    variant: "",
+    colour: [44, 160, 44],
+    encode,
+};
+
 /// `separable`'s share of the profile on the GPU: the kernel's taps.
 pub(in crate::render) struct Buffers {
     taps: wgpu::Buffer,
