@@ -3,7 +3,7 @@
 
 //!
 //! Without the `gpu` feature (the fuzz targets) only the CPU side is built:
-//! meshes, surface maps, environments, settings and profile inputs.
+//! meshes, surface maps, environments and settings.
 
 pub mod compare;
 #[cfg(feature = "gpu")]
@@ -16,6 +16,7 @@ mod framing;
 mod gltf_mesh;
 pub mod gpu_types;
 pub mod ground_truth;
+#[cfg(feature = "gpu")]
 pub mod inputs;
 pub mod mesh;
 #[cfg(feature = "gpu")]
@@ -32,7 +33,7 @@ pub mod renderer;
 pub mod scene_cpu;
 pub mod settings;
 #[cfg(feature = "gpu")]
-mod sss;
+pub mod sss;
 #[cfg(feature = "gpu")]
 mod targets;
 pub mod textures;
@@ -42,6 +43,7 @@ pub mod uv_layout;
 
 #[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
+#[cfg(feature = "gpu")]
 pub use inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 pub use mesh::Mesh;
 #[cfg(feature = "gpu")]
@@ -52,6 +54,7 @@ pub use settings::{
     BurleySampling, IrradiancePattern, Method, Progressive, RenderSettings, Specular,
     TexturingMode, Transmission,
 };
+#[cfg(feature = "gpu")]
 pub use sss::{MethodInfo, Quality, Reads, Stochastic};
 #[cfg(feature = "gpu")]
 pub use timing::PassStats;

@@ -30,10 +30,10 @@ impl ProfileGpu {
                 "transmittance",
                 bytemuck::cast_slice(&inputs.transmittance),
             ),
-            preintegrated: preintegrated::Tables::new(device, queue, inputs),
-            burley: burley::Buffers::new(device, inputs),
-            separable: separable::Buffers::new(device, inputs),
-            gaussians: gaussians::Buffers::new(device, inputs),
+            preintegrated: preintegrated::Tables::new(device, queue, &inputs.preintegrated),
+            burley: burley::Buffers::new(device, &inputs.burley),
+            separable: separable::Buffers::new(device, &inputs.separable),
+            gaussians: gaussians::Buffers::new(device, &inputs.gaussians),
         }
     }
 }

@@ -8,7 +8,6 @@ use super::context::{GpuContext, GpuError};
 use super::frame::FrameEncoder;
 use super::framing::Framing;
 use super::gpu_types::{CompositeUniforms, SssUniforms};
-use super::inputs::LUT_SIZE;
 pub use super::inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 use super::mesh::Mesh;
 use super::passes::classify::ClassifyPass;
@@ -24,6 +23,7 @@ pub use super::settings::{
     BurleySampling, FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode,
     Transmission,
 };
+use super::sss::burley::LUT_SIZE;
 use super::sss::{self, SssFrame, SssPipelines};
 use super::targets::{HdrTarget, Targets};
 use super::textures::MeshTextures;
@@ -400,7 +400,7 @@ fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32
         rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
         deterministic: s.deterministic as u32,
         sample_count: 0,
-        lut_radius_mm: inputs.lut_radius_mm,
+        lut_radius_mm: inputs.burley.lut_radius_mm,
         lut_entries: LUT_SIZE as u32,
         follow_surface: 0.0,
         direction: [0.0; 2],

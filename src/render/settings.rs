@@ -207,6 +207,7 @@ impl RenderSettings {
     /// Whether frames of these settings differ only by their random
     /// rotations, so that a mean over frames converges: `burley` (rotated
     /// sample disks) and `separable` with stochastic axis rotation.
+    #[cfg(feature = "gpu")]
     pub fn is_stochastic(&self) -> bool {
         !self.deterministic
             && match self.method.sss().stochastic {

@@ -280,7 +280,7 @@ impl ScenePass {
             }
         };
         let (preintegrated, lut_curvature_first, lut_curvature_last) =
-            sss::preintegrated::uniforms(s.method, &inputs.lut_layout);
+            sss::preintegrated::uniforms(s.method, &inputs.preintegrated.lut_layout);
         let maps = &self.maps;
         SceneUniforms {
             clip_from_world: (cl.projection * cl.view).to_cols_array_2d(),
@@ -294,7 +294,7 @@ impl ScenePass {
             light_radiance: [s.view.light_intensity; 4],
             surface_albedo: rgb0(inputs.surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
-            normal_blend: rgb0(inputs.normal_blend),
+            normal_blend: rgb0(inputs.preintegrated.normal_blend),
             environment_sh: s.environment_sh.map(rgb0),
             eyes: framing.eyes,
             pre_scatter_exponent: match s.texturing {
@@ -334,8 +334,10 @@ impl ScenePass {
             roughness_map_mode: maps.roughness_mode,
             thickness_map_range_mm: maps.thickness_range_mm,
             detail_normal_strength: s.detail_normal_strength,
-            penumbra_inv_width_first: 1.0 / inputs.penumbra_layout.penumbra_max_mm as f32,
-            penumbra_inv_width_last: 1.0 / inputs.penumbra_layout.penumbra_min_mm as f32,
+            penumbra_inv_width_first: 1.0
+                / inputs.preintegrated.penumbra_layout.penumbra_max_mm as f32,
+            penumbra_inv_width_last: 1.0
+                / inputs.preintegrated.penumbra_layout.penumbra_min_mm as f32,
             // The PCF's 4-texel footprint, in mm.
             pcf_footprint_mm: 4.0 * 2.0 * rad / SHADOW_SIZE as f32
                 * 1000.0

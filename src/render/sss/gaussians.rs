@@ -5,9 +5,9 @@
 
 use super::separable::{self, Into};
 use super::{Scattered, SssFrame, SssPipelines};
+use crate::model::{ModelError, RadialProfile};
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::GpuTap;
-use crate::render::inputs::{gaussian_taps, ProfileInputs};
 use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
 
@@ -39,18 +39,18 @@ pub(in crate::render) struct Buffers {
 }
 
 impl Buffers {
-    pub fn new(device: &wgpu::Device, inputs: &ProfileInputs) -> Self {
+    pub fn new(device: &wgpu::Device, inputs: &Inputs) -> Self {
         Self {
             gaussians: inputs
                 .gaussians
                 .iter()
                 .map(|(sigma, weight)| {
-                    let taps: Vec<GpuTap> = gaussian_taps(*sigma, inputs.gaussian_taps);
+                    let taps: Vec<GpuTap> = gaussian_taps(*sigma, inputs.taps);
                     let buffer = storage(device, "gaussian taps", bytemuck::cast_slice(&taps));
                     (buffer, *weight, *sigma)
                 })
                 .collect(),
-            tap_count: gaussian_taps(1.0, inputs.gaussian_taps).len() as u32,
+            tap_count: gaussian_taps(1.0, inputs.taps).len() as u32,
         }
     }
 }
@@ -90,5 +90,193 @@ pub(in crate::render) fn encode(
         target: HdrTarget::Pong,
         samples_per_pixel: 2 * taps * gpu.gaussians.len() as u32,
         counted_pass: None,
+    }
+}
+
+/// `gaussians`' CPU inputs: each Gaussian's σ and weight, and the taps of
+/// each 1D pass.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    /// (σ mm, normalised RGB weight) of each Gaussian; empty until
+    /// [`Inputs::set`].
+    pub gaussians: Vec<(f32, [f32; 3])>,
+    /// Taps of each 1D Gaussian pass (odd; [`GAUSSIAN_TAPS`] by default).
+    pub taps: usize,
+}
+
+impl Default for Inputs {
+    fn default() -> Self {
+        Self {
+            gaussians: Vec::new(),
+            taps: GAUSSIAN_TAPS,
+        }
+    }
+}
+
+impl Inputs {
+    /// Sets the Gaussians from (variance mm², RGB weight) terms; weights
+    /// are normalised per channel (the albedo is applied separately).
+    pub fn set(&mut self, terms: &[(f64, [f64; 3])]) {
+        let sum = [0, 1, 2].map(|c| terms.iter().map(|t| t.1[c]).sum::<f64>());
+        self.gaussians = terms
+            .iter()
+            .map(|(v, w)| {
+                (
+                    v.sqrt() as f32,
+                    [0, 1, 2].map(|c| {
+                        if sum[c] > 0.0 {
+                            (w[c] / sum[c]) as f32
+                        } else {
+                            0.0
+                        }
+                    }),
+                )
+            })
+            .collect();
+    }
+
+    /// Feeds everything the GPU receives from these inputs to `h`.
+    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(bytemuck::cast_slice(&[self.taps as u64]));
+        for (sigma, w) in &self.gaussians {
+            h.write(bytemuck::bytes_of(sigma));
+            h.write(bytemuck::cast_slice(w));
+        }
+    }
+}
+
+/// The Gaussians `gaussians` blurs with for the look `spec`: a Gaussian-sum
+/// look's own terms, else six Gaussians fitted to `profile`; each term is
+/// (variance mm², RGB weight).
+pub fn gaussian_terms(
+    spec: &crate::settings::ProfileSpec,
+    profile: &dyn RadialProfile,
+) -> Result<Vec<(f64, crate::model::Rgb)>, ModelError> {
+    use crate::settings::ProfileSpec;
+    Ok(match spec {
+        ProfileSpec::Gaussians(g) => {
+            let mut terms: Vec<(f64, crate::model::Rgb)> = g
+                .gaussians
+                .iter()
+                .map(|t| (t.variance_mm2, t.weights))
+                .collect();
+            // Its Dirac share (a Godot import's unblurred light), as below.
+            if g.dirac.iter().any(|d| *d > 0.0) {
+                terms.push((DIRAC_VARIANCE_MM2, g.dirac));
+            }
+            terms
+        }
+        _ => {
+            let m = crate::model::fit::fit_gaussians(profile, 6)?.model;
+            let mut terms: Vec<(f64, crate::model::Rgb)> = (0..m.channel_terms(0).len())
+                .map(|k| {
+                    (
+                        m.channel_terms(0)[k].variance_mm2,
+                        [0, 1, 2].map(|c| m.channel_terms(c)[k].weight),
+                    )
+                })
+                .collect();
+            // A Dirac weight (Jimenez 2012's 1 − strength) as a Gaussian
+            // narrower than any pixel: its taps all read the centre.
+            let dirac = m.dirac_weight();
+            if dirac.iter().any(|d| *d > 0.0) {
+                terms.push((DIRAC_VARIANCE_MM2, dirac));
+            }
+            terms
+        }
+    })
+}
+
+/// The variance (mm²) of the Gaussian that stands for a Dirac weight in
+/// `gaussians`: σ = 0.1 µm, under a pixel at any distance the renderer
+/// frames.
+pub const DIRAC_VARIANCE_MM2: f64 = 1e-8;
+
+/// Default taps per 1D Gaussian pass of the `gaussians` method: d'Eon
+/// 2007's seven. Finer kernels follow a lit edge more closely in screen
+/// space, where a Gaussian can span many pixels (worst deviation on
+/// tests/render_physics.rs's edge, R/G/B: 0.127/0.071/0.042 with 7 taps,
+/// 0.054/0.015/0.006 with 13) at about twice the pass time on lavapipe.
+pub const GAUSSIAN_TAPS: usize = 7;
+
+/// A 1D kernel for a Gaussian of standard deviation σ (mm) with `n` (odd,
+/// ≥ 3) taps at offsets kh, h = 6σ/(n − 1), over ±3σ: each weight is the
+/// Gaussian's mass over [k − ½, k + ½]h, the outer taps taking the tails,
+/// so the weights sum to one. n = 7 is d'Eon 2007's kernel (GPU Gems 3
+/// ch. 14). Centre first.
+pub fn gaussian_taps(sigma_mm: f32, n: usize) -> Vec<GpuTap> {
+    let m = (n.max(3) / 2) as i32;
+    let h = 3.0 / m as f64;
+    let phi = |x: f64| 0.5 * (1.0 + libm::erf(x / std::f64::consts::SQRT_2));
+    let mass = |k: i32| {
+        let lo = if k == -m {
+            f64::NEG_INFINITY
+        } else {
+            (k as f64 - 0.5) * h
+        };
+        let hi = if k == m {
+            f64::INFINITY
+        } else {
+            (k as f64 + 0.5) * h
+        };
+        (phi(hi) - phi(lo)) as f32
+    };
+    std::iter::once(0)
+        .chain((-m..=m).filter(|k| *k != 0))
+        .map(|k| {
+            let w = mass(k);
+            GpuTap {
+                weight_offset: [w, w, w, (k as f64 * h) as f32 * sigma_mm],
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// GPU Gems 3 ch. 14 (d'Eon & Luebke 2007) prints the seven weights
+    /// 0.006, 0.061, 0.242, 0.382, 0.242, 0.061, 0.006 at offsets −3σ…3σ.
+    #[test]
+    fn seven_gaussian_taps_are_deons_published_kernel() {
+        let taps = gaussian_taps(2.0, 7);
+        let mut by_offset: Vec<(f32, f32)> = taps
+            .iter()
+            .map(|t| (t.weight_offset[3], t.weight_offset[0]))
+            .collect();
+        by_offset.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let published = [0.006, 0.061, 0.242, 0.382, 0.242, 0.061, 0.006];
+        for ((offset, w), (k, p)) in by_offset.iter().zip((-3..=3).zip(published)) {
+            assert!((offset - 2.0 * k as f32).abs() < 1e-6);
+            // Printed to three decimals and rounded to sum to one.
+            assert!((w - p).abs() < 1.5e-3, "offset {offset}: {w} vs {p}");
+        }
+        assert_eq!(taps[0].weight_offset[3], 0.0, "centre first");
+    }
+
+    /// Any tap count: weights sum to one, offsets span ±3σ, and the
+    /// kernel's variance approaches σ² as the taps get finer.
+    #[test]
+    fn gaussian_taps_sum_to_one_and_converge_to_the_variance() {
+        for n in [3, 7, 13, 31] {
+            let taps = gaussian_taps(1.5, n);
+            assert_eq!(taps.len(), n);
+            let sum: f32 = taps.iter().map(|t| t.weight_offset[0]).sum();
+            assert!((sum - 1.0).abs() < 1e-6, "{n}: {sum}");
+            let max = taps
+                .iter()
+                .map(|t| t.weight_offset[3].abs())
+                .fold(0.0, f32::max);
+            assert!((max - 4.5).abs() < 1e-5, "{n}: {max}");
+        }
+        let var = |n| {
+            gaussian_taps(1.0, n)
+                .iter()
+                .map(|t| t.weight_offset[0] * t.weight_offset[3].powi(2))
+                .sum::<f32>()
+        };
+        assert!((var(31) - 1.0).abs() < (var(7) - 1.0).abs());
+        assert!((var(31) - 1.0).abs() < 0.02, "{}", var(31));
     }
 }

@@ -5,12 +5,12 @@
 //! method's [`MethodInfo`]; [`Method::sss`] below is the registry, the one
 //! `match` over the methods that every list and property derives from.
 
-pub(super) mod burley;
-pub(super) mod gaussians;
-pub(super) mod none;
-pub(super) mod preintegrated;
-pub(super) mod reference;
-pub(super) mod separable;
+pub mod burley;
+pub mod gaussians;
+pub mod none;
+pub mod preintegrated;
+pub mod reference;
+pub mod separable;
 
 use super::frame::FrameEncoder;
 use super::gpu_types::SssUniforms;

@@ -45,6 +45,20 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     },
 };
 
+/// `reference`'s CPU input: the profile as the ground truth integrates it.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub table: Arc<crate::render::ground_truth::ProfileTable>,
+}
+
+impl Inputs {
+    pub fn new(profile: &dyn crate::model::RadialProfile) -> Self {
+        Self {
+            table: Arc::new(crate::render::ground_truth::ProfileTable::new(profile)),
+        }
+    }
+}
+
 /// Largest cell side of the ground truth's irradiance cloud (mm). The
 /// gather splits cells further wherever its rule asks (within about
 /// 1.4 mm of each shaded point for skin) and evaluates those pieces
@@ -75,7 +89,7 @@ impl Cache {
     /// The cloud of `inputs`' profile over these cells (made and kept if
     /// new: bucketing the cells is a fraction of building them).
     fn cloud(&mut self, inputs: &ProfileInputs) -> Result<Arc<Cloud>, GpuError> {
-        let fingerprint = inputs.ground_truth.fingerprint();
+        let fingerprint = inputs.reference.table.fingerprint();
         if let Some((_, c)) = self.clouds.iter().find(|(f, _)| *f == fingerprint) {
             return Ok(c.clone());
         }
@@ -84,7 +98,7 @@ impl Cache {
             .first()
             .map(|(_, c)| c.cells().clone())
             .ok_or_else(|| GpuError::Readback("ground truth cells".into()))?;
-        let cloud = Arc::new(Cloud::new(cells, (*inputs.ground_truth).clone()));
+        let cloud = Arc::new(Cloud::new(cells, (*inputs.reference.table).clone()));
         self.clouds.insert(0, (fingerprint, cloud.clone()));
         self.clouds.truncate(3);
         Ok(cloud)
@@ -155,7 +169,7 @@ pub(in crate::render) fn scatter(
         use std::hash::{Hash, Hasher};
         let mut hs = std::collections::hash_map::DefaultHasher::new();
         k.hash(&mut hs);
-        inputs.ground_truth.fingerprint().hash(&mut hs);
+        inputs.reference.table.fingerprint().hash(&mut hs);
         bytemuck::bytes_of(scene).hash(&mut hs);
         (w, h, s.view.fov_y_rad.to_bits(), s.reference_supersample).hash(&mut hs);
         hs.finish()
@@ -204,7 +218,7 @@ pub(in crate::render) fn scatter(
         build_ms = Some(t0.elapsed().as_secs_f64() * 1e3);
         *cache = Some(Cache {
             key: k,
-            clouds: vec![(inputs.ground_truth.fingerprint(), cloud)],
+            clouds: vec![(inputs.reference.table.fingerprint(), cloud)],
             shadow,
             mips,
             frame: None,
@@ -303,7 +317,7 @@ fn build_cloud(
         &triangles,
         skin,
         &irr,
-        (*inputs.ground_truth).clone(),
+        (*inputs.reference.table).clone(),
         CELL_MM,
     );
     Ok((Arc::new(cloud), shadow, mips))

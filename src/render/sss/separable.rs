@@ -4,9 +4,11 @@
 //! each Gaussian of `gaussians`.
 
 use super::{Scattered, SssFrame, SssPipelines};
+use crate::model::separable::SeparableKernel;
+use crate::model::{ModelError, RadialProfile};
 use crate::render::frame::{buf, tex, FrameEncoder};
+use crate::render::gpu_types::GpuTap;
 use crate::render::gpu_types::SssUniforms;
-use crate::render::inputs::ProfileInputs;
 use crate::render::pipelines::{
     buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
 };
@@ -41,11 +43,11 @@ pub(in crate::render) struct Buffers {
 }
 
 impl Buffers {
-    pub fn new(device: &wgpu::Device, inputs: &ProfileInputs) -> Self {
+    pub fn new(device: &wgpu::Device, inputs: &Inputs) -> Self {
         Self {
             taps: storage(device, "separable taps", bytemuck::cast_slice(&inputs.taps)),
             count: inputs.taps.len() as u32,
-            depth_sigma_mm: inputs.separable_depth_sigma_mm,
+            depth_sigma_mm: inputs.depth_sigma_mm,
         }
     }
 }
@@ -209,4 +211,93 @@ pub(in crate::render) fn encode(
         samples_per_pixel: 2 * gpu.count,
         counted_pass: None,
     }
+}
+
+/// `separable`'s CPU inputs: the kernel's taps and how the passes follow
+/// the surface across depth.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub taps: Vec<GpuTap>,
+    /// σ (mm) of Jimenez 2015 eq. 7's depth weight e^(−Δz²/2σ²) for the
+    /// pre-integrated kernel (its widest channel's RMS width), or 0 for the
+    /// Jimenez 2012 demo kernel's lerp towards the centre.
+    pub depth_sigma_mm: f32,
+}
+
+impl Inputs {
+    /// The importance-sampled pre-integrated kernel of `profile` with
+    /// `taps` taps (Jimenez 2015 §4, §7).
+    pub fn importance_sampled(
+        profile: &dyn RadialProfile,
+        taps: usize,
+    ) -> Result<Self, ModelError> {
+        Ok(Self::of_kernel(
+            &SeparableKernel::importance_sampled(profile, taps)?,
+            false,
+        ))
+    }
+
+    /// One tap of weight 1 at the centre: the identity blur, the
+    /// placeholder of inputs made for another method.
+    pub fn identity() -> Self {
+        Self {
+            taps: vec![GpuTap {
+                weight_offset: [1.0, 1.0, 1.0, 0.0],
+            }],
+            depth_sigma_mm: 0.0,
+        }
+    }
+
+    /// A kernel's taps: `demo_2012` keeps the Jimenez 2012 demo's
+    /// follow-surface lerp, otherwise the depth weight's σ is the kernel's
+    /// RMS width.
+    pub fn of_kernel(kernel: &SeparableKernel, demo_2012: bool) -> Self {
+        Self {
+            taps: gpu_taps(kernel),
+            depth_sigma_mm: if demo_2012 { 0.0 } else { rms_width_mm(kernel) },
+        }
+    }
+
+    /// Feeds everything the GPU receives from these inputs to `h`.
+    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(bytemuck::cast_slice(&self.taps));
+        h.write(bytemuck::bytes_of(&self.depth_sigma_mm));
+    }
+}
+
+/// The RMS width √(Σ w x² / Σ w) (mm) of a 1D kernel's widest channel:
+/// the σ of Jimenez 2015 eq. 7's depth weight (σ_max, the widest Gaussian
+/// of their two-Gaussian kernel; for any other kernel, its spread).
+fn rms_width_mm(kernel: &SeparableKernel) -> f32 {
+    (0..3)
+        .map(|c| {
+            let (m2, w) = kernel.taps.iter().fold((0.0f64, 0.0f64), |(m2, w), t| {
+                (
+                    m2 + t.weight[c] * t.offset_mm * t.offset_mm,
+                    w + t.weight[c],
+                )
+            });
+            if w > 0.0 {
+                (m2 / w).sqrt()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0f64, f64::max) as f32
+}
+
+/// A separable kernel's taps as the GPU reads them: rgb weight, offset (mm).
+fn gpu_taps(kernel: &SeparableKernel) -> Vec<GpuTap> {
+    kernel
+        .taps
+        .iter()
+        .map(|t| GpuTap {
+            weight_offset: [
+                t.weight[0] as f32,
+                t.weight[1] as f32,
+                t.weight[2] as f32,
+                t.offset_mm as f32,
+            ],
+        })
+        .collect()
 }
