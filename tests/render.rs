@@ -184,12 +184,12 @@ fn profile_lut_holds_the_normalised_profile() {
     let inp = ProfileInputs::new(p.as_ref(), 21, 17).unwrap();
     // ∫2π r·R_N(r) dr over the LUT's radius range ≈ 0.999 (it ends at the
     // 0.999 radius). The table holds r·R_N at r_max·t², then the CDF there.
-    assert_eq!(inp.burley.lut.len() % 2, 0);
-    let n = inp.burley.lut.len() / 2;
+    assert_eq!(inp.methods.burley.lut.len() % 2, 0);
+    let n = inp.methods.burley.lut.len() / 2;
     for i in [0, n / 3, n - 1] {
         let t = i as f64 / (n - 1) as f64;
-        let want = p.cdf(inp.burley.lut_radius_mm as f64 * t * t);
-        for (got, want) in inp.burley.lut[n + i].iter().zip(want) {
+        let want = p.cdf(inp.methods.burley.lut_radius_mm as f64 * t * t);
+        for (got, want) in inp.methods.burley.lut[n + i].iter().zip(want) {
             assert!((*got as f64 - want).abs() < 1e-6, "CDF row {i}");
         }
     }
@@ -198,16 +198,16 @@ fn profile_lut_holds_the_normalised_profile() {
         for i in 0..n - 1 {
             let (t0, t1) = (i as f64 / (n - 1) as f64, (i + 1) as f64 / (n - 1) as f64);
             let (r0, r1) = (
-                inp.burley.lut_radius_mm as f64 * t0 * t0,
-                inp.burley.lut_radius_mm as f64 * t1 * t1,
+                inp.methods.burley.lut_radius_mm as f64 * t0 * t0,
+                inp.methods.burley.lut_radius_mm as f64 * t1 * t1,
             );
             acc += 0.5
                 * (r1 - r0)
                 * 2.0
                 * std::f64::consts::PI
-                * (inp.burley.lut[i][c] as f64 + inp.burley.lut[i + 1][c] as f64);
+                * (inp.methods.burley.lut[i][c] as f64 + inp.methods.burley.lut[i + 1][c] as f64);
         }
-        let expected = p.cdf(inp.burley.lut_radius_mm as f64)[c];
+        let expected = p.cdf(inp.methods.burley.lut_radius_mm as f64)[c];
         assert!(
             (acc - expected).abs() < 5e-3,
             "channel {c}: {acc} vs {expected}"
@@ -407,7 +407,7 @@ fn burley_lod_cuts_samples_on_far_shots() {
     let (_, near_off) = r.render(&inp, &shot(0.55, false)).unwrap();
     assert_eq!(near_off.sss_samples, near_off.sss_pixels * 21);
     let (_, far) = r.render(&inp, &shot(2.5, true)).unwrap();
-    let low = inp.burley.low_samples.len() as u64;
+    let low = inp.methods.burley.low_samples.len() as u64;
     assert!(
         far.sss_samples < far.sss_pixels * 21
             && far.sss_samples >= (far.sss_pixels - far.lod_skipped_pixels) * low,

@@ -236,7 +236,7 @@ fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
         worst7[0] < 0.14 && worst7[1] < 0.08 && worst7[2] < 0.05,
         "7 taps: worst deviation per channel {worst7:?}"
     );
-    inputs.gaussians.taps = 13;
+    inputs.methods.gaussians.taps = 13;
     let (_, diffuse, stats) = r
         .render_with_diffuse(&inputs, &settings(Method::Gaussians))
         .unwrap();

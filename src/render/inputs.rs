@@ -5,7 +5,7 @@
 //! share (the transmittance table, the surface colour, whether anything
 //! scatters) and which of the costly tables were baked.
 
-use super::sss::{burley, gaussians, preintegrated, reference, separable, Reads};
+use super::sss::{self, separable, Reads};
 use crate::model::separable::SeparableKernel;
 use crate::model::{ModelError, RadialProfile, Rgb};
 
@@ -21,11 +21,8 @@ pub const KERNEL_SURFACE_ALBEDO: [f32; 3] = [0.91058, 0.338275, 0.2718];
 /// share (`profile_gpu.rs`).
 #[derive(Debug, Clone)]
 pub struct ProfileInputs {
-    pub burley: burley::Inputs,
-    pub separable: separable::Inputs,
-    pub gaussians: gaussians::Inputs,
-    pub preintegrated: preintegrated::Inputs,
-    pub reference: reference::Inputs,
+    /// Each method's own (`sss::Inputs`).
+    pub methods: sss::Inputs,
     /// False when no channel scatters (e.g. Jimenez strength 0): SSS passes are skipped.
     pub scatters: bool,
     /// Normalised thin-slab transmittance T(d)/total at d = range·i/63
@@ -85,7 +82,7 @@ impl ProfileInputs {
         }
         if method.sss().reads.gaussians {
             self.set_gaussians(&gaussian_terms(spec, profile)?);
-            self.gaussians.taps = gaussian_taps;
+            self.methods.gaussians.taps = gaussian_taps;
         }
         Ok(())
     }
@@ -133,18 +130,9 @@ impl ProfileInputs {
             .radius_for_energy(0.999)
             .into_iter()
             .fold(1e-6, f64::max);
-        let separable = if tables.separable_kernel {
-            separable::Inputs::importance_sampled(profile, taps)?
-        } else {
-            separable::Inputs::identity()
-        };
         let dirac = profile.dirac_weight();
         Ok(Self {
-            burley: burley::Inputs::new(profile, samples, r_max, total)?,
-            separable,
-            gaussians: gaussians::Inputs::default(),
-            preintegrated: preintegrated::Inputs::new(profile, tables.penner_tables)?,
-            reference: reference::Inputs::new(profile),
+            methods: sss::Inputs::new(profile, (samples, taps), tables, r_max, total)?,
             scatters: (0..3).any(|c| total[c] - dirac[c] > 1e-9 * total[c].max(1e-300)),
             transmittance: transmittance_table(profile, r_max, total),
             transmittance_range_mm: r_max as f32,
@@ -165,7 +153,7 @@ impl ProfileInputs {
             Some("the separable kernel's taps")
         } else if reads.penner_tables && !self.baked.penner_tables {
             Some("Penner's pre-integrated and penumbra tables")
-        } else if reads.gaussians && self.gaussians.gaussians.is_empty() {
+        } else if reads.gaussians && self.methods.gaussians.gaussians.is_empty() {
             Some("the Gaussians")
         } else {
             None
@@ -179,7 +167,7 @@ impl ProfileInputs {
         samples: usize,
         sampling: BurleySampling,
     ) -> Result<(), ModelError> {
-        self.burley.set_patterns(profile, samples, sampling)
+        self.methods.burley.set_patterns(profile, samples, sampling)
     }
 
     /// Replaces the separable taps (e.g. with the Jimenez 2012 demo kernel
@@ -188,14 +176,14 @@ impl ProfileInputs {
     /// weight's σ is the kernel's RMS width.
     pub fn set_separable_kernel(&mut self, kernel: &SeparableKernel, demo_2012: bool) {
         self.baked.separable_kernel = true;
-        self.separable = separable::Inputs::of_kernel(kernel, demo_2012);
+        self.methods.separable = separable::Inputs::of_kernel(kernel, demo_2012);
     }
 
     /// Sets the Gaussians of the `gaussians` method from (variance mm²,
     /// RGB weight) terms; weights are normalised per channel (the albedo is
     /// applied separately).
     pub fn set_gaussians(&mut self, terms: &[(f64, [f64; 3])]) {
-        self.gaussians.set(terms);
+        self.methods.gaussians.set(terms);
     }
 
     /// A hash of everything the GPU receives from these inputs: the renderer
@@ -203,11 +191,7 @@ impl ProfileInputs {
     pub fn fingerprint(&self) -> u64 {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
-        self.burley.fingerprint_into(&mut h);
-        self.separable.fingerprint_into(&mut h);
-        self.gaussians.fingerprint_into(&mut h);
-        self.preintegrated.fingerprint_into(&mut h);
-        h.write(&self.reference.table.fingerprint().to_le_bytes());
+        self.methods.fingerprint_into(&mut h);
         h.write(bytemuck::cast_slice(&self.transmittance));
         h.write(bytemuck::cast_slice(&[self.transmittance_range_mm]));
         self.scatters.hash(&mut h);

@@ -80,20 +80,6 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             ),
         ),
         (
-            "sss_burley",
-            format!(
-                "{FULLSCREEN}\n{SSS_COMMON}\n{}",
-                include_str!("../../shaders/sss_burley.wgsl")
-            ),
-        ),
-        (
-            "sss_separable",
-            format!(
-                "{FULLSCREEN}\n{SSS_COMMON}\n{}",
-                include_str!("../../shaders/sss_separable.wgsl")
-            ),
-        ),
-        (
             "composite",
             format!(
                 "{FULLSCREEN}\n{}",
@@ -101,6 +87,14 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             ),
         ),
     ]
+    .into_iter()
+    // Each method's own pass (`MethodInfo::shader`), after the shared code.
+    .chain(super::Method::all().iter().filter_map(|m| {
+        m.sss()
+            .shader
+            .map(|(name, wgsl)| (name, format!("{FULLSCREEN}\n{SSS_COMMON}\n{wgsl}")))
+    }))
+    .collect()
 }
 
 pub(super) fn scene_pipeline(

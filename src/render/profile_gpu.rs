@@ -6,7 +6,7 @@
 
 use super::inputs::ProfileInputs;
 use super::readback::f32_to_half;
-use super::sss::{burley, gaussians, preintegrated, separable};
+use super::sss;
 use super::textures::sampled_texture;
 use wgpu::util::DeviceExt;
 
@@ -15,10 +15,8 @@ pub(super) struct ProfileGpu {
     pub key: u64,
     /// The thin-slab transmittance T(d)/total (the scene pass's).
     pub transmittance: wgpu::Buffer,
-    pub preintegrated: preintegrated::Tables,
-    pub burley: burley::Buffers,
-    pub separable: separable::Buffers,
-    pub gaussians: gaussians::Buffers,
+    /// Each method's buffers.
+    pub methods: sss::Buffers,
 }
 
 impl ProfileGpu {
@@ -30,10 +28,7 @@ impl ProfileGpu {
                 "transmittance",
                 bytemuck::cast_slice(&inputs.transmittance),
             ),
-            preintegrated: preintegrated::Tables::new(device, queue, &inputs.preintegrated),
-            burley: burley::Buffers::new(device, &inputs.burley),
-            separable: separable::Buffers::new(device, &inputs.separable),
-            gaussians: gaussians::Buffers::new(device, &inputs.gaussians),
+            methods: sss::Buffers::new(device, queue, &inputs.methods),
         }
     }
 }

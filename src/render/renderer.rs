@@ -400,7 +400,7 @@ fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32
         rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
         deterministic: s.deterministic as u32,
         sample_count: 0,
-        lut_radius_mm: inputs.burley.lut_radius_mm,
+        lut_radius_mm: inputs.methods.burley.lut_radius_mm,
         lut_entries: LUT_SIZE as u32,
         follow_surface: 0.0,
         direction: [0.0; 2],

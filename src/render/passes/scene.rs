@@ -205,7 +205,7 @@ impl ScenePass {
                 buf(0, &self.uniforms),
                 tex(1, &shadow.view),
                 sampler(2, &shadow.sampler),
-                tex(3, &gpu.preintegrated.lut),
+                tex(3, &gpu.methods.preintegrated.lut),
                 sampler(4, &self.lut_sampler),
                 buf(5, &gpu.transmittance),
                 tex(6, &maps[0]),
@@ -214,7 +214,7 @@ impl ScenePass {
                 tex(9, &maps[3]),
                 tex(10, &maps[4]),
                 sampler(11, &self.surface_sampler),
-                tex(12, &gpu.preintegrated.penumbra),
+                tex(12, &gpu.methods.preintegrated.penumbra),
                 tex(13, &shadow.view),
             ],
         })
@@ -280,7 +280,7 @@ impl ScenePass {
             }
         };
         let (preintegrated, lut_curvature_first, lut_curvature_last) =
-            sss::preintegrated::uniforms(s.method, &inputs.preintegrated.lut_layout);
+            sss::preintegrated::uniforms(s.method, &inputs.methods.preintegrated.lut_layout);
         let maps = &self.maps;
         SceneUniforms {
             clip_from_world: (cl.projection * cl.view).to_cols_array_2d(),
@@ -294,7 +294,7 @@ impl ScenePass {
             light_radiance: [s.view.light_intensity; 4],
             surface_albedo: rgb0(inputs.surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
-            normal_blend: rgb0(inputs.preintegrated.normal_blend),
+            normal_blend: rgb0(inputs.methods.preintegrated.normal_blend),
             environment_sh: s.environment_sh.map(rgb0),
             eyes: framing.eyes,
             pre_scatter_exponent: match s.texturing {
@@ -335,9 +335,9 @@ impl ScenePass {
             thickness_map_range_mm: maps.thickness_range_mm,
             detail_normal_strength: s.detail_normal_strength,
             penumbra_inv_width_first: 1.0
-                / inputs.preintegrated.penumbra_layout.penumbra_max_mm as f32,
+                / inputs.methods.preintegrated.penumbra_layout.penumbra_max_mm as f32,
             penumbra_inv_width_last: 1.0
-                / inputs.preintegrated.penumbra_layout.penumbra_min_mm as f32,
+                / inputs.methods.preintegrated.penumbra_layout.penumbra_min_mm as f32,
             // The PCF's 4-texel footprint, in mm.
             pcf_footprint_mm: 4.0 * 2.0 * rad / SHADOW_SIZE as f32
                 * 1000.0

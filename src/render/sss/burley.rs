@@ -34,6 +34,10 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: false,
     baseline: false,
     variant: "",
+    shader: Some((
+        "sss_burley",
+        include_str!("../../../shaders/sss_burley.wgsl"),
+    )),
     colour: [31, 119, 180],
     encode,
 };
@@ -114,7 +118,7 @@ pub(in crate::render) fn encode(
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let gpu = &io.profile.burley;
+    let gpu = &io.profile.methods.burley;
     let (samples, n, label) = (&gpu.samples, gpu.count, "sss burley");
     let u = f.uniform("sss uniforms", bytemuck::bytes_of(&io.uniforms(n)));
     let lod = f.uniform(

@@ -26,6 +26,7 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: false,
     baseline: false,
     variant: "6x2-passes",
+    shader: None,
     colour: [148, 103, 189],
     encode,
 };
@@ -60,7 +61,7 @@ pub(in crate::render) fn encode(
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let gpu = &io.profile.gaussians;
+    let gpu = &io.profile.methods.gaussians;
     let taps = gpu.tap_count;
     if gpu.gaussians.is_empty() {
         // No Gaussians set: nothing to add, the diffuse stays unscattered.

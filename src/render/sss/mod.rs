@@ -17,6 +17,7 @@ use super::gpu_types::SssUniforms;
 use super::profile_gpu::ProfileGpu;
 use super::settings::Method;
 use super::targets::{HdrTarget, Targets};
+use crate::model::{ModelError, RadialProfile, Rgb};
 
 /// The SSS methods' pipelines, built once with the renderer: switching
 /// methods or editing the profile never recompiles a shader. Each method's
@@ -31,6 +32,72 @@ impl SssPipelines {
         Self {
             burley: burley::Pipeline::new(device, &module("sss_burley")),
             separable: separable::Pipelines::new(device, &module("sss_separable")),
+        }
+    }
+}
+
+/// Every method's CPU inputs for one profile, each its own file's
+/// `Inputs` (`ProfileInputs::methods`).
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub burley: burley::Inputs,
+    pub separable: separable::Inputs,
+    pub gaussians: gaussians::Inputs,
+    pub preintegrated: preintegrated::Inputs,
+    pub reference: reference::Inputs,
+}
+
+impl Inputs {
+    /// Each method's inputs for `profile` (of total reflectance `total`,
+    /// tables out to `r_max` mm) with `samples` and `taps`; the costly
+    /// tables only where `bake` says, neutral placeholders elsewhere.
+    pub(super) fn new(
+        profile: &dyn RadialProfile,
+        (samples, taps): (usize, usize),
+        bake: Reads,
+        r_max: f64,
+        total: Rgb,
+    ) -> Result<Self, ModelError> {
+        Ok(Self {
+            burley: burley::Inputs::new(profile, samples, r_max, total)?,
+            separable: if bake.separable_kernel {
+                separable::Inputs::importance_sampled(profile, taps)?
+            } else {
+                separable::Inputs::identity()
+            },
+            gaussians: gaussians::Inputs::default(),
+            preintegrated: preintegrated::Inputs::new(profile, bake.penner_tables)?,
+            reference: reference::Inputs::new(profile),
+        })
+    }
+
+    /// Feeds everything the GPU receives from these inputs to `h`.
+    pub(super) fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        self.burley.fingerprint_into(h);
+        self.separable.fingerprint_into(h);
+        self.gaussians.fingerprint_into(h);
+        self.preintegrated.fingerprint_into(h);
+        h.write(&self.reference.table.fingerprint().to_le_bytes());
+    }
+}
+
+/// Every method's share of the profile on the GPU, uploaded from its
+/// `Inputs` by its own file (`ProfileGpu::methods`).
+pub(super) struct Buffers {
+    pub burley: burley::Buffers,
+    pub separable: separable::Buffers,
+    pub gaussians: gaussians::Buffers,
+    /// Read by the scene pass.
+    pub preintegrated: preintegrated::Tables,
+}
+
+impl Buffers {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, inputs: &Inputs) -> Self {
+        Self {
+            burley: burley::Buffers::new(device, &inputs.burley),
+            separable: separable::Buffers::new(device, &inputs.separable),
+            gaussians: gaussians::Buffers::new(device, &inputs.gaussians),
+            preintegrated: preintegrated::Tables::new(device, queue, &inputs.preintegrated),
         }
     }
 }
@@ -111,6 +178,10 @@ pub struct MethodInfo {
     pub variant: &'static str,
     /// Its colour in the bench's charts (sRGB).
     pub colour: [u8; 3],
+    /// Its screen-space pass's WGSL module, (name, source), built after
+    /// `fullscreen.wgsl` and `sss_common.wgsl` (`pipelines::shader_sources`);
+    /// `None` for a method with no pass or one that reuses another's.
+    pub shader: Option<(&'static str, &'static str)>,
     /// Records its passes.
     pub(in crate::render) encode: Encode,
 }

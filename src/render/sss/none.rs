@@ -18,6 +18,7 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: false,
     baseline: true,
     variant: "",
+    shader: None,
     colour: [120, 120, 120],
     encode: super::no_pass,
 };

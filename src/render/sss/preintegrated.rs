@@ -23,6 +23,7 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: false,
     baseline: false,
     variant: "",
+    shader: None,
     colour: [140, 86, 75],
     encode: super::no_pass,
 };

@@ -37,6 +37,7 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: true,
     baseline: false,
     variant: "",
+    shader: None,
     colour: [0, 0, 0],
     encode: |_, _, _| super::Scattered {
         target: HdrTarget::Ping,
@@ -89,7 +90,7 @@ impl Cache {
     /// The cloud of `inputs`' profile over these cells (made and kept if
     /// new: bucketing the cells is a fraction of building them).
     fn cloud(&mut self, inputs: &ProfileInputs) -> Result<Arc<Cloud>, GpuError> {
-        let fingerprint = inputs.reference.table.fingerprint();
+        let fingerprint = inputs.methods.reference.table.fingerprint();
         if let Some((_, c)) = self.clouds.iter().find(|(f, _)| *f == fingerprint) {
             return Ok(c.clone());
         }
@@ -98,7 +99,7 @@ impl Cache {
             .first()
             .map(|(_, c)| c.cells().clone())
             .ok_or_else(|| GpuError::Readback("ground truth cells".into()))?;
-        let cloud = Arc::new(Cloud::new(cells, (*inputs.reference.table).clone()));
+        let cloud = Arc::new(Cloud::new(cells, (*inputs.methods.reference.table).clone()));
         self.clouds.insert(0, (fingerprint, cloud.clone()));
         self.clouds.truncate(3);
         Ok(cloud)
@@ -169,7 +170,7 @@ pub(in crate::render) fn scatter(
         use std::hash::{Hash, Hasher};
         let mut hs = std::collections::hash_map::DefaultHasher::new();
         k.hash(&mut hs);
-        inputs.reference.table.fingerprint().hash(&mut hs);
+        inputs.methods.reference.table.fingerprint().hash(&mut hs);
         bytemuck::bytes_of(scene).hash(&mut hs);
         (w, h, s.view.fov_y_rad.to_bits(), s.reference_supersample).hash(&mut hs);
         hs.finish()
@@ -218,7 +219,7 @@ pub(in crate::render) fn scatter(
         build_ms = Some(t0.elapsed().as_secs_f64() * 1e3);
         *cache = Some(Cache {
             key: k,
-            clouds: vec![(inputs.reference.table.fingerprint(), cloud)],
+            clouds: vec![(inputs.methods.reference.table.fingerprint(), cloud)],
             shadow,
             mips,
             frame: None,
@@ -317,7 +318,7 @@ fn build_cloud(
         &triangles,
         skin,
         &irr,
-        (*inputs.reference.table).clone(),
+        (*inputs.methods.reference.table).clone(),
         CELL_MM,
     );
     Ok((Arc::new(cloud), shadow, mips))

@@ -30,6 +30,10 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ground_truth: false,
     baseline: false,
     variant: "",
+    shader: Some((
+        "sss_separable",
+        include_str!("../../../shaders/sss_separable.wgsl"),
+    )),
     colour: [44, 160, 44],
     encode,
 };
@@ -196,7 +200,7 @@ pub(in crate::render) fn encode(
     p: &SssPipelines,
     io: &SssFrame,
 ) -> Scattered {
-    let gpu = &io.profile.separable;
+    let gpu = &io.profile.methods.separable;
     blur_xy(
         f,
         p,
