@@ -11,7 +11,7 @@ use crate::settings::profile::{
 };
 use crate::settings::{Preset, ProfileSpec};
 use anyhow::{bail, Context, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use std::path::PathBuf;
 
 /// A comma-separated list of numbers.
@@ -60,16 +60,11 @@ pub fn parse_color_list(s: &str) -> Result<ColorList, String> {
         .map(ColorList)
 }
 
-/// Which model a command evaluates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+/// What `--model` names: one of the look's models (`ProfileSpec::models`,
+/// by its `model_name`), or an engine's parameters converted to Burley.
+#[derive(Debug, Clone, PartialEq)]
 pub enum ModelKind {
-    Burley,
-    Gaussians,
-    Dipole,
-    Multipole,
-    #[value(name = "jimenez2012", alias = "jimenez")]
-    Jimenez2012,
-    Artist,
+    Model(ProfileSpec),
     /// Unity HDRP diffusion profile parameters (converted to Burley).
     Unity,
     /// Unreal Engine 5 subsurface profile parameters (converted to Burley).
@@ -78,22 +73,41 @@ pub enum ModelKind {
     Blender,
 }
 
-/// Burley's published s(A) fits, by command-line name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum FitArg {
-    Perpendicular,
-    DiffuseSurface,
-    DiffuseMeanFreePath,
-}
+/// The engines whose parameters `--model` converts, by name.
+const ENGINE_MODELS: [(&str, ModelKind); 3] = [
+    ("unity", ModelKind::Unity),
+    ("unreal", ModelKind::Unreal),
+    ("blender", ModelKind::Blender),
+];
 
-impl From<FitArg> for ScalingFit {
-    fn from(v: FitArg) -> Self {
-        match v {
-            FitArg::Perpendicular => ScalingFit::Perpendicular,
-            FitArg::DiffuseSurface => ScalingFit::DiffuseSurface,
-            FitArg::DiffuseMeanFreePath => ScalingFit::DiffuseMeanFreePath,
+/// `--model`'s values: every model's name (`jimenez` also names Jimenez
+/// 2012), then the engines'.
+pub fn model_parser() -> impl clap::builder::TypedValueParser<Value = ModelKind> {
+    use clap::builder::PossibleValue;
+    let models = ProfileSpec::models().map(|m| m.model_name());
+    let values = models
+        .into_iter()
+        .map(|name| match name {
+            "jimenez2012" => PossibleValue::new(name).alias("jimenez"),
+            _ => PossibleValue::new(name),
+        })
+        .chain(
+            ENGINE_MODELS
+                .iter()
+                .map(|(name, _)| PossibleValue::new(*name)),
+        );
+    clap::builder::TypedValueParser::map(clap::builder::PossibleValuesParser::new(values), |name| {
+        let model = ProfileSpec::models().into_iter().find(|m| {
+            m.model_name() == name || (name == "jimenez" && m.model_name() == "jimenez2012")
+        });
+        match model {
+            Some(m) => ModelKind::Model(m),
+            None => ENGINE_MODELS
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or(ModelKind::Unity, |(_, kind)| kind.clone()),
         }
-    }
+    })
 }
 
 /// Flags that choose and parameterise a profile. Without `--model` or
@@ -101,7 +115,7 @@ impl From<FitArg> for ScalingFit {
 #[derive(Debug, Clone, Default, Args)]
 pub struct ModelArgs {
     /// Profile model.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = model_parser())]
     pub model: Option<ModelKind>,
     /// Read the profile from a preset file (RON).
     #[arg(long, value_name = "FILE.ron", conflicts_with = "model")]
@@ -117,7 +131,7 @@ pub struct ModelArgs {
     pub mean_free_path: Option<Color>,
     /// Which Christensen-Burley s(A) fit turns --mean-free-path into a shape.
     #[arg(long, value_enum, requires = "mean_free_path")]
-    pub fit: Option<FitArg>,
+    pub fit: Option<ScalingFit>,
     /// Gaussian variances (mm²).
     #[arg(long, value_parser = parse_list, value_name = "V1,V2,…", requires = "weights", allow_hyphen_values = true)]
     pub variances: Option<NumberList>,
@@ -244,7 +258,7 @@ impl ModelArgs {
 
     /// The profile these flags describe, validated.
     pub fn spec(&self) -> Result<ProfileSpec> {
-        let spec = match (self.model, &self.preset) {
+        let spec = match (&self.model, &self.preset) {
             (_, Some(path)) => {
                 self.only("--preset", &[])?;
                 Preset::load(path)?.profile
@@ -253,11 +267,27 @@ impl ModelArgs {
                 self.only("the default preset (give --model)", &[])?;
                 Preset::default_skin().profile
             }
-            (Some(ModelKind::Burley), _) => self.burley()?,
-            (Some(ModelKind::Gaussians), _) => self.gaussians()?,
-            (Some(ModelKind::Dipole), _) => self.dipole()?,
-            (Some(ModelKind::Multipole), _) => self.multipole()?,
-            (Some(ModelKind::Jimenez2012), _) => {
+            (Some(ModelKind::Model(model)), _) => self.model(model)?,
+            (Some(ModelKind::Unity), _) => self.unity()?,
+            (Some(ModelKind::Unreal), _) => self.unreal()?,
+            (Some(ModelKind::Blender), _) => self.blender()?,
+        };
+        spec.build()?;
+        Ok(spec)
+    }
+
+    /// The look's `model` from the flags that describe it.
+    fn model(&self, model: &ProfileSpec) -> Result<ProfileSpec> {
+        Ok(match model {
+            ProfileSpec::Burley(_) => self.burley()?,
+            ProfileSpec::Gaussians(_) => self.gaussians()?,
+            ProfileSpec::Dipole(_) => self.dipole()?,
+            ProfileSpec::Measured(_) if self.measured.is_none() => {
+                bail!("--model measured needs --measured NAME (a Jensen 2001 or Narasimhan 2006 table, e.g. Skin1)")
+            }
+            ProfileSpec::Measured(_) => self.dipole()?,
+            ProfileSpec::Multipole(_) => self.multipole()?,
+            ProfileSpec::Jimenez2012(_) => {
                 self.only("--model jimenez2012", &["--strength", "--falloff"])?;
                 let d = Jimenez2012Spec::default();
                 ProfileSpec::Jimenez2012(Jimenez2012Spec {
@@ -265,13 +295,8 @@ impl ModelArgs {
                     falloff: self.falloff.map_or(d.falloff, |c| c.0),
                 })
             }
-            (Some(ModelKind::Artist), _) => self.artist()?,
-            (Some(ModelKind::Unity), _) => self.unity()?,
-            (Some(ModelKind::Unreal), _) => self.unreal()?,
-            (Some(ModelKind::Blender), _) => self.blender()?,
-        };
-        spec.build()?;
-        Ok(spec)
+            ProfileSpec::Artist(_) => self.artist()?,
+        })
     }
 
     fn burley(&self) -> Result<ProfileSpec> {
@@ -287,7 +312,7 @@ impl ModelArgs {
             },
             (None, Some(m)) => BurleyShape::MeanFreePath {
                 mm: m.0,
-                fit: self.fit.map_or(ScalingFit::DiffuseMeanFreePath, Into::into),
+                fit: self.fit.unwrap_or(ScalingFit::DiffuseMeanFreePath),
             },
             (None, None) => d.shape,
         };

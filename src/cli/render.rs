@@ -4,7 +4,7 @@
 
 use super::args::ModelArgs;
 use super::built;
-use super::view::{LookArgs, SamplingArg, ViewArgs};
+use super::view::{LookArgs, ViewArgs};
 use crate::render::{GpuContext, ProfileInputs, RenderSettings, Renderer};
 use crate::settings::rendering::MethodId;
 use crate::settings::{Preset, RenderingSpec};
@@ -105,8 +105,8 @@ impl RenderArgs {
         let (samples, taps) = (rendering.samples, rendering.taps);
         let mut inputs =
             ProfileInputs::for_look(&spec, p.as_ref(), method, (samples, taps), gaussian_taps)?;
-        if self.view.burley_sampling == SamplingArg::Golubev {
-            inputs.set_burley(p.as_ref(), samples, crate::render::BurleySampling::GOLUBEV)?;
+        if self.view.burley_sampling != inputs.methods.burley.sampling {
+            inputs.set_burley(p.as_ref(), samples, self.view.burley_sampling)?;
         }
         Ok(inputs)
     }

@@ -2,10 +2,10 @@
 //! line's degrees become the [`OrbitView`]'s radians.
 
 use super::args::{parse_color, Color};
+use crate::render::BurleySampling;
 use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{OrbitView, RenderingSpec};
 use anyhow::Result;
-use clap::ValueEnum;
 use std::path::PathBuf;
 
 /// Camera, light, mesh and maps of a render. Angles are degrees here and
@@ -79,8 +79,8 @@ pub struct ViewArgs {
     /// `burley` sampling: `improved` (MIS across the channels, R2
     /// rotations, an exact centre weight) or `golubev` (Golubev 2018 as
     /// published); `bench` measures both.
-    #[arg(long, value_enum, default_value = "improved")]
-    pub burley_sampling: SamplingArg,
+    #[arg(long, default_value = "improved", value_parser = sampling_parser())]
+    pub burley_sampling: BurleySampling,
     /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
     /// kernel, 13 follows edges more closely at about twice the cost).
     #[arg(long, default_value_t = 7)]
@@ -221,10 +221,13 @@ impl ViewArgs {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SamplingArg {
-    Improved,
-    Golubev,
+/// `--burley-sampling`'s values: the named samplings
+/// (`BurleySampling::NAMED`).
+fn sampling_parser() -> impl clap::builder::TypedValueParser<Value = BurleySampling> {
+    let names = BurleySampling::NAMED.map(|(name, _)| name);
+    clap::builder::TypedValueParser::map(clap::builder::PossibleValuesParser::new(names), |name| {
+        BurleySampling::named(&name).unwrap_or_default()
+    })
 }
 
 /// The look's rendering settings (`RenderingSpec`, a preset's `rendering`

@@ -14,8 +14,11 @@ pub const DISTANCE_RANGE_MM: (f64, f64) = (1e-4, 1e3);
 
 /// The three published fits s(A) of Christensen & Burley 2015 that turn a
 /// mean free path ℓ into the shape s = fit(A)/ℓ. Presets store it by its
-/// variant's name (`fit: DiffuseSurface`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+/// variant's name (`fit: DiffuseSurface`), the command line by clap's
+/// (`--fit diffuse-surface`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 pub enum ScalingFit {
     /// Eq. 5, searchlight (perpendicular) configuration with the mean free
     /// path: s = 1.85 − A + 7|A − 0.8|³ (Unreal's `GetPerpendicularScalingFactor`).

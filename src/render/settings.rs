@@ -66,17 +66,29 @@ impl BurleySampling {
         .fold(0, |bits, (_, bit)| bits | bit)
     }
 
+    /// The samplings with a name, as `--burley-sampling` and the bench
+    /// call them.
+    pub const NAMED: [(&'static str, Self); 2] =
+        [("improved", Self::IMPROVED), ("golubev", Self::GOLUBEV)];
+
+    /// The named sampling `name` (one of [`BurleySampling::NAMED`]).
+    pub fn named(name: &str) -> Option<Self> {
+        Self::NAMED
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| *s)
+    }
+
     /// A short name: `golubev`, `improved`, or the flags that are on.
     pub fn id(self) -> String {
-        match self {
-            Self::GOLUBEV => "golubev".into(),
-            Self::IMPROVED => "improved".into(),
-            s => [
-                (s.antithetic, "antithetic"),
-                (s.mis, "mis"),
-                (s.r2_rotation, "r2"),
-                (s.bilinear, "bilinear"),
-                (s.centre_weight, "centre"),
+        match Self::NAMED.iter().find(|(_, s)| *s == self) {
+            Some((name, _)) => (*name).into(),
+            None => [
+                (self.antithetic, "antithetic"),
+                (self.mis, "mis"),
+                (self.r2_rotation, "r2"),
+                (self.bilinear, "bilinear"),
+                (self.centre_weight, "centre"),
             ]
             .iter()
             .filter(|f| f.0)

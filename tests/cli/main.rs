@@ -395,8 +395,10 @@ fn fit_recovers_known_parameters() {
 
 #[test]
 fn bad_input_is_one_line_and_non_zero() {
-    let cases: [&[&str]; 9] = [
+    let cases: [&[&str]; 11] = [
         &["profile", "--radii", "-1"],
+        &["profile", "--model", "measured"],
+        &["render", "--burley-sampling", "nope"],
         &["profile", "--radii", "nan"],
         &["profile", "--radii", "1,x"],
         &["profile", "--model", "burley", "--distance", "1,1"],
@@ -414,6 +416,32 @@ fn bad_input_is_one_line_and_non_zero() {
     }
     let (_, _, err) = run(&["profile", "--model", "burley", "--albedo", "1.5,0.5,0.5"]);
     assert!(err.contains("albedo.r"), "{err}");
+    let (_, _, err) = run(&["profile", "--model", "measured"]);
+    assert!(err.contains("--measured NAME"), "{err}");
+}
+
+/// `--model` takes every model's name from the look's own list (and
+/// `jimenez` for Jimenez 2012), and the engines' parameter sets.
+#[test]
+fn every_model_name_is_a_model_flag() {
+    for (args, model) in [
+        (&["--model", "jimenez"][..], "jimenez2012"),
+        (&["--model", "jimenez2012"], "jimenez2012"),
+        (&["--model", "artist"], "artist"),
+        (&["--model", "multipole"], "multipole"),
+        (&["--model", "measured", "--measured", "Skin1"], "measured"),
+        (
+            &["--model", "unity", "--scattering-color", "1,0.5,0.25"],
+            "burley",
+        ),
+    ] {
+        let (code, out, err) = run(&[&["profile"][..], args].concat());
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(
+            out.starts_with(&format!("model: {model}\n")),
+            "{args:?}: {out}"
+        );
+    }
 }
 
 #[test]
