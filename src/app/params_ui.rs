@@ -2,14 +2,15 @@
 //! rendering settings, each field with its unit and a tooltip that says
 //! what it does physically.
 
-use crate::model::{dipole, jimenez, measured, separable, Rgb, CHANNEL_NAMES};
+use crate::model::multipole::{DIPOLES_RANGE, THICKNESS_RANGE_MM};
+use crate::model::{burley, dipole, gaussian, jimenez, measured, separable, Rgb, CHANNEL_NAMES};
 use crate::settings::profile::*;
-use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
+use crate::settings::rendering::{limits, DualLobeSpec, MethodId, TexturingId, TransmissionId};
 use crate::settings::{ProfileSpec, RenderingSpec};
 use egui::{DragValue, Ui};
 
 /// A number with its unit; returns whether it changed.
-pub fn scalar(
+fn scalar_ui(
     ui: &mut Ui,
     label: &str,
     unit: &str,
@@ -35,7 +36,7 @@ pub fn scalar(
 
 /// Three numbers (R, G, B) with a unit and a swatch when they are a colour.
 #[allow(clippy::too_many_arguments)]
-pub fn rgb(
+fn rgb_ui(
     ui: &mut Ui,
     label: &str,
     unit: &str,
@@ -63,7 +64,7 @@ pub fn rgb(
                 .changed();
         }
         if swatch {
-            changed |= colour_picker(ui, label, v, &range);
+            changed |= colour_picker_ui(ui, label, v, &range);
         }
         changed
     })
@@ -78,7 +79,7 @@ pub fn rgb(
 /// (`DiffusionProfileSettings.cs`: `scatteringDistance` colour and
 /// `scatteringDistanceMultiplier`): the picker edits v / max(v) and the
 /// multiplier max(v) stays. Returns whether it changed `v`.
-pub fn colour_picker(
+fn colour_picker_ui(
     ui: &mut Ui,
     label: &str,
     v: &mut Rgb,
@@ -206,51 +207,60 @@ pub fn model_picker_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
 pub fn model_params_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
     match spec {
         ProfileSpec::Burley(b) => burley_ui(ui, b),
-        ProfileSpec::Jimenez2012(j) => {
-            rgb(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", &mut j.strength, span(jimenez::STRENGTH_RANGE), 0.005, false);
-            rgb(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", &mut j.falloff, span(jimenez::FALLOFF_RANGE), 0.005, false);
+        ProfileSpec::Jimenez2012(Jimenez2012Spec { strength, falloff }) => {
+            rgb_ui(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", strength, span(jimenez::STRENGTH_RANGE), 0.005, false);
+            rgb_ui(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", falloff, span(jimenez::FALLOFF_RANGE), 0.005, false);
         }
-        ProfileSpec::Artist(a) => {
-            rgb(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", &mut a.sigma_near, span(separable::ARTIST_SIGMA_RANGE), 0.002, false);
-            rgb(
+        ProfileSpec::Artist(ArtistSpec {
+            sigma_near,
+            sigma_far,
+            weight,
+            scale_mm,
+        }) => {
+            rgb_ui(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", sigma_near, span(separable::ARTIST_SIGMA_RANGE), 0.002, false);
+            rgb_ui(
                 ui,
                 "σf (far)",
                 "",
                 "Width of the far Gaussian per channel, relative to s: the long red tail.",
-                &mut a.sigma_far,
+                sigma_far,
                 span(separable::ARTIST_SIGMA_RANGE),
                 0.005,
                 false,
             );
-            scalar(
+            scalar_ui(
                 ui,
                 "w (near weight)",
                 "",
                 "Share of the energy in the near Gaussian; 1 − w goes to the far one.",
-                &mut a.weight,
+                weight,
                 span(separable::ARTIST_WEIGHT_RANGE),
                 0.005,
             );
-            scalar(
+            scalar_ui(
                 ui,
                 "s (scale)",
                 " mm",
                 "Global width of both Gaussians in millimetres: how far light travels.",
-                &mut a.scale_mm,
+                scale_mm,
                 span(separable::ARTIST_SCALE_RANGE_MM),
                 0.05,
             );
         }
         ProfileSpec::Gaussians(g) => gaussians_ui(ui, g),
-        ProfileSpec::Dipole(d) => {
+        ProfileSpec::Dipole(DipoleSpec {
+            sigma_a_per_mm,
+            sigma_s_prime_per_mm,
+            eta,
+        }) => {
             ui.horizontal(|ui| {
                 egui::ComboBox::from_label("Fill from measured")
                     .selected_text("…")
                     .show_ui(ui, |ui| {
                         for m in measured::all() {
                             if ui.button(&m.name).clicked() {
-                                d.sigma_a_per_mm = m.sigma_a_per_mm;
-                                d.sigma_s_prime_per_mm = m.sigma_s_prime_per_mm;
+                                *sigma_a_per_mm = m.sigma_a_per_mm;
+                                *sigma_s_prime_per_mm = m.sigma_s_prime_per_mm;
                             }
                         }
                     })
@@ -259,35 +269,35 @@ pub fn model_params_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
                         "Copy σa and σs' of a measured material (Jensen 2001, Narasimhan 2006).",
                     );
             });
-            rgb(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", &mut d.sigma_a_per_mm, span(dipole::SIGMA_A_RANGE), 0.001, false);
-            rgb(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", &mut d.sigma_s_prime_per_mm, span(dipole::SIGMA_S_PRIME_RANGE), 0.005, false);
-            scalar(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", &mut d.eta, span(dipole::ETA_RANGE), 0.005);
+            rgb_ui(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", sigma_a_per_mm, span(dipole::SIGMA_A_RANGE), 0.001, false);
+            rgb_ui(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", sigma_s_prime_per_mm, span(dipole::SIGMA_S_PRIME_RANGE), 0.005, false);
+            scalar_ui(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", eta, span(dipole::ETA_RANGE), 0.005);
         }
-        ProfileSpec::Measured(m) => {
+        ProfileSpec::Measured(MeasuredSpec { name, eta }) => {
             egui::ComboBox::from_label("Material")
-                .selected_text(m.name.clone())
+                .selected_text(name.clone())
                 .show_ui(ui, |ui| {
                     for mat in measured::all() {
                         let tip = format!(
                             "σs' = {:?} /mm, σa = {:?} /mm",
                             mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
                         );
-                        ui.selectable_value(&mut m.name, mat.name.clone(), &mat.name)
+                        ui.selectable_value(name, mat.name.clone(), &mat.name)
                             .on_hover_text(tip);
                     }
                 })
                 .response
                 .on_hover_text("Measured σs' and σa (Jensen et al. 2001; Narasimhan et al. 2006), through the dipole.");
-            scalar(
+            scalar_ui(
                 ui,
                 "η",
                 "",
                 "Relative index of refraction of the surface.",
-                &mut m.eta,
-                1.0..=2.0,
+                eta,
+                span(dipole::ETA_RANGE),
                 0.005,
             );
-            if let Ok(mat) = measured::find(&m.name) {
+            if let Ok(mat) = measured::find(name) {
                 ui.label(format!(
                     "σs' = {:.3?} /mm\nσa = {:.4?} /mm",
                     mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
@@ -299,8 +309,9 @@ pub fn model_params_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
 }
 
 fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
-    rgb(ui, "Albedo", "", "Total diffuse reflectance A per channel (Burley's volume albedo): how much light comes back out; it also sets the profile's shape through s(A).", &mut b.albedo, 0.0..=1.0, 0.003, true);
-    let mut is_sd = matches!(b.shape, BurleyShape::ScatteringDistance { .. });
+    let BurleySpec { albedo, shape } = b;
+    rgb_ui(ui, "Albedo", "", "Total diffuse reflectance A per channel (Burley's volume albedo): how much light comes back out; it also sets the profile's shape through s(A).", albedo, span(burley::ALBEDO_RANGE), 0.003, true);
+    let mut is_sd = matches!(shape, BurleyShape::ScatteringDistance { .. });
     ui.horizontal(|ui| {
         ui.label("Shape from");
         let sd = ui
@@ -310,8 +321,13 @@ fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
             .radio_value(&mut is_sd, false, "mean free path")
             .on_hover_text("A mean free path through one of Christensen & Burley's scaling fits.");
         if sd.changed() || mfp.changed() {
-            let p = b.build().ok();
-            b.shape = match (is_sd, p) {
+            let built = BurleySpec {
+                albedo: *albedo,
+                shape: shape.clone(),
+            }
+            .build()
+            .ok();
+            *shape = match (is_sd, built) {
                 (true, Some(p)) => BurleyShape::ScatteringDistance {
                     mm: p.scattering_distance_mm(),
                     multiplier: 1.0,
@@ -324,27 +340,27 @@ fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
             };
         }
     });
-    match &mut b.shape {
+    match shape {
         BurleyShape::ScatteringDistance { mm, multiplier } => {
-            rgb(ui, "Scattering distance", " mm", "d per channel: how far light travels under the skin before it comes back out (Unity's 'Scattering Distance').", mm, 0.0..=100.0, 0.005, true);
-            scalar(
+            rgb_ui(ui, "Scattering distance", " mm", "d per channel: how far light travels under the skin before it comes back out (Unity's 'Scattering Distance').", mm, span(burley::DISTANCE_RANGE_MM), 0.005, true);
+            scalar_ui(
                 ui,
                 "Multiplier",
                 "×",
                 "Scales all three distances together (Unity's 'Multiplier').",
                 multiplier,
-                1e-3..=100.0,
+                span(MULTIPLIER_RANGE),
                 0.005,
             );
         }
         BurleyShape::MeanFreePath { mm, fit } => {
-            rgb(
+            rgb_ui(
                 ui,
                 "Mean free path",
                 " mm",
                 "Per channel, the (diffuse) mean free path ℓ; d = ℓ / s(A).",
                 mm,
-                0.0..=100.0,
+                span(burley::MEAN_FREE_PATH_RANGE_MM),
                 0.005,
                 true,
             );
@@ -368,6 +384,7 @@ fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
 }
 
 fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
+    let GaussiansSpec { gaussians, dirac } = g;
     let mut remove = None;
     egui::Grid::new("gaussians").striped(true).show(ui, |ui| {
         ui.label("#");
@@ -378,11 +395,11 @@ fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
         ui.label("B");
         ui.label("");
         ui.end_row();
-        for (i, t) in g.gaussians.iter_mut().enumerate() {
+        for (i, t) in gaussians.iter_mut().enumerate() {
             ui.label(format!("{}", i + 1));
             ui.add(
                 DragValue::new(&mut t.variance_mm2)
-                    .range(1e-6..=1e4)
+                    .range(span(gaussian::VARIANCE_RANGE_MM2))
                     .speed(0.002)
                     .max_decimals(5)
                     .suffix(" mm²"),
@@ -391,7 +408,7 @@ fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
             for c in 0..3 {
                 ui.add(
                     DragValue::new(&mut t.weights[c])
-                        .range(0.0..=1.0)
+                        .range(span(gaussian::WEIGHT_RANGE))
                         .speed(0.002)
                         .max_decimals(4),
                 )
@@ -408,8 +425,8 @@ fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
         }
     });
     if let Some(i) = remove {
-        if g.gaussians.len() > 1 {
-            g.gaussians.remove(i);
+        if gaussians.len() > 1 {
+            gaussians.remove(i);
         }
     }
     if ui
@@ -417,45 +434,60 @@ fn gaussians_ui(ui: &mut Ui, g: &mut GaussiansSpec) {
         .on_hover_text("Append a Gaussian (variance 1 mm², weight 0)")
         .clicked()
     {
-        g.gaussians.push(GaussianTerm {
+        gaussians.push(GaussianTerm {
             variance_mm2: 1.0,
             weights: [0.0; 3],
         });
     }
+    // The unblurred share (a Godot import's), shown, not edited: it comes
+    // from the engine's file and `convert` keeps it.
+    if dirac.iter().any(|d| *d > 0.0) {
+        ui.label(format!(
+            "Unblurred share (Dirac): R {:.3}, G {:.3}, B {:.3}",
+            dirac[0], dirac[1], dirac[2]
+        ))
+        .on_hover_text("Light that leaves where it entered (from the imported file's kernel); the Gaussians hold the rest.");
+    }
 }
 
 fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
-    scalar(
+    let MultipoleSpec {
+        layers,
+        eta_above,
+        eta_below,
+        dipoles,
+    } = m;
+    scalar_ui(
         ui,
         "η above",
         "",
         "Index of the medium light arrives from (air = 1).",
-        &mut m.eta_above,
-        1.0..=2.0,
+        eta_above,
+        span(dipole::ETA_RANGE),
         0.005,
     );
-    scalar(
+    scalar_ui(
         ui,
         "η below",
         "",
         "Index of the medium under a finite last layer.",
-        &mut m.eta_below,
-        1.0..=2.0,
+        eta_below,
+        span(dipole::ETA_RANGE),
         0.005,
     );
-    let mut d = m.dipoles as usize;
+    let mut d = *dipoles as usize;
     count_ui(
         ui,
         "Dipole pairs",
         "Mirrored dipole pairs n per slab (2n + 1 dipoles): more is more accurate and slower.",
         &mut d,
-        (0, 50),
+        (DIPOLES_RANGE.0 as usize, DIPOLES_RANGE.1 as usize),
         1,
     );
-    m.dipoles = d as u32;
-    let n = m.layers.len();
+    *dipoles = d as u32;
+    let n = layers.len();
     let mut remove = None;
-    for (i, l) in m.layers.iter_mut().enumerate() {
+    for (i, l) in layers.iter_mut().enumerate() {
         egui::CollapsingHeader::new(format!(
             "Layer {} {}",
             i + 1,
@@ -463,33 +495,33 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
         ))
         .default_open(true)
         .show(ui, |ui| {
-            rgb(
+            rgb_ui(
                 ui,
                 "σa",
                 " /mm",
                 "Absorption coefficient of this layer.",
                 &mut l.sigma_a_per_mm,
-                0.0..=100.0,
+                span(dipole::SIGMA_A_RANGE),
                 0.001,
                 false,
             );
-            rgb(
+            rgb_ui(
                 ui,
                 "σs'",
                 " /mm",
                 "Reduced scattering coefficient of this layer.",
                 &mut l.sigma_s_prime_per_mm,
-                0.0..=1000.0,
+                span(dipole::SIGMA_S_PRIME_RANGE),
                 0.005,
                 false,
             );
-            scalar(
+            scalar_ui(
                 ui,
                 "η",
                 "",
                 "Index of refraction of this layer.",
                 &mut l.eta,
-                1.0..=2.0,
+                span(dipole::ETA_RANGE),
                 0.005,
             );
             let last = i + 1 == n;
@@ -504,13 +536,13 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
                 l.thickness_mm = None;
             } else {
                 let mut t = l.thickness_mm.unwrap_or(1.0);
-                scalar(
+                scalar_ui(
                     ui,
                     "Thickness",
                     " mm",
                     "Depth of this layer.",
                     &mut t,
-                    1e-4..=1000.0,
+                    span(THICKNESS_RANGE_MM),
                     0.01,
                 );
                 l.thickness_mm = Some(t);
@@ -521,14 +553,14 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
         });
     }
     if let Some(i) = remove {
-        m.layers.remove(i);
+        layers.remove(i);
     }
     if ui
         .button("+ Add layer on top")
         .on_hover_text("A 0.1 mm layer above the stack (an oil or epidermis film)")
         .clicked()
     {
-        m.layers.insert(
+        layers.insert(
             0,
             LayerSpec {
                 thickness_mm: Some(0.1),
@@ -537,26 +569,47 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
         );
     }
     // Only the last layer may be semi-infinite.
-    let len = m.layers.len();
-    for l in m.layers.iter_mut().take(len.saturating_sub(1)) {
+    let len = layers.len();
+    for l in layers.iter_mut().take(len.saturating_sub(1)) {
         l.thickness_mm.get_or_insert(1.0);
     }
 }
 
-/// Rendering and engine-side material settings.
+/// Rendering and engine-side material settings. Unpacked field by field,
+/// as `RenderSettings::for_look` does: a new field does not compile until
+/// it has a row here.
 pub fn rendering_ui(ui: &mut Ui, r: &mut RenderingSpec) {
-    method_ui(ui, r);
-    transmission_ui(ui, r);
-    specular_ui(ui, r);
+    let RenderingSpec {
+        method,
+        samples,
+        taps,
+        lod,
+        texturing,
+        transmission,
+        thickness_remap_mm,
+        transmission_tint,
+        ior,
+        world_scale_m_per_unit,
+        specular,
+    } = r;
+    method_ui(ui, method, (samples, taps), lod);
+    texturing_ui(ui, texturing);
+    transmission_ui(ui, transmission, thickness_remap_mm, transmission_tint);
+    specular_ui(ui, ior, world_scale_m_per_unit, specular);
 }
 
-/// The SSS method, its sample and tap counts, the LOD and the texturing.
-fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
+/// The SSS method, its sample and tap counts and the LOD.
+fn method_ui(
+    ui: &mut Ui,
+    method: &mut MethodId,
+    (samples, taps): (&mut usize, &mut usize),
+    lod: &mut bool,
+) {
     egui::ComboBox::from_label("Method")
-        .selected_text(r.method.label())
+        .selected_text(method.label())
         .show_ui(ui, |ui| {
             for &m in MethodId::all() {
-                ui.selectable_value(&mut r.method, m, m.label());
+                ui.selectable_value(method, m, m.label());
             }
         })
         .response
@@ -565,7 +618,7 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
         ui,
         "Burley samples",
         "Disk samples per pixel of the burley method (Golubev 2018): more is smoother and slower.",
-        &mut r.samples,
+        samples,
         crate::settings::rendering::SAMPLES_RANGE,
         1,
     );
@@ -573,26 +626,30 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
         ui,
         "Separable taps",
         "Taps of each 1D pass of the separable method (odd).",
-        &mut r.taps,
+        taps,
         crate::settings::rendering::TAPS_RANGE,
         2,
     );
-    ui.checkbox(&mut r.lod, "Level of detail").on_hover_text(
+    ui.checkbox(lod, "Level of detail").on_hover_text(
         "Skip scattering where the disk is under a pixel, and use fewer samples under four pixels.",
     );
+}
+
+/// When the albedo texture is applied relative to the scattering.
+fn texturing_ui(ui: &mut Ui, texturing: &mut TexturingId) {
     egui::ComboBox::from_label("Texturing")
-        .selected_text(match r.texturing {
+        .selected_text(match texturing {
             TexturingId::PreAndPostScatter => "pre- and post-scatter",
             TexturingId::PostScatter => "post-scatter",
         })
         .show_ui(ui, |ui| {
             ui.selectable_value(
-                &mut r.texturing,
+                texturing,
                 TexturingId::PreAndPostScatter,
                 "pre- and post-scatter",
             )
             .on_hover_text("√albedo before and after the blur: softer texture detail.");
-            ui.selectable_value(&mut r.texturing, TexturingId::PostScatter, "post-scatter")
+            ui.selectable_value(texturing, TexturingId::PostScatter, "post-scatter")
                 .on_hover_text("Albedo after the blur only: keeps scanned texture sharp.");
         })
         .response
@@ -600,60 +657,51 @@ fn method_ui(ui: &mut Ui, r: &mut RenderingSpec) {
 }
 
 /// Transmission: the mode, a thickness map's remap and the tint.
-fn transmission_ui(ui: &mut Ui, r: &mut RenderingSpec) {
+fn transmission_ui(
+    ui: &mut Ui,
+    transmission: &mut TransmissionId,
+    (lo, hi): &mut (f64, f64),
+    tint: &mut Rgb,
+) {
     egui::ComboBox::from_label("Transmission")
-        .selected_text(match r.transmission {
+        .selected_text(match transmission {
             TransmissionId::Off => "off",
             TransmissionId::ThinObject => "thin object",
             TransmissionId::ThickObject => "thick object",
         })
         .show_ui(ui, |ui| {
-            ui.selectable_value(&mut r.transmission, TransmissionId::Off, "off");
-            ui.selectable_value(
-                &mut r.transmission,
-                TransmissionId::ThinObject,
-                "thin object",
-            )
-            .on_hover_text("Baked thickness, shadowed like the front face (ears, nostrils).");
-            ui.selectable_value(
-                &mut r.transmission,
-                TransmissionId::ThickObject,
-                "thick object",
-            )
-            .on_hover_text("Thickness from the shadow map, unshadowed.");
+            ui.selectable_value(transmission, TransmissionId::Off, "off");
+            ui.selectable_value(transmission, TransmissionId::ThinObject, "thin object")
+                .on_hover_text("Baked thickness, shadowed like the front face (ears, nostrils).");
+            ui.selectable_value(transmission, TransmissionId::ThickObject, "thick object")
+                .on_hover_text("Thickness from the shadow map, unshadowed.");
         })
         .response
         .on_hover_text("Light passing through thin parts from behind.");
     ui.horizontal(|ui| {
         let tip = "Thickness that black and white texels of a thickness map stand for (mm).";
         ui.label("Thickness remap").on_hover_text(tip);
-        let (lo, hi) = &mut r.thickness_remap_mm;
-        ui.add(
-            DragValue::new(lo)
-                .range(0.0..=1e4)
+        let range = span(limits::THICKNESS_REMAP_MM);
+        let mm = |v| {
+            DragValue::new(v)
+                .range(range.clone())
                 .speed(0.05)
-                .suffix(" mm"),
-        )
-        .on_hover_text(tip);
+                .suffix(" mm")
+        };
+        ui.add(mm(lo)).on_hover_text(tip);
         ui.label("to");
-        ui.add(
-            DragValue::new(hi)
-                .range(0.0..=1e4)
-                .speed(0.05)
-                .suffix(" mm"),
-        )
-        .on_hover_text(tip);
+        ui.add(mm(hi)).on_hover_text(tip);
         if *hi < *lo {
             *hi = *lo;
         }
     });
-    rgb(
+    rgb_ui(
         ui,
         "Transmission tint",
         "",
         "Multiplies light transmitted through thin parts.",
-        &mut r.transmission_tint,
-        0.0..=16.0,
+        tint,
+        span(limits::TRANSMISSION_TINT),
         0.005,
         true,
     );
@@ -661,61 +709,59 @@ fn transmission_ui(ui: &mut Ui, r: &mut RenderingSpec) {
 
 /// The surface's specular: IOR, the export world scale and Unreal's dual
 /// GGX lobes.
-fn specular_ui(ui: &mut Ui, r: &mut RenderingSpec) {
-    scalar(
+fn specular_ui(ui: &mut Ui, ior: &mut f64, world_scale: &mut f64, s: &mut DualLobeSpec) {
+    scalar_ui(
         ui,
         "IOR",
         "",
         "Index of refraction of the surface: sets the specular reflectance F0 = ((n−1)/(n+1))².",
-        &mut r.ior,
-        1.0..=2.0,
+        ior,
+        span(limits::IOR),
         0.005,
     );
-    scalar(
+    scalar_ui(
         ui,
         "World scale",
         " m/unit",
         "Metres per scene unit of the meshes this look is used on (Unity's worldScale).",
-        &mut r.world_scale_m_per_unit,
-        1e-3..=1e3,
+        world_scale,
+        span(limits::WORLD_SCALE_M_PER_UNIT),
         0.001,
     );
     ui.label("Dual-lobe specular").on_hover_text("Unreal's two GGX lobes mixed by lobe mix; Unity's smoothness multipliers are derived on export.");
-    let s = &mut r.specular;
-    scalar(
-        ui,
-        "  Roughness",
-        "",
-        "Perceptual roughness the lobe multipliers apply to.",
-        &mut s.roughness,
-        0.0..=1.0,
-        0.005,
-    );
-    scalar(
-        ui,
-        "  Lobe 0 ×",
-        "",
-        "Roughness multiplier of the sharper lobe (Unreal Roughness0).",
-        &mut s.lobe0_roughness_multiplier,
-        0.0..=2.0,
-        0.005,
-    );
-    scalar(
-        ui,
-        "  Lobe 1 ×",
-        "",
-        "Roughness multiplier of the broader lobe (Unreal Roughness1).",
-        &mut s.lobe1_roughness_multiplier,
-        0.0..=2.0,
-        0.005,
-    );
-    scalar(
-        ui,
-        "  Lobe mix",
-        "",
-        "Weight of lobe 1 (Unreal LobeMix).",
-        &mut s.lobe_mix,
-        0.0..=1.0,
-        0.005,
-    );
+    let DualLobeSpec {
+        roughness,
+        lobe0_roughness_multiplier,
+        lobe1_roughness_multiplier,
+        lobe_mix,
+    } = s;
+    let rows = [
+        (
+            "  Roughness",
+            "Perceptual roughness the lobe multipliers apply to.",
+            roughness,
+            limits::UNIT,
+        ),
+        (
+            "  Lobe 0 ×",
+            "Roughness multiplier of the sharper lobe (Unreal Roughness0).",
+            lobe0_roughness_multiplier,
+            limits::LOBE_MULTIPLIER,
+        ),
+        (
+            "  Lobe 1 ×",
+            "Roughness multiplier of the broader lobe (Unreal Roughness1).",
+            lobe1_roughness_multiplier,
+            limits::LOBE_MULTIPLIER,
+        ),
+        (
+            "  Lobe mix",
+            "Weight of lobe 1 (Unreal LobeMix).",
+            lobe_mix,
+            limits::UNIT,
+        ),
+    ];
+    for (label, tip, v, range) in rows {
+        scalar_ui(ui, label, "", tip, v, span(range), 0.005);
+    }
 }

@@ -11,6 +11,10 @@ use std::f64::consts::PI;
 
 /// Documented range of the scattering distance d (mm).
 pub const DISTANCE_RANGE_MM: (f64, f64) = (1e-4, 1e3);
+/// Volume albedo A per channel.
+pub const ALBEDO_RANGE: (f64, f64) = (0.0, 1.0);
+/// Mean free path ℓ per channel (mm), before the fit turns it into d.
+pub const MEAN_FREE_PATH_RANGE_MM: (f64, f64) = (1e-6, 1e6);
 
 /// The three published fits s(A) of Christensen & Burley 2015 that turn a
 /// mean free path ℓ into the shape s = fit(A)/ℓ. Presets store it by its
@@ -83,7 +87,7 @@ pub struct Burley {
 impl Burley {
     /// A ∈ [0, 1] and d ∈ [1e-4, 1e3] mm per channel (Unity's parameters).
     pub fn from_scattering_distance(albedo: Rgb, distance_mm: Rgb) -> Result<Self, ModelError> {
-        check_rgb("albedo", albedo, 0.0, 1.0, "")?;
+        check_rgb("albedo", albedo, ALBEDO_RANGE.0, ALBEDO_RANGE.1, "")?;
         check_rgb(
             "scattering_distance_mm",
             distance_mm,
@@ -104,8 +108,9 @@ impl Burley {
         mfp_mm: Rgb,
         fit: ScalingFit,
     ) -> Result<Self, ModelError> {
-        check_rgb("albedo", albedo, 0.0, 1.0, "")?;
-        check_rgb("mean_free_path_mm", mfp_mm, 1e-6, 1e6, " mm")?;
+        check_rgb("albedo", albedo, ALBEDO_RANGE.0, ALBEDO_RANGE.1, "")?;
+        let (lo, hi) = MEAN_FREE_PATH_RANGE_MM;
+        check_rgb("mean_free_path_mm", mfp_mm, lo, hi, " mm")?;
         let d = rgb_map(|c| mfp_mm[c] / fit.scale(albedo[c]));
         for (c, v) in d.iter().enumerate() {
             check_range(

@@ -22,6 +22,8 @@ pub const DEON_SKIN: [(f64, Rgb); 6] = [
 
 /// Documented variance range (mm²).
 pub const VARIANCE_RANGE_MM2: (f64, f64) = (1e-10, 1e6);
+/// Weight of one term per channel.
+pub const WEIGHT_RANGE: (f64, f64) = (0.0, 1e6);
 
 /// One Gaussian term of one channel.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,7 +84,7 @@ impl GaussianSum {
             )?;
             for c in 0..3 {
                 let field = format!("gaussians[{k}].weights.{}", CHANNEL_NAMES[c]);
-                check_range(&field, w[c], 0.0, 1e6, "")?;
+                check_range(&field, w[c], WEIGHT_RANGE.0, WEIGHT_RANGE.1, "")?;
                 channels[c].push(Term {
                     weight: w[c],
                     variance_mm2: *v,

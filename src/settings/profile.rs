@@ -68,12 +68,17 @@ impl Default for BurleySpec {
     }
 }
 
+/// The scattering distance's multiplier (Unity's).
+pub const MULTIPLIER_RANGE: (f64, f64) = (1e-6, 1e6);
+
 impl BurleySpec {
     pub fn build(&self) -> Result<Burley, ModelError> {
-        crate::model::check_rgb("albedo", self.albedo, 0.0, 1.0, "")?;
+        let (lo, hi) = crate::model::burley::ALBEDO_RANGE;
+        crate::model::check_rgb("albedo", self.albedo, lo, hi, "")?;
         match &self.shape {
             BurleyShape::ScatteringDistance { mm, multiplier } => {
-                crate::model::check_range("shape.multiplier", *multiplier, 1e-6, 1e6, "")?;
+                let (lo, hi) = MULTIPLIER_RANGE;
+                crate::model::check_range("shape.multiplier", *multiplier, lo, hi, "")?;
                 let d = crate::model::rgb_map(|c| mm[c] * multiplier);
                 Burley::from_scattering_distance(self.albedo, d).map_err(|e| prefix("shape.", e))
             }

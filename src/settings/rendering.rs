@@ -153,6 +153,20 @@ impl Default for RenderingSpec {
     }
 }
 
+/// The range each rendering field accepts: `RenderingSpec::validate`
+/// checks it and the editor's rows stay inside it.
+pub mod limits {
+    /// `thickness_remap_mm` (both ends; the second at least the first).
+    pub const THICKNESS_REMAP_MM: (f64, f64) = (0.0, 1e4);
+    pub const TRANSMISSION_TINT: (f64, f64) = (0.0, 16.0);
+    pub const IOR: (f64, f64) = (1.0, 2.0);
+    pub const WORLD_SCALE_M_PER_UNIT: (f64, f64) = (1e-3, 1e3);
+    /// `specular.roughness` and `specular.lobe_mix`.
+    pub const UNIT: (f64, f64) = (0.0, 1.0);
+    /// `specular.lobe0_roughness_multiplier` and `lobe1_…`.
+    pub const LOBE_MULTIPLIER: (f64, f64) = (0.0, 2.0);
+}
+
 /// Burley sample counts the editor and presets accept.
 pub const SAMPLES_RANGE: (usize, usize) = (1, 1024);
 /// Separable tap counts (odd).
@@ -178,41 +192,51 @@ impl RenderingSpec {
                 format!("{} is even; the kernel needs a centre tap", self.taps),
             ));
         }
+        let range = |field: &str, v: f64, (lo, hi): (f64, f64), unit: &'static str| {
+            check_range(&format!("rendering.{field}"), v, lo, hi, unit)
+        };
         let (lo, hi) = self.thickness_remap_mm;
-        check_range("rendering.thickness_remap_mm.0", lo, 0.0, 1e4, " mm")?;
-        check_range("rendering.thickness_remap_mm.1", hi, lo, 1e4, " mm")?;
+        range(
+            "thickness_remap_mm.0",
+            lo,
+            limits::THICKNESS_REMAP_MM,
+            " mm",
+        )?;
+        let upper = (lo, limits::THICKNESS_REMAP_MM.1);
+        range("thickness_remap_mm.1", hi, upper, " mm")?;
+        let (lo, hi) = limits::TRANSMISSION_TINT;
         check_rgb(
             "rendering.transmission_tint",
             self.transmission_tint,
-            0.0,
-            16.0,
+            lo,
+            hi,
             "",
         )?;
-        check_range("rendering.ior", self.ior, 1.0, 2.0, "")?;
-        check_range(
-            "rendering.world_scale_m_per_unit",
-            self.world_scale_m_per_unit,
-            1e-3,
-            1e3,
+        range("ior", self.ior, limits::IOR, "")?;
+        let scale = self.world_scale_m_per_unit;
+        range(
+            "world_scale_m_per_unit",
+            scale,
+            limits::WORLD_SCALE_M_PER_UNIT,
             " m/unit",
         )?;
         let s = &self.specular;
-        check_range("rendering.specular.roughness", s.roughness, 0.0, 1.0, "")?;
-        check_range(
-            "rendering.specular.lobe0_roughness_multiplier",
-            s.lobe0_roughness_multiplier,
-            0.0,
-            2.0,
+        range("specular.roughness", s.roughness, limits::UNIT, "")?;
+        let lobe0 = s.lobe0_roughness_multiplier;
+        range(
+            "specular.lobe0_roughness_multiplier",
+            lobe0,
+            limits::LOBE_MULTIPLIER,
             "",
         )?;
-        check_range(
-            "rendering.specular.lobe1_roughness_multiplier",
-            s.lobe1_roughness_multiplier,
-            0.0,
-            2.0,
+        let lobe1 = s.lobe1_roughness_multiplier;
+        range(
+            "specular.lobe1_roughness_multiplier",
+            lobe1,
+            limits::LOBE_MULTIPLIER,
             "",
         )?;
-        check_range("rendering.specular.lobe_mix", s.lobe_mix, 0.0, 1.0, "")?;
+        range("specular.lobe_mix", s.lobe_mix, limits::UNIT, "")?;
         Ok(())
     }
 
