@@ -162,42 +162,9 @@ impl EditorApp {
                         for (k, slot) in SLOTS.into_iter().enumerate() {
                             let m = &mut settings.maps[k];
                             let label = slot_label(slot);
-                            ui.vertical(|ui| {
-                                ui.strong(label);
-                                let file = m.path.as_ref().and_then(|p| p.file_name()).map_or_else(
-                                    || "the mesh's own".to_string(),
-                                    |n| n.to_string_lossy().into_owned(),
-                                );
-                                if ui
-                                    .button(format!("{label}: {file}"))
-                                    .on_hover_text("Choose a PNG or JPEG that replaces this map.")
-                                    .clicked()
-                                {
-                                    choose = Some(k);
-                                }
-                                ui.horizontal(|ui| {
-                                    if ui
-                                        .add_enabled(m.path.is_some(), egui::Button::new("Clear"))
-                                        .on_hover_text("Back to the mesh's own map.")
-                                        .clicked()
-                                    {
-                                        m.path = None;
-                                    }
-                                    ui.checkbox(&mut m.flip_v, format!("{label}: flip V"))
-                                        .on_hover_text("For maps made with V up (OpenGL's bottom-left origin) on a mesh with glTF's top-left origin, or the other way round.");
-                                });
-                                egui::ComboBox::from_id_salt(("map_space", k))
-                                    .selected_text(if m.srgb { "sRGB" } else { "linear" })
-                                    .show_ui(ui, |ui| {
-                                        ui.selectable_value(&mut m.srgb, true, "sRGB");
-                                        ui.selectable_value(&mut m.srgb, false, "linear");
-                                    })
-                                    .response
-                                    .on_hover_text(format!(
-                                        "How the file's texels are encoded ({} is usual for this map).",
-                                        if MapSlot::default_for(slot).srgb { "sRGB" } else { "linear" }
-                                    ));
-                            });
+                            if map_slot_ui(ui, k, slot, m) {
+                                choose = Some(k);
+                            }
                             ui.vertical(|ui| {
                                 let Some(p) = preview.as_mut() else { return };
                                 let Some(Ok(slots)) = p.result.as_ref() else { return };
@@ -250,4 +217,48 @@ impl EditorApp {
             self.meshes.maps_window = None;
         }
     }
+}
+
+/// One map slot's file, clear, flip-V and colour space controls; whether
+/// the artist asked to choose its file.
+fn map_slot_ui(ui: &mut egui::Ui, k: usize, slot: TextureSlot, m: &mut MapSlot) -> bool {
+    let label = slot_label(slot);
+    let mut choose = false;
+    ui.vertical(|ui| {
+        ui.strong(label);
+        let file = m.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+            || "the mesh's own".to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        if ui
+            .button(format!("{label}: {file}"))
+            .on_hover_text("Choose a PNG or JPEG that replaces this map.")
+            .clicked()
+        {
+            choose = true;
+        }
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(m.path.is_some(), egui::Button::new("Clear"))
+                .on_hover_text("Back to the mesh's own map.")
+                .clicked()
+            {
+                m.path = None;
+            }
+            ui.checkbox(&mut m.flip_v, format!("{label}: flip V"))
+                .on_hover_text("For maps made with V up (OpenGL's bottom-left origin) on a mesh with glTF's top-left origin, or the other way round.");
+        });
+        egui::ComboBox::from_id_salt(("map_space", k))
+            .selected_text(if m.srgb { "sRGB" } else { "linear" })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut m.srgb, true, "sRGB");
+                ui.selectable_value(&mut m.srgb, false, "linear");
+            })
+            .response
+            .on_hover_text(format!(
+                "How the file's texels are encoded ({} is usual for this map).",
+                if MapSlot::default_for(slot).srgb { "sRGB" } else { "linear" }
+            ));
+    });
+    choose
 }

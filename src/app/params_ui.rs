@@ -495,58 +495,7 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
         ))
         .default_open(true)
         .show(ui, |ui| {
-            rgb_ui(
-                ui,
-                "σa",
-                " /mm",
-                "Absorption coefficient of this layer.",
-                &mut l.sigma_a_per_mm,
-                span(dipole::SIGMA_A_RANGE),
-                0.001,
-                false,
-            );
-            rgb_ui(
-                ui,
-                "σs'",
-                " /mm",
-                "Reduced scattering coefficient of this layer.",
-                &mut l.sigma_s_prime_per_mm,
-                span(dipole::SIGMA_S_PRIME_RANGE),
-                0.005,
-                false,
-            );
-            scalar_ui(
-                ui,
-                "η",
-                "",
-                "Index of refraction of this layer.",
-                &mut l.eta,
-                span(dipole::ETA_RANGE),
-                0.005,
-            );
-            let last = i + 1 == n;
-            let mut infinite = l.thickness_mm.is_none();
-            if last {
-                ui.checkbox(&mut infinite, "semi-infinite")
-                    .on_hover_text("The last layer may extend without bound (a base).");
-            } else {
-                infinite = false;
-            }
-            if infinite {
-                l.thickness_mm = None;
-            } else {
-                let mut t = l.thickness_mm.unwrap_or(1.0);
-                scalar_ui(
-                    ui,
-                    "Thickness",
-                    " mm",
-                    "Depth of this layer.",
-                    &mut t,
-                    span(THICKNESS_RANGE_MM),
-                    0.01,
-                );
-                l.thickness_mm = Some(t);
-            }
+            layer_ui(ui, l, i + 1 == n);
             if n > 1 && ui.small_button("Remove layer").clicked() {
                 remove = Some(i);
             }
@@ -572,6 +521,62 @@ fn multipole_ui(ui: &mut Ui, m: &mut MultipoleSpec) {
     let len = layers.len();
     for l in layers.iter_mut().take(len.saturating_sub(1)) {
         l.thickness_mm.get_or_insert(1.0);
+    }
+}
+
+/// One layer's rows: σa, σs', η and its thickness (the last layer may be
+/// semi-infinite, a base).
+fn layer_ui(ui: &mut Ui, l: &mut LayerSpec, last: bool) {
+    rgb_ui(
+        ui,
+        "σa",
+        " /mm",
+        "Absorption coefficient of this layer.",
+        &mut l.sigma_a_per_mm,
+        span(dipole::SIGMA_A_RANGE),
+        0.001,
+        false,
+    );
+    rgb_ui(
+        ui,
+        "σs'",
+        " /mm",
+        "Reduced scattering coefficient of this layer.",
+        &mut l.sigma_s_prime_per_mm,
+        span(dipole::SIGMA_S_PRIME_RANGE),
+        0.005,
+        false,
+    );
+    scalar_ui(
+        ui,
+        "η",
+        "",
+        "Index of refraction of this layer.",
+        &mut l.eta,
+        span(dipole::ETA_RANGE),
+        0.005,
+    );
+    let mut infinite = l.thickness_mm.is_none();
+    if last {
+        ui.checkbox(&mut infinite, "semi-infinite")
+            .on_hover_text("The last layer may extend without bound (a base).");
+    } else {
+        infinite = false;
+    }
+    if infinite {
+        l.thickness_mm = None;
+    } else {
+        let mut t = l.thickness_mm.unwrap_or(1.0);
+        scalar_ui(
+            ui,
+            "Thickness",
+            " mm",
+            "Depth of this layer.",
+            &mut t,
+            span(THICKNESS_RANGE_MM),
+            0.01,
+        );
+        l.thickness_mm = Some(t);
     }
 }
 

@@ -388,6 +388,19 @@ fn compared_preset_series(
 
 /// The profile plot with its 99.7 % radii, the overlay, B and the taps,
 /// the legend under it and the totals; returns where the plot went.
+/// A radius axis mark in mm: on a log axis the mark is log10(r).
+fn radius_mark(value: f64, log_r: bool) -> String {
+    if !log_r {
+        return format!("{value}");
+    }
+    let r = 10f64.powf(value);
+    if r >= 1.0 {
+        format!("{r:.0}")
+    } else {
+        format!("{r:.prec$}", prec = (-value).ceil() as usize)
+    }
+}
+
 fn profile_plot_ui(
     ui: &mut egui::Ui,
     app: &EditorApp,
@@ -415,19 +428,7 @@ fn profile_plot_ui(
         } else {
             "radius (mm)"
         })
-        .x_axis_formatter(move |mark, _| {
-            if log_r {
-                // The mark is log10(r): label it in mm.
-                let r = 10f64.powf(mark.value);
-                if r >= 1.0 {
-                    format!("{r:.0}")
-                } else {
-                    format!("{r:.prec$}", prec = (-mark.value).ceil() as usize)
-                }
-            } else {
-                format!("{}", mark.value)
-            }
-        })
+        .x_axis_formatter(move |mark, _| radius_mark(mark.value, log_r))
         .y_axis_label(if log {
             format!("log10 value ({unit})")
         } else {

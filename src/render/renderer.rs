@@ -7,7 +7,7 @@
 use super::context::{GpuContext, GpuError};
 use super::frame::FrameEncoder;
 use super::framing::Framing;
-use super::gpu_types::{CompositeUniforms, SssUniforms};
+use super::gpu_types::SssUniforms;
 pub use super::inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 use super::mesh::Mesh;
 use super::passes::classify::ClassifyPass;
@@ -28,7 +28,6 @@ use super::sss::{self, SssFrame, SssPipelines};
 use super::targets::{HdrTarget, Targets};
 use super::textures::MeshTextures;
 use super::timing::{PassStats, PassTimer};
-use bytemuck::Zeroable;
 use glam::Vec3;
 
 /// Per-profile resources and the scene bind group that refers to them.
@@ -259,6 +258,17 @@ impl Renderer {
         }
     }
 
+    /// Which of the mesh's levels of detail a frame draws: the finest for
+    /// the ground truth, which integrates the finest surface, or with the
+    /// mesh LOD off.
+    fn mesh_lod_for(&self, s: &RenderSettings) -> usize {
+        if s.method.sss().ground_truth || !s.mesh_lod {
+            0
+        } else {
+            pick_lod(&self.lods, &self.framing, s)
+        }
+    }
+
     /// Records and submits the frame's passes, then reads it back.
     fn encode_and_read(
         &mut self,
@@ -272,12 +282,7 @@ impl Renderer {
         let ctx = &self.ctx;
         let camera = self.framing.camera_and_light(s);
         let scene_u = self.scene.uniforms(&self.framing, &camera, inputs, s);
-        // The ground truth integrates the finest surface: draw that one.
-        let lod_index = if s.method.sss().ground_truth || !s.mesh_lod {
-            0
-        } else {
-            pick_lod(&self.lods, &self.framing, s)
-        };
+        let lod_index = self.mesh_lod_for(s);
         let lod = &self.lods[lod_index];
         let scene_key = SceneKey {
             uniforms: bytemuck::bytes_of(&scene_u).to_vec(),
@@ -341,22 +346,17 @@ impl Renderer {
         let scattered = (method.sss().encode)(&mut f, &self.sss, &io);
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
-        let shown = match s.progressive {
-            Some(p) => self.composite.accumulate(&mut f, t, p, scattered.target)?,
-            None => (t.texture(scattered.target), t.view(scattered.target)),
-        };
-        let composite = CompositeUniforms {
-            exposure: s.view.exposure,
-            ..Zeroable::zeroed()
-        };
-        self.composite.encode(&mut f, t, shown.1, composite);
+        let (exposure, target) = (s.view.exposure, scattered.target);
+        let shown = self
+            .composite
+            .finish(&mut f, t, s.progressive, exposure, target)?;
         let FrameEncoder {
             mut encoder,
             mut timer,
             ..
         } = f;
         timer.resolve(&mut encoder);
-        let diffuse_textures = [t.texture(HdrTarget::Diffuse), shown.0];
+        let diffuse_textures = [t.texture(HdrTarget::Diffuse), shown];
         let (image, diffuse) = read_frame(
             ctx,
             encoder,

@@ -60,6 +60,29 @@ impl CompositePass {
     /// Progressive refinement: blends the method's output (`scattered`)
     /// into running mean `p.slot` with weight 1/(n+1) for frame n, and
     /// returns the mean (what composite then shows).
+    /// The frame's last step: the scattered irradiance, averaged into the
+    /// progressive mean when there is one, composited into the output at
+    /// `exposure`. Returns the texture shown (the mean or the irradiance).
+    pub fn finish<'t>(
+        &self,
+        f: &mut FrameEncoder,
+        t: &'t Targets,
+        progressive: Option<Progressive>,
+        exposure: f32,
+        scattered: HdrTarget,
+    ) -> Result<&'t wgpu::Texture, GpuError> {
+        let (texture, view) = match progressive {
+            Some(p) => self.accumulate(f, t, p, scattered)?,
+            None => (t.texture(scattered), t.view(scattered)),
+        };
+        let uniforms = CompositeUniforms {
+            exposure,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        self.encode(f, t, view, uniforms);
+        Ok(texture)
+    }
+
     pub fn accumulate<'t>(
         &self,
         f: &mut FrameEncoder,

@@ -87,6 +87,15 @@ pub(in crate::render) struct Cache {
 }
 
 impl Cache {
+    /// The last frame's texels, if it was for these cells (`key`) and this
+    /// frame (`frame_key`).
+    fn frame_for(&self, key: u64, frame_key: u64) -> Option<&[u8]> {
+        match &self.frame {
+            Some((fk, bytes)) if self.key == key && *fk == frame_key => Some(bytes),
+            _ => None,
+        }
+    }
+
     /// The cloud of `inputs`' profile over these cells (made and kept if
     /// new: bucketing the cells is a fraction of building them).
     fn cloud(&mut self, inputs: &ProfileInputs) -> Result<Arc<Cloud>, GpuError> {
@@ -166,28 +175,13 @@ pub(in crate::render) fn scatter(
     // The same cells, profile and view as the last frame: its texels,
     // before any readback (A/B toggles and compare modes ask for it again).
     let k = SceneIrradiance::key(scene);
-    let frame_key = {
-        use std::hash::{Hash, Hasher};
-        let mut hs = std::collections::hash_map::DefaultHasher::new();
-        k.hash(&mut hs);
-        inputs.methods.reference.table.fingerprint().hash(&mut hs);
-        bytemuck::bytes_of(scene).hash(&mut hs);
-        (w, h, s.view.fov_y_rad.to_bits(), s.reference_supersample).hash(&mut hs);
-        hs.finish()
-    };
-    if let Some(Cache {
-        key: ck,
-        frame: Some((fk, bytes)),
-        ..
-    }) = cache.as_ref()
-    {
-        if *ck == k && *fk == frame_key {
-            write_ping(ctx, io.ping, bytes, w, h);
-            return Ok(Timing {
-                build_ms: None,
-                gather_ms: 0.0,
-            });
-        }
+    let frame_key = frame_key(k, scene, s, inputs);
+    if let Some(bytes) = cache.as_ref().and_then(|c| c.frame_for(k, frame_key)) {
+        write_ping(ctx, io.ping, bytes, w, h);
+        return Ok(Timing {
+            build_ms: None,
+            gather_ms: 0.0,
+        });
     }
     let encoder = ctx
         .device
@@ -260,6 +254,19 @@ pub(in crate::render) fn scatter(
         build_ms,
         gather_ms,
     })
+}
+
+/// What a finished frame is kept under: the cells, the profile, the scene
+/// and the view.
+fn frame_key(cells: u64, scene: &SceneUniforms, s: &RenderSettings, inputs: &ProfileInputs) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hs = std::collections::hash_map::DefaultHasher::new();
+    cells.hash(&mut hs);
+    inputs.methods.reference.table.fingerprint().hash(&mut hs);
+    bytemuck::bytes_of(scene).hash(&mut hs);
+    let view = (s.view.fov_y_rad.to_bits(), s.reference_supersample);
+    (s.width, s.height, view).hash(&mut hs);
+    hs.finish()
 }
 
 /// What a cloud is built from and kept with.
