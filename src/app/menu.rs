@@ -96,94 +96,7 @@ impl EditorApp {
 
     pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui
-                    .button("Browse presets…")
-                    .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
-                    .clicked()
-                {
-                    self.dialogs.browser = Some(browser::PresetBrowser::open(self.dialogs.thumbnail_dir.clone()));
-                    ui.close();
-                }
-                ui.menu_button("New from preset", |ui| {
-                    for (file, _) in library::PRESETS {
-                        if let Ok(p) = library::load(file) {
-                            if ui.button(&p.name).on_hover_text(&p.source).clicked() {
-                                self.guarded(Pending::New(Box::new(p)));
-                                ui.close();
-                            }
-                        }
-                    }
-                });
-                if ui.button("Open…  (Ctrl+O)").clicked() {
-                    self.open_dialog(DialogKind::Open);
-                    ui.close();
-                }
-                if ui
-                    .button("Import engine file…")
-                    .on_hover_text("A Unity HDRP diffusion profile, Unreal SubsurfaceProfile text or .py, MaterialX document, Godot material or Blender snippet, as a new look: what that engine draws from it (you can also drop the file on the window)")
-                    .clicked()
-                {
-                    self.open_dialog(DialogKind::Import);
-                    ui.close();
-                }
-                ui.menu_button("Open recent", |ui| {
-                    if self.ui_state.recent.is_empty() {
-                        ui.label("(none)");
-                    }
-                    for p in self.ui_state.recent.clone() {
-                        if ui.button(p.display().to_string()).clicked() {
-                            self.guarded(Pending::Open(p));
-                            ui.close();
-                        }
-                    }
-                });
-                if ui.button("Save  (Ctrl+S)").clicked() {
-                    self.save();
-                    ui.close();
-                }
-                if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
-                    self.open_dialog(DialogKind::SaveAs);
-                    ui.close();
-                }
-                if ui
-                    .button("Save image…  (F12)")
-                    .on_hover_text("The viewport's frame as you see it (both sides of a comparison), as a PNG")
-                    .clicked()
-                {
-                    self.open_dialog(DialogKind::SaveImage);
-                    ui.close();
-                }
-                if ui
-                    .button("Save turntable…")
-                    .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
-                    .clicked()
-                {
-                    self.dialogs.turntable_open = true;
-                    ui.close();
-                }
-                ui.separator();
-                if ui
-                    .button("Load mesh…")
-                    .on_hover_text("An OBJ or glTF with UVs, in metres.")
-                    .clicked()
-                {
-                    self.open_dialog(DialogKind::Mesh);
-                    ui.close();
-                }
-                if ui.button("Default head").clicked() {
-                    if self.meshes.mesh.is_some() {
-                        self.report.status = "Loading the default head …".into();
-                    }
-                    self.meshes.mesh = None;
-                    ui.close();
-                }
-                ui.separator();
-                if ui.button("Quit").clicked() {
-                    self.guarded(Pending::Quit);
-                    ui.close();
-                }
-            });
+            ui.menu_button("File", |ui| self.file_menu_ui(ui));
             ui.menu_button("Edit", |ui| {
                 if ui
                     .add_enabled(self.doc.can_undo(), egui::Button::new("Undo  (Ctrl+Z)"))
@@ -201,42 +114,7 @@ impl EditorApp {
                     self.doc.redo();
                 }
             });
-            ui.menu_button("Export", |ui| {
-                for &f in Format::all() {
-                    // The name, and what it writes on a second, dimmer line.
-                    let mut text = egui::text::LayoutJob::default();
-                    let style = ui.style();
-                    text.append(
-                        f.name(),
-                        0.0,
-                        egui::TextFormat::simple(
-                            egui::TextStyle::Button.resolve(style),
-                            style.visuals.text_color(),
-                        ),
-                    );
-                    text.append(
-                        &format!("\n{}", f.description()),
-                        0.0,
-                        egui::TextFormat::simple(
-                            egui::TextStyle::Small.resolve(style),
-                            style.visuals.weak_text_color(),
-                        ),
-                    );
-                    if ui
-                        .button(text)
-                        .on_hover_text(format!(
-                            "{}: {} (command line: --format {})",
-                            f.name(),
-                            f.description(),
-                            f.id()
-                        ))
-                        .clicked()
-                    {
-                        self.open_dialog(DialogKind::Export(f));
-                        ui.close();
-                    }
-                }
-            });
+            ui.menu_button("Export", |ui| self.export_menu_ui(ui));
             ui.menu_button("Help", |ui| {
                 if ui.button("Shortcuts  (F1)").clicked() {
                     self.dialogs.help_open = true;
@@ -252,6 +130,136 @@ impl EditorApp {
             ui.label(format!("{}{}", self.doc.preset.name, dirty))
                 .on_hover_text("* = unsaved changes");
         });
+    }
+
+    /// The File menu: presets, open, import, save, images, meshes and quit.
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui) {
+        if ui
+            .button("Browse presets…")
+            .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
+            .clicked()
+        {
+            self.dialogs.browser = Some(browser::PresetBrowser::open(self.dialogs.thumbnail_dir.clone()));
+            ui.close();
+        }
+        ui.menu_button("New from preset", |ui| {
+            for (file, _) in library::PRESETS {
+                if let Ok(p) = library::load(file) {
+                    if ui.button(&p.name).on_hover_text(&p.source).clicked() {
+                        self.guarded(Pending::New(Box::new(p)));
+                        ui.close();
+                    }
+                }
+            }
+        });
+        if ui.button("Open…  (Ctrl+O)").clicked() {
+            self.open_dialog(DialogKind::Open);
+            ui.close();
+        }
+        if ui
+            .button("Import engine file…")
+            .on_hover_text("A Unity HDRP diffusion profile, Unreal SubsurfaceProfile text or .py, MaterialX document, Godot material or Blender snippet, as a new look: what that engine draws from it (you can also drop the file on the window)")
+            .clicked()
+        {
+            self.open_dialog(DialogKind::Import);
+            ui.close();
+        }
+        ui.menu_button("Open recent", |ui| {
+            if self.ui_state.recent.is_empty() {
+                ui.label("(none)");
+            }
+            for p in self.ui_state.recent.clone() {
+                if ui.button(p.display().to_string()).clicked() {
+                    self.guarded(Pending::Open(p));
+                    ui.close();
+                }
+            }
+        });
+        if ui.button("Save  (Ctrl+S)").clicked() {
+            self.save();
+            ui.close();
+        }
+        if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
+            self.open_dialog(DialogKind::SaveAs);
+            ui.close();
+        }
+        if ui
+            .button("Save image…  (F12)")
+            .on_hover_text(
+                "The viewport's frame as you see it (both sides of a comparison), as a PNG",
+            )
+            .clicked()
+        {
+            self.open_dialog(DialogKind::SaveImage);
+            ui.close();
+        }
+        if ui
+            .button("Save turntable…")
+            .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
+            .clicked()
+        {
+            self.dialogs.turntable_open = true;
+            ui.close();
+        }
+        ui.separator();
+        if ui
+            .button("Load mesh…")
+            .on_hover_text("An OBJ or glTF with UVs, in metres.")
+            .clicked()
+        {
+            self.open_dialog(DialogKind::Mesh);
+            ui.close();
+        }
+        if ui.button("Default head").clicked() {
+            if self.meshes.mesh.is_some() {
+                self.report.status = "Loading the default head …".into();
+            }
+            self.meshes.mesh = None;
+            ui.close();
+        }
+        ui.separator();
+        if ui.button("Quit").clicked() {
+            self.guarded(Pending::Quit);
+            ui.close();
+        }
+    }
+
+    /// The Export menu: every target, its name and what it writes.
+    fn export_menu_ui(&mut self, ui: &mut egui::Ui) {
+        for &f in Format::all() {
+            // The name, and what it writes on a second, dimmer line.
+            let mut text = egui::text::LayoutJob::default();
+            let style = ui.style();
+            text.append(
+                f.name(),
+                0.0,
+                egui::TextFormat::simple(
+                    egui::TextStyle::Button.resolve(style),
+                    style.visuals.text_color(),
+                ),
+            );
+            text.append(
+                &format!("\n{}", f.description()),
+                0.0,
+                egui::TextFormat::simple(
+                    egui::TextStyle::Small.resolve(style),
+                    style.visuals.weak_text_color(),
+                ),
+            );
+            if ui
+                .button(text)
+                .on_hover_text(format!(
+                    "{}: {} (command line: --format {})",
+                    f.name(),
+                    f.description(),
+                    f.id()
+                ))
+                .clicked()
+            {
+                self.open_dialog(DialogKind::Export(f));
+                ui.close();
+            }
+        }
     }
 
     pub(super) fn status_bar_ui(&mut self, ui: &mut egui::Ui) {

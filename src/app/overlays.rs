@@ -47,41 +47,9 @@ impl EditorApp {
                 32.0,
             );
         }
-        // Also after a coarse ground truth has arrived (the view is no
-        // longer "busy": its full frame is on the way). The progress is the
-        // process's: only an editor with a viewport has a ground truth of
-        // its own (the UI tests run several editors in one process).
-        let truth =
-            crate::render::ground_truth::progress().filter(|_| self.view.viewport.is_some());
-        if let Some((phase, done, total)) = truth {
-            // `reference` is the ground truth, computed on the CPU on the
-            // render thread: tens of seconds for a full viewport. Above the
-            // "rendering … s" line.
-            let text = if phase == 1 {
-                "ground truth: irradiance over the surface …"
-            } else {
-                "ground truth: integrating each pixel …"
-            };
-            // The time left, from this phase's pace since the UI first saw
-            // it (a new phase, or a new frame's: its fraction starts again).
-            let now = std::time::Instant::now();
-            let (first_at, first_done) = match self.view.truth_phase {
-                Some((p, t, d0, last)) if p == (phase, total) && done >= last => (t, d0),
-                _ => (now, done),
-            };
-            self.view.truth_phase = Some(((phase, total), first_at, first_done, done));
-            let (spent, gained) = ((now - first_at).as_secs_f32(), done - first_done);
-            let left = if gained > 0.02 && spent > 0.5 {
-                format!(" · {:.0} s left", spent / gained * (1.0 - done))
-            } else {
-                String::new()
-            };
-            progress(
-                ui,
-                done,
-                format!("{text} {:.0} %{left}", 100.0 * done),
-                64.0,
-            );
+        if let Some((done, text)) = self.truth_progress() {
+            // Above the "rendering … s" line.
+            progress(ui, done, text, 64.0);
         }
         if crate::render::ground_truth::progress().is_none() {
             self.view.truth_phase = None;
@@ -106,22 +74,7 @@ impl EditorApp {
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
         if self.view.show_before {
-            // Say so: the frame is not the look being edited.
-            let at = rect.center_top() + egui::vec2(0.0, 36.0);
-            let font = egui::FontId::proportional(15.0);
-            let text = "before the last edit (F: back)";
-            let galley = painter.layout_no_wrap(text.into(), font, egui::Color32::WHITE);
-            let plate = egui::Rect::from_center_size(at, galley.size()).expand(4.0);
-            painter.rect_filled(
-                plate,
-                3.0,
-                egui::Color32::from_rgba_unmultiplied(120, 60, 0, 220),
-            );
-            painter.galley(
-                plate.min + egui::vec2(4.0, 4.0),
-                galley,
-                egui::Color32::WHITE,
-            );
+            before_plate_ui(&painter, rect);
         }
         self.light_gizmo_ui(ui, rect);
         self.layout.viewport_rect = Some(rect);
@@ -138,6 +91,41 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         }
+    }
+
+    /// The ground truth's progress bar, if one is being computed: the
+    /// fraction done and its text, with the time left.
+    fn truth_progress(&mut self) -> Option<(f32, String)> {
+        // Also after a coarse ground truth has arrived (the view is no
+        // longer "busy": its full frame is on the way). The progress is the
+        // process's: only an editor with a viewport has a ground truth of
+        // its own (the UI tests run several editors in one process).
+        let truth =
+            crate::render::ground_truth::progress().filter(|_| self.view.viewport.is_some());
+        truth.map(|(phase, done, total)| {
+            // `reference` is the ground truth, computed on the CPU on the
+            // render thread: tens of seconds for a full viewport.
+            let text = if phase == 1 {
+                "ground truth: irradiance over the surface …"
+            } else {
+                "ground truth: integrating each pixel …"
+            };
+            // The time left, from this phase's pace since the UI first saw
+            // it (a new phase, or a new frame's: its fraction starts again).
+            let now = std::time::Instant::now();
+            let (first_at, first_done) = match self.view.truth_phase {
+                Some((p, t, d0, last)) if p == (phase, total) && done >= last => (t, d0),
+                _ => (now, done),
+            };
+            self.view.truth_phase = Some(((phase, total), first_at, first_done, done));
+            let (spent, gained) = ((now - first_at).as_secs_f32(), done - first_done);
+            let left = if gained > 0.02 && spent > 0.5 {
+                format!(" · {:.0} s left", spent / gained * (1.0 - done))
+            } else {
+                String::new()
+            };
+            (done, format!("{text} {:.0} %{left}", 100.0 * done))
+        })
     }
 
     /// Numbers beside the difference view's colour bar (the frame's right
@@ -354,4 +342,25 @@ impl EditorApp {
             }
         }
     }
+}
+
+/// Says so when the frame shown is the look before the last edit, not the
+/// one being edited.
+fn before_plate_ui(painter: &egui::Painter, rect: egui::Rect) {
+    // Say so: the frame is not the look being edited.
+    let at = rect.center_top() + egui::vec2(0.0, 36.0);
+    let font = egui::FontId::proportional(15.0);
+    let text = "before the last edit (F: back)";
+    let galley = painter.layout_no_wrap(text.into(), font, egui::Color32::WHITE);
+    let plate = egui::Rect::from_center_size(at, galley.size()).expand(4.0);
+    painter.rect_filled(
+        plate,
+        3.0,
+        egui::Color32::from_rgba_unmultiplied(120, 60, 0, 220),
+    );
+    painter.galley(
+        plate.min + egui::vec2(4.0, 4.0),
+        galley,
+        egui::Color32::WHITE,
+    );
 }

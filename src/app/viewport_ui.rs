@@ -226,42 +226,9 @@ impl EditorApp {
                 info
             });
             env.on_hover_text("Environment: what lights the head besides the key light.");
-            let current = state::LightRig::current(v);
-            let rig_label = current.map_or("Light: custom".to_owned(), |r| format!("Light: {}", r.label()));
-            ui.menu_button(rig_label, |ui| {
-                for rig in state::LightRig::ALL {
-                    if ui
-                        .selectable_label(current == Some(rig), rig.label())
-                        .on_hover_text(rig.tip())
-                        .clicked()
-                    {
-                        if !rig.apply(v) {
-                            // The HDR rig with no map loaded: ask for one;
-                            // the map lights the head once it has loaded.
-                            open_environment = true;
-                            self.view.hdr_rig_pending = true;
-                        }
-                        ui.close();
-                    }
-                }
-                ui.separator();
-                ui.add(
-                    egui::DragValue::new(&mut v.orbit.light_intensity)
-                        .range(0.0..=50.0)
-                        .speed(0.05)
-                        .prefix("intensity "),
-                )
-                .on_hover_text("Irradiance of the key light (linear).");
-                ui.add(
-                    egui::DragValue::new(&mut v.orbit.exposure)
-                        .range(0.01..=20.0)
-                        .speed(0.01)
-                        .prefix("exposure "),
-                )
-                .on_hover_text("Multiplier before tonemapping.");
-            })
-            .response
-            .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. The key light's intensity and the exposure are in here too.");
+            if light_menu_ui(ui, v, &mut self.view.hdr_rig_pending) {
+                open_environment = true;
+            }
             if ui
                 .button("Reset view")
                 .on_hover_text(
@@ -531,4 +498,49 @@ impl EditorApp {
             }
         }
     }
+}
+
+/// The light rigs (one click each), the key light's intensity and the
+/// exposure; whether the chosen rig needs an HDR map first.
+fn light_menu_ui(ui: &mut egui::Ui, v: &mut state::ViewState, hdr_rig_pending: &mut bool) -> bool {
+    let mut open_environment = false;
+    let current = state::LightRig::current(v);
+    let rig_label = current.map_or("Light: custom".to_owned(), |r| {
+        format!("Light: {}", r.label())
+    });
+    ui.menu_button(rig_label, |ui| {
+        for rig in state::LightRig::ALL {
+            if ui
+                .selectable_label(current == Some(rig), rig.label())
+                .on_hover_text(rig.tip())
+                .clicked()
+            {
+                if !rig.apply(v) {
+                    // The HDR rig with no map loaded: ask for one;
+                    // the map lights the head once it has loaded.
+                    open_environment = true;
+                    *hdr_rig_pending = true;
+                }
+                ui.close();
+            }
+        }
+        ui.separator();
+        ui.add(
+            egui::DragValue::new(&mut v.orbit.light_intensity)
+                .range(0.0..=50.0)
+                .speed(0.05)
+                .prefix("intensity "),
+        )
+        .on_hover_text("Irradiance of the key light (linear).");
+        ui.add(
+            egui::DragValue::new(&mut v.orbit.exposure)
+                .range(0.01..=20.0)
+                .speed(0.01)
+                .prefix("exposure "),
+        )
+        .on_hover_text("Multiplier before tonemapping.");
+    })
+    .response
+    .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. The key light's intensity and the exposure are in here too.");
+    open_environment
 }

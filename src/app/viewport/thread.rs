@@ -41,20 +41,7 @@ pub(super) fn worker(
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
     wake: impl Fn(),
 ) {
-    let mut w = Worker {
-        renderer: None,
-        mesh_path: None,
-        mesh_settings: Default::default(),
-        mesh_info: None,
-        reframed: false,
-        cache: Vec::new(),
-        pending_maps: None,
-        kept: [None, None],
-        divisor: None,
-        full_frame_ms: None,
-        finished: Vec::new(),
-        cancel,
-    };
+    let mut w = Worker::new(cancel);
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
     // The editor learns the head's framing from it (Reset view, zoom limits,
@@ -99,37 +86,9 @@ pub(super) fn worker(
         // requests it replaces (one sent from here on cancels its work).
         w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
         let t0 = Instant::now();
-        let range = req.a.rendering.thickness_remap_mm.1 as f32;
-        match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
-            Err(e) => {
-                // Fall back to the head so the viewport keeps working.
-                let _ = tx.send(Reply::Error(e));
-                if req.mesh.is_some() {
-                    req.mesh = None;
-                    let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
-                    if let Some(info) = w.mesh_info {
-                        let _ = tx.send(Reply::MeshLoaded(None, info));
-                    }
-                }
-                if w.renderer.is_none() {
-                    wake();
-                    continue;
-                }
-            }
-            Ok(true) => {
-                if let Some(info) = w.mesh_info {
-                    let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
-                    // The editor frames a new mesh (or new units) when this
-                    // reply arrives; frame this first frame the same way,
-                    // so a stale camera never shows. A change of maps
-                    // alone keeps the artist's view.
-                    if w.reframed {
-                        req.view.orbit.camera_distance_m = info.framing_distance_m;
-                        req.view.orbit.camera_pan_m = [0.0; 2];
-                    }
-                }
-            }
-            Ok(false) => {}
+        if !prepare_mesh(&mut w, &mut req, &tx) {
+            wake();
+            continue;
         }
         if req.interactive && w.pending_maps.is_none() {
             if !send_preview(&mut w, &req, t0, &tx) {
@@ -140,28 +99,13 @@ pub(super) fn worker(
         }
         // A view finished before: shown again at once.
         if w.pending_maps.is_none() {
-            let key = req.key();
-            if let Some(i) = w.finished.iter().position(|(k, _)| *k == key) {
-                let kept = w.finished.remove(i);
-                let f = kept.1.clone();
-                w.finished.insert(0, kept);
-                let note = Some(f.note.map_or("kept from before".into(), |n| {
-                    format!("{n} · kept from before")
-                }));
-                let reply = Reply::Frame {
-                    difference_scale: f.difference_scale,
-                    image: f.image,
-                    stats: Box::new(f.stats),
-                    wall_ms: t0.elapsed().as_secs_f64() * 1e3,
-                    note,
-                    seq: req.seq,
-                    quality: Quality::Converged { frames: 1, ms: 0.0 },
-                };
-                if tx.send(reply).is_err() {
-                    return;
+            match send_kept(&mut w, &req, t0, &tx) {
+                Some(false) => return,
+                Some(true) => {
+                    wake();
+                    continue;
                 }
-                wake();
-                continue;
+                None => {}
             }
         }
         let mut r = Refine {
@@ -200,6 +144,87 @@ pub(super) fn worker(
         }
         wake();
     }
+}
+
+impl Worker {
+    /// A worker with no renderer yet, cancelled through `cancel`.
+    fn new(cancel: std::sync::Arc<std::sync::atomic::AtomicBool>) -> Self {
+        Worker {
+            renderer: None,
+            mesh_path: None,
+            mesh_settings: Default::default(),
+            mesh_info: None,
+            reframed: false,
+            cache: Vec::new(),
+            pending_maps: None,
+            kept: [None, None],
+            divisor: None,
+            full_frame_ms: None,
+            finished: Vec::new(),
+            cancel,
+        }
+    }
+}
+
+/// Loads the request's mesh and maps if they changed (replying with the
+/// mesh's framing); on an error, falls back to the head so the viewport
+/// keeps working. False when there is no renderer to draw with.
+fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>) -> bool {
+    let range = req.a.rendering.thickness_remap_mm.1 as f32;
+    match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
+        Err(e) => {
+            // Fall back to the head so the viewport keeps working.
+            let _ = tx.send(Reply::Error(e));
+            if req.mesh.is_some() {
+                req.mesh = None;
+                let _ = w.ensure_renderer(&None, &Default::default(), 1.0);
+                if let Some(info) = w.mesh_info {
+                    let _ = tx.send(Reply::MeshLoaded(None, info));
+                }
+            }
+            if w.renderer.is_none() {
+                return false;
+            }
+        }
+        Ok(true) => {
+            if let Some(info) = w.mesh_info {
+                let _ = tx.send(Reply::MeshLoaded(req.mesh.clone(), info));
+                // The editor frames a new mesh (or new units) when this
+                // reply arrives; frame this first frame the same way,
+                // so a stale camera never shows. A change of maps
+                // alone keeps the artist's view.
+                if w.reframed {
+                    req.view.orbit.camera_distance_m = info.framing_distance_m;
+                    req.view.orbit.camera_pan_m = [0.0; 2];
+                }
+            }
+        }
+        Ok(false) => {}
+    }
+    true
+}
+
+/// Sends the frame of a view finished before, if `req`'s is among them:
+/// `None` when it is not, else whether the reply was sent.
+fn send_kept(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) -> Option<bool> {
+    let key = req.key();
+    let i = w.finished.iter().position(|(k, _)| *k == key)?;
+    let kept = w.finished.remove(i);
+    let f = kept.1.clone();
+    w.finished.insert(0, kept);
+    let note = Some(f.note.map_or("kept from before".into(), |n| {
+        format!("{n} · kept from before")
+    }));
+    let reply = Reply::Frame {
+        difference_scale: f.difference_scale,
+        image: f.image,
+        stats: Box::new(f.stats),
+        wall_ms: t0.elapsed().as_secs_f64() * 1e3,
+        note,
+        seq: req.seq,
+        quality: Quality::Converged { frames: 1, ms: 0.0 },
+    };
+    Some(tx.send(reply).is_ok())
 }
 
 /// Renders a preview of `req` at the divisor that keeps a frame near
