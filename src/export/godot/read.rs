@@ -62,7 +62,17 @@ fn parse_value(v: &str, path: &Path, key: &str, line: usize) -> Result<Value, Im
     Ok(Value::Other(v.to_owned()))
 }
 
-pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
+/// A StandardMaterial3D's `[resource]` fields: parsed (with their line
+/// numbers), as written, and the file's comments.
+struct Material<'t> {
+    fields: Vec<(String, Value, usize)>,
+    raw: Vec<(String, String)>,
+    comments: Vec<&'t str>,
+}
+
+/// Parses a Godot text resource and checks it is a material with
+/// subsurface scattering fields.
+fn parse_material<'t>(text: &'t str, path: &Path) -> Result<Material<'t>, ImportError> {
     let mut header = None;
     let mut in_resource = false;
     let mut fields: Vec<(String, Value, usize)> = Vec::new();
@@ -116,65 +126,26 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
             format!("{header}: not a StandardMaterial3D (the only Godot resource with subsurface scattering fields)"),
         ));
     }
+    Ok(Material {
+        fields,
+        raw,
+        comments,
+    })
+}
+
+pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
+    let Material {
+        fields,
+        raw,
+        comments,
+    } = parse_material(text, path)?;
     let get = |k: &str| {
         fields
             .iter()
             .find(|(n, _, _)| n == k)
             .map(|(_, v, l)| (v, *l))
     };
-    let field = |k: &str| format!("[resource].{k}");
-    let enabled = match get("subsurf_scatter_enabled") {
-        Some((Value::Bool(b), _)) => *b,
-        None => false,
-        Some(_) => {
-            return Err(ImportError::field(
-                path,
-                field("subsurf_scatter_enabled"),
-                "not true or false",
-            ))
-        }
-    };
-    if !enabled {
-        return Err(ImportError::field(
-            path,
-            field("subsurf_scatter_enabled"),
-            "false or missing: the material has no subsurface scattering to import",
-        ));
-    }
-    // Godot's defaults (material.cpp): strength 0, skin mode off.
-    let strength = match get("subsurf_scatter_strength") {
-        Some((Value::Number(x), _)) => *x,
-        None => 0.0,
-        Some(_) => {
-            return Err(ImportError::field(
-                path,
-                field("subsurf_scatter_strength"),
-                "not a number",
-            ))
-        }
-    };
-    if !(0.0..=1.0).contains(&strength) {
-        return Err(ImportError::field(
-            path,
-            field("subsurf_scatter_strength"),
-            format!("{strength} is outside Godot's 0–1"),
-        ));
-    }
-    let skin = matches!(
-        get("subsurf_scatter_skin_mode"),
-        Some((Value::Bool(true), _))
-    );
-    let albedo = match get("albedo_color") {
-        Some((Value::Color(c), _)) => c.map(srgb_decode),
-        None => [1.0; 3],
-        Some(_) => {
-            return Err(ImportError::field(
-                path,
-                field("albedo_color"),
-                "not a Color",
-            ))
-        }
-    };
+    let (strength, skin, albedo) = sss_fields(&fields, path)?;
     let mut notes = vec![format!(
         "Godot's kernel is fixed (Jimenez's demo skin kernel{}); the strength sets its width, read with the project settings the export asks for (Subsurface Scattering Scale {GODOT_SCALE}, Depth Scale {GODOT_DEPTH_SCALE}, 1 unit = 1 m): with Godot's defaults the blur is a fraction of the screen, not of the object",
         if skin { ", per channel" } else { ", its red channel for all three" }
@@ -192,20 +163,7 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
     let widened = kernel
         .widened(width_mm)
         .map_err(|e| ImportError::file(path, e.to_string()))?;
-    // One Gaussian term per channel and kernel term (their variances differ
-    // by channel in skin mode), weighted by the albedo; the light Godot
-    // leaves at the entry point is the Dirac part.
-    let mut gaussians = Vec::new();
-    for c in 0..3 {
-        for t in widened.channel_terms(c) {
-            let mut weights = [0.0; 3];
-            weights[c] = t.weight * albedo[c];
-            gaussians.push(GaussianTerm {
-                variance_mm2: t.variance_mm2,
-                weights,
-            });
-        }
-    }
+    let gaussians = gaussian_terms(&widened, albedo);
     use crate::model::RadialProfile;
     let dirac = std::array::from_fn(|c| widened.dirac_weight()[c] * albedo[c]);
     notes.push(format!(
@@ -268,6 +226,97 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
         fields: raw.into_iter().filter(|(k, _)| keep(k)).collect(),
         notes,
     }])
+}
+
+/// The subsurface fields a look is read from: the strength, skin mode and
+/// albedo (Godot's defaults where they are missing, material.cpp), after
+/// checking scattering is on.
+fn sss_fields(
+    fields: &[(String, Value, usize)],
+    path: &Path,
+) -> Result<(f64, bool, [f64; 3]), ImportError> {
+    let get = |k: &str| {
+        fields
+            .iter()
+            .find(|(n, _, _)| n == k)
+            .map(|(_, v, l)| (v, *l))
+    };
+    let field = |k: &str| format!("[resource].{k}");
+    let enabled = match get("subsurf_scatter_enabled") {
+        Some((Value::Bool(b), _)) => *b,
+        None => false,
+        Some(_) => {
+            return Err(ImportError::field(
+                path,
+                field("subsurf_scatter_enabled"),
+                "not true or false",
+            ))
+        }
+    };
+    if !enabled {
+        return Err(ImportError::field(
+            path,
+            field("subsurf_scatter_enabled"),
+            "false or missing: the material has no subsurface scattering to import",
+        ));
+    }
+    // Godot's defaults (material.cpp): strength 0, skin mode off.
+    let strength = match get("subsurf_scatter_strength") {
+        Some((Value::Number(x), _)) => *x,
+        None => 0.0,
+        Some(_) => {
+            return Err(ImportError::field(
+                path,
+                field("subsurf_scatter_strength"),
+                "not a number",
+            ))
+        }
+    };
+    if !(0.0..=1.0).contains(&strength) {
+        return Err(ImportError::field(
+            path,
+            field("subsurf_scatter_strength"),
+            format!("{strength} is outside Godot's 0–1"),
+        ));
+    }
+    let skin = matches!(
+        get("subsurf_scatter_skin_mode"),
+        Some((Value::Bool(true), _))
+    );
+    let albedo = match get("albedo_color") {
+        Some((Value::Color(c), _)) => c.map(srgb_decode),
+        None => [1.0; 3],
+        Some(_) => {
+            return Err(ImportError::field(
+                path,
+                field("albedo_color"),
+                "not a Color",
+            ))
+        }
+    };
+    Ok((strength, skin, albedo))
+}
+
+/// The widened kernel as Gaussian terms, each weighted by the albedo.
+fn gaussian_terms(
+    widened: &crate::model::gaussian::GaussianSum,
+    albedo: [f64; 3],
+) -> Vec<GaussianTerm> {
+    // One Gaussian term per channel and kernel term (their variances differ
+    // by channel in skin mode), weighted by the albedo; the light Godot
+    // leaves at the entry point is the Dirac part.
+    let mut gaussians = Vec::new();
+    for c in 0..3 {
+        for t in widened.channel_terms(c) {
+            let mut weights = [0.0; 3];
+            weights[c] = t.weight * albedo[c];
+            gaussians.push(GaussianTerm {
+                variance_mm2: t.variance_mm2,
+                weights,
+            });
+        }
+    }
+    gaussians
 }
 
 /// A file scatterlab wrote names the look it came from in its comments

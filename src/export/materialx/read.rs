@@ -170,72 +170,29 @@ fn to_linear_rec709(
     }
 }
 
-fn read_shader(
-    node: roxmltree::Node,
-    kind: Shader,
-    path: &Path,
-    options: &ImportOptions,
-) -> Result<ImportedLook, ImportError> {
-    // The material that uses the shader names the look; else the shader.
-    let shader_name = node.attribute("name").unwrap_or("material");
-    let name = node
-        .document()
-        .descendants()
-        .filter(|m| m.is_element() && m.tag_name().name() == "surfacematerial")
-        .find(|m| {
-            m.children().any(|i| {
-                i.is_element()
-                    && i.attribute("name") == Some("surfaceshader")
-                    && i.attribute("nodename") == Some(shader_name)
-            })
-        })
-        .and_then(|m| m.attribute("name"))
-        .unwrap_or(shader_name)
-        .to_owned();
-    let name_for_fields = shader_name.to_owned();
-    let at = |input: &str| format!("{}[name={name_for_fields}].{input}", node.tag_name().name());
-    let mut fields = Vec::new();
-    let mut notes = Vec::new();
-    // (input name, default) per shader.
-    let (weight_in, colour_in, radius_in, scale_in, ior_in, rough_in) = match kind {
-        Shader::OpenPbr => (
-            "subsurface_weight",
-            "subsurface_color",
-            "subsurface_radius",
-            "subsurface_radius_scale",
-            "specular_ior",
-            "specular_roughness",
-        ),
-        Shader::StandardSurface => (
-            "subsurface",
-            "subsurface_color",
-            "subsurface_scale",
-            "subsurface_radius",
-            "specular_IOR",
-            "specular_roughness",
-        ),
-    };
-    let default_colour = match kind {
-        Shader::OpenPbr => [0.8; 3],
-        Shader::StandardSurface => [1.0; 3],
-    };
-    let default_scale: Rgb = match kind {
-        Shader::OpenPbr => [1.0, 0.5, 0.25],
-        Shader::StandardSurface => [1.0; 3],
-    };
-    let default_rough = match kind {
-        Shader::OpenPbr => 0.3,
-        Shader::StandardSurface => 0.2,
-    };
-    let float = |name: &str,
-                 default: f64,
-                 fields: &mut Vec<(String, String)>,
-                 notes: &mut Vec<String>|
-     -> Result<(f64, Option<String>), ImportError> {
-        match input(node, name) {
+/// A shader node's inputs as they are read: what each was read as (for
+/// the fields list) and what had to be assumed (the notes).
+struct ShaderInputs<'a> {
+    node: roxmltree::Node<'a, 'a>,
+    path: &'a Path,
+    fields: Vec<(String, String)>,
+    notes: Vec<String>,
+}
+
+impl ShaderInputs<'_> {
+    /// Where an input is, for errors: `shader[name=N].input`.
+    fn at(&self, input: &str) -> String {
+        let shader = self.node.attribute("name").unwrap_or("material");
+        format!("{}[name={shader}].{input}", self.node.tag_name().name())
+    }
+
+    /// A float input and its unit; its default where it is missing or
+    /// driven by a node graph (noted).
+    fn float(&mut self, name: &str, default: f64) -> Result<(f64, Option<String>), ImportError> {
+        match input(self.node, name) {
             Some(i) if i.value.is_some() => {
-                let v = numbers(i.value.unwrap_or_default(), 1, path, &at(name))?[0];
-                fields.push((
+                let v = numbers(i.value.unwrap_or_default(), 1, self.path, &self.at(name))?[0];
+                self.fields.push((
                     name.to_owned(),
                     match i.unit {
                         Some(u) => format!("{v} {u}"),
@@ -245,26 +202,24 @@ fn read_shader(
                 Ok((v, i.unit.map(str::to_owned)))
             }
             Some(i) if i.connected => {
-                notes.push(format!(
+                self.notes.push(format!(
                     "{name} is driven by a node graph: read as its default {default}"
                 ));
                 Ok((default, None))
             }
             _ => Ok((default, None)),
         }
-    };
-    let (weight, _) = float(weight_in, 0.0, &mut fields, &mut notes)?;
-    let colour3 = |name: &str,
-                   default: Rgb,
-                   fields: &mut Vec<(String, String)>,
-                   notes: &mut Vec<String>|
-     -> Result<(Rgb, Option<String>), ImportError> {
-        match input(node, name) {
+    }
+
+    /// A colour input in linear Rec.709 and its unit; its default where
+    /// it is missing or driven by a node graph (noted).
+    fn colour3(&mut self, name: &str, default: Rgb) -> Result<(Rgb, Option<String>), ImportError> {
+        match input(self.node, name) {
             Some(i) if i.value.is_some() => {
-                let v = numbers(i.value.unwrap_or_default(), 3, path, &at(name))?;
+                let v = numbers(i.value.unwrap_or_default(), 3, self.path, &self.at(name))?;
                 let raw = [v[0], v[1], v[2]];
-                let lin = to_linear_rec709(raw, i.colorspace, path, &at(name))?;
-                fields.push((
+                let lin = to_linear_rec709(raw, i.colorspace, self.path, &self.at(name))?;
+                self.fields.push((
                     name.to_owned(),
                     format!(
                         "({}, {}, {}){}",
@@ -277,29 +232,79 @@ fn read_shader(
                 Ok((lin, i.unit.map(str::to_owned)))
             }
             Some(i) if i.connected => {
-                notes.push(format!(
+                self.notes.push(format!(
                     "{name} is driven by a node graph: read as its default"
                 ));
                 Ok((default, None))
             }
             _ => Ok((default, None)),
         }
-    };
-    let (albedo, _) = colour3(colour_in, default_colour, &mut fields, &mut notes)?;
-    // The mean free path ℓ per channel and the unit it is in.
-    let (mfp, unit) = match kind {
-        Shader::OpenPbr => {
-            let (radius, unit) = float(radius_in, 1.0, &mut fields, &mut notes)?;
-            let (scale, _) = colour3(scale_in, default_scale, &mut fields, &mut notes)?;
-            (scale.map(|s| s * radius), unit)
+    }
+}
+
+/// The name of the material that uses the shader `node`, else the
+/// shader's own.
+fn look_name(node: roxmltree::Node) -> String {
+    let shader_name = node.attribute("name").unwrap_or("material");
+    node.document()
+        .descendants()
+        .filter(|m| m.is_element() && m.tag_name().name() == "surfacematerial")
+        .find(|m| {
+            m.children().any(|i| {
+                i.is_element()
+                    && i.attribute("name") == Some("surfaceshader")
+                    && i.attribute("nodename") == Some(shader_name)
+            })
+        })
+        .and_then(|m| m.attribute("name"))
+        .unwrap_or(shader_name)
+        .to_owned()
+}
+
+impl Shader {
+    /// The subsurface weight, colour, radius, radius scale, IOR and
+    /// roughness inputs' names.
+    fn input_names(self) -> [&'static str; 6] {
+        match self {
+            Shader::OpenPbr => [
+                "subsurface_weight",
+                "subsurface_color",
+                "subsurface_radius",
+                "subsurface_radius_scale",
+                "specular_ior",
+                "specular_roughness",
+            ],
+            Shader::StandardSurface => [
+                "subsurface",
+                "subsurface_color",
+                "subsurface_scale",
+                "subsurface_radius",
+                "specular_IOR",
+                "specular_roughness",
+            ],
         }
-        Shader::StandardSurface => {
-            let (scale, unit_a) = float(radius_in, 1.0, &mut fields, &mut notes)?;
-            let (radius, unit_b) = colour3(scale_in, default_scale, &mut fields, &mut notes)?;
-            (radius.map(|r| r * scale), unit_a.or(unit_b))
+    }
+
+    /// The defaults of the subsurface colour, the radius scale and the
+    /// roughness (each shader's own specification).
+    fn defaults(self) -> (Rgb, Rgb, f64) {
+        match self {
+            Shader::OpenPbr => ([0.8; 3], [1.0, 0.5, 0.25], 0.3),
+            Shader::StandardSurface => ([1.0; 3], [1.0; 3], 0.2),
         }
-    };
-    let mm_per_unit = match unit.as_deref() {
+    }
+}
+
+/// Millimetres per unit of the radius: its MaterialX distance unit, else
+/// the scene unit (`--metres-per-unit`, or USD's centimetre), noted.
+fn mm_per_unit(
+    unit: Option<&str>,
+    options: &ImportOptions,
+    at_radius: &str,
+    path: &Path,
+    notes: &mut Vec<String>,
+) -> Result<f64, ImportError> {
+    Ok(match unit {
         Some(u) => DISTANCE_UNITS_MM
             .iter()
             .find(|(n, _)| *n == u)
@@ -307,7 +312,7 @@ fn read_shader(
             .ok_or_else(|| {
                 ImportError::field(
                     path,
-                    at(radius_in),
+                    at_radius,
                     format!("unit \"{u}\" is not a MaterialX distance unit"),
                 )
             })?,
@@ -323,38 +328,23 @@ fn read_shader(
                 DEFAULT_SCENE_UNIT_MM
             }
         },
-    };
-    let (ior, _) = float(ior_in, 1.5, &mut fields, &mut notes)?;
-    let (roughness, _) = float(rough_in, default_rough, &mut fields, &mut notes)?;
-    if !(0.0..=1.0).contains(&weight) {
-        return Err(ImportError::field(
-            path,
-            at(weight_in),
-            format!("{weight} is outside 0–1"),
-        ));
-    }
-    if weight == 0.0 {
-        notes.push(format!(
-            "{weight_in} is 0: the renderer draws diffuse reflection only; the look here is the subsurface the document would scatter with"
-        ));
-    } else if weight < 1.0 {
-        notes.push(format!(
-            "{weight_in} is {weight}: the renderer mixes {:.0} % diffuse reflection with the scattering; the look here is the scattering alone",
-            100.0 * (1.0 - weight)
-        ));
-    }
-    if let Some(c) = (0..3).find(|&c| !(0.0..=1.0).contains(&albedo[c])) {
-        return Err(ImportError::field(
-            path,
-            at(colour_in),
-            format!("{} (linear) is outside 0–1", albedo[c]),
-        ));
-    }
-    let mfp_mm = mfp.map(|v| v * mm_per_unit);
+    })
+}
+
+/// Burley's scattering distance d = ℓ/s(A) per channel (Christensen &
+/// Burley 2015 eq. 5) from the mean free path in mm, within Burley's range:
+/// over it is an error (a wrong unit), under it is held at the shortest.
+fn scattering_distance(
+    mfp_mm: Rgb,
+    albedo: Rgb,
+    at_radius: &str,
+    path: &Path,
+    notes: &mut Vec<String>,
+) -> Result<Rgb, ImportError> {
     if let Some(c) = (0..3).find(|&c| !(mfp_mm[c] >= 0.0)) {
         return Err(ImportError::field(
             path,
-            at(radius_in),
+            at_radius,
             format!(
                 "{} mm in {} is negative",
                 mfp_mm[c],
@@ -362,13 +352,12 @@ fn read_shader(
             ),
         ));
     }
-    // d = ℓ/s(A) (Christensen & Burley 2015 eq. 5), within Burley's range.
     let (lo, hi) = crate::model::burley::DISTANCE_RANGE_MM;
     let d: Rgb = std::array::from_fn(|c| mfp_mm[c] / ScalingFit::Perpendicular.scale(albedo[c]));
     if let Some(c) = (0..3).find(|&c| d[c] > hi) {
         return Err(ImportError::field(
             path,
-            at(radius_in),
+            at_radius,
             format!(
                 "{} mm in {} is over {hi} mm: check the unit",
                 d[c],
@@ -381,13 +370,84 @@ fn read_shader(
             "a channel's path is under {lo} mm (no scattering): held at {lo} mm"
         ));
     }
-    let d = d.map(|v| v.max(lo));
+    Ok(d.map(|v| v.max(lo)))
+}
+
+fn read_shader(
+    node: roxmltree::Node,
+    kind: Shader,
+    path: &Path,
+    options: &ImportOptions,
+) -> Result<ImportedLook, ImportError> {
+    // The material that uses the shader names the look; else the shader.
+    let name = look_name(node);
+    let [weight_in, colour_in, radius_in, scale_in, ior_in, rough_in] = kind.input_names();
+    let (default_colour, default_scale, default_rough) = kind.defaults();
+    let mut r = ShaderInputs {
+        node,
+        path,
+        fields: Vec::new(),
+        notes: Vec::new(),
+    };
+    let (weight, _) = r.float(weight_in, 0.0)?;
+    let (albedo, _) = r.colour3(colour_in, default_colour)?;
+    // The mean free path ℓ per channel and the unit it is in.
+    let (mfp, unit) = match kind {
+        Shader::OpenPbr => {
+            let (radius, unit) = r.float(radius_in, 1.0)?;
+            let (scale, _) = r.colour3(scale_in, default_scale)?;
+            (scale.map(|s| s * radius), unit)
+        }
+        Shader::StandardSurface => {
+            let (scale, unit_a) = r.float(radius_in, 1.0)?;
+            let (radius, unit_b) = r.colour3(scale_in, default_scale)?;
+            (radius.map(|r| r * scale), unit_a.or(unit_b))
+        }
+    };
+    let mm_per_unit = mm_per_unit(
+        unit.as_deref(),
+        options,
+        &r.at(radius_in),
+        path,
+        &mut r.notes,
+    )?;
+    let (ior, _) = r.float(ior_in, 1.5)?;
+    let (roughness, _) = r.float(rough_in, default_rough)?;
+    if !(0.0..=1.0).contains(&weight) {
+        return Err(ImportError::field(
+            path,
+            r.at(weight_in),
+            format!("{weight} is outside 0–1"),
+        ));
+    }
+    if weight == 0.0 {
+        r.notes.push(format!(
+            "{weight_in} is 0: the renderer draws diffuse reflection only; the look here is the subsurface the document would scatter with"
+        ));
+    } else if weight < 1.0 {
+        r.notes.push(format!(
+            "{weight_in} is {weight}: the renderer mixes {:.0} % diffuse reflection with the scattering; the look here is the scattering alone",
+            100.0 * (1.0 - weight)
+        ));
+    }
+    if let Some(c) = (0..3).find(|&c| !(0.0..=1.0).contains(&albedo[c])) {
+        return Err(ImportError::field(
+            path,
+            r.at(colour_in),
+            format!("{} (linear) is outside 0–1", albedo[c]),
+        ));
+    }
+    let mfp_mm = mfp.map(|v| v * mm_per_unit);
+    let d = scattering_distance(mfp_mm, albedo, &r.at(radius_in), path, &mut r.notes)?;
     let ior_v = ior.clamp(1.0, 2.0);
     if ior_v != ior {
-        notes.push(format!(
+        r.notes.push(format!(
             "{ior_in} {ior} is held as {ior_v}, scatterlab's specular range"
         ));
     }
+    let ShaderInputs {
+        fields, mut notes, ..
+    } = r;
     let preset = Preset {
         name: name.clone(),
         description: format!("Read from a MaterialX {}.", node.tag_name().name()),

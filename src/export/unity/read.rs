@@ -283,28 +283,19 @@ fn rgb_text(c: Rgb) -> String {
     format!("({}, {}, {})", c[0], c[1], c[2])
 }
 
-/// One serialized `DiffusionProfile` as the look HDRP renders from it.
-fn profile_look(
+/// HDRP's scattering distance (one HDR colour before version 2, an LDR
+/// colour and its multiplier from version 2), checked, as (colour in mm,
+/// multiplier); a distance HDRP draws as no scattering is held at
+/// scatterlab's shortest.
+fn distance_fields(
     p: &Yaml,
     path: &Path,
     at: &str,
     version: usize,
-    asset_name: &str,
-) -> Result<ImportedLook, ImportError> {
+    fields: &mut Vec<(String, String)>,
+    notes: &mut Vec<String>,
+) -> Result<(Rgb, f64), ImportError> {
     let f = |name: &str| format!("{at}.{name}");
-    let mut fields = vec![(
-        "m_Version".to_owned(),
-        format!("{version} ({})", VERSIONS[version]),
-    )];
-    let mut notes = Vec::new();
-    let name = p["name"]
-        .as_str()
-        .filter(|n| !n.trim().is_empty())
-        .unwrap_or(asset_name)
-        .to_owned();
-    if !name.is_empty() {
-        fields.push(("name".into(), name.clone()));
-    }
     // The distance: one HDR colour before version 2; an LDR colour and its
     // multiplier from version 2 (the product is HDRP's d, in mm at the
     // profile's world scale).
@@ -373,8 +364,17 @@ fn profile_look(
     } else {
         ([min_mm; 3], 1.0)
     };
-    let tint = color(&p["transmissionTint"], path, &f("transmissionTint"))?;
-    fields.push(("transmissionTint".into(), rgb_text(tint)));
+    Ok((mm, multiplier))
+}
+
+/// `texturingMode` and `transmissionMode`, as indices of their values.
+fn mode_fields(
+    p: &Yaml,
+    path: &Path,
+    at: &str,
+    fields: &mut Vec<(String, String)>,
+) -> Result<(usize, usize), ImportError> {
+    let f = |name: &str| format!("{at}.{name}");
     let texturing = enum_field(
         &p["texturingMode"],
         path,
@@ -401,15 +401,21 @@ fn profile_look(
             ["Thick Object", "Thin Object"][transmission]
         ),
     ));
-    let (remap_lo, remap_hi) = vector2(&p["thicknessRemap"], path, &f("thicknessRemap"))?;
-    fields.push((
-        "thicknessRemap".into(),
-        format!("({remap_lo}, {remap_hi}) mm"),
-    ));
-    let world_scale = number(&p["worldScale"], path, &f("worldScale"))?;
-    fields.push(("worldScale".into(), format!("{world_scale} m/unit")));
-    let ior = number(&p["ior"], path, &f("ior"))?;
-    fields.push(("ior".into(), ior.to_string()));
+    Ok((texturing, transmission))
+}
+
+/// `smoothnessMultipliers`, `lobeMix` and `diffuseShadingPower`.
+type DualLobeFields = (Option<(f64, f64)>, Option<f64>, Option<f64>);
+
+/// The dual lobe's fields (HDRP 15 and later), each `None` where the file
+/// has none; the profile's hash is listed with them.
+fn dual_lobe_fields(
+    p: &Yaml,
+    path: &Path,
+    at: &str,
+    fields: &mut Vec<(String, String)>,
+) -> Result<DualLobeFields, ImportError> {
+    let f = |name: &str| format!("{at}.{name}");
     // Dual lobe (HDRP 15 and later); a file without it reads 0, and
     // `Validate` puts the defaults back where diffuseShadingPower is 0.
     let smoothness = if is_map(&p["smoothnessMultipliers"]) {
@@ -435,8 +441,17 @@ fn profile_look(
     if let Some(h) = p["hash"].as_i64() {
         fields.push(("hash".into(), h.to_string()));
     }
+    Ok((smoothness, lobe_mix, power))
+}
 
-    // `Validate`: the clamps every loaded profile goes through.
+/// HDRP's `Validate` clamps of the thickness remap, world scale and IOR,
+/// each clamp noted.
+fn hdrp_validate(
+    (remap_lo, remap_hi): (f64, f64),
+    world_scale: f64,
+    ior: f64,
+    notes: &mut Vec<String>,
+) -> ((f64, f64), f64, f64) {
     let remap_hi_v = remap_hi.max(0.0);
     let remap_lo_v = remap_lo.clamp(0.0, remap_hi_v);
     let world_scale_v = world_scale.max(0.001);
@@ -453,6 +468,49 @@ fn profile_look(
             ));
         }
     }
+    ((remap_lo_v, remap_hi_v), world_scale_v, ior_v)
+}
+
+/// One serialized `DiffusionProfile` as the look HDRP renders from it.
+fn profile_look(
+    p: &Yaml,
+    path: &Path,
+    at: &str,
+    version: usize,
+    asset_name: &str,
+) -> Result<ImportedLook, ImportError> {
+    let f = |name: &str| format!("{at}.{name}");
+    let mut fields = vec![(
+        "m_Version".to_owned(),
+        format!("{version} ({})", VERSIONS[version]),
+    )];
+    let mut notes = Vec::new();
+    let name = p["name"]
+        .as_str()
+        .filter(|n| !n.trim().is_empty())
+        .unwrap_or(asset_name)
+        .to_owned();
+    if !name.is_empty() {
+        fields.push(("name".into(), name.clone()));
+    }
+    let (mm, multiplier) = distance_fields(p, path, at, version, &mut fields, &mut notes)?;
+    let tint = color(&p["transmissionTint"], path, &f("transmissionTint"))?;
+    fields.push(("transmissionTint".into(), rgb_text(tint)));
+    let (texturing, transmission) = mode_fields(p, path, at, &mut fields)?;
+    let (remap_lo, remap_hi) = vector2(&p["thicknessRemap"], path, &f("thicknessRemap"))?;
+    fields.push((
+        "thicknessRemap".into(),
+        format!("({remap_lo}, {remap_hi}) mm"),
+    ));
+    let world_scale = number(&p["worldScale"], path, &f("worldScale"))?;
+    fields.push(("worldScale".into(), format!("{world_scale} m/unit")));
+    let ior = number(&p["ior"], path, &f("ior"))?;
+    fields.push(("ior".into(), ior.to_string()));
+    let (smoothness, lobe_mix, power) = dual_lobe_fields(p, path, at, &mut fields)?;
+
+    // `Validate`: the clamps every loaded profile goes through.
+    let clamped = hdrp_validate((remap_lo, remap_hi), world_scale, ior, &mut notes);
+    let ((remap_lo_v, remap_hi_v), world_scale_v, ior_v) = clamped;
     let (smooth, mix) = match (smoothness, lobe_mix, power) {
         (Some(s), Some(m), Some(p)) if p != 0.0 => (s, m),
         _ => ((1.0, 1.0), 0.5),

@@ -311,14 +311,14 @@ fn show(v: &Value) -> String {
     }
 }
 
-/// The look UE 5.1+ renders from a SubsurfaceProfileStruct.
-fn look_from_fields(
+/// The profile's own fields (albedo, mean free path colour and distance,
+/// world unit scale), range-checked as UE clamps them; a diffuse mean free
+/// path is upgraded as UE 5.1+ does on load.
+fn profile_fields(
     fields: &Fields,
-    name: &str,
-    kind: &'static str,
     path: &Path,
-) -> Result<ImportedLook, ImportError> {
-    let mut notes = Vec::new();
+    notes: &mut Vec<String>,
+) -> Result<UnrealProfile, ImportError> {
     if !boolean(fields, "bEnableBurley", true, path)? {
         return Err(ImportError::field(
             path,
@@ -354,7 +354,7 @@ fn look_from_fields(
         ));
     }
     let mean_free_path = boolean(fields, "bEnableMeanFreePath", false, path)?;
-    let profile = if mean_free_path {
+    Ok(if mean_free_path {
         UnrealProfile {
             surface_albedo: albedo,
             mean_free_path_color: mfp_colour,
@@ -369,7 +369,18 @@ fn look_from_fields(
             distance,
             world_unit_scale,
         )
-    };
+    })
+}
+
+/// The look UE 5.1+ renders from a SubsurfaceProfileStruct.
+fn look_from_fields(
+    fields: &Fields,
+    name: &str,
+    kind: &'static str,
+    path: &Path,
+) -> Result<ImportedLook, ImportError> {
+    let mut notes = Vec::new();
+    let profile = profile_fields(fields, path, &mut notes)?;
     let burley = profile
         .to_burley()
         .map_err(|e| ImportError::file(path, e.to_string()))?;
