@@ -23,7 +23,7 @@ use super::jimenez::Jimenez2012;
 use super::multipole::{Layer, LayeredMultipole, MultipoleSlab};
 use super::quad::{integrate_to_infinity, integrate_with_breaks};
 use super::separable::{ArtistTwoGaussian, SeparableKernel};
-use super::{measured, RadialProfile, Rgb};
+use super::{measured, ModelError, RadialProfile, Rgb};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -358,12 +358,12 @@ fn fmt3(v: Rgb) -> String {
 }
 
 /// Burley 2015: r·R(r) = A·s·(e^(−sr) + e^(−sr/3))/(8π).
-fn burley_case(rng: &mut Rng) -> Case {
+fn burley_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let a = rng.rgb(0.0, 1.0, false);
     let d = rng.rgb(1e-4, 1e3, true);
     let label = format!("A = {}, d = {} mm", fmt3(a), fmt3(d));
-    Case {
-        profile: Box::new(Burley::from_scattering_distance(a, d).expect("in range")),
+    Ok(Case {
+        profile: Box::new(Burley::from_scattering_distance(a, d)?),
         reference_rr: Some(Box::new(move |r| {
             [0, 1, 2].map(|c| {
                 let s = 1.0 / d[c];
@@ -372,7 +372,7 @@ fn burley_case(rng: &mut Rng) -> Case {
         })),
         bulk_only: false,
         label,
-    }
+    })
 }
 
 /// Σ w·e^(−r²/2v)/(2πv) times r, for terms per channel.
@@ -387,7 +387,7 @@ fn gaussian_rr(terms: [Vec<(f64, f64)>; 3]) -> Box<dyn Fn(f64) -> Rgb> {
     })
 }
 
-fn gaussians_case(rng: &mut Rng) -> Case {
+fn gaussians_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let n = 1 + (rng.next_u64() % 6) as usize;
     let terms: Vec<(f64, Rgb)> = (0..n)
         .map(|_| (rng.edged(1e-10, 1e6, true), rng.rgb(0.0, 1.0, false)))
@@ -397,19 +397,19 @@ fn gaussians_case(rng: &mut Rng) -> Case {
         terms.iter().map(|t| t.0).collect::<Vec<_>>()
     );
     let per_channel = [0, 1, 2].map(|c| terms.iter().map(|(v, w)| (*v, w[c])).collect());
-    Case {
-        profile: Box::new(GaussianSum::new(&terms).expect("in range")),
+    Ok(Case {
+        profile: Box::new(GaussianSum::new(&terms)?),
         reference_rr: Some(gaussian_rr(per_channel)),
         bulk_only: false,
         label,
-    }
+    })
 }
 
 /// Jimenez 2012: d'Eon's red terms 2–6 with variances × (0.001 + falloff)²
 /// and the weights of the demo's 1D kernel, strength·(w/√v)/Σ(w/√v) (the
 /// radial profile whose pre-integrated kernel is the demo's; Jimenez 2012,
 /// Jimenez et al. 2015 §4).
-fn jimenez_case(rng: &mut Rng) -> Case {
+fn jimenez_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let (s, f) = (rng.rgb(0.0, 1.0, false), rng.rgb(0.0, 1.0, false));
     let sum: f64 = DEON_SKIN[1..].iter().map(|t| t.1[0] / t.0.sqrt()).sum();
     let per_channel = [0, 1, 2].map(|c| {
@@ -419,22 +419,22 @@ fn jimenez_case(rng: &mut Rng) -> Case {
             .map(|(v, w)| (v * k, s[c] * w[0] / v.sqrt() / sum))
             .collect()
     });
-    Case {
-        profile: Box::new(Jimenez2012::new(s, f).expect("in range")),
+    Ok(Case {
+        profile: Box::new(Jimenez2012::new(s, f)?),
         reference_rr: Some(gaussian_rr(per_channel)),
         bulk_only: false,
         label: format!("strength = {}, falloff = {}", fmt3(s), fmt3(f)),
-    }
+    })
 }
 
 /// Jimenez 2015 §5: w·G(σn·s) + (1 − w)·G(σf·s).
-fn artist_case(rng: &mut Rng) -> Case {
+fn artist_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let (n, f) = (rng.rgb(1e-6, 1.0, true), rng.rgb(1e-6, 1.0, true));
     let (w, s) = (rng.edged(0.0, 1.0, false), rng.edged(1e-4, 1e3, true));
     let per_channel =
         [0, 1, 2].map(|c| vec![((n[c] * s).powi(2), w), ((f[c] * s).powi(2), 1.0 - w)]);
-    Case {
-        profile: Box::new(ArtistTwoGaussian::new(n, f, w, s).expect("in range")),
+    Ok(Case {
+        profile: Box::new(ArtistTwoGaussian::new(n, f, w, s)?),
         reference_rr: Some(gaussian_rr(per_channel)),
         bulk_only: false,
         label: format!(
@@ -442,7 +442,7 @@ fn artist_case(rng: &mut Rng) -> Case {
             fmt3(n),
             fmt3(f)
         ),
-    }
+    })
 }
 
 /// Jensen 2001 eq. 4 with z_r = 1/σ′t, z_v = z_r + 4AD.
@@ -488,10 +488,10 @@ fn medium(rng: &mut Rng) -> Medium {
     }
 }
 
-fn dipole_case(rng: &mut Rng) -> Case {
+fn dipole_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let (m, eta) = (medium(rng), rng.edged(1.0, 2.0, false));
-    Case {
-        profile: Box::new(Dipole::new(m, eta).expect("in range")),
+    Ok(Case {
+        profile: Box::new(Dipole::new(m, eta)?),
         reference_rr: Some(dipole_rr(m, eta)),
         bulk_only: false,
         label: format!(
@@ -499,20 +499,20 @@ fn dipole_case(rng: &mut Rng) -> Case {
             fmt3(m.sigma_a_per_mm),
             fmt3(m.sigma_s_prime_per_mm)
         ),
-    }
+    })
 }
 
 /// Every measured material at η = 1.0, 1.3 and 2.0, in turn.
-fn measured_case(index: usize) -> Case {
+fn measured_case(index: usize) -> Result<Case, ModelError> {
     let all = measured::all();
     let mat = &all[index % all.len()];
     let eta = [1.3, 1.0, 2.0][(index / all.len()) % 3];
-    Case {
-        profile: Box::new(Dipole::new(mat.medium(), eta).expect("in range")),
+    Ok(Case {
+        profile: Box::new(Dipole::new(mat.medium(), eta)?),
         reference_rr: Some(dipole_rr(mat.medium(), eta)),
         bulk_only: false,
         label: format!("{} at η = {eta}", mat.name),
-    }
+    })
 }
 
 fn slab_layer(rng: &mut Rng) -> Layer {
@@ -538,21 +538,21 @@ fn slab_label(l: &Layer, n: u32) -> String {
 
 /// The slab's R is its own closed form; CDF, inverse and kernels are
 /// checked, and the slab is the reference of the one-layer stack below.
-fn slab_case(rng: &mut Rng) -> Case {
+fn slab_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let layer = slab_layer(rng);
     let n = (rng.next_u64() % 26) as u32;
-    Case {
-        profile: Box::new(MultipoleSlab::new(&layer, 1.0, 1.0, n, "").expect("in range")),
+    Ok(Case {
+        profile: Box::new(MultipoleSlab::new(&layer, 1.0, 1.0, n, "")?),
         reference_rr: None,
         bulk_only: false,
         label: slab_label(&layer, n),
-    }
+    })
 }
 
 /// A one-layer stack (frequency space + FFTLog) against the slab's
 /// real-space dipole sum. Parameters stay where the stack is documented
 /// (optical thickness 10⁻³–10³ mean free paths).
-fn stack_case(rng: &mut Rng) -> Case {
+fn stack_case(rng: &mut Rng) -> Result<Case, ModelError> {
     let medium = Medium {
         sigma_a_per_mm: rng.rgb(1e-3, 1.0, true),
         sigma_s_prime_per_mm: rng.rgb(0.1, 50.0, true),
@@ -563,17 +563,19 @@ fn stack_case(rng: &mut Rng) -> Case {
         eta: rng.edged(1.2, 1.6, false),
     };
     let n = 10;
-    let slab = MultipoleSlab::new(&layer, 1.0, 1.0, n, "").expect("in range");
-    let stack = LayeredMultipole::new(&[layer], 1.0, 1.0, n).expect("in range");
-    Case {
+    let slab = MultipoleSlab::new(&layer, 1.0, 1.0, n, "")?;
+    let stack = LayeredMultipole::new(&[layer], 1.0, 1.0, n)?;
+    Ok(Case {
         profile: Box::new(stack),
         reference_rr: Some(Box::new(move |r| slab.r_reflectance(r))),
         bulk_only: true,
         label: slab_label(&layer, n),
-    }
+    })
 }
 
-type Generator = fn(&mut Rng, usize) -> Case;
+/// A random case of a model (`usize`: the case's index); an error when
+/// the generator left the model's documented ranges.
+type Generator = fn(&mut Rng, usize) -> Result<Case, ModelError>;
 
 /// One model of the sweep.
 struct ModelSweep {
@@ -704,14 +706,24 @@ pub fn run_with_progress(
             rng.next_u64();
             let mut t = Tally::new(m.name, m.reference);
             let start = std::time::Instant::now();
-            let case = (m.generate)(&mut rng, i);
             t.stress.cases = 1;
-            extremes(&case, &mut t);
-            check_r(&case, &mut t);
-            check_cdf(&case, &mut t);
-            check_inverse(&case, &mut t, &mut rng);
-            if i % m.kernel_every == 0 {
-                check_kernels(&case, &mut t);
+            match (m.generate)(&mut rng, i) {
+                Ok(case) => {
+                    extremes(&case, &mut t);
+                    check_r(&case, &mut t);
+                    check_cdf(&case, &mut t);
+                    check_inverse(&case, &mut t, &mut rng);
+                    if i % m.kernel_every == 0 {
+                        check_kernels(&case, &mut t);
+                    }
+                }
+                Err(e) => {
+                    // The sweep's own parameters were refused: as bad as
+                    // a wrong answer, and said where.
+                    t.stress.worst_r_rel = f64::INFINITY;
+                    t.stress.worst_r_at =
+                        format!("case {i}: the generator left the model's range: {e}");
+                }
             }
             t.stress.seconds = start.elapsed().as_secs_f64();
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
