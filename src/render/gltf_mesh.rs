@@ -232,6 +232,28 @@ fn check_accessors(prim: &gltf::Primitive) -> Result<(), String> {
 /// an accessor that does not exist (indexed unchecked during validation).
 fn check_glb_header(path: &Path) -> Result<(), String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let glb = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    let len = bytes.len() as u64;
+    if glb {
+        if let Some(problem) = crate::fsutil::too_short(len, 12, "a binary glTF header (12 bytes)")
+        {
+            return Err(problem);
+        }
+        if &bytes[0..4] != b"glTF" {
+            return Err(format!(
+                "not a binary glTF: it starts with {:?}, not the \"glTF\" magic",
+                String::from_utf8_lossy(&bytes[0..4])
+            ));
+        }
+    } else if let Some(problem) = crate::fsutil::too_short(len, 2, "a glTF document") {
+        return Err(problem);
+    } else if bytes.trim_ascii_start().first() != Some(&b'{')
+        && &bytes[0..4.min(bytes.len())] != b"glTF"
+    {
+        return Err("not a glTF document: a .gltf file is JSON, starting with '{'".into());
+    }
     let json: &[u8] = if bytes.len() >= 12 && &bytes[0..4] == b"glTF" {
         let word = |at: usize| {
             bytes

@@ -215,10 +215,15 @@ impl Mesh {
     }
 
     pub fn load_obj(path: &Path, metres_per_unit: f32) -> Result<Self, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|e| MeshError::Load {
+        let load_error = |message: String| MeshError::Load {
             path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+            message,
+        };
+        let len = crate::fsutil::file_len(path).map_err(|e| load_error(e.to_string()))?;
+        if let Some(problem) = crate::fsutil::too_short(len, 1, "an OBJ mesh") {
+            return Err(load_error(problem));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| load_error(e.to_string()))?;
         Self::from_obj_text(&text, &path.display().to_string(), metres_per_unit)
     }
 

@@ -215,6 +215,11 @@ pub fn from_dynamic(
 /// header claiming a huge image ran the fuzzer out of memory.
 pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, String> {
     const MAX_PIXELS: u64 = 64 << 20;
+    let len = crate::fsutil::file_len(path).map_err(|e| e.to_string())?;
+    // Shorter than any image format's signature (PNG's is 8 bytes).
+    if let Some(problem) = crate::fsutil::too_short(len, 8, "an image") {
+        return Err(problem);
+    }
     let mut reader = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
         .map_err(|e| e.to_string())?;

@@ -102,6 +102,14 @@ impl Preset {
             path: path.to_owned(),
             error,
         })?;
+        if text.trim().is_empty() {
+            let message = crate::fsutil::too_short(text.len() as u64, u64::MAX, "a preset")
+                .unwrap_or_default();
+            return Err(PresetError::Parse {
+                path: path.to_owned(),
+                message: format!("{message}: no preset in it (a RON file starting with '(')"),
+            });
+        }
         Self::from_ron(&text, path)
     }
 

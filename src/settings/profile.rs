@@ -39,8 +39,10 @@ impl Default for ProfileSpec {
     }
 }
 
-/// How a Burley profile's shape is given.
+/// How a Burley profile's shape is given. Unknown fields inside either
+/// variant are errors, as everywhere in a preset.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum BurleyShape {
     /// Unity's parameter: d per channel (mm) times a multiplier.
     ScatteringDistance { mm: Rgb, multiplier: f64 },
