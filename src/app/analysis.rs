@@ -259,27 +259,50 @@ pub(super) fn recv_newest<T>(rx: &Receiver<T>) -> Option<T> {
     }
 }
 
-/// A background thread computing `f(key)` for the newest key sent.
+/// A background thread computing `f(key)` for the newest key sent. A
+/// panic in `f` is caught: its key gets `failed(message)` as its value and
+/// the thread goes on with the next key.
 pub struct Background<K, V> {
     tx: Sender<K>,
     rx: Receiver<(K, V)>,
     sent: Option<K>,
     busy: bool,
+    /// Set by a test to make the next computation panic.
+    fault: std::sync::Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl<K: Clone + PartialEq + Send + 'static, V: Send + 'static> Background<K, V> {
     pub fn start(
         name: &str,
         f: impl Fn(&K) -> V + Send + 'static,
+        failed: impl Fn(String) -> V + Send + 'static,
         wake: impl Fn() + Send + 'static,
     ) -> Self {
         let (tx, krx) = channel::<K>();
         let (vtx, rx) = channel::<(K, V)>();
+        let fault = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let their_fault = fault.clone();
+        let thread = name.to_owned();
         let _ = std::thread::Builder::new()
             .name(name.into())
             .spawn(move || {
                 while let Some(k) = recv_newest(&krx) {
-                    let v = f(&k);
+                    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        if their_fault.swap(false, std::sync::atomic::Ordering::Relaxed) {
+                            panic!("a failure injected by a test");
+                        }
+                        f(&k)
+                    }));
+                    let v = run.unwrap_or_else(|panic| {
+                        let what = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "no message".into());
+                        failed(format!(
+                            "the {thread} thread failed ({what}); it goes on with the next change, and the look is untouched"
+                        ))
+                    });
                     if vtx.send((k, v)).is_err() {
                         return;
                     }
@@ -291,7 +314,15 @@ impl<K: Clone + PartialEq + Send + 'static, V: Send + 'static> Background<K, V> 
             rx,
             sent: None,
             busy: false,
+            fault,
         }
+    }
+
+    /// Makes the next computation panic (tests of the recovery; nothing
+    /// in the editor calls it).
+    #[doc(hidden)]
+    pub fn inject_panic(&self) {
+        self.fault.store(true, std::sync::atomic::Ordering::Relaxed);
     }
 
     /// Asks for `key` unless it was the last key asked for.

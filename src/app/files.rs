@@ -330,6 +330,11 @@ impl EditorApp {
                     self.profile.latest = Some(a);
                 }
                 Err(e) => {
+                    // A panic the thread survived (`Background`): said
+                    // as a notice as well as in the plot.
+                    if e.contains("thread failed") {
+                        self.report.status = format!("Warning: {e}");
+                    }
                     if key.profile == self.doc.preset.profile {
                         self.profile.curves = Some(Err(e));
                     }

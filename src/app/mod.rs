@@ -3,6 +3,7 @@
 //! undo, compare and export from the menu bar.
 
 pub mod analysis;
+mod autosave;
 pub mod browser;
 mod dialogs;
 mod files;
@@ -188,6 +189,9 @@ pub struct EditorApp {
     report: Report,
     /// Where things were drawn (the viewport, labels, panels, plot), for layout and UI tests.
     layout: Layout,
+    /// The look's autosave and what an earlier run left to recover (off
+    /// unless [`EditorApp::with_autosave`]).
+    autosave: Option<autosave::Autosave>,
 }
 
 impl EditorApp {
@@ -215,7 +219,12 @@ impl EditorApp {
             ui_state,
             allow_close: false,
             profile: ProfileState {
-                analysis: Background::start("scatterlab-analysis", analysis::analyse, c1),
+                analysis: Background::start(
+                    "scatterlab-analysis",
+                    analysis::analyse,
+                    Err,
+                    c1,
+                ),
                 latest: None,
                 curves: None,
                 curves_for: None,
@@ -290,6 +299,7 @@ impl EditorApp {
                 compare_labels: Vec::new(),
                 panel_rects: [None, None],
             },
+            autosave: None,
         };
         app.refresh_curves();
         app
@@ -403,6 +413,21 @@ impl EditorApp {
     }
 
     /// The status bar's message.
+    /// Makes the render thread fail on its next request (tests of the
+    /// recovery; nothing in the editor calls it).
+    #[doc(hidden)]
+    pub fn inject_render_fault(&self, fault: viewport::Fault) {
+        if let Some(v) = &self.view.viewport {
+            v.inject_fault(fault);
+        }
+    }
+
+    /// Makes the next analysis panic (tests of the recovery).
+    #[doc(hidden)]
+    pub fn inject_analysis_panic(&self) {
+        self.profile.analysis.inject_panic();
+    }
+
     pub fn status(&self) -> &str {
         &self.report.status
     }
@@ -519,10 +544,13 @@ impl EditorApp {
             .frame(bare(egui::Frame::central_panel(&style)))
             .show(ui, |ui| self.viewport_panel_ui(ui));
         self.dialogs_ui(&ctx);
+        self.recovery_prompt_ui(&ctx);
         self.notices_ui(&ctx);
         if self.allow_close {
             // Quit answered (Save or Discard): close now, not at the next
-            // frame, which may never come without input.
+            // frame, which may never come without input. A clean quit
+            // leaves nothing to recover.
+            self.autosave_clear();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
         // One undo step per gesture: commit once no button is held and no
@@ -535,6 +563,7 @@ impl EditorApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.report.last_title = title;
         }
+        self.autosave_tick(false);
         self.report.ui_ms = ui_ms;
         self.report_timings();
         if let Some(log) = self.report.frame_log.as_mut() {
@@ -689,6 +718,12 @@ impl eframe::App for EframeApp {
         app.show(ui);
     }
 
+    /// A clean quit (the unsaved-changes prompt answered, or nothing
+    /// unsaved): nothing is left to recover.
+    fn on_exit(&mut self) {
+        self.app.autosave_clear();
+    }
+
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         let mut s = self.app.ui_state.clone();
         s.last_preset = self.app.doc.path.clone();
@@ -745,6 +780,10 @@ pub fn run(
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))
             });
             let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
+            // The data folder eframe keeps its state in (XDG_DATA_HOME/scatterlab).
+            if let Some(dir) = eframe::storage_dir("scatterlab") {
+                app = app.with_autosave(&dir);
+            }
             app.report.started = started;
             if let Some(f) = &import {
                 app.import_now(f);

@@ -191,6 +191,40 @@ pub enum Reply {
     Error(String),
     /// The mesh in the request was loaded (`None`: the default head).
     MeshLoaded(Option<PathBuf>, MeshInfo),
+    /// The render thread recovered from a failure of its own (a panic, a
+    /// lost GPU device): what happened, for the artist. `resend`: the
+    /// request in hand was lost with it and must be sent again.
+    Recovered {
+        message: String,
+        resend: bool,
+    },
+}
+
+/// A failure a test can make the render thread have on its next request
+/// ([`Viewport::inject_fault`]); nothing else turns these on.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fault {
+    /// The render thread panics.
+    Panic,
+    /// The GPU device is destroyed under the renderer (`Device::destroy`).
+    DeviceLoss,
+}
+
+/// The fault waiting for the render thread's next request, if any.
+#[derive(Default)]
+pub(super) struct Faults(std::sync::Mutex<Option<Fault>>);
+
+impl Faults {
+    fn set(&self, f: Fault) {
+        if let Ok(mut slot) = self.0.lock() {
+            *slot = Some(f);
+        }
+    }
+
+    pub(super) fn take(&self) -> Option<Fault> {
+        self.0.lock().ok().and_then(|mut slot| slot.take())
+    }
 }
 
 pub struct Viewport {
@@ -205,6 +239,8 @@ pub struct Viewport {
     /// Set with each new request: the render thread's renderer stops a
     /// ground truth computed for an older one (`Renderer::cancel_with`).
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Failures a test injects into the render thread.
+    faults: std::sync::Arc<Faults>,
 }
 
 impl Drop for Viewport {
@@ -229,9 +265,11 @@ impl Viewport {
         let (reply_tx, rx) = channel::<Reply>();
         let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let theirs = cancel.clone();
+        let faults = std::sync::Arc::new(Faults::default());
+        let their_faults = faults.clone();
         let spawned = std::thread::Builder::new()
             .name("scatterlab-render".into())
-            .spawn(move || worker(req_rx, reply_tx, theirs, wake));
+            .spawn(move || supervise(&req_rx, &reply_tx, &theirs, &wake, &their_faults));
         let thread = match spawned {
             Ok(t) => Some(t),
             Err(e) => {
@@ -248,7 +286,15 @@ impl Viewport {
             busy_since: None,
             thread,
             cancel,
+            faults,
         }
+    }
+
+    /// Makes the render thread fail on its next request (tests of the
+    /// recovery; nothing in the editor calls it).
+    #[doc(hidden)]
+    pub fn inject_fault(&self, fault: Fault) {
+        self.faults.set(fault);
     }
 
     /// Sends `req` unless it shows what the last one sent showed (nothing
@@ -331,15 +377,24 @@ impl Viewport {
         }
     }
 
-    /// Replies that arrived since the last call.
+    /// Replies that arrived since the last call. A request the render
+    /// thread lost in a failure it recovered from is sent again.
     pub fn poll(&mut self) -> Vec<Reply> {
         let replies: Vec<Reply> = self.rx.try_iter().collect();
+        let resend = replies
+            .iter()
+            .any(|r| matches!(r, Reply::Recovered { resend: true, .. }));
+        if resend {
+            if let Some(last) = self.last_sent.take() {
+                self.request(last);
+            }
+        }
         // Busy until the newest request is answered (a frame of an older
         // one, still on its way, does not count) or has failed.
         let done = replies.iter().any(|r| match r {
             Reply::Frame { seq, .. } => *seq == self.seq,
             Reply::Error(_) => true,
-            Reply::MeshLoaded(..) => false,
+            Reply::MeshLoaded(..) | Reply::Recovered { .. } => false,
         });
         if done {
             self.busy_since = None;

@@ -444,6 +444,9 @@ impl EditorApp {
             // The same request is not sent again (it would fail
             // again); the next change renders.
             viewport::Reply::Error(e) => self.report.status = format!("Error: viewport: {e}"),
+            viewport::Reply::Recovered { message, .. } => {
+                self.report.status = format!("Warning: {message}")
+            }
             viewport::Reply::MeshLoaded(p, info) => {
                 self.meshes.mesh_info = Some(info);
                 // Frame a mesh the artist loads, or new units of

@@ -75,6 +75,9 @@ pub struct GpuContext {
     /// Whether depth textures can be copied to buffers (not on GL): the
     /// ground truth reads the shadow map back.
     pub depth_copies: bool,
+    /// Why the device was lost, once wgpu's device-lost callback has said
+    /// so (a driver reset, a GPU removed, `Device::destroy`).
+    lost: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 impl GpuContext {
@@ -142,6 +145,16 @@ impl GpuContext {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
+        let lost = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let slot = lost.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            if let Ok(mut s) = slot.lock() {
+                *s = Some(match message.is_empty() {
+                    true => format!("{reason:?}"),
+                    false => format!("{reason:?}: {message}"),
+                });
+            }
+        });
         Ok(Self {
             device,
             queue,
@@ -149,12 +162,28 @@ impl GpuContext {
             timestamps,
             linear_depth_format,
             depth_copies,
+            lost,
             specular_format: if rg11b10 {
                 wgpu::TextureFormat::Rg11b10Ufloat
             } else {
                 wgpu::TextureFormat::Rgba16Float
             },
         })
+    }
+
+    /// Why the device was lost, if it was: nothing made on it can be used
+    /// again, and the renderer must be made anew on a new device.
+    pub fn lost(&self) -> Option<String> {
+        self.lost.lock().ok().and_then(|s| s.clone())
+    }
+
+    /// Destroys the device, as a driver reset would (tests of the
+    /// recovery; nothing in the editor calls it), and waits for wgpu to
+    /// report the loss.
+    #[doc(hidden)]
+    pub fn destroy_device(&self) {
+        self.device.destroy();
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
     }
 
     /// Runs `f` inside validation and internal error scopes and reports

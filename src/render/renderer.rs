@@ -134,6 +134,18 @@ impl Renderer {
         )
     }
 
+    /// Why the GPU device under this renderer was lost, if it was
+    /// ([`GpuContext::lost`]): make a new renderer.
+    pub fn device_lost(&self) -> Option<String> {
+        self.ctx.lost()
+    }
+
+    /// The device this renderer draws with (tests of device loss).
+    #[doc(hidden)]
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
     fn ensure_targets(&mut self, w: u32, h: u32) {
         if self.targets.as_ref().is_some_and(|t| t.size == (w, h)) {
             return;

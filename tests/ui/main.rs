@@ -17,6 +17,7 @@ mod artist;
 #[path = "../common/mod.rs"]
 mod common;
 mod layout_and_prompts;
+mod recovery;
 
 fn harness(viewport: bool) -> Harness<'static, EditorApp> {
     harness_of(

@@ -35,11 +35,51 @@ pub(super) fn try_newest(rx: &Receiver<Request>) -> Result<Option<Request>, ()> 
     }
 }
 
+/// Runs [`worker`] until the UI goes. A panic in it is caught and said,
+/// and a fresh worker (a new renderer) takes the next request; the viewport
+/// sends the request in hand again (`Reply::Recovered`). The document and
+/// its undo history live on the UI thread and are never touched.
+pub(super) fn supervise(
+    rx: &Receiver<Request>,
+    tx: &Sender<Reply>,
+    cancel: &std::sync::Arc<std::sync::atomic::AtomicBool>,
+    wake: &impl Fn(),
+    faults: &Faults,
+) {
+    loop {
+        let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            worker(rx, tx, cancel.clone(), wake, faults)
+        }));
+        let Err(panic) = run else {
+            return;
+        };
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        let message = format!(
+            "the render thread failed ({what}) and was restarted with a new renderer; the look and its undo history are untouched"
+        );
+        if tx
+            .send(Reply::Recovered {
+                message,
+                resend: true,
+            })
+            .is_err()
+        {
+            return;
+        }
+        wake();
+    }
+}
+
 pub(super) fn worker(
-    rx: Receiver<Request>,
-    tx: Sender<Reply>,
+    rx: &Receiver<Request>,
+    tx: &Sender<Reply>,
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
-    wake: impl Fn(),
+    wake: &impl Fn(),
+    faults: &Faults,
 ) {
     let mut w = Worker::new(cancel);
     // Set up the default head before the UI's first request arrives (an
@@ -63,18 +103,18 @@ pub(super) fn worker(
         // Refining: take a new request if there is one, else add a frame.
         // Otherwise wait for the next request. Either way only the newest.
         let next = match &refine {
-            Some(_) => match try_newest(&rx) {
+            Some(_) => match try_newest(rx) {
                 Ok(r) => r,
                 Err(()) => return,
             },
-            None => match crate::app::analysis::recv_newest(&rx) {
+            None => match crate::app::analysis::recv_newest(rx) {
                 Some(r) => Some(r),
                 None => return,
             },
         };
         let Some(mut req) = next else {
             if let Some(r) = refine.as_mut() {
-                if !refine_step(&mut w, r, &tx) {
+                if !refine_step(&mut w, r, tx) {
                     refine = None;
                 }
                 wake();
@@ -86,12 +126,12 @@ pub(super) fn worker(
         // requests it replaces (one sent from here on cancels its work).
         w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
         let t0 = Instant::now();
-        if !prepare_mesh(&mut w, &mut req, &tx) {
+        if !prepare_mesh(&mut w, &mut req, tx, faults) {
             wake();
             continue;
         }
         if req.interactive && w.pending_maps.is_none() {
-            if !send_preview(&mut w, &req, t0, &tx) {
+            if !send_preview(&mut w, &req, t0, tx) {
                 return;
             }
             wake();
@@ -99,7 +139,7 @@ pub(super) fn worker(
         }
         // A view finished before: shown again at once.
         if w.pending_maps.is_none() {
-            match send_kept(&mut w, &req, t0, &tx) {
+            match send_kept(&mut w, &req, t0, tx) {
                 Some(false) => return,
                 Some(true) => {
                     wake();
@@ -121,11 +161,11 @@ pub(super) fn worker(
             // its skin maps, refined from there. The ground truth of a head
             // about to change would be seconds thrown away: a preview.
             let sent = if r.req.has_truth() {
-                send_frame(&mut w, &r.req, Pass::Preview(1.0), t0, &tx, |_| {
+                send_frame(&mut w, &r.req, Pass::Preview(1.0), t0, tx, |_| {
                     Quality::Preview { divisor: 1.0 }
                 })
             } else {
-                send_frame(&mut w, &r.req, Pass::Refine(0), t0, &tx, |_| {
+                send_frame(&mut w, &r.req, Pass::Refine(0), t0, tx, |_| {
                     Quality::Refining { frames: 1 }
                 })
             };
@@ -139,7 +179,7 @@ pub(super) fn worker(
                 continue;
             }
         }
-        if refine_step(&mut w, &mut r, &tx) {
+        if refine_step(&mut w, &mut r, tx) {
             refine = Some(r);
         }
         wake();
@@ -169,7 +209,28 @@ impl Worker {
 /// Loads the request's mesh and maps if they changed (replying with the
 /// mesh's framing); on an error, falls back to the head so the viewport
 /// keeps working. False when there is no renderer to draw with.
-fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>) -> bool {
+fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>, faults: &Faults) -> bool {
+    match faults.take() {
+        Some(Fault::Panic) => panic!("a failure injected by a test"),
+        Some(Fault::DeviceLoss) => {
+            if let Some(r) = &w.renderer {
+                r.context().destroy_device();
+            }
+        }
+        None => {}
+    }
+    // A lost device (wgpu's callback said so): everything made on it is
+    // gone; a new renderer on a new device draws this request.
+    if let Some(why) = w.renderer.as_ref().and_then(|r| r.device_lost()) {
+        w.renderer = None;
+        let message = format!(
+            "the GPU device was lost ({why}): the renderer was rebuilt on a new device and the view redrawn; nothing of the look was lost"
+        );
+        let _ = tx.send(Reply::Recovered {
+            message,
+            resend: false,
+        });
+    }
     let range = req.a.rendering.thickness_remap_mm.1 as f32;
     match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
         Err(e) => {

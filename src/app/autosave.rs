@@ -1,0 +1,389 @@
+//! Autosave and recovery. While the look has unsaved changes, it is
+//! written with its view and compare state to the editor's data folder
+//! (`<data>/autosave/<process id>.ron`, a temporary file renamed over the
+//! last) at most [`AUTOSAVE_SECONDS`] after an edit, and only when something
+//! changed. Saving, reverting to the file or a clean quit removes it, so
+//! only a crash or a kill leaves one behind; the next start finds it and
+//! offers it back (Restore / Discard / Show file).
+
+use super::state::{CompareB, CompareMode, Document, UiState, ViewState};
+use crate::settings::Preset;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// The longest an edit waits to be written (the limit is 30 s).
+pub const AUTOSAVE_SECONDS: u64 = 5;
+
+/// What a crash would lose: the look, the file it came from, and how it
+/// was being looked at.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Recovery {
+    pub preset: Preset,
+    /// The preset file the look was opened from or last saved to.
+    pub path: Option<PathBuf>,
+    pub view: ViewState,
+    pub compare: CompareMode,
+    pub compare_b: CompareB,
+    pub split: f32,
+    /// When it was written (seconds since 1970).
+    pub written_unix_s: u64,
+}
+
+/// A recovery file another editor left behind.
+pub struct Found {
+    pub file: PathBuf,
+    pub recovery: Recovery,
+}
+
+/// This editor's autosave: where it writes, what it wrote last, and what
+/// an earlier run left to recover.
+pub struct Autosave {
+    dir: PathBuf,
+    file: PathBuf,
+    /// The last content written (without its time), to write only changes.
+    last: Option<String>,
+    /// When the content was last checked or written.
+    checked: Option<Instant>,
+    /// An earlier run's recovery, offered until answered.
+    pub found: Option<Found>,
+    /// The last autosave error, said once.
+    failed: Option<String>,
+}
+
+impl Autosave {
+    /// Autosave under `data_dir` (the editor's data folder), and the
+    /// newest recovery file an editor that is no longer running left there.
+    pub fn new(data_dir: &Path) -> Self {
+        let dir = data_dir.join("autosave");
+        let file = dir.join(format!("{}.ron", std::process::id()));
+        let found = Self::find_left(&dir, &file);
+        Self {
+            dir,
+            file,
+            last: None,
+            checked: None,
+            found,
+            failed: None,
+        }
+    }
+
+    /// The file this editor autosaves to.
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
+    /// The newest readable recovery file in `dir` that is not `own` and
+    /// whose editor is not running.
+    fn find_left(dir: &Path, own: &Path) -> Option<Found> {
+        let entries = std::fs::read_dir(dir).ok()?;
+        entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p != own && p.extension().is_some_and(|x| x == "ron"))
+            .filter(|p| !editor_running(p))
+            .filter_map(|file| {
+                let text = std::fs::read_to_string(&file).ok()?;
+                let recovery: Recovery = ron::from_str(&text).ok()?;
+                Some(Found { file, recovery })
+            })
+            .max_by_key(|f| f.recovery.written_unix_s)
+    }
+
+    /// Writes the look if it has unsaved changes that were not written yet
+    /// (checked once every [`AUTOSAVE_SECONDS`], or now with `force`);
+    /// removes the file once nothing is unsaved. An error to show, once.
+    pub fn tick(&mut self, doc: &Document, ui: &UiState, force: bool) -> Option<String> {
+        let due = self
+            .checked
+            .is_none_or(|t| t.elapsed() >= Duration::from_secs(AUTOSAVE_SECONDS));
+        if !(due || force) {
+            return None;
+        }
+        self.checked = Some(Instant::now());
+        if !doc.is_dirty() {
+            self.clear();
+            return None;
+        }
+        let recovery = Recovery {
+            preset: doc.preset.clone(),
+            path: doc.path.clone(),
+            view: ui.view,
+            compare: ui.compare,
+            compare_b: ui.compare_b.clone(),
+            split: ui.split,
+            written_unix_s: 0,
+        };
+        let content = ron::to_string(&recovery).ok()?;
+        if self.last.as_ref() == Some(&content) {
+            return None;
+        }
+        let recovery = Recovery {
+            written_unix_s: unix_seconds(),
+            ..recovery
+        };
+        let text = ron::ser::to_string_pretty(&recovery, Default::default()).ok()?;
+        let written = std::fs::create_dir_all(&self.dir)
+            .and_then(|()| crate::fsutil::write_atomic(&self.file, text.as_bytes()));
+        match written {
+            Ok(()) => {
+                self.last = Some(content);
+                self.failed = None;
+                None
+            }
+            Err(e) => {
+                let message = format!(
+                    "Warning: autosave to {} failed ({e}): unsaved changes are not protected against a crash; save the look (Ctrl+S)",
+                    self.file.display()
+                );
+                let new = self.failed.as_ref() != Some(&message);
+                self.failed = Some(message.clone());
+                new.then_some(message)
+            }
+        }
+    }
+
+    /// Removes this editor's autosave (saved, reverted or quit cleanly).
+    pub fn clear(&mut self) {
+        if self.last.take().is_some() || self.file.exists() {
+            let _ = std::fs::remove_file(&self.file);
+        }
+    }
+
+    /// Removes the recovery file an earlier run left (restored or
+    /// discarded).
+    pub fn forget_found(&mut self) {
+        if let Some(f) = self.found.take() {
+            let _ = std::fs::remove_file(&f.file);
+        }
+    }
+}
+
+/// Whether the editor that wrote `file` (named by its process id) is still
+/// running: where /proc exists, its entry; elsewhere, assumed not.
+fn editor_running(file: &Path) -> bool {
+    let Some(pid) = file
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .and_then(|s| s.parse::<u32>().ok())
+    else {
+        return false;
+    };
+    let proc = Path::new("/proc");
+    proc.is_dir() && proc.join(pid.to_string()).is_dir()
+}
+
+fn unix_seconds() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs())
+}
+
+/// Shows `dir` in the desktop's file manager; false if none could start.
+pub fn show_in_file_manager(dir: &Path) -> bool {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else if cfg!(target_os = "windows") {
+        "explorer"
+    } else {
+        "xdg-open"
+    };
+    std::process::Command::new(opener)
+        .arg(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .is_ok()
+}
+
+impl super::EditorApp {
+    /// Autosaves the look into `data_dir` from now on, and offers back
+    /// what an editor killed or crashed there left.
+    pub fn with_autosave(mut self, data_dir: &Path) -> Self {
+        self.autosave = Some(Autosave::new(data_dir));
+        self
+    }
+
+    /// This editor's autosave file, if autosave is on.
+    pub fn autosave_file(&self) -> Option<PathBuf> {
+        self.autosave.as_ref().map(|a| a.file().to_owned())
+    }
+
+    /// Writes the autosave now if anything unsaved changed (tests; the
+    /// editor itself calls it every frame and writes at most every
+    /// [`AUTOSAVE_SECONDS`]).
+    pub fn autosave_now(&mut self) {
+        self.autosave_tick(true);
+    }
+
+    pub(super) fn autosave_tick(&mut self, force: bool) {
+        let Some(a) = self.autosave.as_mut() else {
+            return;
+        };
+        if let Some(message) = a.tick(&self.doc, &self.ui_state, force) {
+            self.report.status = message;
+        }
+    }
+
+    /// A clean quit: nothing to recover.
+    pub(super) fn autosave_clear(&mut self) {
+        if let Some(a) = self.autosave.as_mut() {
+            a.clear();
+        }
+    }
+
+    /// Puts a recovered look back: the document as it was (its file, if
+    /// any, is what it differs from, so it shows as unsaved), and its view
+    /// and compare state.
+    fn restore(&mut self, r: Recovery) {
+        let on_disk = r
+            .path
+            .as_ref()
+            .and_then(|p| Preset::load(p).ok())
+            .unwrap_or_default();
+        let mut doc = Document::new(on_disk, r.path.clone());
+        doc.replace(r.preset);
+        self.doc = doc;
+        self.ui_state.view = r.view;
+        self.ui_state.compare = r.compare;
+        self.ui_state.compare_b = r.compare_b;
+        self.ui_state.split = r.split;
+        self.report.status = format!(
+            "Restored \"{}\" as it was when the editor stopped; save it to keep it",
+            self.doc.preset.name
+        );
+    }
+
+    /// The start-up prompt for a look an earlier editor left unsaved.
+    pub(super) fn recovery_prompt_ui(&mut self, ctx: &egui::Context) {
+        let Some(found) = self.autosave.as_ref().and_then(|a| a.found.as_ref()) else {
+            return;
+        };
+        let r = &found.recovery;
+        let file = found.file.clone();
+        let age_s = unix_seconds().saturating_sub(r.written_unix_s);
+        let from = r
+            .path
+            .as_ref()
+            .map_or("a look never saved".to_owned(), |p| p.display().to_string());
+        let mut answer = None;
+        egui::Modal::new(egui::Id::unique("scatterlab_recovery_prompt")).show(ctx, |ui| {
+            ui.heading("Recover unsaved work?");
+            ui.label(format!(
+                "The editor stopped with unsaved changes to \"{}\" ({from}), autosaved {} ago.",
+                r.preset.name,
+                age_text(age_s)
+            ));
+            ui.label(format!("Recovery file: {}", file.display()));
+            ui.horizontal(|ui| {
+                if ui
+                    .button("Restore")
+                    .on_hover_text("Open the look as it was, with its view and compare, as unsaved changes")
+                    .clicked()
+                {
+                    answer = Some(0);
+                }
+                if ui
+                    .button("Discard")
+                    .on_hover_text("Delete the recovery file and keep the look opened now")
+                    .clicked()
+                {
+                    answer = Some(1);
+                }
+                if ui
+                    .button("Show file")
+                    .on_hover_text("Open the folder that holds the recovery file (a RON file with the preset in it)")
+                    .clicked()
+                {
+                    answer = Some(2);
+                }
+            });
+        });
+        match answer {
+            Some(0) => {
+                let found = self.autosave.as_mut().and_then(|a| a.found.take());
+                if let Some(f) = found {
+                    let _ = std::fs::remove_file(&f.file);
+                    self.restore(f.recovery);
+                    self.autosave_tick(true);
+                }
+            }
+            Some(1) => {
+                if let Some(a) = self.autosave.as_mut() {
+                    a.forget_found();
+                }
+            }
+            Some(2) => {
+                let dir = file.parent().unwrap_or(Path::new(".")).to_owned();
+                if !show_in_file_manager(&dir) {
+                    self.report.status =
+                        format!("Warning: no file manager to show {}", dir.display());
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// "42 s", "3 min", "2 h", "5 days".
+fn age_text(s: u64) -> String {
+    match s {
+        0..=89 => format!("{s} s"),
+        90..=5399 => format!("{} min", (s + 30) / 60),
+        5400..=172_799 => format!("{} h", (s + 1800) / 3600),
+        _ => format!("{} days", (s + 43_200) / 86_400),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ages_read_naturally() {
+        assert_eq!(age_text(42), "42 s");
+        assert_eq!(age_text(180), "3 min");
+        assert_eq!(age_text(7200), "2 h");
+        assert_eq!(age_text(3 * 86_400), "3 days");
+    }
+
+    /// A file named by a running process (this one) is not offered; a
+    /// dead one's is; unreadable files are skipped; the newest wins.
+    #[test]
+    fn finds_what_a_dead_editor_left() {
+        let dir = std::env::temp_dir().join(format!("scatterlab-autosave-{}", std::process::id()));
+        let auto = dir.join("autosave");
+        std::fs::create_dir_all(&auto).unwrap();
+        let recovery = |name: &str, t: u64| Recovery {
+            preset: Preset {
+                name: name.into(),
+                ..Preset::default()
+            },
+            path: None,
+            view: ViewState::default(),
+            compare: CompareMode::Off,
+            compare_b: CompareB::default(),
+            split: 0.5,
+            written_unix_s: t,
+        };
+        let write = |file: &str, r: &Recovery| {
+            std::fs::write(auto.join(file), ron::to_string(r).unwrap()).unwrap();
+        };
+        // Process ids above the kernel's pid_max (4194304) never run.
+        write("999999901.ron", &recovery("older", 10));
+        write("999999902.ron", &recovery("newer", 20));
+        std::fs::write(auto.join("999999904.ron"), "not ron").unwrap();
+        // Process 1 (init) is always running: its file is not offered,
+        // however new.
+        write("1.ron", &recovery("running", 50));
+        // This process is running: its file is its own autosave, never offered.
+        write(
+            &format!("{}.ron", std::process::id()),
+            &recovery("mine", 40),
+        );
+        let a = Autosave::new(&dir);
+        let found = a.found.as_ref().expect("a recovery");
+        assert_eq!(found.recovery.preset.name, "newer");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
