@@ -81,3 +81,157 @@ fn editor_window_opens_shows_the_head_and_closes() {
     }
     std::fs::remove_dir_all(&home).unwrap();
 }
+
+/// `xdotool` against the display; its stdout.
+fn xdotool(display: &str, args: &[&str]) -> String {
+    let out = Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .output()
+        .expect("xdotool is needed for the kill test (apt-get install xdotool; .ci/run does)");
+    String::from_utf8_lossy(&out.stdout).trim().to_owned()
+}
+
+/// Polls `f` every 200 ms until it is true or `limit_s` pass.
+fn wait_until(what: &str, limit_s: u64, mut f: impl FnMut() -> bool) {
+    let t0 = Instant::now();
+    while !f() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(limit_s),
+            "{what}: not within {limit_s} s"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+/// The editor's window id and title, once it has a window.
+fn editor_window(display: &str) -> String {
+    let mut wid = String::new();
+    wait_until("the editor's window", 180, || {
+        wid = xdotool(display, &["search", "--name", "scatterlab"])
+            .lines()
+            .next()
+            .unwrap_or("")
+            .to_owned();
+        !wid.is_empty()
+    });
+    xdotool(display, &["windowsize", &wid, "1280", "720"]);
+    xdotool(display, &["windowmove", &wid, "0", "0"]);
+    xdotool(display, &["windowfocus", "--sync", &wid]);
+    wid
+}
+
+/// Issue 27: an artist renames the look, does not save, and the editor is
+/// killed (SIGKILL: no exit handler runs). Within 30 s of the edit the
+/// autosave held it; the next editor started on the same data folder
+/// offers it back, and Enter restores it as unsaved work (the window's
+/// title, which eframe sets from the document, says so).
+#[test]
+fn a_killed_editor_leaves_its_unsaved_look_for_the_next_start() {
+    let display = format!(":{}", 100 + (std::process::id() + 401) % 800);
+    let xvfb = Command::new("Xvfb")
+        .args([
+            display.as_str(),
+            "-screen",
+            "0",
+            "1280x720x24",
+            "-nolisten",
+            "tcp",
+            // The server would reset when the killed editor, its last
+            // client, goes, and refuse the next one for a while.
+            "-noreset",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("Xvfb is needed for the kill test (apt-get install xvfb; .ci/run does)");
+    let _xvfb = Xvfb(xvfb);
+    std::thread::sleep(Duration::from_millis(1500));
+    let home = std::env::temp_dir().join(format!("scatterlab-kill-home-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&home);
+    let runtime = home.join("runtime");
+    std::fs::create_dir_all(&runtime).unwrap();
+    let data = home.join("data");
+    let runs = std::cell::Cell::new(0);
+    let start = || {
+        runs.set(runs.get() + 1);
+        let log = std::fs::File::create(home.join(format!("editor-{}.log", runs.get()))).unwrap();
+        Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+            .arg("edit")
+            .env("DISPLAY", &display)
+            .env("HOME", &home)
+            .env("XDG_RUNTIME_DIR", &runtime)
+            .env("XDG_DATA_HOME", &data)
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::null())
+            .stderr(log)
+            .spawn()
+            .unwrap()
+    };
+    let title = |wid: &str| xdotool(&display, &["getwindowname", wid]);
+    let name = "Killed before saving";
+    let mut editor = start();
+    let wid = editor_window(&display);
+    wait_until("the default look's title", 120, || {
+        title(&wid).contains("Skin (default)")
+    });
+    // The look's Name field, top left of the 1280×720 window: click,
+    // select all, type (again if the window was not taking keys yet).
+    wait_until("the renamed, unsaved look in the title", 90, || {
+        xdotool(&display, &["windowfocus", "--sync", &wid]);
+        xdotool(&display, &["mousemove", "190", "60", "click", "1"]);
+        std::thread::sleep(Duration::from_millis(500));
+        xdotool(&display, &["key", "ctrl+a"]);
+        xdotool(&display, &["type", "--delay", "30", name]);
+        let t0 = Instant::now();
+        while t0.elapsed() < Duration::from_secs(5) {
+            let t = title(&wid);
+            if t.contains(name) && t.starts_with('*') {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(200));
+        }
+        false
+    });
+    let file = data
+        .join("scatterlab/autosave")
+        .join(format!("{}.ron", editor.id()));
+    let edited = Instant::now();
+    wait_until("the autosave of the edit", 30, || {
+        std::fs::read_to_string(&file).is_ok_and(|t| t.contains(name))
+    });
+    eprintln!(
+        "autosaved {:.1} s after the edit",
+        edited.elapsed().as_secs_f64()
+    );
+    editor.kill().unwrap();
+    editor.wait().unwrap();
+    assert!(file.exists(), "the kill took the autosave with it");
+
+    let mut next = start();
+    let wid = editor_window(&display);
+    wait_until("the recovery prompt over the default look", 120, || {
+        title(&wid).contains("Skin (default)")
+    });
+    // The prompt is modal; Enter answers Restore.
+    let mut restored = false;
+    wait_until("the restored look in the title", 60, || {
+        xdotool(&display, &["windowfocus", "--sync", &wid]);
+        xdotool(&display, &["key", "Return"]);
+        std::thread::sleep(Duration::from_millis(500));
+        restored = title(&wid).contains(name);
+        restored
+    });
+    let t = title(&wid);
+    assert!(t.starts_with('*'), "restored, but not as unsaved work: {t}");
+    // The old file is gone and the restored look is this editor's autosave.
+    let mine = data
+        .join("scatterlab/autosave")
+        .join(format!("{}.ron", next.id()));
+    wait_until("the restored look's own autosave", 30, || {
+        !file.exists() && std::fs::read_to_string(&mine).is_ok_and(|t| t.contains(name))
+    });
+    next.kill().unwrap();
+    next.wait().unwrap();
+    std::fs::remove_dir_all(&home).unwrap();
+}

@@ -4,8 +4,8 @@
 # - lavapipe (Mesa's CPU Vulkan driver) and the Vulkan loader: the renderer
 #   runs on it where there is no GPU, and the GPU tests are never skipped;
 # - Mesa's EGL and llvmpipe GL: a test renders on wgpu's GL backend too;
-# - Xvfb and the X client libraries winit loads: the window test runs the
-#   real editor under Xvfb;
+# - Xvfb, xdotool and the X client libraries winit loads: the window tests run the
+#   real editor under Xvfb and type into it, and tools/soak.sh drives it;
 # - the libraries Blender's bpy links (libGL, X) and Python 3.11 with venv:
 #   tools/python-env.sh installs the real programs the export tests run.
 # As root it runs apt-get; otherwise it uses sudo if that needs no password,
@@ -31,7 +31,7 @@ fi
 need=()
 [ -e /usr/share/vulkan/icd.d/lvp_icd.x86_64.json ] || [ -e /usr/share/vulkan/icd.d/lvp_icd.json ] ||
     [ -e /usr/share/vulkan/icd.d/lvp_icd.aarch64.json ] || need+=(mesa-vulkan-drivers)
-for pkg in libvulkan1 xvfb libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 \
+for pkg in libvulkan1 xvfb xdotool libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 \
     libxkbcommon0 libxrender1 libxfixes3 libxext6 libsm6 libice6 libgl1 libegl1 libegl-mesa0 \
     libgl1-mesa-dri; do
     dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")

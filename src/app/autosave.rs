@@ -169,8 +169,28 @@ fn editor_running(file: &Path) -> bool {
     else {
         return false;
     };
-    let proc = Path::new("/proc");
-    proc.is_dir() && proc.join(pid.to_string()).is_dir()
+    process_alive_and_ours(pid)
+}
+
+/// Whether process `pid` is running this program: it exists, is not a
+/// zombie (killed but not yet reaped by its parent, state `Z` in
+/// `/proc/<pid>/stat`, proc(5)) and has our command name (a recycled pid
+/// belongs to some other program). Without `/proc` (not Linux) every
+/// file counts as left behind.
+fn process_alive_and_ours(pid: u32) -> bool {
+    let dir = Path::new("/proc").join(pid.to_string());
+    let Ok(stat) = std::fs::read_to_string(dir.join("stat")) else {
+        return false;
+    };
+    // "pid (comm) state ...": the state follows the last ')'.
+    let state = stat
+        .rsplit_once(')')
+        .and_then(|(_, rest)| rest.split_whitespace().next());
+    if matches!(state, Some("Z" | "X" | "x")) {
+        return false;
+    }
+    let comm = |d: &Path| std::fs::read_to_string(d.join("comm")).ok();
+    comm(&dir) == comm(Path::new("/proc/self"))
 }
 
 fn unix_seconds() -> u64 {
@@ -278,7 +298,7 @@ impl super::EditorApp {
             ui.horizontal(|ui| {
                 if ui
                     .button("Restore")
-                    .on_hover_text("Open the look as it was, with its view and compare, as unsaved changes")
+                    .on_hover_text("Open the look as it was, with its view and compare, as unsaved changes (Enter)")
                     .clicked()
                 {
                     answer = Some(0);
@@ -299,13 +319,19 @@ impl super::EditorApp {
                 }
             });
         });
+        // Enter restores (nothing is lost by it; Discard needs the mouse).
+        if answer.is_none() && ctx.input(|i| i.key_pressed(egui::Key::Enter)) {
+            answer = Some(0);
+        }
         match answer {
             Some(0) => {
                 let found = self.autosave.as_mut().and_then(|a| a.found.take());
                 if let Some(f) = found {
-                    let _ = std::fs::remove_file(&f.file);
                     self.restore(f.recovery);
+                    // Written under this editor's name before the old file
+                    // goes: a crash in between loses nothing.
                     self.autosave_tick(true);
+                    let _ = std::fs::remove_file(&f.file);
                 }
             }
             Some(1) => {
@@ -373,9 +399,6 @@ mod tests {
         write("999999901.ron", &recovery("older", 10));
         write("999999902.ron", &recovery("newer", 20));
         std::fs::write(auto.join("999999904.ron"), "not ron").unwrap();
-        // Process 1 (init) is always running: its file is not offered,
-        // however new.
-        write("1.ron", &recovery("running", 50));
         // This process is running: its file is its own autosave, never offered.
         write(
             &format!("{}.ron", std::process::id()),
@@ -385,5 +408,32 @@ mod tests {
         let found = a.found.as_ref().expect("a recovery");
         assert_eq!(found.recovery.preset.name, "newer");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A pid counts as a running editor only while its process lives and
+    /// runs this program: not a zombie (killed, not yet reaped, which is
+    /// how `kill -9` leaves a child until its parent waits) and not a
+    /// recycled pid of another program (proc(5): /proc/<pid>/stat, comm).
+    #[test]
+    fn a_killed_or_foreign_process_is_not_a_running_editor() {
+        assert!(process_alive_and_ours(std::process::id()));
+        assert!(!process_alive_and_ours(999_999_901));
+        if Path::new("/proc/1/comm").exists() {
+            // Init runs, but it is not this program.
+            assert!(!process_alive_and_ours(1));
+            // A child that has exited and is not reaped yet: a zombie.
+            let mut child = std::process::Command::new("true").spawn().unwrap();
+            let pid = child.id();
+            let stat = Path::new("/proc").join(pid.to_string()).join("stat");
+            let t0 = Instant::now();
+            while std::fs::read_to_string(&stat).is_ok_and(|s| !s.contains(") Z"))
+                && t0.elapsed() < Duration::from_secs(10)
+            {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            assert!(std::fs::read_to_string(&stat).unwrap().contains(") Z"));
+            assert!(!process_alive_and_ours(pid));
+            child.wait().unwrap();
+        }
     }
 }
