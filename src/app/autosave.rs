@@ -17,18 +17,29 @@ pub const AUTOSAVE_SECONDS: u64 = 5;
 
 /// What a crash would lose: the look, the file it came from, and how it
 /// was being looked at.
+/// The look is read strictly (a preset's own rules); how it was viewed
+/// falls back to defaults, so a file another version wrote still gives
+/// the work back.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Recovery {
     pub preset: Preset,
     /// The preset file the look was opened from or last saved to.
+    #[serde(default)]
     pub path: Option<PathBuf>,
+    #[serde(default)]
     pub view: ViewState,
+    #[serde(default)]
     pub compare: CompareMode,
+    #[serde(default)]
     pub compare_b: CompareB,
+    #[serde(default = "half")]
     pub split: f32,
     /// When it was written (seconds since 1970).
     pub written_unix_s: u64,
+}
+
+fn half() -> f32 {
+    0.5
 }
 
 /// A recovery file another editor left behind.
@@ -50,6 +61,9 @@ pub struct Autosave {
     pub found: Option<Found>,
     /// The last autosave error, said once.
     failed: Option<String>,
+    /// Recovery files that could not be read, said at start (they stay
+    /// where they are, for the artist to open by hand).
+    pub unreadable: Vec<String>,
 }
 
 impl Autosave {
@@ -58,7 +72,7 @@ impl Autosave {
     pub fn new(data_dir: &Path) -> Self {
         let dir = data_dir.join("autosave");
         let file = dir.join(format!("{}.ron", std::process::id()));
-        let found = Self::find_left(&dir, &file);
+        let (found, unreadable) = Self::find_left(&dir, &file);
         Self {
             dir,
             file,
@@ -66,6 +80,7 @@ impl Autosave {
             checked: None,
             found,
             failed: None,
+            unreadable,
         }
     }
 
@@ -75,19 +90,30 @@ impl Autosave {
     }
 
     /// The newest readable recovery file in `dir` that is not `own` and
-    /// whose editor is not running.
-    fn find_left(dir: &Path, own: &Path) -> Option<Found> {
-        let entries = std::fs::read_dir(dir).ok()?;
-        entries
+    /// whose editor is not running, and what could not be read there.
+    fn find_left(dir: &Path, own: &Path) -> (Option<Found>, Vec<String>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return (None, Vec::new());
+        };
+        let mut unreadable = Vec::new();
+        let found = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p != own && p.extension().is_some_and(|x| x == "ron"))
             .filter(|p| !editor_running(p))
             .filter_map(|file| {
-                let text = std::fs::read_to_string(&file).ok()?;
-                let recovery: Recovery = ron::from_str(&text).ok()?;
-                Some(Found { file, recovery })
+                let read = std::fs::read_to_string(&file)
+                    .map_err(|e| e.to_string())
+                    .and_then(|t| ron::from_str::<Recovery>(&t).map_err(|e| e.to_string()));
+                match read {
+                    Ok(recovery) => Some(Found { file, recovery }),
+                    Err(e) => {
+                        unreadable.push(format!("{}: {e}", file.display()));
+                        None
+                    }
+                }
             })
-            .max_by_key(|f| f.recovery.written_unix_s)
+            .max_by_key(|f| f.recovery.written_unix_s);
+        (found, unreadable)
     }
 
     /// Writes the look if it has unsaved changes that were not written yet
@@ -220,7 +246,14 @@ impl super::EditorApp {
     /// Autosaves the look into `data_dir` from now on, and offers back
     /// what an editor killed or crashed there left.
     pub fn with_autosave(mut self, data_dir: &Path) -> Self {
-        self.autosave = Some(Autosave::new(data_dir));
+        let autosave = Autosave::new(data_dir);
+        if let Some(first) = autosave.unreadable.first() {
+            self.report.status = format!(
+                "Warning: {} recovery file(s) an earlier editor left cannot be read and were left in place (open them in a text editor; the look is the preset inside): {first}",
+                autosave.unreadable.len()
+            );
+        }
+        self.autosave = Some(autosave);
         self
     }
 
@@ -407,6 +440,23 @@ mod tests {
         let a = Autosave::new(&dir);
         let found = a.found.as_ref().expect("a recovery");
         assert_eq!(found.recovery.preset.name, "newer");
+        assert_eq!(a.unreadable.len(), 1, "{:?}", a.unreadable);
+        assert!(a.unreadable[0].contains("999999904.ron"));
+        // Written by another version with only the look and the time: how
+        // it was viewed falls back to defaults, and the work comes back.
+        let preset = ron::to_string(&Preset {
+            name: "minimal".into(),
+            ..Preset::default()
+        })
+        .unwrap();
+        std::fs::write(
+            auto.join("999999905.ron"),
+            format!("(preset: {preset}, written_unix_s: 60)"),
+        )
+        .unwrap();
+        let a = Autosave::new(&dir);
+        assert_eq!(a.found.as_ref().unwrap().recovery.preset.name, "minimal");
+        assert_eq!(a.found.as_ref().unwrap().recovery.split, 0.5);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
