@@ -104,7 +104,11 @@ while [ "$(date +%s)" -lt "$end" ]; do
     elif [ "$k" -lt 82 ]; then a=6
         # File → New from preset → one of the 17 shipped looks.
         click 19 12; xdotool mousemove 60 62; sleep 0.3; xdotool mousemove 240 62; sleep 0.3
+        dirty=no
+        case "$(xdotool getwindowname "$wid")" in "*"*) dirty=yes ;; esac
         click "$(rand 180 380)" "$(rand 62 430)"
+        # Unsaved changes: the prompt's second button, Discard changes.
+        if [ "$dirty" = yes ]; then sleep 0.5; xdotool key Tab Tab Return; fi
     elif [ "$k" -lt 86 ]; then a=7
         if [ $((RANDOM % 2)) -eq 0 ]; then
             # File → Load mesh…, a scan in its own units: the units prompt

@@ -182,7 +182,12 @@ impl EditorApp {
                     });
                     choice
                 });
-            match modal.inner {
+            // Escape or a click outside is Cancel (nothing is lost by it).
+            let choice = match modal.inner {
+                None if modal.should_close() => Some(2),
+                c => c,
+            };
+            match choice {
                 Some(0) => {
                     self.dialogs.pending = None;
                     if self.doc.path.is_none() {
@@ -353,7 +358,12 @@ impl EditorApp {
                 });
                 choice
             });
-        match modal.inner {
+        // Escape or a click outside is Cancel: back to the dialog.
+        let choice = match modal.inner {
+            None if modal.should_close() => Some(false),
+            c => c,
+        };
+        match choice {
             Some(true) => {
                 self.dialogs.overwrite = None;
                 let mut close = true;

@@ -39,6 +39,11 @@ impl EditorApp {
 
     pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
         use egui::{Key, KeyboardShortcut, Modifiers};
+        // A prompt is up (unsaved changes, replace, recover): it asked
+        // about the look as it is, so no key may change the look under it.
+        if self.modal_prompt_open() {
+            return;
+        }
         let cmd_shift = Modifiers::COMMAND | Modifiers::SHIFT;
         let (redo, undo, redo_y, save_as, save, open, toggle, image) = ctx.input_mut(|i| {
             (

@@ -412,6 +412,14 @@ impl EditorApp {
         self.dialogs.pending.is_some()
     }
 
+    /// Whether a modal prompt is up: unsaved changes, replace existing
+    /// files, or recover an earlier editor's work.
+    pub fn modal_prompt_open(&self) -> bool {
+        self.dialogs.pending.is_some()
+            || self.dialogs.overwrite.is_some()
+            || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
+    }
+
     /// The status bar's message.
     /// Makes the render thread fail on its next request (tests of the
     /// recovery; nothing in the editor calls it).

@@ -302,6 +302,40 @@ fn save_in_the_quit_prompt_saves_and_quits() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// While a prompt asks about the look, no key changes the look under it
+/// (the soak found Ctrl+Z undoing behind an unsaved-changes prompt), and
+/// Escape answers Cancel: the look stays as it was, unsaved, and the
+/// editor carries on.
+#[test]
+fn keys_wait_for_a_prompt_and_escape_cancels_it() {
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().doc.preset.name = "Edited".into();
+    h.run_steps(2);
+    assert!(h.state().doc.can_undo());
+    file_menu(&mut h, "Quit");
+    wait_for_label(&mut h, "Unsaved changes");
+    assert!(h.state().modal_prompt_open());
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().doc.preset.name,
+        "Edited",
+        "undone under the prompt"
+    );
+    h.key_press(Key::Escape);
+    h.run_steps(3);
+    assert!(!h.state().modal_prompt_open(), "Escape did not cancel");
+    assert!(h.query_by_label("Unsaved changes").is_none());
+    assert!(!h.state().close_allowed());
+    assert_eq!(h.state().doc.preset.name, "Edited");
+    assert!(h.state().doc.is_dirty());
+    // With the prompt gone, Ctrl+Z undoes again.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_ne!(h.state().doc.preset.name, "Edited");
+}
+
 /// The plot's legend: under the plot (never over the curves), R, G, B in
 /// that order, then the fit by its name (the default overlay, "Jimenez
 /// 2012 fit"). egui_plot's legend sat in the top right, alphabetical.
