@@ -166,6 +166,46 @@ fn empty_short_and_wrong_kind_files_say_what_is_wrong() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// An image whose header claims more than the loaders take is refused
+/// from its header, before any pixel is decoded: 16384 × 16384 is over the
+/// 64-megapixel limit, 20000 × 10 over 16384 a side. The PNG headers were
+/// written with Python's zlib.crc32 for the chunk CRCs (PNG spec 5.3), so
+/// they are well-formed (one IDAT of a single zero byte) and only the
+/// size is wrong.
+#[test]
+fn images_over_the_size_limits_are_refused_from_their_header() {
+    let dir = scratch("huge");
+    for (name, hex, want) in [
+        (
+            "square.png",
+            "89504e470d0a1a0a0000000d494844520000400000004000080200000026aa87d30000000949444154789c630000000100015eff7df90000000049454e44ae426082",
+            "16384×16384 is over the 64-megapixel limit",
+        ),
+        (
+            "wide.png",
+            "89504e470d0a1a0a0000000d4948445200004e200000000a0802000000de11f91a0000000949444154789c630000000100015eff7df90000000049454e44ae426082",
+            "20000×10 is over the limit of 16384 pixels a side",
+        ),
+    ] {
+        let bytes: Vec<u8> = (0..hex.len() / 2)
+            .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap())
+            .collect();
+        let p = dir.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        let e = textures::load(&p, TextureSlot::Albedo)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains(want) && e.contains(name), "{e}");
+        let e = scatterlab::render::environment::Environment::load(&p)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains(want) && e.contains(name), "{e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A full disk while saving a preset or exporting (the write fails part
 /// way, as ENOSPC does, injected on this thread): the file already there
 /// stays as it was, nothing temporary is left, and the error names the

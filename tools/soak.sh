@@ -72,45 +72,37 @@ type_path() { # the file dialog's File name field (its x range in every dialog),
 
 declare -a counts=(0 0 0 0 0 0 0 0 0 0)
 names=(orbit light edit undo flicker compare preset mesh export wait)
-start=$(date +%s)
-end=$((start + minutes * 60))
-echo "seconds,rss_kb,frames" >"$out/rss.csv"
-next_sample=$start
-rss_1min=""
-while [ "$(date +%s)" -lt "$end" ]; do
-    if ! kill -0 "$editor" 2>/dev/null; then
-        echo "tools/soak.sh: the editor exited after $(($(date +%s) - start)) s" >&2
-        break
-    fi
-    now=$(date +%s)
-    if [ "$now" -ge "$next_sample" ]; then
-        frames=$(grep -c -v " ui " "$out/frames.log" 2>/dev/null || echo 0)
-        echo "$((now - start)),$(rss_kb),$frames" >>"$out/rss.csv"
-        [ -z "$rss_1min" ] && [ $((now - start)) -ge 60 ] && rss_1min=$(rss_kb)
-        next_sample=$((now + 10))
-    fi
-    k=$(rand 0 99)
-    if [ "$k" -lt 25 ]; then a=0; drag 1 "$(rand 420 800)" "$(rand 150 640)" "$(rand -200 200)" "$(rand -80 80)"
-    elif [ "$k" -lt 35 ]; then a=1; drag 3 "$(rand 420 800)" "$(rand 150 640)" "$(rand -150 150)" "$(rand -60 60)"
-    elif [ "$k" -lt 55 ]; then a=2; drag 1 "$(rand 60 300)" "$(rand 80 600)" "$(rand -40 40)" 0
-    elif [ "$k" -lt 62 ]; then a=3; xdotool key --clearmodifiers "$([ $((RANDOM % 2)) -eq 0 ] && echo ctrl+z || echo ctrl+shift+z)"
-    elif [ "$k" -lt 66 ]; then a=4; xdotool key --clearmodifiers f
-    elif [ "$k" -lt 76 ]; then a=5
-        # Compare: off, split, side by side, difference, SSS only; now and
-        # then "refine to the truth" (the ground truth) on or off.
-        xs=(445 490 560 646 788 672)
-        x=${xs[$(rand 0 5)]}
-        if [ "$x" -eq 672 ]; then click 672 66; else click "$x" 43; fi
-    elif [ "$k" -lt 82 ]; then a=6
+# act N [CHOICE]: artist action N (an index into names), with a random
+# choice within it unless CHOICE is given.
+act() {
+    local a=$1 c=${2:-}
+    case $a in
+    0) drag 1 "$(rand 420 800)" "$(rand 150 640)" "$(rand -200 200)" "$(rand -80 80)" ;;
+    1) drag 3 "$(rand 420 800)" "$(rand 150 640)" "$(rand -150 150)" "$(rand -60 60)" ;;
+    2) drag 1 "$(rand 60 300)" "$(rand 80 600)" "$(rand -40 40)" 0 ;;
+    3) xdotool key --clearmodifiers "$([ $((RANDOM % 2)) -eq 0 ] && echo ctrl+z || echo ctrl+shift+z)" ;;
+    4) xdotool key --clearmodifiers f ;;
+    5)
+        # Compare: off, split, side by side, difference, SSS only, or
+        # "refine to the truth" (the ground truth) on or off.
+        local xs=(445 490 560 646 788 672)
+        local x=${xs[${c:-$(rand 0 5)}]}
+        if [ "$x" -eq 672 ]; then
+            click 672 66
+            truth=$((1 - truth))
+        else click "$x" 43; fi
+        ;;
+    6)
         # File → New from preset → one of the 17 shipped looks.
         click 19 12; xdotool mousemove 60 62; sleep 0.3; xdotool mousemove 240 62; sleep 0.3
-        dirty=no
+        local dirty=no
         case "$(xdotool getwindowname "$wid")" in "*"*) dirty=yes ;; esac
-        click "$(rand 180 380)" "$(rand 62 430)"
+        click "$(rand 180 380)" "${c:-$(rand 62 430)}"
         # Unsaved changes: the prompt's second button, Discard changes.
         if [ "$dirty" = yes ]; then sleep 0.5; xdotool key Tab Tab Return; fi
-    elif [ "$k" -lt 86 ]; then a=7
-        if [ $((RANDOM % 2)) -eq 0 ]; then
+        ;;
+    7)
+        if [ "${c:-$((RANDOM % 2))}" -eq 0 ]; then
             # File → Load mesh…, a scan in its own units: the units prompt
             # suggests 0.0462 m/unit; take it, OK.
             click 19 12; click 60 255; type_path "$mesh"; sleep 5
@@ -118,26 +110,82 @@ while [ "$(date +%s)" -lt "$end" ]; do
         else
             click 19 12; click 60 278 # File → Default head
         fi
-    elif [ "$k" -lt 90 ]; then a=8
+        ;;
+    8)
         # Export → one of the 14 formats → a new file name (no overwrite
         # prompt; the dialog adds the extension).
-        click 96 12; click 160 $((36 + 28 * $(rand 0 13))); sleep 1
+        click 96 12; click 160 $((36 + 28 * ${c:-$(rand 0 13)})); sleep 1
         type_path "$out/export/soak_${counts[8]}"; sleep 2
-    else a=9; sleep 2; fi
+        ;;
+    *) sleep 2 ;;
+    esac
     counts[$a]=$((counts[$a] + 1))
     xdotool key Escape 2>/dev/null || true
     sleep 0.$(rand 1 6)
+}
+sample() {
+    local now frames
+    now=$(date +%s)
+    frames=$(grep -c -v " ui " "$out/frames.log" 2>/dev/null || echo 0)
+    echo "$((now - start)),$(rss_kb),$frames" >>"$out/rss.csv"
+}
+truth=0
+# The state the baseline and the final figure are taken in: the default
+# head, compare off, the ground truth off, the pointer still.
+settle() {
+    [ "$truth" -eq 1 ] && act 5 5
+    act 5 0; act 7 1; sleep 10
+}
+start=$(date +%s)
+end=$((start + minutes * 60))
+echo "seconds,rss_kb,frames" >"$out/rss.csv"
+sample
+# Warm-up: every kind of work once (the scan and its units, the default
+# head, each compare mode, the ground truth, the slowest exports, a
+# preset), so the caches it fills are in the baseline. The baseline (after
+# the warm-up and at least a minute) and the final figure are both taken
+# in the same state (settle): what grows between them is a leak.
+act 7 0; sleep 5; act 0; act 5 5; sleep 15; act 5 5
+act 5 1; act 5 2; act 5 3; act 5 4; act 5 0; act 7 1; sleep 3
+act 8 7; sleep 4; act 8 9; act 8 12; act 6 200; act 2; act 3; act 4; act 4
+while [ $(($(date +%s) - start)) -lt 50 ]; do act 0; done
+settle
+sample
+warm_s=$(($(date +%s) - start))
+rss_base=$(rss_kb)
+next_sample=$(($(date +%s) + 10))
+while [ "$(date +%s)" -lt "$end" ]; do
+    if ! kill -0 "$editor" 2>/dev/null; then
+        echo "tools/soak.sh: the editor exited after $(($(date +%s) - start)) s" >&2
+        break
+    fi
+    if [ "$(date +%s)" -ge "$next_sample" ]; then
+        sample
+        next_sample=$(($(date +%s) + 10))
+    fi
+    k=$(rand 0 99)
+    if [ "$k" -lt 25 ]; then act 0
+    elif [ "$k" -lt 35 ]; then act 1
+    elif [ "$k" -lt 55 ]; then act 2
+    elif [ "$k" -lt 62 ]; then act 3
+    elif [ "$k" -lt 66 ]; then act 4
+    elif [ "$k" -lt 76 ]; then act 5
+    elif [ "$k" -lt 82 ]; then act 6
+    elif [ "$k" -lt 86 ]; then act 7
+    elif [ "$k" -lt 90 ]; then act 8
+    else act 9; fi
 done
+settle
+sample
 final_rss=$(rss_kb)
 alive=yes
 kill -0 "$editor" 2>/dev/null || alive=no
 panics=$(grep -c "panicked" "$out/editor.log" || true)
-recovered=$(grep -c "was restarted\|was rebuilt" "$out/editor.log" || true)
+recovered=$(grep -c "^warning: the .* thread failed\|^warning: the GPU device was lost" "$out/editor.log" || true)
 frames=$(grep -c -v " ui " "$out/frames.log" 2>/dev/null || echo 0)
 ui_frames=$(grep -c " ui " "$out/frames.log" 2>/dev/null || echo 0)
 peak=$(awk -F, 'NR > 1 && $2 > m {m = $2} END {print m + 0}' "$out/rss.csv")
-rss_1min=${rss_1min:-$peak}
-growth=$(awk -v a="$rss_1min" -v b="$final_rss" 'BEGIN {if (a > 0) printf "%.1f", 100 * (b - a) / a; else print "?"}')
+growth=$(awk -v a="$rss_base" -v b="$final_rss" 'BEGIN {if (a > 0) printf "%.1f", 100 * (b - a) / a; else print "?"}')
 actions=""
 for i in "${!names[@]}"; do actions="$actions ${names[$i]} ${counts[$i]},"; done
 {
@@ -149,10 +197,10 @@ for i in "${!names[@]}"; do actions="$actions ${names[$i]} ${counts[$i]},"; done
     echo "| Actions |${actions%,} |"
     echo "| Viewport frames | $frames |"
     echo "| UI frames | $ui_frames |"
-    echo "| RSS after 1 min | $((rss_1min / 1024)) MB |"
+    echo "| RSS after the warm-up ($warm_s s) | $((rss_base / 1024)) MB |"
     echo "| Peak RSS | $((peak / 1024)) MB |"
     echo "| Final RSS | $((final_rss / 1024)) MB |"
-    echo "| Growth after the first minute | $growth % |"
+    echo "| Growth after the warm-up | $growth % |"
     echo "| Panics | $panics |"
     echo "| Recoveries | $recovered |"
     echo "| Editor alive at the end | $alive |"

@@ -333,6 +333,7 @@ impl EditorApp {
                     // A panic the thread survived (`Background`): said
                     // as a notice as well as in the plot.
                     if e.contains("thread failed") {
+                        eprintln!("warning: {e}");
                         self.report.status = format!("Warning: {e}");
                     }
                     if key.profile == self.doc.preset.profile {

@@ -445,6 +445,8 @@ impl EditorApp {
             // again); the next change renders.
             viewport::Reply::Error(e) => self.report.status = format!("Error: viewport: {e}"),
             viewport::Reply::Recovered { message, .. } => {
+                // In the log too: a soak or a bug report counts them.
+                eprintln!("warning: {message}");
                 self.report.status = format!("Warning: {message}")
             }
             viewport::Reply::MeshLoaded(p, info) => {

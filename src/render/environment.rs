@@ -55,6 +55,16 @@ pub enum EnvironmentError {
     BadTexel { path: String, x: usize, y: usize },
 }
 
+/// The sRGB transfer function inverted (IEC 61966-2-1): an encoded value
+/// in [0, 1] to linear.
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 impl Environment {
     /// Loads a Radiance .hdr (or any image; LDR images are decoded as sRGB
     /// and linearised) as an equirectangular map.
@@ -65,21 +75,35 @@ impl Environment {
                 path: origin.clone(),
                 message,
             })?;
+        let (width, height) = (img.width() as usize, img.height() as usize);
+        // An 8-bit image (most LDR maps): sRGB decoded through a table
+        // of its 256 codes (IEC 61966-2-1 inverse transfer), straight from
+        // the bytes. The float path below costs three copies and a powf a
+        // channel: a 61-megapixel JPEG the fuzzer made took 2.1 s and
+        // 2 GB there (docs/robustness.md).
+        if let image::DynamicImage::ImageRgb8(_)
+        | image::DynamicImage::ImageRgba8(_)
+        | image::DynamicImage::ImageLuma8(_)
+        | image::DynamicImage::ImageLumaA8(_) = img
+        {
+            let table: [f32; 256] = std::array::from_fn(|code| srgb_to_linear(code as f32 / 255.0));
+            let rgb = img.into_rgb8();
+            let texels = rgb
+                .pixels()
+                .map(|p| p.0.map(|c| table[c as usize]))
+                .collect();
+            return Ok(Environment::Map {
+                width,
+                height,
+                texels,
+            });
+        }
         let hdr = matches!(
             img,
             image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
         );
-        let rgb = img.to_rgb32f();
-        let (width, height) = (rgb.width() as usize, rgb.height() as usize);
-        let lin = |c: f32| {
-            if hdr {
-                c
-            } else if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            }
-        };
+        let rgb = img.into_rgb32f();
+        let lin = |c: f32| if hdr { c } else { srgb_to_linear(c) };
         let mut texels = Vec::with_capacity(width * height);
         for (i, p) in rgb.pixels().enumerate() {
             if p.0
@@ -201,6 +225,28 @@ fn equirect_to_direction(u: f32, v: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An 8-bit map is linearised by the sRGB curve (IEC 61966-2-1):
+    /// code 128 is 0.21586 linear and code 10 is 10/255/12.92 (the linear
+    /// toe), as published tables give them; 255 is 1 and 0 is 0.
+    #[test]
+    fn eight_bit_maps_are_linearised_by_the_srgb_curve() {
+        let path = std::env::temp_dir().join(format!("scatterlab-env8-{}.png", std::process::id()));
+        image::RgbImage::from_raw(2, 1, vec![10, 128, 255, 0, 0, 0])
+            .unwrap()
+            .save(&path)
+            .unwrap();
+        let Environment::Map { width, texels, .. } = Environment::load(&path).unwrap() else {
+            panic!("not a map");
+        };
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!((width, texels.len()), (2, 2));
+        let [toe, mid, one] = texels[0];
+        assert!((toe - 10.0 / 255.0 / 12.92).abs() < 1e-7, "{toe}");
+        assert!((mid - 0.215_86).abs() < 1e-5, "{mid}");
+        assert_eq!(one, 1.0);
+        assert_eq!(texels[1], [0.0; 3]);
+    }
 
     /// A Radiance file whose RGBE texels decode to ~10³⁸ (the fuzzer's
     /// find: its SH projection overflowed to ∞) is refused by name.

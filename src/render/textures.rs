@@ -215,16 +215,24 @@ pub fn from_dynamic(
 /// header claiming a huge image ran the fuzzer out of memory.
 pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, String> {
     const MAX_PIXELS: u64 = 64 << 20;
+    const MAX_SIDE: u32 = 16384;
     let len = crate::fsutil::file_len(path).map_err(|e| e.to_string())?;
     // Shorter than any image format's signature (PNG's is 8 bytes).
     if let Some(problem) = crate::fsutil::too_short(len, 8, "an image") {
         return Err(problem);
     }
-    let mut reader = image::ImageReader::open(path)
+    // The header's size first (no pixel decoded), said in numbers when it
+    // is over a limit (the image crate says only "Image size exceeds
+    // limit").
+    let reader = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
         .map_err(|e| e.to_string())?;
-    reader.limits(bounded_limits());
     let (w, h) = reader.into_dimensions().map_err(|e| e.to_string())?;
+    if w > MAX_SIDE || h > MAX_SIDE {
+        return Err(format!(
+            "{w}×{h} is over the limit of {MAX_SIDE} pixels a side"
+        ));
+    }
     if w as u64 * h as u64 > MAX_PIXELS {
         return Err(format!("{w}×{h} is over the 64-megapixel limit"));
     }
