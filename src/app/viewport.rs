@@ -27,7 +27,10 @@ use std::sync::mpsc::{channel, Receiver, Sender};
 use std::time::Instant;
 
 /// d'Eon's 7-tap Gaussian kernel (the renderer's default).
+mod framing;
 mod thread;
+use framing::*;
+pub use thread::Fault;
 use thread::*;
 
 const GAUSSIAN_TAPS: usize = crate::render::inputs::GAUSSIAN_TAPS;
@@ -200,32 +203,9 @@ pub enum Reply {
     },
 }
 
-/// A failure a test can make the render thread have on its next request
-/// ([`Viewport::inject_fault`]); nothing else turns these on.
-#[doc(hidden)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fault {
-    /// The render thread panics.
-    Panic,
-    /// The GPU device is destroyed under the renderer (`Device::destroy`).
-    DeviceLoss,
-}
-
-/// The fault waiting for the render thread's next request, if any.
-#[derive(Default)]
-pub(super) struct Faults(std::sync::Mutex<Option<Fault>>);
-
-impl Faults {
-    fn set(&self, f: Fault) {
-        if let Ok(mut slot) = self.0.lock() {
-            *slot = Some(f);
-        }
-    }
-
-    pub(super) fn take(&self) -> Option<Fault> {
-        self.0.lock().ok().and_then(|mut slot| slot.take())
-    }
-}
+/// How many times a request lost to a render-thread failure is sent again
+/// before the viewport waits for the next one.
+const MAX_RESENDS: u32 = 2;
 
 pub struct Viewport {
     tx: Sender<Request>,
@@ -241,6 +221,9 @@ pub struct Viewport {
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
     /// Failures a test injects into the render thread.
     faults: std::sync::Arc<Faults>,
+    /// Render-thread failures since the last frame: a request that fails
+    /// every time is sent again only twice, not for ever.
+    failures_in_a_row: u32,
 }
 
 impl Drop for Viewport {
@@ -287,11 +270,13 @@ impl Viewport {
             thread,
             cancel,
             faults,
+            failures_in_a_row: 0,
         }
     }
 
-    /// Makes the render thread fail on its next request (tests of the
-    /// recovery; nothing in the editor calls it).
+    /// Makes the render thread fail on its next request, or the one after
+    /// the faults already queued (tests of the recovery; nothing in the
+    /// editor calls it).
     #[doc(hidden)]
     pub fn inject_fault(&self, fault: Fault) {
         self.faults.set(fault);
@@ -380,14 +365,36 @@ impl Viewport {
     /// Replies that arrived since the last call. A request the render
     /// thread lost in a failure it recovered from is sent again.
     pub fn poll(&mut self) -> Vec<Reply> {
-        let replies: Vec<Reply> = self.rx.try_iter().collect();
+        let mut replies: Vec<Reply> = self.rx.try_iter().collect();
+        if replies.iter().any(|r| matches!(r, Reply::Frame { .. })) {
+            self.failures_in_a_row = 0;
+        }
+        let mut gave_up = false;
+        for r in &mut replies {
+            if let Reply::Recovered {
+                message,
+                resend: true,
+            } = r
+            {
+                self.failures_in_a_row += 1;
+                if self.failures_in_a_row > MAX_RESENDS {
+                    gave_up = true;
+                    message.push_str(
+                        "; it failed on this view every time, so it waits for the next change of look or view",
+                    );
+                }
+            }
+        }
         let resend = replies
             .iter()
             .any(|r| matches!(r, Reply::Recovered { resend: true, .. }));
-        if resend {
+        if resend && !gave_up {
             if let Some(last) = self.last_sent.take() {
                 self.request(last);
             }
+        }
+        if gave_up {
+            self.busy_since = None;
         }
         // Busy until the newest request is answered (a frame of an older
         // one, still on its way, does not count) or has failed.
@@ -707,25 +714,6 @@ impl Worker {
     }
 }
 
-/// How much farther the camera stands for a side-by-side half of `size`
-/// (w, h): 1 for a half at least [`FRAMED_ASPECT`] wide, more for a
-/// narrower one so that the width the head needs still fits — the
-/// framing distance frames the head by height, and a half 242 px wide at
-/// 1280×720 cut off an eye and the ears. Tested by
-/// `side_by_side_halves_zoom_out_to_keep_the_head_whole`.
-fn side_by_side_zoom_out((w, h): (u32, u32)) -> f32 {
-    if w == 0 || h == 0 {
-        return 1.0;
-    }
-    let aspect = w as f32 / h as f32;
-    (FRAMED_ASPECT / aspect).max(1.0)
-}
-
-/// The narrowest aspect (width / height) that shows the whole head at its
-/// framing distance: the default head is 0.78 as wide as it is tall with
-/// the neck (`Mesh::head_size`), and a little room either side.
-const FRAMED_ASPECT: f32 = 0.85;
-
 /// What a request is rendered as.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Pass {
@@ -786,19 +774,4 @@ pub fn load_look(path: &std::path::Path) -> Result<Preset, String> {
         .next()
         .map(|l| l.preset)
         .ok_or_else(|| format!("{}: no look in the file", path.display()))
-}
-
-#[cfg(test)]
-mod side_by_side_tests {
-    use super::*;
-
-    /// At 1280×720 the viewport is 484×585 and each half 242×585 (aspect
-    /// 0.41): the camera stands 0.85/0.41 = 2.05× farther; a half already
-    /// wider than 0.85 keeps the view as it is.
-    #[test]
-    fn side_by_side_halves_zoom_out_to_keep_the_head_whole() {
-        assert!((side_by_side_zoom_out((242, 585)) - 0.85 * 585.0 / 242.0).abs() < 1e-5);
-        assert_eq!(side_by_side_zoom_out((700, 600)), 1.0);
-        assert_eq!(side_by_side_zoom_out((0, 0)), 1.0);
-    }
 }

@@ -75,6 +75,32 @@ fn a_lost_gpu_device_is_rebuilt() {
     survive(Fault::DeviceLoss, "GPU device was lost");
 }
 
+/// A view the render thread fails on every time (three panics queued) is
+/// sent again twice, then the viewport stops asking and says so; the next
+/// change of view renders, and the look is untouched.
+#[test]
+fn a_view_that_always_fails_is_not_retried_for_ever() {
+    let mut h = viewport_harness([1000.0, 640.0]);
+    step_until(&mut h, "the first frame", EditorApp::has_viewport_frame);
+    step_until(&mut h, "a settled view", EditorApp::viewport_idle);
+    let edit = edited(&mut h);
+    for _ in 0..3 {
+        h.state().inject_render_fault(Fault::Panic);
+    }
+    h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.2;
+    let said = "failed on this view every time";
+    step_until(&mut h, said, |a| {
+        a.notices().iter().any(|n| n.contains(said))
+    });
+    step_until(&mut h, "an idle viewport", EditorApp::viewport_idle);
+    let frames = h.state().viewport_frame().map_or(0, |f| f.1);
+    h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.2;
+    step_until(&mut h, "a frame of the next view", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > frames)
+    });
+    work_intact(&mut h, &edit);
+}
+
 #[test]
 fn an_analysis_panic_is_survived() {
     let mut h = harness(false);

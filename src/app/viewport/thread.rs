@@ -35,6 +35,33 @@ pub(super) fn try_newest(rx: &Receiver<Request>) -> Result<Option<Request>, ()> 
     }
 }
 
+/// A failure a test can make the render thread have on its next request
+/// ([`Viewport::inject_fault`]); nothing else turns these on.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fault {
+    /// The render thread panics.
+    Panic,
+    /// The GPU device is destroyed under the renderer (`Device::destroy`).
+    DeviceLoss,
+}
+
+/// The faults waiting for the render thread's next requests, in order.
+#[derive(Default)]
+pub(super) struct Faults(std::sync::Mutex<std::collections::VecDeque<Fault>>);
+
+impl Faults {
+    pub(super) fn set(&self, f: Fault) {
+        if let Ok(mut queue) = self.0.lock() {
+            queue.push_back(f);
+        }
+    }
+
+    pub(super) fn take(&self) -> Option<Fault> {
+        self.0.lock().ok().and_then(|mut queue| queue.pop_front())
+    }
+}
+
 /// Runs [`worker`] until the UI goes. A panic in it is caught and said,
 /// and a fresh worker (a new renderer) takes the next request; the viewport
 /// sends the request in hand again (`Reply::Recovered`). The document and
