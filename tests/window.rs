@@ -121,11 +121,17 @@ fn editor_window(display: &str) -> String {
     wid
 }
 
-/// Issue 27: an artist renames the look, does not save, and the editor is
-/// killed (SIGKILL: no exit handler runs). Within 30 s of the edit the
-/// autosave held it; the next editor started on the same data folder
-/// offers it back, and Enter restores it as unsaved work (the window's
-/// title, which eframe sets from the document, says so).
+/// Issues 27 and 36: an artist on a scan renames the look, presses Enter,
+/// and touches nothing more: no mouse move, no key, not even a focus
+/// change, for 40 s. The autosave must be on disk within 10 s all the same
+/// (egui draws a frame only on input or when asked: the editor asks for
+/// one at the autosave's deadline). Then the editor is killed (SIGKILL: no
+/// exit handler runs). The next editor, started on the same data folder
+/// without the mesh, offers the work back; Enter restores it as unsaved
+/// work (the window's title, which eframe sets from the document, says
+/// so) on the scan again at its units (the frame log's `mesh` line, from
+/// the render thread), and Ctrl+Z undoes the rename: the history came
+/// back too.
 #[test]
 fn a_killed_editor_leaves_its_unsaved_look_for_the_next_start() {
     let display = format!(":{}", 100 + (std::process::id() + 401) % 800);
@@ -152,37 +158,68 @@ fn a_killed_editor_leaves_its_unsaved_look_for_the_next_start() {
     let runtime = home.join("runtime");
     std::fs::create_dir_all(&runtime).unwrap();
     let data = home.join("data");
+    let scan = std::fs::canonicalize(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scan/LeePerrySmith.glb"
+    ))
+    .unwrap();
     let runs = std::cell::Cell::new(0);
-    let start = || {
+    let start = |args: &[&str]| {
         runs.set(runs.get() + 1);
         let log = std::fs::File::create(home.join(format!("editor-{}.log", runs.get()))).unwrap();
-        Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        let child = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
             .arg("edit")
+            .args(args)
             .env("DISPLAY", &display)
             .env("HOME", &home)
             .env("XDG_RUNTIME_DIR", &runtime)
             .env("XDG_DATA_HOME", &data)
+            .env(
+                "SCATTERLAB_FRAME_LOG",
+                home.join(format!("frames-{}.log", runs.get())),
+            )
             .env_remove("WAYLAND_DISPLAY")
             .stdout(Stdio::null())
             .stderr(log)
             .spawn()
-            .unwrap()
+            .unwrap();
+        (child, home.join(format!("frames-{}.log", runs.get())))
     };
+    let frames = |log: &std::path::Path| std::fs::read_to_string(log).unwrap_or_default();
     let title = |wid: &str| xdotool(&display, &["getwindowname", wid]);
     let name = "Killed before saving";
-    let mut editor = start();
+    let (mut editor, log) = start(&[
+        "--mesh",
+        scan.to_str().unwrap(),
+        "--metres-per-unit",
+        "0.0462",
+    ]);
     let wid = editor_window(&display);
     wait_until("the default look's title", 120, || {
         title(&wid).contains("Skin (default)")
     });
-    // The look's Name field, top left of the 1280×720 window: click,
-    // select all, type (again if the window was not taking keys yet).
+    // The scan loaded and its frame converged.
+    let scan_line = format!("mesh {} metres_per_unit=0.0462", scan.display());
+    wait_until("the scan's converged frame", 180, || {
+        let f = frames(&log);
+        f.find(&scan_line)
+            .is_some_and(|at| f[at..].contains("frame converged"))
+    });
+    // The look's Name field, top left of the 1280×720 window: click, move
+    // the pointer off it to the empty menu bar (a tooltip would draw
+    // frames of its own), select all, type, Enter; again if the window was
+    // not taking keys yet.
+    let mut edited = Instant::now();
     wait_until("the renamed, unsaved look in the title", 90, || {
         xdotool(&display, &["windowfocus", "--sync", &wid]);
         xdotool(&display, &["mousemove", "190", "60", "click", "1"]);
         std::thread::sleep(Duration::from_millis(500));
+        xdotool(&display, &["mousemove", "1100", "12"]);
         xdotool(&display, &["key", "ctrl+a"]);
         xdotool(&display, &["type", "--delay", "30", name]);
+        xdotool(&display, &["key", "Return"]);
+        // The last input: nothing is sent to the window after this.
+        edited = Instant::now();
         let t0 = Instant::now();
         while t0.elapsed() < Duration::from_secs(5) {
             let t = title(&wid);
@@ -196,40 +233,58 @@ fn a_killed_editor_leaves_its_unsaved_look_for_the_next_start() {
     let file = data
         .join("scatterlab/autosave")
         .join(format!("{}.ron", editor.id()));
-    let edited = Instant::now();
-    wait_until("the autosave of the edit", 30, || {
-        std::fs::read_to_string(&file).is_ok_and(|t| t.contains(name))
-    });
+    // Reading files and the title is no input to the editor.
+    wait_until(
+        "the autosave of the edit, with no input after it",
+        10,
+        || std::fs::read_to_string(&file).is_ok_and(|t| t.contains(name)),
+    );
     eprintln!(
-        "autosaved {:.1} s after the edit",
+        "autosaved {:.1} s after the last input",
         edited.elapsed().as_secs_f64()
     );
+    let idle = Duration::from_secs(40);
+    std::thread::sleep(idle.saturating_sub(edited.elapsed()));
     editor.kill().unwrap();
     editor.wait().unwrap();
-    assert!(file.exists(), "the kill took the autosave with it");
+    let saved = std::fs::read_to_string(&file).expect("the kill took the autosave with it");
+    assert!(saved.contains(name), "{saved}");
+    assert!(
+        saved.contains(&scan.display().to_string()) && saved.contains("metres_per_unit: 0.0462"),
+        "the autosave does not hold the mesh and its units: {saved}"
+    );
+    assert!(saved.contains("history:"), "no undo history: {saved}");
 
-    let mut next = start();
+    let (mut next, log) = start(&[]);
     let wid = editor_window(&display);
     wait_until("the recovery prompt over the default look", 120, || {
         title(&wid).contains("Skin (default)")
     });
     // The prompt is modal; Enter answers Restore.
-    let mut restored = false;
     wait_until("the restored look in the title", 60, || {
         xdotool(&display, &["windowfocus", "--sync", &wid]);
         xdotool(&display, &["key", "Return"]);
         std::thread::sleep(Duration::from_millis(500));
-        restored = title(&wid).contains(name);
-        restored
+        title(&wid).contains(name)
     });
     let t = title(&wid);
     assert!(t.starts_with('*'), "restored, but not as unsaved work: {t}");
+    // The scan again, at its units, drawn with no further input.
+    wait_until("the restored scan", 120, || {
+        frames(&log).contains(&scan_line)
+    });
     // The old file is gone and the restored look is this editor's autosave.
     let mine = data
         .join("scatterlab/autosave")
         .join(format!("{}.ron", next.id()));
     wait_until("the restored look's own autosave", 30, || {
         !file.exists() && std::fs::read_to_string(&mine).is_ok_and(|t| t.contains(name))
+    });
+    // One undo step (one Ctrl+Z, to a window that took Enter) takes the
+    // rename back.
+    xdotool(&display, &["key", "ctrl+z"]);
+    wait_until("the rename undone by one Ctrl+Z", 10, || {
+        title(&wid).contains("Skin (default)")
     });
     next.kill().unwrap();
     next.wait().unwrap();

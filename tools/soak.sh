@@ -126,7 +126,7 @@ act() {
 sample() {
     local now frames
     now=$(date +%s)
-    frames=$(grep -c -v " ui " "$out/frames.log" 2>/dev/null || echo 0)
+    frames=$(grep -c " frame " "$out/frames.log" 2>/dev/null || echo 0)
     echo "$((now - start)),$(rss_kb),$frames" >>"$out/rss.csv"
 }
 truth=0
@@ -184,7 +184,7 @@ alive=yes
 kill -0 "$editor" 2>/dev/null || alive=no
 panics=$(grep -c "panicked" "$out/editor.log" || true)
 recovered=$(grep -c "^warning: the .* thread failed\|^warning: the GPU device was lost" "$out/editor.log" || true)
-frames=$(grep -c -v " ui " "$out/frames.log" 2>/dev/null || echo 0)
+frames=$(grep -c " frame " "$out/frames.log" 2>/dev/null || echo 0)
 ui_frames=$(grep -c " ui " "$out/frames.log" 2>/dev/null || echo 0)
 peak=$(awk -F, 'NR > 1 && $2 > m {m = $2} END {print m + 0}' "$out/rss.csv")
 growth=$(awk -v a="$rss_base" -v b="$final_rss" 'BEGIN {if (a > 0) printf "%.1f", 100 * (b - a) / a; else print "?"}')

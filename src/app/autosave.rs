@@ -6,7 +6,9 @@
 //! only a crash or a kill leaves one behind; the next start finds it and
 //! offers it back (Restore / Discard / Show file).
 
-use super::state::{CompareB, CompareMode, Document, UiState, ViewState};
+use super::state::{
+    CompareB, CompareMode, Document, History, MeshSettings, UiState, ViewState, HISTORY_BYTES,
+};
 use crate::settings::Preset;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -15,8 +17,8 @@ use std::time::{Duration, Instant};
 /// The longest an edit waits to be written (the issue's limit is 30 s).
 pub const AUTOSAVE_SECONDS: u64 = 5;
 
-/// What a crash would lose: the look, the file it came from, and how it
-/// was being looked at.
+/// What a crash would lose: the look, the file it came from, its undo
+/// history, the mesh it was on, and how it was being looked at.
 /// The look is read strictly (a preset's own rules); how it was viewed
 /// falls back to defaults, so a file another version wrote still gives
 /// the work back.
@@ -26,6 +28,15 @@ pub struct Recovery {
     /// The preset file the look was opened from or last saved to.
     #[serde(default)]
     pub path: Option<PathBuf>,
+    /// Undo and redo, at most [`HISTORY_BYTES`] of them, and the state
+    /// last saved (files before issue 36 have none: one undo step back to
+    /// the file, as they restored then).
+    #[serde(default)]
+    pub history: History,
+    /// The mesh the look was on, with its units and maps (`None`: the
+    /// default head).
+    #[serde(default)]
+    pub mesh: Option<RecoveredMesh>,
     #[serde(default)]
     pub view: ViewState,
     #[serde(default)]
@@ -36,6 +47,51 @@ pub struct Recovery {
     pub split: f32,
     /// When it was written (seconds since 1970).
     pub written_unix_s: u64,
+}
+
+/// A loaded mesh: its file and what the artist set for it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecoveredMesh {
+    pub path: PathBuf,
+    #[serde(default)]
+    pub settings: MeshSettings,
+}
+
+/// Everything of the editor an autosave holds, as [`Autosave::tick`]
+/// reads it.
+pub struct Snapshot<'a> {
+    pub doc: &'a Document,
+    pub ui: &'a UiState,
+    pub mesh: Option<&'a Path>,
+}
+
+impl Snapshot<'_> {
+    fn recovery(&self, history: History) -> Recovery {
+        Recovery {
+            preset: self.doc.preset.clone(),
+            path: self.doc.path.clone(),
+            history,
+            mesh: self.mesh.map(|p| RecoveredMesh {
+                path: p.to_owned(),
+                settings: self.ui.meshes.get(p).cloned().unwrap_or_default(),
+            }),
+            view: self.ui.view,
+            compare: self.ui.compare,
+            compare_b: self.ui.compare_b.clone(),
+            split: self.ui.split,
+            written_unix_s: 0,
+        }
+    }
+}
+
+/// What a tick did, and when the editor must look again even if no input
+/// comes (egui draws a frame only on input or a repaint request).
+pub struct Ticked {
+    /// An error to show, once.
+    pub message: Option<String>,
+    /// Ask for a frame after this long: something may be left to write
+    /// (or a file to remove) at the next check.
+    pub wake_in: Option<Duration>,
 }
 
 fn half() -> f32 {
@@ -53,8 +109,9 @@ pub struct Found {
 pub struct Autosave {
     dir: PathBuf,
     file: PathBuf,
-    /// The last content written (without its time), to write only changes.
-    last: Option<String>,
+    /// The last content written (without its time and history) and the
+    /// document's history revision then, to write only changes.
+    last: Option<(String, u64)>,
     /// When the content was last checked or written.
     checked: Option<Instant>,
     /// An earlier run's recovery, offered until answered.
@@ -118,42 +175,53 @@ impl Autosave {
 
     /// Writes the look if it has unsaved changes that were not written yet
     /// (checked once every [`AUTOSAVE_SECONDS`], or now with `force`);
-    /// removes the file once nothing is unsaved. An error to show, once.
-    pub fn tick(&mut self, doc: &Document, ui: &UiState, force: bool) -> Option<String> {
-        let due = self
-            .checked
-            .is_none_or(|t| t.elapsed() >= Duration::from_secs(AUTOSAVE_SECONDS));
-        if !(due || force) {
-            return None;
+    /// removes the file once nothing is unsaved. Between checks it says
+    /// when to look again, so an edit with no input after it is still
+    /// written (issue 36).
+    pub fn tick(&mut self, now: Snapshot<'_>, force: bool) -> Ticked {
+        let period = Duration::from_secs(AUTOSAVE_SECONDS);
+        let since = self.checked.map(|t| t.elapsed());
+        if !force && since.is_some_and(|s| s < period) {
+            // Something changed this frame, or may have: look again at
+            // the deadline while there is anything to write or remove.
+            let pending = now.doc.is_dirty() || self.last.is_some();
+            return Ticked {
+                message: None,
+                wake_in: pending.then(|| period - since.unwrap_or_default()),
+            };
         }
         self.checked = Some(Instant::now());
-        if !doc.is_dirty() {
+        let message = self.write(&now);
+        Ticked {
+            message,
+            wake_in: None,
+        }
+    }
+
+    /// The check itself: writes what changed, removes the file once
+    /// nothing is unsaved. An error to show, once.
+    fn write(&mut self, now: &Snapshot<'_>) -> Option<String> {
+        if !now.doc.is_dirty() {
             self.clear();
             return None;
         }
-        let recovery = Recovery {
-            preset: doc.preset.clone(),
-            path: doc.path.clone(),
-            view: ui.view,
-            compare: ui.compare,
-            compare_b: ui.compare_b.clone(),
-            split: ui.split,
-            written_unix_s: 0,
-        };
-        let content = ron::to_string(&recovery).ok()?;
-        if self.last.as_ref() == Some(&content) {
+        // The history is compared by its revision, not by its text (up to
+        // a megabyte of RON, serialised only when it changed).
+        let content = ron::to_string(&now.recovery(History::default())).ok()?;
+        let key = (content, now.doc.revision());
+        if self.last.as_ref() == Some(&key) {
             return None;
         }
         let recovery = Recovery {
             written_unix_s: unix_seconds(),
-            ..recovery
+            ..now.recovery(now.doc.history(HISTORY_BYTES))
         };
         let text = ron::ser::to_string_pretty(&recovery, Default::default()).ok()?;
         let written = std::fs::create_dir_all(&self.dir)
             .and_then(|()| crate::fsutil::write_atomic(&self.file, text.as_bytes()));
         match written {
             Ok(()) => {
-                self.last = Some(content);
+                self.last = Some(key);
                 self.failed = None;
                 None
             }
@@ -266,15 +334,27 @@ impl super::EditorApp {
     /// editor itself calls it every frame and writes at most every
     /// [`AUTOSAVE_SECONDS`]).
     pub fn autosave_now(&mut self) {
-        self.autosave_tick(true);
+        self.autosave_tick(None, true);
     }
 
-    pub(super) fn autosave_tick(&mut self, force: bool) {
+    /// The frame's autosave check; with `ctx`, a frame is asked for at the
+    /// next deadline while something is left to write, so the write does
+    /// not wait for input.
+    pub(super) fn autosave_tick(&mut self, ctx: Option<&egui::Context>, force: bool) {
         let Some(a) = self.autosave.as_mut() else {
             return;
         };
-        if let Some(message) = a.tick(&self.doc, &self.ui_state, force) {
+        let now = Snapshot {
+            doc: &self.doc,
+            ui: &self.ui_state,
+            mesh: self.meshes.mesh.as_deref(),
+        };
+        let ticked = a.tick(now, force);
+        if let Some(message) = ticked.message {
             self.report.status = message;
+        }
+        if let (Some(ctx), Some(after)) = (ctx, ticked.wake_in) {
+            ctx.request_repaint_after(after);
         }
     }
 
@@ -285,18 +365,33 @@ impl super::EditorApp {
         }
     }
 
-    /// Puts a recovered look back: the document as it was (its file, if
-    /// any, is what it differs from, so it shows as unsaved), and its view
-    /// and compare state.
+    /// Puts a recovered look back: the document as it was with its undo
+    /// history (what it differs from is what was saved, so it shows as
+    /// unsaved), the mesh with its units and maps, and the view and
+    /// compare state.
     fn restore(&mut self, r: Recovery) {
-        let on_disk = r
-            .path
-            .as_ref()
-            .and_then(|p| Preset::load(p).ok())
-            .unwrap_or_default();
-        let mut doc = Document::new(on_disk, r.path.clone());
-        doc.replace(r.preset);
-        self.doc = doc;
+        let mut history = r.history;
+        if history.undo.is_empty() && history.saved.is_none() {
+            // An older recovery file: one step back to the preset file
+            // (or the default), as those restored.
+            history.undo.push(
+                r.path
+                    .as_deref()
+                    .and_then(|p| Preset::load(p).ok())
+                    .unwrap_or_default(),
+            );
+        }
+        self.doc = Document::restored(r.preset, r.path, history);
+        // The mesh it was on (the default head if none), framed as it
+        // was: the restored view is kept, not reframed.
+        match r.mesh {
+            Some(m) => {
+                self.view.framed_for = Some((Some(m.path.clone()), m.settings.metres_per_unit));
+                self.ui_state.meshes.insert(m.path.clone(), m.settings);
+                self.meshes.mesh = Some(m.path);
+            }
+            None => self.meshes.mesh = None,
+        }
         self.ui_state.view = r.view;
         self.ui_state.compare = r.compare;
         self.ui_state.compare_b = r.compare_b;
@@ -363,7 +458,7 @@ impl super::EditorApp {
                     self.restore(f.recovery);
                     // Written under this editor's name before the old file
                     // goes: a crash in between loses nothing.
-                    self.autosave_tick(true);
+                    self.autosave_tick(Some(ctx), true);
                     let _ = std::fs::remove_file(&f.file);
                 }
             }
@@ -419,6 +514,8 @@ mod tests {
                 ..Preset::default()
             },
             path: None,
+            history: History::default(),
+            mesh: None,
             view: ViewState::default(),
             compare: CompareMode::Off,
             compare_b: CompareB::default(),

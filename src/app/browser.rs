@@ -81,7 +81,8 @@ fn thumbnail_request(preset: &Preset) -> Request {
 impl PresetBrowser {
     /// Lists the shipped presets and starts filling in their thumbnails
     /// from `cache` (rendering and storing the missing ones).
-    pub fn open(cache: Option<PathBuf>) -> Self {
+    /// `wake` is called after each thumbnail, so it shows without input.
+    pub fn open(cache: Option<PathBuf>, wake: impl Fn() + Send + 'static) -> Self {
         let entries: Vec<Entry> = library::PRESETS
             .iter()
             .filter_map(|(file, _)| library::load(file).ok())
@@ -106,6 +107,7 @@ impl PresetBrowser {
                     if tx.send(Message::Thumb(k, img, false)).is_err() {
                         return;
                     }
+                    wake();
                     continue;
                 }
                 let vp = viewport.get_or_insert_with(|| Viewport::start(|| {}));
@@ -114,6 +116,7 @@ impl PresetBrowser {
                     Ok(None) => return,
                     Err(e) => {
                         let _ = tx.send(Message::Failed(format!("{}: {e}", preset.name)));
+                        wake();
                         return;
                     }
                 };
@@ -132,6 +135,7 @@ impl PresetBrowser {
                 if tx.send(Message::Thumb(k, img, true)).is_err() {
                     return;
                 }
+                wake();
             }
         });
         Self {

@@ -50,7 +50,7 @@ impl EditorApp {
                 let speed = mpu * 0.01;
                 ui.add(
                     egui::DragValue::new(&mut mpu)
-                        .range(1e-6..=1e3)
+                        .range(MeshArg::METRES_PER_UNIT)
                         .speed(speed)
                         .max_decimals(6)
                         .suffix(" m/unit"),

@@ -36,6 +36,20 @@ impl EditorApp {
         }
     }
 
+    /// Shows `mesh` in the viewport (`edit --mesh`), with its units if
+    /// given: they are remembered for the file as the units prompt would.
+    pub fn open_mesh(&mut self, mesh: MeshArg) {
+        if let Some(m) = mesh.metres_per_unit {
+            self.ui_state
+                .meshes
+                .entry(mesh.path.clone())
+                .or_default()
+                .metres_per_unit = m;
+        }
+        self.report.status = format!("Loading mesh {} …", mesh.path.display());
+        self.meshes.mesh = Some(mesh.path);
+    }
+
     /// Opens `path` now (the caller has dealt with unsaved changes).
     pub fn open_now(&mut self, path: &Path) {
         match Preset::load(path) {
@@ -201,10 +215,12 @@ impl EditorApp {
         if let DialogKind::Export(format) = kind {
             let preset = self.doc.preset.clone();
             let (tx, rx) = std::sync::mpsc::channel();
+            let waker = self.jobs.waker.clone();
             std::thread::spawn(move || {
                 let notes = crate::export::export_notes(&preset, format)
                     .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
                 let _ = tx.send(notes);
+                waker.wake();
             });
             self.dialogs.export_notes = Some(rx);
         }
@@ -295,10 +311,12 @@ impl EditorApp {
         let preset = self.doc.preset.clone();
         let source = self.doc.path.clone();
         let (tx, rx) = std::sync::mpsc::channel();
+        let waker = self.jobs.waker.clone();
         std::thread::spawn(move || {
             let r = crate::export::export(&preset, source.as_deref(), format, &out)
                 .map_err(|e| e.to_string());
             let _ = tx.send(r);
+            waker.wake();
         });
         self.jobs.exports.push(rx);
         self.report.status = format!("Exporting {} …", format.id());
@@ -309,11 +327,13 @@ impl EditorApp {
     pub fn load_environment(&mut self, path: PathBuf) {
         let (tx, rx) = std::sync::mpsc::channel();
         self.report.status = format!("Loading environment {} …", path.display());
+        let waker = self.jobs.waker.clone();
         std::thread::spawn(move || {
             let r = crate::render::environment::Environment::load(&path)
                 .map(|e| (path, e.irradiance_sh()))
                 .map_err(|e| e.to_string());
             let _ = tx.send(r);
+            waker.wake();
         });
         self.jobs.environment_load = Some(rx);
     }

@@ -92,6 +92,11 @@ impl EditorApp {
         self.meshes.mesh_info
     }
 
+    /// The mesh the viewport is asked to show (`None`: the default head).
+    pub fn mesh_path(&self) -> Option<&Path> {
+        self.meshes.mesh.as_deref()
+    }
+
     /// The mesh whose units prompt is open.
     pub fn units_prompt_for(&self) -> Option<&Path> {
         self.meshes.units_prompt.as_deref()

@@ -32,11 +32,12 @@ pub(super) struct MapsPreview {
 }
 
 impl MapsPreview {
-    fn start(path: PathBuf, settings: MeshSettings) -> Self {
+    fn start(path: PathBuf, settings: MeshSettings, waker: super::wake::Waker) -> Self {
         let (tx, rx) = std::sync::mpsc::channel();
         let (p, s) = (path.clone(), settings.clone());
         std::thread::spawn(move || {
             let _ = tx.send(previews(&p, &s));
+            waker.wake();
         });
         Self {
             key: (path, settings),
@@ -136,7 +137,11 @@ impl EditorApp {
         let mut settings = self.ui_state.meshes.get(&path).cloned().unwrap_or_default();
         let key = (path.clone(), settings.clone());
         if self.meshes.maps_preview.as_ref().map(|p| &p.key) != Some(&key) {
-            self.meshes.maps_preview = Some(MapsPreview::start(path.clone(), settings.clone()));
+            self.meshes.maps_preview = Some(MapsPreview::start(
+                path.clone(),
+                settings.clone(),
+                self.jobs.waker.clone(),
+            ));
         }
         let mut preview = self.meshes.maps_preview.take();
         let waiting = preview.as_ref().is_some_and(|p| p.rx.is_some());

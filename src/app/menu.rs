@@ -22,7 +22,7 @@ impl EditorApp {
             match ext.as_str() {
                 "ron" => self.guarded(Pending::Open(path)),
                 "asset" | "mtlx" | "tres" | "txt" | "py" => self.import_now(&path),
-                "obj" | "gltf" | "glb" => {
+                e if crate::render::mesh::Mesh::EXTENSIONS.contains(&e) => {
                     self.report.status = format!("Loading mesh {} …", path.display());
                     self.meshes.mesh = Some(path);
                 }
@@ -144,7 +144,10 @@ impl EditorApp {
             .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
             .clicked()
         {
-            self.dialogs.browser = Some(browser::PresetBrowser::open(self.dialogs.thumbnail_dir.clone()));
+            self.dialogs.browser = Some(browser::PresetBrowser::open(
+                self.dialogs.thumbnail_dir.clone(),
+                self.jobs.waker.as_fn(),
+            ));
             ui.close();
         }
         ui.menu_button("New from preset", |ui| {

@@ -18,6 +18,7 @@ pub mod state;
 pub mod turntable;
 pub mod viewport;
 mod viewport_ui;
+pub mod wake;
 
 use crate::export::Format;
 use crate::render::mesh::{CRANIUM_M, PLAUSIBLE_CRANIUM_M, PLAUSIBLE_HEIGHT_M};
@@ -67,7 +68,7 @@ impl DialogKind {
     /// are always listed.
     fn extensions(&self) -> Vec<&'static str> {
         let exts: &[&'static str] = match self {
-            DialogKind::Mesh => &["obj", "gltf", "glb"],
+            DialogKind::Mesh => &crate::render::mesh::Mesh::EXTENSIONS,
             DialogKind::Environment => &["hdr"],
             DialogKind::Map(_) => &["png", "jpg", "jpeg"],
             DialogKind::SaveImage => &["png"],
@@ -166,6 +167,16 @@ type BCurvesKey = (PathBuf, Option<u64>, String);
 /// channel, or why it cannot be overlaid.
 type BCurves = Result<(String, Curves, [f64; 3]), String>;
 
+/// What the first panels of a frame showed ([`EditorApp::drawn`]).
+#[derive(PartialEq)]
+struct Drawn {
+    status: String,
+    frame_info: String,
+    busy: bool,
+    preset: Preset,
+    path: Option<PathBuf>,
+}
+
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
 
@@ -205,16 +216,8 @@ impl EditorApp {
         viewport: bool,
     ) -> Self {
         let (preset, path) = preset.unwrap_or_else(|| (Preset::default_skin(), None));
-        // Background threads wake the UI when they finish (tests step by hand).
-        let waker = |ctx: Option<&egui::Context>| {
-            let ctx = ctx.cloned();
-            move || {
-                if let Some(c) = &ctx {
-                    c.request_repaint();
-                }
-            }
-        };
-        let (c1, c2) = (waker(ctx), waker(ctx));
+        // Background threads wake the UI when they finish.
+        let waker = wake::Waker::new(ctx);
         let mut app = Self {
             doc: Document::new(preset, path),
             ui_state,
@@ -224,7 +227,7 @@ impl EditorApp {
                     "scatterlab-analysis",
                     analysis::analyse,
                     Err,
-                    c1,
+                    waker.as_fn(),
                 ),
                 latest: None,
                 curves: None,
@@ -235,7 +238,7 @@ impl EditorApp {
                 imported: None,
             },
             view: ViewportState {
-                viewport: viewport.then(|| viewport::Viewport::start(c2)),
+                viewport: viewport.then(|| viewport::Viewport::start(waker.as_fn())),
                 texture: None,
                 frame_info: String::new(),
                 hdr_rig_pending: false,
@@ -268,6 +271,7 @@ impl EditorApp {
                 about_open: false,
             },
             jobs: Jobs {
+                waker,
                 exports: Vec::new(),
                 environment_load: None,
                 turntable: None,
@@ -290,6 +294,7 @@ impl EditorApp {
                         .map(std::io::LineWriter::new)
                 }),
                 ui_ms: 0.0,
+                logged_status: String::new(),
                 started: std::time::Instant::now(),
                 reported: (false, false),
                 last_title: String::new(),
@@ -364,9 +369,11 @@ impl EditorApp {
                 s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
             });
         }
+        self.jobs.waker.attach(&ctx);
         self.handle_drops(&ctx);
         self.shortcuts(&ctx);
         self.poll_workers();
+        let drawn = self.drawn();
 
         // Panels draw no background of their own: the window's clear colour
         // is the panel colour (`EframeApp::clear_color`). On lavapipe the
@@ -435,12 +442,39 @@ impl EditorApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.report.last_title = title;
         }
-        self.autosave_tick(false);
+        self.autosave_tick(Some(&ctx), false);
+        // A reply, a prompt's answer or a finished job can change what the
+        // menu and status bars drew at the frame's start: draw it again
+        // now, not at the next input.
+        if self.drawn() != drawn {
+            ctx.request_repaint();
+        }
         self.report.ui_ms = ui_ms;
         self.report_timings();
         if let Some(log) = self.report.frame_log.as_mut() {
             use std::io::Write;
-            let _ = writeln!(log, "{:.3} ui {ui_ms:.1}", unix_seconds());
+            let t = unix_seconds();
+            let _ = writeln!(log, "{t:.3} ui {ui_ms:.1}");
+            // The status line as this frame drew it, when it changed (a
+            // test reads when a job's result reached the screen).
+            if drawn.status != self.report.logged_status {
+                let _ = writeln!(log, "{t:.3} status {}", drawn.status);
+                self.report.logged_status = drawn.status;
+            }
+        }
+    }
+
+    /// What the panels drawn first (menu, status bar, the look's fields)
+    /// show that code later in the frame may change.
+    fn drawn(&self) -> Drawn {
+        Drawn {
+            status: self.report.status.clone(),
+            frame_info: self.view.frame_info.clone(),
+            busy: !self.jobs.exports.is_empty()
+                || self.profile.analysis.busy()
+                || self.jobs.environment_load.is_some(),
+            preset: self.doc.preset.clone(),
+            path: self.doc.path.clone(),
         }
     }
 
@@ -593,6 +627,53 @@ impl eframe::App for EframeApp {
     }
 }
 
+/// A mesh to open the editor on (`edit --mesh`), checked before a window
+/// opens.
+#[derive(Debug, Clone)]
+pub struct MeshArg {
+    /// Absolute, as the file dialog gives it (the units and maps are
+    /// remembered by path).
+    pub path: PathBuf,
+    /// Metres per unit, if given; else the remembered units or the prompt.
+    pub metres_per_unit: Option<f32>,
+}
+
+impl MeshArg {
+    /// The longest and shortest metres per unit the units prompt takes.
+    pub const METRES_PER_UNIT: std::ops::RangeInclusive<f32> = 1e-6..=1e3;
+
+    /// `path` if it is a file the mesh loader reads, and `metres_per_unit`
+    /// if it is in [`Self::METRES_PER_UNIT`]; an error naming the flag
+    /// otherwise.
+    pub fn check(path: PathBuf, metres_per_unit: Option<f32>) -> anyhow::Result<Self> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if !ext.is_some_and(|e| crate::render::mesh::Mesh::EXTENSIONS.contains(&e.as_str())) {
+            anyhow::bail!(
+                "--mesh {}: not a mesh the editor reads (.obj, .gltf, .glb)",
+                path.display()
+            );
+        }
+        let path = std::fs::canonicalize(&path)
+            .map_err(|e| anyhow::anyhow!("--mesh {}: {e}", path.display()))?;
+        if let Some(m) = metres_per_unit {
+            if !Self::METRES_PER_UNIT.contains(&m) {
+                anyhow::bail!(
+                    "--metres-per-unit {m}: outside {}–{} m per unit",
+                    Self::METRES_PER_UNIT.start(),
+                    Self::METRES_PER_UNIT.end()
+                );
+            }
+        }
+        Ok(Self {
+            path,
+            metres_per_unit,
+        })
+    }
+}
+
 /// Opens the editor window on `preset` (else the last preset, else the
 /// embedded default skin).
 /// `compare`: open comparing in this mode, B the look with this method
@@ -602,6 +683,7 @@ pub fn run(
     exit_after_first_frame: bool,
     compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
     import: Option<PathBuf>,
+    mesh: Option<MeshArg>,
 ) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let initial = match &preset {
@@ -649,6 +731,9 @@ pub fn run(
             app.report.started = started;
             if let Some(f) = &import {
                 app.import_now(f);
+            }
+            if let Some(m) = mesh {
+                app.open_mesh(m);
             }
             Ok(Box::new(EframeApp {
                 app,

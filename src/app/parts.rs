@@ -96,6 +96,8 @@ pub(super) struct Dialogs {
 
 /// Work on other threads: exports, an environment map loading, a turntable.
 pub(super) struct Jobs {
+    /// Wakes the UI when a job finishes (each job's thread holds a clone).
+    pub(super) waker: wake::Waker,
     pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
     /// An HDR environment map loading on its own thread.
     pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
@@ -114,6 +116,8 @@ pub(super) struct Report {
     pub(super) frame_log: Option<std::io::LineWriter<std::fs::File>>,
     /// UI time of the last frame outside the viewport (ms).
     pub(super) ui_ms: f64,
+    /// The status line the frame log last wrote.
+    pub(super) logged_status: String,
     /// When the editor was created, and whether the first UI frame and the
     /// first viewport frame were reported (SCATTERLAB_TIMINGS=1 prints them).
     pub(super) started: std::time::Instant,

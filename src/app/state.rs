@@ -7,6 +7,9 @@ use std::path::{Path, PathBuf};
 
 /// Undo steps kept.
 pub const HISTORY_LIMIT: usize = 200;
+/// The most of the undo history an autosave carries (its presets as RON,
+/// newest first): about 1 MB, a few hundred steps of a typical look.
+pub const HISTORY_BYTES: usize = 1 << 20;
 /// Recent files listed.
 pub const RECENT_LIMIT: usize = 10;
 /// The difference view's default white: 5 ΔL*, a few just-noticeable
@@ -25,6 +28,22 @@ pub struct Document {
     committed: Preset,
     undo: Vec<Preset>,
     redo: Vec<Preset>,
+    /// Counts the changes of the undo history and of `saved` (their only
+    /// writers are this type's methods), so the autosave can tell that
+    /// nothing in them changed without comparing them.
+    revision: u64,
+}
+
+/// A document's undo history as the autosave carries it: what undo and
+/// redo go back to (oldest first, as [`Document`] keeps them) and the
+/// preset as last saved, which decides what counts as unsaved.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct History {
+    pub undo: Vec<Preset>,
+    pub redo: Vec<Preset>,
+    /// `None`: as the preset file says (a recovery another version wrote).
+    pub saved: Option<Preset>,
 }
 
 impl Document {
@@ -36,7 +55,64 @@ impl Document {
             path,
             undo: Vec::new(),
             redo: Vec::new(),
+            revision: 0,
         }
+    }
+
+    /// The document as it was: `preset` (its edits since the last commit
+    /// included), its file, and its history. Without a saved state in
+    /// `history`, what is saved is the file at `path` (else the default
+    /// preset), so the recovered look shows as unsaved.
+    pub fn restored(preset: Preset, path: Option<PathBuf>, history: History) -> Self {
+        let saved = history.saved.unwrap_or_else(|| {
+            path.as_deref()
+                .and_then(|p| Preset::load(p).ok())
+                .unwrap_or_default()
+        });
+        Self {
+            saved,
+            committed: preset.clone(),
+            preset,
+            path,
+            undo: history.undo,
+            redo: history.redo,
+            revision: 0,
+        }
+    }
+
+    /// The undo history for an autosave, within `budget_bytes` of RON:
+    /// the newest undo steps first (an edit not yet committed counts as
+    /// one, as [`Document::commit`] would make it), then the newest redo
+    /// steps; older steps that do not fit are left out.
+    pub fn history(&self, budget_bytes: usize) -> History {
+        let mut undo: Vec<&Preset> = self.undo.iter().collect();
+        if self.preset != self.committed {
+            undo.push(&self.committed);
+        }
+        let mut left = budget_bytes;
+        let mut fits = |p: &Preset| {
+            let n = ron::to_string(p).map_or(usize::MAX, |t| t.len());
+            let ok = n <= left;
+            if ok {
+                left -= n;
+            }
+            ok
+        };
+        let keep_undo = undo.iter().rev().take_while(|p| fits(p)).count();
+        let keep_redo = self.redo.iter().rev().take_while(|p| fits(p)).count();
+        History {
+            undo: undo[undo.len() - keep_undo..]
+                .iter()
+                .map(|p| (*p).clone())
+                .collect(),
+            redo: self.redo[self.redo.len() - keep_redo..].to_vec(),
+            saved: Some(self.saved.clone()),
+        }
+    }
+
+    /// Changes whenever the undo history or the saved state changes.
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     pub fn is_dirty(&self) -> bool {
@@ -54,6 +130,7 @@ impl Document {
                 self.undo.remove(0);
             }
             self.redo.clear();
+            self.revision += 1;
         }
     }
 
@@ -80,6 +157,7 @@ impl Document {
         if let Some(prev) = self.undo.pop() {
             self.redo.push(std::mem::replace(&mut self.preset, prev));
             self.committed = self.preset.clone();
+            self.revision += 1;
         }
     }
 
@@ -87,6 +165,7 @@ impl Document {
         if let Some(next) = self.redo.pop() {
             self.undo.push(std::mem::replace(&mut self.preset, next));
             self.committed = self.preset.clone();
+            self.revision += 1;
         }
     }
 
@@ -103,6 +182,7 @@ impl Document {
         self.preset.save(path)?;
         self.path = Some(path.to_owned());
         self.saved = self.preset.clone();
+        self.revision += 1;
         Ok(())
     }
 
@@ -567,6 +647,70 @@ mod tests {
         assert_eq!(d.preset.name, "a");
         d.redo();
         assert_eq!(d.preset.name, "b");
+    }
+
+    /// The autosave's history (issue 36): a restored document undoes and
+    /// redoes as the original did, an edit not yet committed is one more
+    /// step, and a history over the budget keeps its newest steps whole.
+    #[test]
+    fn history_restores_undo_and_redo_within_its_budget() {
+        let mut d = Document::new(with_name("a"), None);
+        for n in ["b", "c", "d"] {
+            d.preset.name = n.into();
+            d.commit();
+        }
+        d.undo();
+        // Uncommitted: "e" (typed, the field still focused).
+        d.preset.name = "e".into();
+        let h = d.history(HISTORY_BYTES);
+        let names = |v: &[Preset]| v.iter().map(|p| p.name.clone()).collect::<Vec<_>>();
+        // Undo: a, b, then c (where the uncommitted edit started); the
+        // edit clears redo ("d") once committed, as it does here.
+        assert_eq!(names(&h.undo), ["a", "b", "c"]);
+        assert_eq!(names(&h.redo), ["d"]);
+        assert_eq!(h.saved.as_ref().map(|p| p.name.as_str()), Some("a"));
+        let mut r = Document::restored(d.preset.clone(), None, h);
+        assert!(r.is_dirty());
+        r.undo();
+        assert_eq!(r.preset.name, "c");
+        r.undo();
+        r.undo();
+        assert_eq!(r.preset.name, "a");
+        assert!(!r.is_dirty(), "undone to the saved state");
+        r.redo();
+        assert_eq!(r.preset.name, "b");
+
+        // A budget of about two presets keeps the two newest undo steps.
+        let one = ron::to_string(&with_name("b")).unwrap().len();
+        let h = d.history(2 * one + one / 2);
+        assert_eq!(names(&h.undo), ["b", "c"]);
+        assert!(h.redo.is_empty());
+        let bytes: usize = h
+            .undo
+            .iter()
+            .map(|p| ron::to_string(p).unwrap().len())
+            .sum();
+        assert!(bytes <= 2 * one + one / 2);
+    }
+
+    /// The revision the autosave compares moves with every change of the
+    /// history or the saved state, and not with edits in between.
+    #[test]
+    fn the_history_revision_moves_with_the_history() {
+        let mut d = Document::new(with_name("a"), None);
+        let r0 = d.revision();
+        d.preset.name = "b".into();
+        assert_eq!(d.revision(), r0, "an edit is not yet history");
+        d.commit();
+        let r1 = d.revision();
+        assert_ne!(r1, r0);
+        d.commit();
+        assert_eq!(d.revision(), r1, "a commit of nothing");
+        d.undo();
+        assert_ne!(d.revision(), r1);
+        let r2 = d.revision();
+        d.redo();
+        assert_ne!(d.revision(), r2);
     }
 
     #[test]

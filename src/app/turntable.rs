@@ -337,7 +337,7 @@ impl EditorApp {
             base.clone(),
             self.ui_state.turntable,
             gif,
-            || {},
+            self.jobs.waker.as_fn(),
         ));
         self.dialogs.turntable_open = true;
     }

@@ -450,6 +450,29 @@ impl EditorApp {
                 self.report.status = format!("Warning: {message}")
             }
             viewport::Reply::MeshLoaded(p, info) => {
+                if let Some(log) = self.report.frame_log.as_mut() {
+                    use std::io::Write;
+                    let _ = writeln!(
+                        log,
+                        "{:.3} mesh {} metres_per_unit={}",
+                        unix_seconds(),
+                        p.as_ref()
+                            .map_or("default head".into(), |p| p.display().to_string()),
+                        info.metres_per_unit
+                    );
+                }
+                // The default head the render thread sets up at start,
+                // arriving after a mesh was asked for (`edit --mesh`, a
+                // restored look, a file dropped at once): that mesh
+                // follows, so there is nothing to frame, size or say. (A
+                // mesh that failed to load is replaced by the head after
+                // an error, which the arms below handle.)
+                if p.is_none()
+                    && self.meshes.mesh.is_some()
+                    && !self.report.status.starts_with("Error")
+                {
+                    return;
+                }
                 self.meshes.mesh_info = Some(info);
                 // Frame a mesh the artist loads, or new units of
                 // it; the default head at start-up keeps the
@@ -492,11 +515,8 @@ impl EditorApp {
                         self.report.status.push_str(" (showing the default head)");
                         self.meshes.mesh = None;
                     }
-                    None if self.meshes.mesh.is_some()
-                        || self.report.status.starts_with("Loading") =>
-                    {
+                    None if self.report.status.starts_with("Loading") => {
                         self.report.status = "Default head".into();
-                        self.meshes.mesh = None;
                     }
                     None => {}
                 }

@@ -15,6 +15,14 @@ pub struct EditArgs {
     /// engine draws from it.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub import: Option<PathBuf>,
+    /// Open on this mesh (OBJ, glTF or GLB) instead of the default head,
+    /// with the units and maps remembered for it, else the units prompt.
+    #[arg(long, value_name = "FILE")]
+    pub mesh: Option<PathBuf>,
+    /// With --mesh: metres per unit of the file (0.01 for centimetres),
+    /// instead of the remembered units or the prompt.
+    #[arg(long, value_name = "M", requires = "mesh")]
+    pub metres_per_unit: Option<f32>,
     /// Close the window once the head has been shown (start-up smoke
     /// test; with SCATTERLAB_TIMINGS=1 it prints the start-up times).
     #[arg(long, hide = true)]
@@ -47,11 +55,16 @@ impl EditArgs {
             };
             (mode, self.compare_b)
         });
+        let mesh = match self.mesh {
+            Some(path) => Some(crate::app::MeshArg::check(path, self.metres_per_unit)?),
+            None => None,
+        };
         crate::app::run(
             self.preset,
             self.exit_after_first_frame,
             compare,
             self.import,
+            mesh,
         )
     }
 }

@@ -202,6 +202,9 @@ impl Mesh {
         self.textures = maps;
     }
 
+    /// The file extensions [`Mesh::load`] reads (lower case, no dot).
+    pub const EXTENSIONS: [&'static str; 3] = ["obj", "gltf", "glb"];
+
     /// Loads an OBJ, glTF (.gltf) or binary glTF (.glb) file by extension.
     pub fn load(path: &Path, metres_per_unit: f32) -> Result<Self, MeshError> {
         let ext = path

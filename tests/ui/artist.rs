@@ -15,7 +15,7 @@ fn gizmo(h: &Harness<'_, EditorApp>) -> String {
 /// (it can change the panels' widths, and so the viewport's size) and no
 /// new frame over a few more steps. Under parallel tests a first converged
 /// frame can still be at a provisional size.
-fn settle(h: &mut Harness<'_, EditorApp>) {
+pub(super) fn settle(h: &mut Harness<'_, EditorApp>) {
     step_until(h, "the analysis", EditorApp::analysis_done);
     loop {
         step_until(h, "a converged frame", |a| {

@@ -18,6 +18,7 @@ mod artist;
 mod common;
 mod layout_and_prompts;
 mod recovery;
+mod wakes;
 
 fn harness(viewport: bool) -> Harness<'static, EditorApp> {
     harness_of(

@@ -136,20 +136,38 @@ fn an_analysis_panic_is_survived() {
 
 /// What a killed editor left (written here by an editor that is dropped
 /// without quitting, as a kill leaves it) is offered at the next start;
-/// Restore brings back the look, unsaved, with its view and compare.
+/// Restore brings back the look, unsaved, with its view and compare, its
+/// undo history (issue 36: two steps here, and a third undone into redo)
+/// and the mesh it was on with its units and maps.
 #[test]
 fn the_next_start_restores_unsaved_work() {
+    use scatterlab::app::MeshArg;
     let data = std::env::temp_dir().join(format!("scatterlab-restore-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&data);
-    let file = {
+    let scan = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scan"));
+    let mesh = MeshArg::check(scan.join("LeePerrySmith.glb"), Some(0.0462)).unwrap();
+    let original = Preset::default_skin().name;
+    let (file, settings) = {
         let app = EditorApp::new(None, UiState::default(), None, false).with_autosave(&data);
         let mut h = harness_of(app, [1200.0, 800.0]);
         h.step();
+        h.state_mut().open_mesh(mesh.clone());
+        let m = h.state_mut().ui_state.meshes.get_mut(&mesh.path).unwrap();
+        m.maps[0].path = Some(scan.join("Map-COL.jpg"));
+        m.maps[0].flip_v = true;
+        let settings = m.clone();
+        h.state_mut().doc.preset.description = "step one".into();
+        h.run_steps(2);
+        h.state_mut().doc.preset.description = "step two".into();
+        h.run_steps(2);
+        h.state_mut().doc.preset.description = "step three".into();
+        h.run_steps(2);
+        h.state_mut().doc.undo();
         let _ = edited(&mut h);
         h.state_mut().ui_state.view.orbit.camera_yaw_rad = 1.25;
         h.state_mut().ui_state.compare = scatterlab::app::state::CompareMode::Split;
         h.state_mut().autosave_now();
-        h.state().autosave_file().unwrap()
+        (h.state().autosave_file().unwrap(), settings)
     };
     assert!(file.exists(), "no autosave at {}", file.display());
     // That file is named by this (running) process: as if its editor had
@@ -173,8 +191,65 @@ fn the_next_start_restores_unsaved_work() {
         a.ui_state.compare,
         scatterlab::app::state::CompareMode::Split
     );
+    assert_eq!(a.mesh_path(), Some(mesh.path.as_path()));
+    assert_eq!(a.ui_state.meshes.get(&mesh.path), Some(&settings));
     assert!(!dead.exists(), "the recovered file was not removed");
     assert!(h.query_by_label("Restore").is_none());
+    // The history as it was: the rename, then "step two" (the undo of
+    // "step three" is in redo, and the rename cleared it), then one, then
+    // the look as it was saved, which is not unsaved.
+    let steps = |h: &mut Harness<'static, EditorApp>, key: egui::Modifiers| {
+        h.key_press_modifiers(key, egui::Key::Z);
+        h.run_steps(2);
+        (
+            h.state().doc.preset.name.clone(),
+            h.state().doc.preset.description.clone(),
+        )
+    };
+    let undo = egui::Modifiers::COMMAND;
+    assert_eq!(steps(&mut h, undo).1, "step two");
+    assert_eq!(steps(&mut h, undo).1, "step one");
+    let (name, _) = steps(&mut h, undo);
+    assert_eq!(name, original);
+    assert!(!h.state().doc.is_dirty(), "undone to the look as saved");
+    assert!(!h.state().doc.can_undo());
+    let redo = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
+    assert_eq!(steps(&mut h, redo).1, "step one");
+    let _ = std::fs::remove_dir_all(&data);
+}
+
+/// A recovery file written before issue 36 (no history, no mesh) still
+/// restores: the look with one undo step back to the default, on the
+/// default head.
+#[test]
+fn a_recovery_file_without_history_restores_one_step() {
+    let data = std::env::temp_dir().join(format!("scatterlab-restore-old-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&data);
+    let dir = data.join("autosave");
+    std::fs::create_dir_all(&dir).unwrap();
+    let preset = ron::to_string(&Preset {
+        name: "From an older editor".into(),
+        ..Preset::default_skin()
+    })
+    .unwrap();
+    std::fs::write(
+        dir.join("999999998.ron"),
+        format!("(preset: {preset}, path: None, written_unix_s: 60)"),
+    )
+    .unwrap();
+    let app = EditorApp::new(None, UiState::default(), None, false).with_autosave(&data);
+    let mut h = harness_of(app, [1200.0, 800.0]);
+    h.run_steps(2);
+    wait_for_label(&mut h, "Restore");
+    h.get_by_label("Restore").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().doc.preset.name, "From an older editor");
+    assert!(h.state().doc.is_dirty());
+    assert_eq!(h.state().mesh_path(), None);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.preset, Preset::default());
+    assert!(!h.state().doc.can_undo());
     let _ = std::fs::remove_dir_all(&data);
 }
 
