@@ -43,8 +43,27 @@ fn num(row: &HashMap<String, String>, key: &str) -> f64 {
     v
 }
 
-/// The rows the issue asks for, as (method, variant, count).
+/// Every row the registry declares (each method's `MethodInfo::bench`,
+/// and the ground truth), as (method, variant, count).
 fn expected_configs() -> Vec<(String, String, u32)> {
+    let mut c = vec![(
+        scatterlab::render::Method::ground_truth().id().to_string(),
+        String::new(),
+        0,
+    )];
+    c.extend(scatterlab::bench::scenes::configs().iter().map(|c| {
+        (
+            c.method.id().to_string(),
+            c.variant().to_string(),
+            c.count() as u32,
+        )
+    }));
+    c
+}
+
+/// The rows the issues asked for, typed here, as (method, variant, count):
+/// the registry must declare each of them.
+fn asked_for() -> Vec<(String, String, u32)> {
     let mut c: Vec<(String, String, u32)> = vec![
         ("reference".into(), String::new(), 0),
         ("none".into(), String::new(), 0),
@@ -81,6 +100,12 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
 
     let rows = csv(&out.join("results.csv"));
     let expected = expected_configs();
+    for row in asked_for() {
+        assert!(
+            expected.contains(&row),
+            "the registry does not bench {row:?}"
+        );
+    }
     assert_eq!(rows.len(), SCENES.len() * expected.len());
     for scene in SCENES {
         for (m, v, n) in &expected {

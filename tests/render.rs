@@ -90,15 +90,14 @@ fn compare(name: &str, actual: &RgbaImage, golden_path: &std::path::Path, mean_t
 fn golden_head_renders_match() {
     let mut r = renderer();
     let mut inp = inputs();
-    inp.set_gaussians(&scatterlab::model::gaussian::DEON_SKIN);
-    for (method, name) in [
-        (Method::None, "head_none"),
-        (Method::Preintegrated, "head_preintegrated"),
-        (Method::Separable, "head_separable"),
-        (Method::Gaussians, "head_gaussians"),
-        (Method::Burley, "head_burley"),
-        (Method::Reference, "head_reference"),
-    ] {
+    inp.methods
+        .gaussians
+        .set(&scatterlab::model::gaussian::DEON_SKIN);
+    // Every method of the registry, each against its own golden (a new
+    // method without one fails).
+    for &method in Method::all() {
+        let name = format!("head_{}", method.id());
+        let name = name.as_str();
         let s = RenderSettings {
             width: 160,
             height: 160,
@@ -297,7 +296,9 @@ fn sss_work_is_counted_and_skipped() {
     // Golubev's pattern takes every sample; the improved one skips those
     // inside the centre pixel's footprint (checked below).
     let mut inp = ProfileInputs::new(profile.as_ref(), 21, 17).unwrap();
-    inp.set_burley(profile.as_ref(), 21, BurleySampling::GOLUBEV)
+    inp.methods
+        .burley
+        .set_patterns(profile.as_ref(), 21, BurleySampling::GOLUBEV)
         .unwrap();
     let s = RenderSettings {
         view: scatterlab::settings::OrbitView {
@@ -334,7 +335,11 @@ fn sss_work_is_counted_and_skipped() {
         centre_weight: true,
         ..BurleySampling::GOLUBEV
     };
-    centre.set_burley(profile.as_ref(), 21, sampling).unwrap();
+    centre
+        .methods
+        .burley
+        .set_patterns(profile.as_ref(), 21, sampling)
+        .unwrap();
     let (_, st) = r.render(&centre, &s).unwrap();
     assert!(
         st.sss_samples > 0 && st.sss_samples < covered * 21,
@@ -382,7 +387,9 @@ fn burley_lod_cuts_samples_on_far_shots() {
     // measure the LOD alone (the centre weight skips samples too).
     let mut inp = inputs();
     let p = Preset::default_skin().build_profile().unwrap();
-    inp.set_burley(p.as_ref(), 21, BurleySampling::GOLUBEV)
+    inp.methods
+        .burley
+        .set_patterns(p.as_ref(), 21, BurleySampling::GOLUBEV)
         .unwrap();
     let shot = |distance: f32, lod: bool| RenderSettings {
         view: scatterlab::settings::OrbitView {
@@ -505,7 +512,9 @@ fn profile_uploads_only_when_the_profile_changes() {
 fn sss_changes_only_masked_pixels() {
     let mut r = renderer();
     let mut inp = inputs();
-    inp.set_gaussians(&scatterlab::model::gaussian::DEON_SKIN);
+    inp.methods
+        .gaussians
+        .set(&scatterlab::model::gaussian::DEON_SKIN);
     let s = |method| RenderSettings {
         view: scatterlab::settings::OrbitView {
             camera_distance_m: 0.2,
@@ -525,13 +534,7 @@ fn sss_changes_only_masked_pixels() {
         unmasked > 500,
         "too few unmasked pixels ({unmasked}) to test"
     );
-    for method in [
-        Method::Preintegrated,
-        Method::Separable,
-        Method::Gaussians,
-        Method::Burley,
-        Method::Reference,
-    ] {
+    for &method in Method::all().iter().filter(|m| **m != Method::baseline()) {
         let (img, _) = r.render(&inp, &s(method)).unwrap();
         let mut changed_masked = 0;
         for (i, (a, b)) in img.pixels().zip(base.pixels()).enumerate() {
@@ -686,18 +689,17 @@ fn a_methods_own_tables_render_like_the_full_inputs() {
     let mut r = renderer();
     let preset = Preset::default_skin();
     let profile = preset.build_profile().unwrap();
-    for method in [
-        Method::None,
-        Method::Burley,
-        Method::Separable,
-        Method::Gaussians,
-        Method::Preintegrated,
-    ] {
+    // Every method but the ground truth (seconds a frame; it bakes no
+    // table of its own).
+    let options = scatterlab::render::MethodOptions::default();
+    for &method in Method::all().iter().filter(|m| !m.sss().ground_truth) {
         let counts = (21, 17);
         let full =
-            ProfileInputs::for_look(&preset.profile, profile.as_ref(), method, counts, 7).unwrap();
-        let own = ProfileInputs::for_method(&preset.profile, profile.as_ref(), method, counts, 7)
-            .unwrap();
+            ProfileInputs::for_look(&preset.profile, profile.as_ref(), method, counts, &options)
+                .unwrap();
+        let own =
+            ProfileInputs::for_method(&preset.profile, profile.as_ref(), method, counts, &options)
+                .unwrap();
         let s = small_frame(method);
         let (a, _) = r.render(&full, &s).unwrap();
         let (b, _) = r.render(&own, &s).unwrap();

@@ -72,7 +72,9 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     // same 144 directions).
     let mut inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
     inputs
-        .set_burley(&profile, 144, BurleySampling::GOLUBEV)
+        .methods
+        .burley
+        .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
         .unwrap();
     let (_, diffuse, _) = r
         .render_with_diffuse(&inputs, &settings(Method::Burley))
@@ -224,7 +226,7 @@ fn gaussians_pass_follows_the_strip_cdf_across_an_edge() {
     let profile = GaussianSum::deon_skin();
     let mut r = plane_renderer();
     let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
-    inputs.set_gaussians(&DEON_SKIN);
+    inputs.methods.gaussians.set(&DEON_SKIN);
     // d'Eon's seven taps per pass step σ at a time: the edge's erf is
     // followed to about 0.13 (red); see GAUSSIAN_TAPS.
     let (_, coarse, _) = r
@@ -267,7 +269,7 @@ fn every_method_keeps_mean_radiance_on_a_uniformly_lit_plane() {
     use scatterlab::model::gaussian::{GaussianSum, DEON_SKIN};
     let profile = GaussianSum::deon_skin();
     let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
-    inputs.set_gaussians(&DEON_SKIN);
+    inputs.methods.gaussians.set(&DEON_SKIN);
     let mut r = plane_renderer();
     let lit = |method| RenderSettings {
         view: scatterlab::settings::OrbitView {
@@ -287,20 +289,17 @@ fn every_method_keeps_mean_radiance_on_a_uniformly_lit_plane() {
     let (_, flat, _) = r.render_with_diffuse(&inputs, &lit(Method::None)).unwrap();
     let base = mean(&flat);
     assert!(base.iter().all(|b| *b > 0.5), "plane not lit: {base:?}");
-    // The separable kernel also with stochastic axis rotation (Jimenez 2015 §6).
-    let rotated = RenderSettings {
-        separable_rotation: true,
-        ..lit(Method::Separable)
-    };
-    let cases = [
-        ("preintegrated", lit(Method::Preintegrated)),
-        ("separable", lit(Method::Separable)),
-        ("separable rotated", rotated),
-        ("gaussians", lit(Method::Gaussians)),
-        ("burley", lit(Method::Burley)),
-        ("reference", lit(Method::Reference)),
-    ];
-    for (name, s) in cases {
+    // Every method but the baseline (the registry's list), and the
+    // separable kernel also with stochastic axis rotation (Jimenez 2015 §6).
+    let mut cases: Vec<(String, RenderSettings, ProfileInputs)> = Method::all()
+        .iter()
+        .filter(|m| **m != Method::baseline())
+        .map(|&m| (m.id().to_string(), lit(m), inputs.clone()))
+        .collect();
+    let mut rotated = inputs.clone();
+    rotated.options.separable.rotation = true;
+    cases.push(("separable rotated".into(), lit(Method::Separable), rotated));
+    for (name, s, inputs) in cases {
         let (_, d, stats) = r.render_with_diffuse(&inputs, &s).unwrap();
         assert_eq!(stats.sss_pixels, (WIDTH * 64) as u64, "{name}");
         let m = mean(&d);

@@ -197,11 +197,10 @@ fn method_inputs(
     profile: &dyn RadialProfile,
     method: Method,
 ) -> ProfileInputs {
-    let mut i = ProfileInputs::for_look(spec, profile, method, (144, 33), 13).unwrap();
-    if method == Method::Burley {
-        i.set_burley(profile, 144, BurleySampling::GOLUBEV).unwrap();
-    }
-    i
+    let mut options = scatterlab::render::MethodOptions::default();
+    options.burley.sampling = BurleySampling::GOLUBEV;
+    options.gaussians.taps = 13;
+    ProfileInputs::for_look(spec, profile, method, (144, 33), &options).unwrap()
 }
 
 /// One reading of a Jimenez 2012 look (the demo skin, strength 0.48/0.41/
@@ -336,7 +335,7 @@ fn every_method_loses_light_where_skin_meets_teeth() {
 #[test]
 fn the_methods_against_the_ground_truth_on_a_held_out_scan_view() {
     use scatterlab::bench::metrics::{interior, relative_rmse, sss_mask};
-    use scatterlab::bench::scenes::{Config, Kernel};
+    use scatterlab::bench::scenes::Config;
     let mesh = scan();
     let mut r = Renderer::new(GpuContext::new_headless().unwrap(), &mesh).unwrap();
     let prepared =
@@ -359,9 +358,12 @@ fn the_methods_against_the_ground_truth_on_a_held_out_scan_view() {
         ("preintegrated", Config::fixed(Method::Preintegrated)),
         (
             "separable 2015 17",
-            Config::taps(17, Kernel::Preintegrated2015),
+            Config::of(Method::Separable, "2015", 17).unwrap(),
         ),
-        ("burley 21", Config::samples(21, BurleySampling::IMPROVED)),
+        (
+            "burley 21",
+            Config::of(Method::Burley, "improved", 21).unwrap(),
+        ),
         ("gaussians", Config::fixed(Method::Gaussians)),
     ];
     let mut csv = String::from("method,rel_rmse,rel_rmse_interior,share_of_none_removed\n");

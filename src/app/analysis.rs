@@ -9,7 +9,7 @@ use crate::model::lut::{Lut, LutLayout};
 use crate::model::separable::{SeparableKernel, Tap};
 use crate::model::{RadialProfile, Rgb, DEFAULT_ENERGY_FRACTION};
 use crate::settings::ProfileSpec;
-use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
+use std::sync::mpsc::{channel, Receiver, Sender};
 
 /// Plot points per curve.
 pub const CURVE_POINTS: usize = 241;
@@ -246,19 +246,6 @@ pub fn analyse(key: &AnalysisKey) -> Result<Analysis, String> {
     })
 }
 
-/// Blocks for a message, then drains the queue and returns the newest one
-/// (older requests are superseded); `None` once the sender is gone.
-pub(super) fn recv_newest<T>(rx: &Receiver<T>) -> Option<T> {
-    let mut newest = rx.recv().ok()?;
-    loop {
-        match rx.try_recv() {
-            Ok(newer) => newest = newer,
-            Err(TryRecvError::Empty) => return Some(newest),
-            Err(TryRecvError::Disconnected) => return None,
-        }
-    }
-}
-
 /// A background thread computing `f(key)` for the newest key sent. A
 /// panic in `f` is caught: its key gets `failed(message)` as its value and
 /// the thread goes on with the next key.
@@ -286,7 +273,7 @@ impl<K: Clone + PartialEq + Send + 'static, V: Send + 'static> Background<K, V> 
         let _ = std::thread::Builder::new()
             .name(name.into())
             .spawn(move || {
-                while let Some(k) = recv_newest(&krx) {
+                while let Some(k) = super::wake::recv_newest(&krx) {
                     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                         if their_fault.swap(false, std::sync::atomic::Ordering::Relaxed) {
                             panic!("a failure injected by a test");

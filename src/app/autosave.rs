@@ -316,10 +316,10 @@ impl super::EditorApp {
     pub fn with_autosave(mut self, data_dir: &Path) -> Self {
         let autosave = Autosave::new(data_dir);
         if let Some(first) = autosave.unreadable.first() {
-            self.report.status = format!(
+            self.say(format!(
                 "Warning: {} recovery file(s) an earlier editor left cannot be read and were left in place (open them in a text editor; the look is the preset inside): {first}",
                 autosave.unreadable.len()
-            );
+            ));
         }
         self.autosave = Some(autosave);
         self
@@ -341,17 +341,18 @@ impl super::EditorApp {
     /// next deadline while something is left to write, so the write does
     /// not wait for input.
     pub(super) fn autosave_tick(&mut self, ctx: Option<&egui::Context>, force: bool) {
+        let mesh = self.mesh_path().map(Path::to_path_buf);
         let Some(a) = self.autosave.as_mut() else {
             return;
         };
         let now = Snapshot {
             doc: &self.doc,
             ui: &self.ui_state,
-            mesh: self.meshes.mesh.as_deref(),
+            mesh: mesh.as_deref(),
         };
         let ticked = a.tick(now, force);
         if let Some(message) = ticked.message {
-            self.report.status = message;
+            self.say(message);
         }
         if let (Some(ctx), Some(after)) = (ctx, ticked.wake_in) {
             ctx.request_repaint_after(after);
@@ -382,24 +383,15 @@ impl super::EditorApp {
             );
         }
         self.doc = Document::restored(r.preset, r.path, history);
-        // The mesh it was on (the default head if none), framed as it
-        // was: the restored view is kept, not reframed.
-        match r.mesh {
-            Some(m) => {
-                self.view.framed_for = Some((Some(m.path.clone()), m.settings.metres_per_unit));
-                self.ui_state.meshes.insert(m.path.clone(), m.settings);
-                self.meshes.mesh = Some(m.path);
-            }
-            None => self.meshes.mesh = None,
-        }
+        self.restore_mesh(r.mesh.map(|m| (m.path, m.settings)));
         self.ui_state.view = r.view;
         self.ui_state.compare = r.compare;
         self.ui_state.compare_b = r.compare_b;
         self.ui_state.split = r.split;
-        self.report.status = format!(
+        self.say(format!(
             "Restored \"{}\" as it was when the editor stopped; save it to keep it",
             self.doc.preset.name
-        );
+        ));
     }
 
     /// The start-up prompt for a look an earlier editor left unsaved.
@@ -470,8 +462,10 @@ impl super::EditorApp {
             Some(2) => {
                 let dir = file.parent().unwrap_or(Path::new(".")).to_owned();
                 if !show_in_file_manager(&dir) {
-                    self.report.status =
-                        format!("Warning: no file manager to show {}", dir.display());
+                    self.say(format!(
+                        "Warning: no file manager to show {}",
+                        dir.display()
+                    ));
                 }
             }
             _ => {}

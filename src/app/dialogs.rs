@@ -1,117 +1,21 @@
-//! The editor's windows and prompts: a mesh's units, unsaved changes,
-//! the file dialog and the overwrite prompt (a mesh's maps: `maps.rs`).
+//! The editor's windows and prompts: unsaved changes, the file dialog,
+//! the overwrite prompt and the help windows (a mesh's units and maps:
+//! `maps.rs`).
 
 use super::*;
 
 impl EditorApp {
-    /// Asks for a mesh's units: metres per unit with common choices, a
-    /// live height readout and a suggestion from the bounds (a head is
-    /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
-    /// the camera frames it) and is remembered for the file.
-    pub(super) fn units_prompt_ui(&mut self, ctx: &egui::Context) {
-        let Some(path) = self.meshes.units_prompt.clone() else {
-            return;
-        };
-        let Some(info) = self.meshes.mesh_info else {
-            return;
-        };
-        let size = info.size;
-        let h = size.height_units.max(1e-9);
-        let current = self
-            .ui_state
-            .meshes
-            .get(&path)
-            .map_or(1.0, |m| m.metres_per_unit);
-        let mut mpu = current;
-        let mut open = true;
-        let mut done = false;
-        egui::Window::new("Mesh units")
-            .collapsible(false)
-            .resizable(false)
-            .anchor(egui::Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
-            .open(&mut open)
-            .show(ctx, |ui| {
-                let name = path.file_name().map_or_else(
-                    || path.display().to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                ui.label(format!("{name} is {h:.4} units tall."));
-                ui.horizontal(|ui| {
-                    for (label, v) in [
-                        ("m", 1.0),
-                        ("dm", 0.1),
-                        ("cm", 0.01),
-                        ("mm", 0.001),
-                        ("inch", 0.0254),
-                    ] {
-                        ui.selectable_value(&mut mpu, v, label);
-                    }
-                });
-                let speed = mpu * 0.01;
-                ui.add(
-                    egui::DragValue::new(&mut mpu)
-                        .range(MeshArg::METRES_PER_UNIT)
-                        .speed(speed)
-                        .max_decimals(6)
-                        .suffix(" m/unit"),
-                )
-                .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
-                let height_cm = h * mpu * 100.0;
-                let (lo, hi) = PLAUSIBLE_HEIGHT_M;
-                let mut text = format!("Head height = {height_cm:.1} cm");
-                let mut plausible = (100.0 * lo..=100.0 * hi).contains(&height_cm);
-                if let Some(c) = size.cranium_units {
-                    let across_cm = c * mpu * 100.0;
-                    let (lo, hi) = PLAUSIBLE_CRANIUM_M;
-                    text += &format!(", the head {across_cm:.1} cm across");
-                    plausible = (100.0 * lo..=100.0 * hi).contains(&across_cm);
-                }
-                let hover = format!(
-                    "Across: the mean of the head's width (ears included) and depth (nose included) above the neck; an adult's is about {:.0} cm.",
-                    100.0 * CRANIUM_M
-                );
-                if plausible {
-                    ui.label(text).on_hover_text(hover);
-                } else {
-                    ui.colored_label(
-                        egui::Color32::from_rgb(240, 170, 60),
-                        format!("{text}: not a head's size"),
-                    )
-                    .on_hover_text(hover);
-                }
-                let suggested = size.suggest_metres_per_unit();
-                let label = match size.cranium_units {
-                    Some(c) => format!(
-                        "Use {suggested} m/unit ({:.1} cm across, {:.1} cm tall)",
-                        c * suggested * 100.0,
-                        h * suggested * 100.0
-                    ),
-                    None => format!("Use {suggested} m/unit ({:.1} cm tall)", h * suggested * 100.0),
-                };
-                if ui
-                    .button(label)
-                    .on_hover_text(match size.cranium_units {
-                        Some(_) => "The units that make the head an adult's size (a common unit when one is within 20 %).",
-                        None => "No head found above a neck: a common unit that makes the mesh 18–40 cm tall, or the exact scale for 25 cm.",
-                    })
-                    .clicked()
-                {
-                    mpu = suggested;
-                }
-                if ui.button("OK").clicked() {
-                    done = true;
-                }
-            });
-        if mpu != current || !self.ui_state.meshes.contains_key(&path) {
-            self.ui_state
-                .meshes
-                .entry(path.clone())
-                .or_default()
-                .metres_per_unit = mpu;
-        }
-        if done || !open {
-            self.meshes.units_prompt = None;
-        }
+    /// Whether the unsaved-changes prompt is waiting for an answer.
+    pub fn prompt_open(&self) -> bool {
+        self.dialogs.pending.is_some()
+    }
+
+    /// Whether a modal prompt is up: unsaved changes, replace existing
+    /// files, or recover an earlier editor's work.
+    pub fn modal_prompt_open(&self) -> bool {
+        self.dialogs.pending.is_some()
+            || self.dialogs.overwrite.is_some()
+            || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
     pub(super) fn dialogs_ui(&mut self, ctx: &egui::Context) {
@@ -272,7 +176,7 @@ impl EditorApp {
                 }
                 if dialog.kind == DialogKind::Environment {
                     // No map chosen: the HDR light rig that asked for it is off.
-                    self.view.hdr_rig_pending = false;
+                    self.environment_not_loaded();
                 }
             }
         }
@@ -398,16 +302,16 @@ impl EditorApp {
                 DialogKind::CompareB => match super::viewport::load_look(&path) {
                     Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
                     Err(e) => {
-                        self.report.status = format!("Error: {e}");
+                        self.say(format!("Error: {e}"));
                         *close = false;
                     }
                 },
-                DialogKind::Mesh => self.meshes.mesh = Some(path),
+                DialogKind::Mesh => self.load_mesh(Some(path)),
                 DialogKind::SaveImage => self.save_image(&path),
                 DialogKind::SaveTurntable => self.start_turntable(path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Map(k) => {
-                    if let Some(mesh) = self.meshes.mesh.clone() {
+                    if let Some(mesh) = self.mesh_path().map(Path::to_path_buf) {
                         self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);
                     }
                 }

@@ -15,7 +15,7 @@ impl EditorApp {
                 let more = looks.len() - 1;
                 let first = looks.remove(0);
                 self.guarded(Pending::New(Box::new(first.preset.clone())));
-                self.report.status = if more > 0 {
+                self.say(if more > 0 {
                     format!(
                         "Imported \"{}\" from {} ({more} more profile(s) in the file: `scatterlab import FILE --out DIR` writes them all)",
                         first.preset.name,
@@ -28,26 +28,12 @@ impl EditorApp {
                         path.display(),
                         first.kind
                     )
-                };
+                });
                 self.profile.imported = Some((path.to_owned(), first));
             }
-            Ok(_) => self.report.status = format!("Error: {}: no look in the file", path.display()),
-            Err(e) => self.report.status = format!("Error: {e}"),
+            Ok(_) => self.say(format!("Error: {}: no look in the file", path.display())),
+            Err(e) => self.say(format!("Error: {e}")),
         }
-    }
-
-    /// Shows `mesh` in the viewport (`edit --mesh`), with its units if
-    /// given: they are remembered for the file as the units prompt would.
-    pub fn open_mesh(&mut self, mesh: MeshArg) {
-        if let Some(m) = mesh.metres_per_unit {
-            self.ui_state
-                .meshes
-                .entry(mesh.path.clone())
-                .or_default()
-                .metres_per_unit = m;
-        }
-        self.report.status = format!("Loading mesh {} …", mesh.path.display());
-        self.meshes.mesh = Some(mesh.path);
     }
 
     /// Opens `path` now (the caller has dealt with unsaved changes).
@@ -56,9 +42,9 @@ impl EditorApp {
             Ok(p) => {
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
-                self.report.status = format!("Opened {}", path.display());
+                self.say(format!("Opened {}", path.display()));
             }
-            Err(e) => self.report.status = format!("Error: {e}"),
+            Err(e) => self.say(format!("Error: {e}")),
         }
     }
 
@@ -74,7 +60,7 @@ impl EditorApp {
         match self.doc.save_as(path) {
             Ok(()) => {
                 self.ui_state.add_recent(path);
-                self.report.status = format!("Saved {}", path.display());
+                self.say(format!("Saved {}", path.display()));
                 // Save, then what the unsaved-changes prompt was for.
                 if let Some(action) = self.dialogs.after_save.take() {
                     self.run_pending(action);
@@ -84,42 +70,9 @@ impl EditorApp {
                 // Not saved: the quit (or open) it was for does not happen,
                 // now or after some later save.
                 self.dialogs.after_save = None;
-                self.report.status = format!("Error: {e}");
+                self.say(format!("Error: {e}"));
             }
         }
-    }
-
-    /// Writes the viewport's frame, as shown (a comparison with both sides,
-    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
-    pub fn save_image(&mut self, path: &Path) {
-        let Some((frame, _)) = &self.view.last_frame else {
-            self.report.status = format!(
-                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
-                path.display()
-            );
-            return;
-        };
-        let mut png = Vec::new();
-        let written = frame
-            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-            .map_err(|e| e.to_string())
-            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
-        self.report.status = match written {
-            Ok(()) => {
-                let state = match self.view.quality {
-                    Some(viewport::Quality::Converged { .. }) => "converged",
-                    _ => "not converged yet: a preview",
-                };
-                format!(
-                    "Saved image {} ({}×{}, {}, {state})",
-                    path.display(),
-                    frame.width(),
-                    frame.height(),
-                    self.view.frame_info.split(" · ").next().unwrap_or("")
-                )
-            }
-            Err(e) => format!("Error: {}: {e}", path.display()),
-        };
     }
 
     /// Whether the editor may close now (Quit answered).
@@ -140,7 +93,7 @@ impl EditorApp {
         match action {
             Pending::Open(p) => self.open_now(&p),
             Pending::New(p) => {
-                self.report.status = format!("New look from \"{}\"", p.name);
+                self.say(format!("New look from \"{}\"", p.name));
                 self.doc = Document::new(*p, None);
             }
             Pending::Quit => self.allow_close = true,
@@ -158,14 +111,14 @@ impl EditorApp {
                 CompareB::Preset(p) => Some(p.clone()),
                 _ => self.doc.path.clone(),
             },
-            DialogKind::Mesh => self.meshes.mesh.clone(),
+            DialogKind::Mesh => self.mesh_path().map(Path::to_path_buf),
             DialogKind::Environment => self.ui_state.environment_file.clone(),
-            DialogKind::Map(k) => self.meshes.mesh.as_ref().and_then(|m| {
+            DialogKind::Map(k) => self.mesh_path().map(|m| {
                 self.ui_state
                     .meshes
                     .get(m)
                     .and_then(|s| s.maps[*k].path.clone())
-                    .or_else(|| Some(m.clone()))
+                    .unwrap_or_else(|| m.to_path_buf())
             }),
             DialogKind::Import
             | DialogKind::Export(_)
@@ -215,7 +168,7 @@ impl EditorApp {
         if let DialogKind::Export(format) = kind {
             let preset = self.doc.preset.clone();
             let (tx, rx) = std::sync::mpsc::channel();
-            let waker = self.jobs.waker.clone();
+            let waker = self.waker.clone();
             std::thread::spawn(move || {
                 let notes = crate::export::export_notes(&preset, format)
                     .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
@@ -306,12 +259,20 @@ impl EditorApp {
             .map(|d| d.picker.directory().to_path_buf())
     }
 
+    /// Whether background work is under way (the status bar's spinner):
+    /// exports, an environment map, the analysis.
+    pub(super) fn busy(&self) -> bool {
+        !self.jobs.exports.is_empty()
+            || self.jobs.environment_load.is_some()
+            || self.analysis_busy()
+    }
+
     /// Starts an export on its own thread (table bakes take seconds).
     pub fn export(&mut self, format: Format, out: PathBuf) {
         let preset = self.doc.preset.clone();
         let source = self.doc.path.clone();
         let (tx, rx) = std::sync::mpsc::channel();
-        let waker = self.jobs.waker.clone();
+        let waker = self.waker.clone();
         std::thread::spawn(move || {
             let r = crate::export::export(&preset, source.as_deref(), format, &out)
                 .map_err(|e| e.to_string());
@@ -319,15 +280,15 @@ impl EditorApp {
             waker.wake();
         });
         self.jobs.exports.push(rx);
-        self.report.status = format!("Exporting {} …", format.id());
+        self.say(format!("Exporting {} …", format.id()));
     }
 
     /// Loads an equirectangular HDR map on its own thread (decoding and
     /// projecting a large map takes a while) and lights the head with it.
     pub fn load_environment(&mut self, path: PathBuf) {
         let (tx, rx) = std::sync::mpsc::channel();
-        self.report.status = format!("Loading environment {} …", path.display());
-        let waker = self.jobs.waker.clone();
+        self.say(format!("Loading environment {} …", path.display()));
+        let waker = self.waker.clone();
         std::thread::spawn(move || {
             let r = crate::render::environment::Environment::load(&path)
                 .map(|e| (path, e.irradiance_sh()))
@@ -341,45 +302,23 @@ impl EditorApp {
     /// Takes in what the background threads finished: the analysis (fits,
     /// tables, a slow model's curves), an environment map, exports.
     pub(super) fn poll_workers(&mut self) {
-        if let Some((key, result)) = self.profile.analysis.poll() {
-            match result {
-                Ok(a) => {
-                    if analysis::is_slow(&key.profile) && key.profile == self.doc.preset.profile {
-                        self.profile.curves = Some(Ok(a.curves.clone()));
-                    }
-                    self.profile.latest = Some(a);
-                }
-                Err(e) => {
-                    // A panic the thread survived (`Background`): said
-                    // as a notice as well as in the plot.
-                    if e.contains("thread failed") {
-                        eprintln!("warning: {e}");
-                        self.report.status = format!("Warning: {e}");
-                    }
-                    if key.profile == self.doc.preset.profile {
-                        self.profile.curves = Some(Err(e));
-                    }
-                }
-            }
-        }
+        self.poll_analysis();
         if let Some(rx) = &self.jobs.environment_load {
             match rx.try_recv() {
                 Ok(Ok((path, sh))) => {
                     let v = &mut self.ui_state.view;
                     v.environment_map_sh = Some(sh);
                     v.environment = state::EnvironmentChoice::Map;
-                    self.report.status = format!("Environment {}", path.display());
+                    self.say(format!("Environment {}", path.display()));
                     self.ui_state.environment_file = Some(path);
-                    if std::mem::take(&mut self.view.hdr_rig_pending) {
-                        state::LightRig::Hdr.apply(&mut self.ui_state.view);
-                    }
+                    self.environment_loaded();
                     self.jobs.environment_load = None;
                 }
                 Ok(Err(e)) => {
-                    self.report.status = format!("Error: {e}");
+                    self.say(format!("Error: {e}"));
                     self.jobs.environment_load = None;
                     // The HDR rig that asked for this map is off.
-                    self.view.hdr_rig_pending = false;
+                    self.environment_not_loaded();
                 }
                 Err(std::sync::mpsc::TryRecvError::Empty) => {}
                 Err(_) => self.jobs.environment_load = None,
@@ -395,7 +334,7 @@ impl EditorApp {
             Err(_) => false,
         });
         for r in done {
-            self.report.status = match r {
+            self.say(match r {
                 Ok(paths) => format!(
                     "Exported {}",
                     paths
@@ -405,7 +344,7 @@ impl EditorApp {
                         .join(", ")
                 ),
                 Err(e) => format!("Error: {e}"),
-            };
+            });
         }
     }
 }

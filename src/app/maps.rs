@@ -1,10 +1,12 @@
-//! The Maps window: a loaded mesh's five map slots, each with its file,
+//! A loaded mesh: the units prompt, and the Maps window with its five map
+//! slots, each with its file,
 //! V-flip and encoding, a preview of the map on the mesh's UV layout (so
 //! an upside-down map is obvious) and a flip-V suggestion where the layout
 //! says so (`render::uv_layout`).
 
 use super::state::MeshSettings;
 use super::*;
+use crate::render::mesh::{CRANIUM_M, PLAUSIBLE_CRANIUM_M, PLAUSIBLE_HEIGHT_M};
 use crate::render::textures::{MapSlot, TextureImage, TextureSlot, SLOTS};
 use crate::render::uv_layout::{self, FlipEvidence, FlipVerdict};
 use std::sync::mpsc::Receiver;
@@ -124,6 +126,159 @@ fn slot_label(slot: TextureSlot) -> &'static str {
 }
 
 impl EditorApp {
+    /// The mesh the viewport is asked to show (`None`: the default head).
+    pub fn mesh_path(&self) -> Option<&Path> {
+        self.meshes.mesh.as_deref()
+    }
+
+    /// The loaded mesh's size and framing, once the viewport has it.
+    pub fn mesh_info(&self) -> Option<viewport::MeshInfo> {
+        self.meshes.mesh_info
+    }
+
+    /// The mesh whose units prompt is open.
+    pub fn units_prompt_for(&self) -> Option<&Path> {
+        self.meshes.units_prompt.as_deref()
+    }
+
+    /// Whether the Maps window's previews are computed (UI tests).
+    pub fn maps_preview_ready(&self) -> bool {
+        self.meshes.maps_preview.as_ref().is_some_and(|p| p.ready())
+    }
+
+    /// Shows the mesh at `path` in the viewport, or the default head.
+    pub(super) fn load_mesh(&mut self, path: Option<PathBuf>) {
+        match &path {
+            Some(p) => self.say(format!("Loading mesh {} …", p.display())),
+            None if self.meshes.mesh.is_some() => self.say("Loading the default head …"),
+            None => {}
+        }
+        self.meshes.mesh = path;
+    }
+
+    /// Shows `mesh` in the viewport (`edit --mesh`), with its units if
+    /// given: they are remembered for the file as the units prompt would.
+    pub fn open_mesh(&mut self, mesh: MeshArg) {
+        if let Some(m) = mesh.metres_per_unit {
+            self.ui_state
+                .meshes
+                .entry(mesh.path.clone())
+                .or_default()
+                .metres_per_unit = m;
+        }
+        self.load_mesh(Some(mesh.path));
+    }
+
+    /// Asks for a mesh's units: metres per unit with common choices, a
+    /// live height readout and a suggestion from the bounds (a head is
+    /// 18–40 cm tall with or without its neck). Every change applies at once (the mesh reloads and
+    /// the camera frames it) and is remembered for the file.
+    pub(super) fn units_prompt_ui(&mut self, ctx: &egui::Context) {
+        let Some(path) = self.meshes.units_prompt.clone() else {
+            return;
+        };
+        let Some(info) = self.meshes.mesh_info else {
+            return;
+        };
+        let size = info.size;
+        let h = size.height_units.max(1e-9);
+        let current = self
+            .ui_state
+            .meshes
+            .get(&path)
+            .map_or(1.0, |m| m.metres_per_unit);
+        let mut mpu = current;
+        let mut open = true;
+        let mut done = false;
+        egui::Window::new("Mesh units")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
+            .open(&mut open)
+            .show(ctx, |ui| {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                ui.label(format!("{name} is {h:.4} units tall."));
+                ui.horizontal(|ui| {
+                    for (label, v) in [
+                        ("m", 1.0),
+                        ("dm", 0.1),
+                        ("cm", 0.01),
+                        ("mm", 0.001),
+                        ("inch", 0.0254),
+                    ] {
+                        ui.selectable_value(&mut mpu, v, label);
+                    }
+                });
+                let speed = mpu * 0.01;
+                ui.add(
+                    egui::DragValue::new(&mut mpu)
+                        .range(MeshArg::METRES_PER_UNIT)
+                        .speed(speed)
+                        .max_decimals(6)
+                        .suffix(" m/unit"),
+                )
+                .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
+                let height_cm = h * mpu * 100.0;
+                let (lo, hi) = PLAUSIBLE_HEIGHT_M;
+                let mut text = format!("Head height = {height_cm:.1} cm");
+                let mut plausible = (100.0 * lo..=100.0 * hi).contains(&height_cm);
+                if let Some(c) = size.cranium_units {
+                    let across_cm = c * mpu * 100.0;
+                    let (lo, hi) = PLAUSIBLE_CRANIUM_M;
+                    text += &format!(", the head {across_cm:.1} cm across");
+                    plausible = (100.0 * lo..=100.0 * hi).contains(&across_cm);
+                }
+                let hover = format!(
+                    "Across: the mean of the head's width (ears included) and depth (nose included) above the neck; an adult's is about {:.0} cm.",
+                    100.0 * CRANIUM_M
+                );
+                if plausible {
+                    ui.label(text).on_hover_text(hover);
+                } else {
+                    ui.colored_label(
+                        egui::Color32::from_rgb(240, 170, 60),
+                        format!("{text}: not a head's size"),
+                    )
+                    .on_hover_text(hover);
+                }
+                let suggested = size.suggest_metres_per_unit();
+                let label = match size.cranium_units {
+                    Some(c) => format!(
+                        "Use {suggested} m/unit ({:.1} cm across, {:.1} cm tall)",
+                        c * suggested * 100.0,
+                        h * suggested * 100.0
+                    ),
+                    None => format!("Use {suggested} m/unit ({:.1} cm tall)", h * suggested * 100.0),
+                };
+                if ui
+                    .button(label)
+                    .on_hover_text(match size.cranium_units {
+                        Some(_) => "The units that make the head an adult's size (a common unit when one is within 20 %).",
+                        None => "No head found above a neck: a common unit that makes the mesh 18–40 cm tall, or the exact scale for 25 cm.",
+                    })
+                    .clicked()
+                {
+                    mpu = suggested;
+                }
+                if ui.button("OK").clicked() {
+                    done = true;
+                }
+            });
+        if mpu != current || !self.ui_state.meshes.contains_key(&path) {
+            self.ui_state
+                .meshes
+                .entry(path.clone())
+                .or_default()
+                .metres_per_unit = mpu;
+        }
+        if done || !open {
+            self.meshes.units_prompt = None;
+        }
+    }
+
     /// The loaded mesh's map slots: for each, the file (or the mesh's own
     /// map), a V-flip for maps whose V runs up, the texels' encoding, and
     /// the map previewed on the UV layout with a flip-V suggestion.
@@ -140,7 +295,7 @@ impl EditorApp {
             self.meshes.maps_preview = Some(MapsPreview::start(
                 path.clone(),
                 settings.clone(),
-                self.jobs.waker.clone(),
+                self.waker.clone(),
             ));
         }
         let mut preview = self.meshes.maps_preview.take();

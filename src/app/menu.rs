@@ -19,20 +19,21 @@ impl EditorApp {
                 .and_then(|e| e.to_str())
                 .unwrap_or("")
                 .to_ascii_lowercase();
+            let engines = crate::export::importable_extensions(false);
+            let meshes = crate::render::mesh::Mesh::EXTENSIONS;
             match ext.as_str() {
-                "ron" => self.guarded(Pending::Open(path)),
-                "asset" | "mtlx" | "tres" | "txt" | "py" => self.import_now(&path),
-                e if crate::render::mesh::Mesh::EXTENSIONS.contains(&e) => {
-                    self.report.status = format!("Loading mesh {} …", path.display());
-                    self.meshes.mesh = Some(path);
-                }
+                e if e == Format::Ron.extension() => self.guarded(Pending::Open(path)),
+                e if engines.contains(&e) => self.import_now(&path),
+                e if meshes.contains(&e) => self.load_mesh(Some(path)),
                 "hdr" => self.load_environment(path),
                 _ => {
-                    self.report.status = format!(
-                        "Error: {}: not a preset (.ron), engine file (.asset, .mtlx, .tres, .txt, .py), mesh (.obj, .gltf, .glb) or environment (.hdr)",
-                        path.display()
+                    self.say(format!(
+                        "Error: {}: not a preset (.ron), engine file (.{}), mesh (.{}) or environment (.hdr)",
+                        path.display(),
+                        engines.join(", ."),
+                        meshes.join(", ."),
                     )
-                }
+                )}
             }
         }
     }
@@ -60,13 +61,6 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
             self.dialogs.help_open = !self.dialogs.help_open;
         }
-        // F flickers to the look before the last edit (not while typing).
-        if ctx.memory(|m| m.focused().is_none())
-            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F))
-            && self.doc.before_last_edit().is_some()
-        {
-            self.view.show_before = !self.view.show_before;
-        }
         if image {
             self.open_dialog(DialogKind::SaveImage);
         }
@@ -83,20 +77,7 @@ impl EditorApp {
         if open {
             self.open_dialog(DialogKind::Open);
         }
-        // Space flips between B alone and A alone in every compare mode
-        // (from the mode's own view it shows B first); Escape goes back to
-        // the mode's view. Not while typing in a field.
-        let escape = ctx.input(|i| i.key_pressed(Key::Escape));
-        if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {
-            if toggle {
-                self.view.ab = match self.view.ab {
-                    AbView::B => AbView::A,
-                    AbView::Both | AbView::A => AbView::B,
-                };
-            } else if escape {
-                self.view.ab = AbView::Both;
-            }
-        }
+        self.viewport_keys(ctx, toggle);
     }
 
     pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
@@ -146,7 +127,7 @@ impl EditorApp {
         {
             self.dialogs.browser = Some(browser::PresetBrowser::open(
                 self.dialogs.thumbnail_dir.clone(),
-                self.jobs.waker.as_fn(),
+                self.waker.as_fn(),
             ));
             ui.close();
         }
@@ -219,10 +200,7 @@ impl EditorApp {
             ui.close();
         }
         if ui.button("Default head").clicked() {
-            if self.meshes.mesh.is_some() {
-                self.report.status = "Loading the default head …".into();
-            }
-            self.meshes.mesh = None;
+            self.load_mesh(None);
             ui.close();
         }
         ui.separator();
@@ -268,39 +246,6 @@ impl EditorApp {
                 ui.close();
             }
         }
-    }
-
-    pub(super) fn status_bar_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            if !self.jobs.exports.is_empty()
-                || self.profile.analysis.busy()
-                || self.jobs.environment_load.is_some()
-            {
-                ui.spinner();
-            }
-            let color = if self.report.status.starts_with("Error") {
-                ui.visuals().error_fg_color
-            } else {
-                ui.visuals().text_color()
-            };
-            // The viewport's line on the right, whole; the status message
-            // in what is left, cut short (full text on hover) rather than
-            // written over it in a narrow window.
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.add(
-                    egui::Label::new(format!("{} · UI {:.1} ms", self.view.frame_info, self.report.ui_ms))
-                        .wrap_mode(egui::TextWrapMode::Extend),
-                )
-                    .on_hover_text("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
-                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
-                    ui.add(
-                        egui::Label::new(egui::RichText::new(&self.report.status).color(color))
-                            .truncate(),
-                    )
-                    .on_hover_text(&self.report.status);
-                });
-            });
-        });
     }
 
     pub(super) fn params_panel_ui(&mut self, ui: &mut egui::Ui) {

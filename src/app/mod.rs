@@ -7,13 +7,13 @@ mod autosave;
 pub mod browser;
 mod dialogs;
 mod files;
-mod inspect;
 mod maps;
 mod menu;
 mod overlays;
 mod params_ui;
 mod parts;
 mod plots;
+mod report;
 pub mod state;
 pub mod turntable;
 pub mod viewport;
@@ -21,7 +21,6 @@ mod viewport_ui;
 pub mod wake;
 
 use crate::export::Format;
-use crate::render::mesh::{CRANIUM_M, PLAUSIBLE_CRANIUM_M, PLAUSIBLE_HEIGHT_M};
 use crate::settings::{library, Preset};
 use analysis::{Analysis, AnalysisKey, Background, Curves};
 use parts::{Dialogs, Jobs, Layout, MeshState, ProfileState, Report, ViewportState};
@@ -74,9 +73,10 @@ impl DialogKind {
             DialogKind::SaveImage => &["png"],
             DialogKind::SaveTurntable => &["gif"],
             DialogKind::Export(f) => return vec![f.extension()],
-            DialogKind::Import => &["asset", "txt", "py", "mtlx", "tres"],
-            DialogKind::CompareB => &["ron", "asset", "txt", "py", "mtlx", "tres"],
-            DialogKind::Open | DialogKind::SaveAs => &["ron"],
+            // What the export targets' readers read (`Target::reader`).
+            DialogKind::Import => return crate::export::importable_extensions(false),
+            DialogKind::CompareB => return crate::export::importable_extensions(true),
+            DialogKind::Open | DialogKind::SaveAs => return vec![Format::Ron.extension()],
         };
         exts.to_vec()
     }
@@ -85,10 +85,16 @@ impl DialogKind {
     fn title(&self) -> String {
         match self {
             DialogKind::Open => "Open preset (.ron)".to_string(),
-            DialogKind::Import => "Import an engine's file (Unity .asset, Unreal .txt/.py, MaterialX .mtlx, Godot .tres, Blender .py)".into(),
+            DialogKind::Import => format!(
+                "Import an engine's file ({})",
+                crate::export::importable_kinds()
+            ),
             DialogKind::SaveAs => "Save preset as (.ron)".into(),
             DialogKind::Export(f) => format!("Export: {} (.{})", f.name(), f.extension()),
-            DialogKind::CompareB => "Compare against (B): a preset or an engine's file, drawn as that engine draws it".into(),
+            DialogKind::CompareB => {
+                "Compare against (B): a preset or an engine's file, drawn as that engine draws it"
+                    .into()
+            }
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
@@ -167,16 +173,6 @@ type BCurvesKey = (PathBuf, Option<u64>, String);
 /// channel, or why it cannot be overlaid.
 type BCurves = Result<(String, Curves, [f64; 3]), String>;
 
-/// What the first panels of a frame showed ([`EditorApp::drawn`]).
-#[derive(PartialEq)]
-struct Drawn {
-    status: String,
-    frame_info: String,
-    busy: bool,
-    preset: Preset,
-    path: Option<PathBuf>,
-}
-
 /// A finished export, reported by its thread.
 type ExportResult = Result<Vec<PathBuf>, String>;
 
@@ -204,6 +200,9 @@ pub struct EditorApp {
     /// The look's autosave and what an earlier run left to recover (off
     /// unless [`EditorApp::with_autosave`]).
     autosave: Option<autosave::Autosave>,
+    /// Wakes the UI when a background job finishes (each job's thread
+    /// holds a clone).
+    waker: wake::Waker,
 }
 
 impl EditorApp {
@@ -271,7 +270,6 @@ impl EditorApp {
                 about_open: false,
             },
             jobs: Jobs {
-                waker,
                 exports: Vec::new(),
                 environment_load: None,
                 turntable: None,
@@ -306,6 +304,7 @@ impl EditorApp {
                 panel_rects: [None, None],
             },
             autosave: None,
+            waker,
         };
         app.refresh_curves();
         app
@@ -369,7 +368,7 @@ impl EditorApp {
                 s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
             });
         }
-        self.jobs.waker.attach(&ctx);
+        self.waker.attach(&ctx);
         self.handle_drops(&ctx);
         self.shortcuts(&ctx);
         self.poll_workers();
@@ -437,123 +436,8 @@ impl EditorApp {
         if !ctx.input(|i| i.pointer.any_down()) && ctx.memory(|m| m.focused().is_none()) {
             self.doc.commit();
         }
-        let title = self.doc.title();
-        if title != self.report.last_title {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
-            self.report.last_title = title;
-        }
         self.autosave_tick(Some(&ctx), false);
-        // A reply, a prompt's answer or a finished job can change what the
-        // menu and status bars drew at the frame's start: draw it again
-        // now, not at the next input.
-        if self.drawn() != drawn {
-            ctx.request_repaint();
-        }
-        self.report.ui_ms = ui_ms;
-        self.report_timings();
-        if let Some(log) = self.report.frame_log.as_mut() {
-            use std::io::Write;
-            let t = unix_seconds();
-            let _ = writeln!(log, "{t:.3} ui {ui_ms:.1}");
-            // The status line as this frame drew it, when it changed (a
-            // test reads when a job's result reached the screen).
-            if drawn.status != self.report.logged_status {
-                let _ = writeln!(log, "{t:.3} status {}", drawn.status);
-                self.report.logged_status = drawn.status;
-            }
-        }
-    }
-
-    /// What the panels drawn first (menu, status bar, the look's fields)
-    /// show that code later in the frame may change.
-    fn drawn(&self) -> Drawn {
-        Drawn {
-            status: self.report.status.clone(),
-            frame_info: self.view.frame_info.clone(),
-            busy: !self.jobs.exports.is_empty()
-                || self.profile.analysis.busy()
-                || self.jobs.environment_load.is_some(),
-            preset: self.doc.preset.clone(),
-            path: self.doc.path.clone(),
-        }
-    }
-
-    /// Every new error or warning in the status line becomes a notification
-    /// at the viewport's top right that stays until its × is clicked (the
-    /// same message again is not stacked twice); at most five, oldest first
-    /// dropped.
-    fn notices_ui(&mut self, ctx: &egui::Context) {
-        if self.report.status != self.report.status_seen {
-            self.report.status_seen = self.report.status.clone();
-            let s = &self.report.status;
-            if (s.starts_with("Error") || s.starts_with("Warning"))
-                && !self.report.notices.contains(s)
-            {
-                self.report.notices.push(s.clone());
-                if self.report.notices.len() > 5 {
-                    self.report.notices.remove(0);
-                }
-            }
-        }
-        let Some(rect) = self.layout.viewport_rect else {
-            return;
-        };
-        let mut dismiss = None;
-        let width = (rect.width() - 16.0).clamp(160.0, 420.0);
-        egui::Area::new(egui::Id::unique("scatterlab_notices"))
-            .order(egui::Order::Foreground)
-            .fixed_pos(rect.right_top() + egui::vec2(-width - 8.0, 8.0))
-            .show(ctx, |ui| {
-                ui.set_width(width);
-                for (i, n) in self.report.notices.iter().enumerate() {
-                    egui::Frame::popup(ui.style()).show(ui, |ui| {
-                        ui.set_width(width - 16.0);
-                        ui.horizontal_top(|ui| {
-                            let close = ui.small_button("×");
-                            close.widget_info(|| {
-                                egui::WidgetInfo::labeled(
-                                    egui::accesskit::Role::Button,
-                                    true,
-                                    "Dismiss notification",
-                                )
-                            });
-                            if close.on_hover_text("Dismiss").clicked() {
-                                dismiss = Some(i);
-                            }
-                            let colour = if n.starts_with("Error") {
-                                ui.visuals().error_fg_color
-                            } else {
-                                ui.visuals().warn_fg_color
-                            };
-                            ui.add(egui::Label::new(egui::RichText::new(n).color(colour)).wrap());
-                        });
-                    });
-                }
-            });
-        if let Some(i) = dismiss {
-            self.report.notices.remove(i);
-        }
-    }
-
-    /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1
-    /// (the budgets: first frame < 3 s, UI < 8 ms a frame).
-    fn report_timings(&mut self) {
-        if std::env::var_os("SCATTERLAB_TIMINGS").is_none() {
-            return;
-        }
-        let t = self.report.started.elapsed().as_secs_f64();
-        if !self.report.reported.0 {
-            self.report.reported.0 = true;
-            eprintln!(
-                "timing: first UI frame {t:.2} s after start-up (UI {:.2} ms)",
-                self.report.ui_ms
-            );
-        }
-        if !self.report.reported.1 && self.view.texture.is_some() {
-            self.report.reported.1 = true;
-            eprintln!("timing: first viewport frame {t:.2} s after start-up");
-        }
-        eprintln!("timing: UI {:.2} ms", self.report.ui_ms);
+        self.end_frame(&ctx, drawn, ui_ms);
     }
 }
 
@@ -728,7 +612,7 @@ pub fn run(
             if let Some(dir) = eframe::storage_dir("scatterlab") {
                 app = app.with_autosave(&dir);
             }
-            app.report.started = started;
+            app = app.started_at(started);
             if let Some(f) = &import {
                 app.import_now(f);
             }

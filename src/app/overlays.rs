@@ -5,6 +5,116 @@
 use super::*;
 
 impl EditorApp {
+    /// While comparing: both sides, or A or B alone.
+    pub fn ab(&self) -> AbView {
+        self.view.ab
+    }
+
+    /// Whether the viewport shows the look before the last edit.
+    pub fn show_before(&self) -> bool {
+        self.view.show_before
+    }
+
+    /// The status bar's viewport readout (method, size, time, adapter).
+    pub fn frame_info(&self) -> &str {
+        &self.view.frame_info
+    }
+
+    /// Whether the viewport has shown a rendered frame.
+    pub fn has_viewport_frame(&self) -> bool {
+        self.view.texture.is_some()
+    }
+
+    /// The last viewport frame and the number of frames received so far.
+    pub fn viewport_frame(&self) -> Option<(&image::RgbaImage, u64)> {
+        self.view.last_frame.as_ref().map(|(i, n)| (i, *n))
+    }
+
+    /// Where the viewport was last drawn.
+    pub(super) fn viewport_rect(&self) -> Option<egui::Rect> {
+        self.layout.viewport_rect
+    }
+
+    /// The viewport's rect, the compare labels drawn on it (text, rect),
+    /// and the left and right panels' rects, as last drawn.
+    pub fn viewport_layout(&self) -> ViewportLayout {
+        ViewportLayout {
+            viewport: self.layout.viewport_rect,
+            labels: self.layout.compare_labels.clone(),
+            params: self.layout.panel_rects[0],
+            plots: self.layout.panel_rects[1],
+        }
+    }
+
+    /// How far the last viewport frame had got.
+    pub fn viewport_quality(&self) -> Option<viewport::Quality> {
+        self.view.quality
+    }
+
+    /// Whether the viewport has rendered everything asked of it.
+    pub fn viewport_idle(&self) -> bool {
+        self.view
+            .viewport
+            .as_ref()
+            .is_none_or(|v| v.busy_since.is_none())
+    }
+
+    /// The viewport's last request (what a turntable turns).
+    pub(super) fn viewport_request(&self) -> Option<viewport::Request> {
+        self.view
+            .viewport
+            .as_ref()
+            .and_then(|v| v.last_request())
+            .cloned()
+    }
+
+    /// The scale (white, |ΔL*|) of the difference view on screen, if any.
+    pub fn difference_scale_shown(&self) -> Option<f32> {
+        self.view.difference_shown
+    }
+
+    /// Makes the render thread fail on its next request (tests of the
+    /// recovery; nothing in the editor calls it).
+    #[doc(hidden)]
+    pub fn inject_render_fault(&self, fault: viewport::Fault) {
+        if let Some(v) = &self.view.viewport {
+            v.inject_fault(fault);
+        }
+    }
+
+    /// Writes the viewport's frame, as shown (a comparison with both sides,
+    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
+    pub fn save_image(&mut self, path: &Path) {
+        let Some((frame, _)) = &self.view.last_frame else {
+            self.say(format!(
+                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
+                path.display()
+            ));
+            return;
+        };
+        let mut png = Vec::new();
+        let written = frame
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .map_err(|e| e.to_string())
+            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
+        self.say(match written {
+            Ok(()) => {
+                let state = match self.view.quality {
+                    Some(viewport::Quality::Converged { .. }) => "converged",
+                    _ => "not converged yet: a preview",
+                };
+                format!(
+                    "Saved image {} ({}×{}, {}, {state})",
+                    path.display(),
+                    frame.width(),
+                    frame.height(),
+                    self.view.frame_info.split(" · ").next().unwrap_or("")
+                )
+            }
+            Err(e) => format!("Error: {}: {e}", path.display()),
+        });
+    }
+
     /// What is drawn over the viewport: the frame, progress bars, the
     /// compare labels and the rendering note.
     pub(super) fn viewport_overlays_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
@@ -36,7 +146,7 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         };
-        if self.report.status.starts_with("Loading mesh") {
+        if self.status().starts_with("Loading mesh") {
             // The mesh loads and bakes thickness and curvature on the
             // render thread; show how far the bake has got.
             let done = crate::render::mesh::bake_fraction();

@@ -96,8 +96,6 @@ pub(super) struct Dialogs {
 
 /// Work on other threads: exports, an environment map loading, a turntable.
 pub(super) struct Jobs {
-    /// Wakes the UI when a job finishes (each job's thread holds a clone).
-    pub(super) waker: wake::Waker,
     pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
     /// An HDR environment map loading on its own thread.
     pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,

@@ -574,6 +574,83 @@ fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     ui.image((strip.id(), egui::vec2(384.0, 24.0)));
 }
 
+impl EditorApp {
+    /// Takes in the analysis thread's result (fits, tables, a slow
+    /// model's curves).
+    pub(super) fn poll_analysis(&mut self) {
+        if let Some((key, result)) = self.profile.analysis.poll() {
+            match result {
+                Ok(a) => {
+                    if super::analysis::is_slow(&key.profile)
+                        && key.profile == self.doc.preset.profile
+                    {
+                        self.profile.curves = Some(Ok(a.curves.clone()));
+                    }
+                    self.profile.latest = Some(a);
+                }
+                Err(e) => {
+                    // A panic the thread survived (`Background`): said
+                    // as a notice as well as in the plot.
+                    if e.contains("thread failed") {
+                        eprintln!("warning: {e}");
+                        self.say(format!("Warning: {e}"));
+                    }
+                    if key.profile == self.doc.preset.profile {
+                        self.profile.curves = Some(Err(e));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Where the profile plot was drawn (UI tests).
+    pub fn plot_rect(&self) -> Option<egui::Rect> {
+        self.layout.plot_rect
+    }
+
+    /// The latest finished analysis of the look (fits, tables), if any.
+    pub fn latest_analysis(&self) -> Option<&super::analysis::Analysis> {
+        self.profile.latest.as_ref()
+    }
+
+    /// Whether the plot's radius axis is logarithmic now (set, or
+    /// automatic for these curves).
+    pub fn plot_log_radius(&self) -> bool {
+        self.ui_state
+            .log_radius
+            .unwrap_or_else(|| matches!(&self.profile.curves, Some(Ok(c)) if auto_log_radius(c)))
+    }
+
+    /// What the main plot draws now, per channel (for tests).
+    pub fn plot_series(&self) -> Option<[Vec<[f64; 2]>; 3]> {
+        match &self.profile.curves {
+            Some(Ok(c)) => Some(series(c, self.ui_state.plot_quantity, self.ui_state.log_y)),
+            _ => None,
+        }
+    }
+
+    /// Whether the background analysis (fits, taps, tables) is current.
+    pub fn analysis_done(&self) -> bool {
+        !self.profile.analysis.busy()
+            && self
+                .profile
+                .latest
+                .as_ref()
+                .is_some_and(|a| a.key == self.analysis_key())
+    }
+
+    /// Whether the analysis thread is working.
+    pub(super) fn analysis_busy(&self) -> bool {
+        self.profile.analysis.busy()
+    }
+
+    /// Makes the next analysis panic (tests of the recovery).
+    #[doc(hidden)]
+    pub fn inject_analysis_panic(&self) {
+        self.profile.analysis.inject_panic();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -329,7 +329,7 @@ pub enum CompareB {
 
 impl Default for CompareB {
     fn default() -> Self {
-        CompareB::Method(crate::settings::rendering::MethodId::Separable)
+        CompareB::Method(crate::render::Method::compare_partner())
     }
 }
 
@@ -495,6 +495,31 @@ impl Default for MeshSettings {
     }
 }
 
+/// What the artist set for turntables (remembered in `UiState`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TurntableSettings {
+    /// Frames in one turn.
+    pub frames: u32,
+    /// One turn's length in the GIF (s).
+    pub seconds: f32,
+    /// The key light turns with the camera (the head spins under it).
+    pub light_follows: bool,
+    /// Also write each frame as a PNG, in `<name>_frames/`.
+    pub png_sequence: bool,
+}
+
+impl Default for TurntableSettings {
+    fn default() -> Self {
+        Self {
+            frames: 36,
+            seconds: 4.0,
+            light_follows: true,
+            png_sequence: true,
+        }
+    }
+}
+
 /// UI state remembered between runs (eframe storage, RON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -530,7 +555,7 @@ pub struct UiState {
     /// Go on from the method's converged frame to the ground truth.
     pub refine_to_truth: bool,
     /// File → Save turntable's settings.
-    pub turntable: super::turntable::TurntableSettings,
+    pub turntable: TurntableSettings,
 }
 
 impl Default for UiState {

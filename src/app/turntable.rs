@@ -10,37 +10,13 @@
 //! fixed studio light); an HDR environment stays put. Nothing is written
 //! until every frame is in: a cancelled turntable leaves no files.
 
+pub use super::state::TurntableSettings;
 use super::viewport::{Request, Viewport};
 use super::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// What the artist set for turntables (remembered in `UiState`).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct TurntableSettings {
-    /// Frames in one turn.
-    pub frames: u32,
-    /// One turn's length in the GIF (s).
-    pub seconds: f32,
-    /// The key light turns with the camera (the head spins under it).
-    pub light_follows: bool,
-    /// Also write each frame as a PNG, in `<name>_frames/`.
-    pub png_sequence: bool,
-}
-
-impl Default for TurntableSettings {
-    fn default() -> Self {
-        Self {
-            frames: 36,
-            seconds: 4.0,
-            light_follows: true,
-            png_sequence: true,
-        }
-    }
-}
 
 /// The frame counts the window offers (a field would allow any).
 pub const FRAME_RANGE: std::ops::RangeInclusive<u32> = 2..=360;
@@ -239,7 +215,7 @@ impl EditorApp {
             if let Some(r) = job.poll() {
                 let out = job.out.clone();
                 self.jobs.turntable = None;
-                self.report.status = match r {
+                self.say(match r {
                     Ok(files) => format!(
                         "Saved turntable {} ({} frames{})",
                         out.display(),
@@ -252,7 +228,7 @@ impl EditorApp {
                     ),
                     Err(e) if e == CANCELLED => format!("Turntable {CANCELLED}"),
                     Err(e) => format!("Error: turntable {}: {e}", out.display()),
-                };
+                });
             } else {
                 ctx.request_repaint_after(Duration::from_millis(200));
             }
@@ -326,18 +302,18 @@ impl EditorApp {
     /// Starts a turntable to `gif` from the viewport's current request
     /// (the window polls it while it runs).
     pub(super) fn start_turntable(&mut self, gif: PathBuf) {
-        let Some(base) = self.view.viewport.as_ref().and_then(|v| v.last_request()) else {
-            self.report.status = format!(
+        let Some(base) = self.viewport_request() else {
+            self.say(format!(
                 "Error: {}: no viewport to turn (wait for the head to appear)",
                 gif.display()
-            );
+            ));
             return;
         };
         self.jobs.turntable = Some(TurntableJob::start(
-            base.clone(),
+            base,
             self.ui_state.turntable,
             gif,
-            self.jobs.waker.as_fn(),
+            self.waker.as_fn(),
         ));
         self.dialogs.turntable_open = true;
     }

@@ -33,8 +33,6 @@ use framing::*;
 pub use thread::Fault;
 use thread::*;
 
-const GAUSSIAN_TAPS: usize = crate::render::inputs::GAUSSIAN_TAPS;
-
 /// One side of a comparison: a look and the method it is rendered with.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Look {
@@ -479,7 +477,8 @@ impl Worker {
             profile.as_ref(),
             m,
             (look.rendering.samples, look.rendering.taps),
-            GAUSSIAN_TAPS,
+            // The editor draws each method with its default options.
+            &Default::default(),
         )
         .map_err(|e| e.to_string())?;
         self.cache.insert(0, (key, inputs.clone()));
@@ -683,7 +682,7 @@ impl Worker {
         settings: RenderSettings,
         pass: Pass,
     ) -> Result<Side, String> {
-        let stochastic = settings.is_stochastic();
+        let stochastic = crate::render::sss::is_stochastic(&settings, &Default::default());
         if let (Pass::Refine(frame), false, Some(kept)) = (pass, stochastic, &self.kept[slot]) {
             if frame > 0 {
                 return Ok(kept.clone());

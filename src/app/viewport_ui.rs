@@ -333,7 +333,7 @@ impl EditorApp {
             match b_look {
                 Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
                 Err(e) => {
-                    self.report.status = format!("Error: compare B: {e}");
+                    self.say(format!("Error: compare B: {e}"));
                     None
                 }
             }
@@ -394,23 +394,18 @@ impl EditorApp {
                 quality,
                 seq,
             } => {
-                if let Some(log) = self.report.frame_log.as_mut() {
-                    use std::io::Write;
-                    let _ = writeln!(
-                        log,
-                        "{:.3} frame {} {}x{} seq={seq} render_ms={wall_ms:.1} method={}",
-                        unix_seconds(),
-                        match quality {
-                            viewport::Quality::Preview { .. } => "preview",
-                            viewport::Quality::Coarse { .. } => "coarse",
-                            viewport::Quality::Refining { .. } => "refining",
-                            viewport::Quality::Converged { .. } => "converged",
-                        },
-                        image.width(),
-                        image.height(),
-                        stats.method,
-                    );
-                }
+                self.log_line(format_args!(
+                    "frame {} {}x{} seq={seq} render_ms={wall_ms:.1} method={}",
+                    match quality {
+                        viewport::Quality::Preview { .. } => "preview",
+                        viewport::Quality::Coarse { .. } => "coarse",
+                        viewport::Quality::Refining { .. } => "refining",
+                        viewport::Quality::Converged { .. } => "converged",
+                    },
+                    image.width(),
+                    image.height(),
+                    stats.method,
+                ));
                 self.view.quality = Some(quality);
                 self.view.difference_shown = difference_scale;
                 let ci = egui::ColorImage::from_rgba_unmultiplied(
@@ -443,33 +438,26 @@ impl EditorApp {
             }
             // The same request is not sent again (it would fail
             // again); the next change renders.
-            viewport::Reply::Error(e) => self.report.status = format!("Error: viewport: {e}"),
+            viewport::Reply::Error(e) => self.say(format!("Error: viewport: {e}")),
             viewport::Reply::Recovered { message, .. } => {
                 // In the log too: a soak or a bug report counts them.
                 eprintln!("warning: {message}");
-                self.report.status = format!("Warning: {message}")
+                self.say(format!("Warning: {message}"))
             }
             viewport::Reply::MeshLoaded(p, info) => {
-                if let Some(log) = self.report.frame_log.as_mut() {
-                    use std::io::Write;
-                    let _ = writeln!(
-                        log,
-                        "{:.3} mesh {} metres_per_unit={}",
-                        unix_seconds(),
-                        p.as_ref()
-                            .map_or("default head".into(), |p| p.display().to_string()),
-                        info.metres_per_unit
-                    );
-                }
+                self.log_line(format_args!(
+                    "mesh {} metres_per_unit={}",
+                    p.as_ref()
+                        .map_or("default head".into(), |p| p.display().to_string()),
+                    info.metres_per_unit
+                ));
                 // The default head the render thread sets up at start,
                 // arriving after a mesh was asked for (`edit --mesh`, a
                 // restored look, a file dropped at once): that mesh
                 // follows, so there is nothing to frame, size or say. (A
                 // mesh that failed to load is replaced by the head after
                 // an error, which the arms below handle.)
-                if p.is_none()
-                    && self.meshes.mesh.is_some()
-                    && !self.report.status.starts_with("Error")
+                if p.is_none() && self.meshes.mesh.is_some() && !self.status().starts_with("Error")
                 {
                     return;
                 }
@@ -495,10 +483,10 @@ impl EditorApp {
                         let o = &mut self.ui_state.view.orbit;
                         o.camera_distance_m = info.framing_distance_m;
                         o.camera_pan_m = [0.0; 2];
-                        self.report.status = format!(
+                        self.say(format!(
                             "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
                             100.0 * seen
-                        );
+                        ));
                     }
                 }
                 self.view.framed_for = Some(key);
@@ -508,19 +496,72 @@ impl EditorApp {
                     }
                 }
                 match &p {
-                    Some(p) => self.report.status = format!("Mesh {}", p.display()),
+                    Some(p) => self.say(format!("Mesh {}", p.display())),
                     // The first load of the default head is not news.
                     // After a failed load the error stays readable.
-                    None if self.report.status.starts_with("Error") => {
-                        self.report.status.push_str(" (showing the default head)");
+                    None if self.status().starts_with("Error") => {
+                        let said = format!("{} (showing the default head)", self.status());
+                        self.say(said);
                         self.meshes.mesh = None;
                     }
-                    None if self.report.status.starts_with("Loading") => {
-                        self.report.status = "Default head".into();
+                    None if self.status().starts_with("Loading") => {
+                        self.say("Default head");
                     }
                     None => {}
                 }
             }
+        }
+    }
+
+    /// The viewport's keys (not while typing in a field): F flickers to the
+    /// look before the last edit; while comparing, Space (`toggle`) flips
+    /// between B alone and A alone (from the mode's own view it shows B
+    /// first) and Escape goes back to the mode's view.
+    pub(super) fn viewport_keys(&mut self, ctx: &egui::Context, toggle: bool) {
+        use egui::{Key, Modifiers};
+        if ctx.memory(|m| m.focused().is_none())
+            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F))
+            && self.doc.before_last_edit().is_some()
+        {
+            self.view.show_before = !self.view.show_before;
+        }
+        let escape = ctx.input(|i| i.key_pressed(Key::Escape));
+        if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {
+            if toggle {
+                self.view.ab = match self.view.ab {
+                    AbView::B => AbView::A,
+                    AbView::Both | AbView::A => AbView::B,
+                };
+            } else if escape {
+                self.view.ab = AbView::Both;
+            }
+        }
+    }
+
+    /// An HDR map has loaded: the HDR light rig that asked for it, if one
+    /// did, lights the head now.
+    pub(super) fn environment_loaded(&mut self) {
+        if std::mem::take(&mut self.view.hdr_rig_pending) {
+            state::LightRig::Hdr.apply(&mut self.ui_state.view);
+        }
+    }
+
+    /// No HDR map came (the dialog cancelled, the map refused): the HDR
+    /// light rig that asked for one is off.
+    pub(super) fn environment_not_loaded(&mut self) {
+        self.view.hdr_rig_pending = false;
+    }
+
+    /// A restored look's mesh (the default head if none), framed as it
+    /// was: the restored view is kept, not reframed.
+    pub(super) fn restore_mesh(&mut self, mesh: Option<(PathBuf, state::MeshSettings)>) {
+        match mesh {
+            Some((path, settings)) => {
+                self.view.framed_for = Some((Some(path.clone()), settings.metres_per_unit));
+                self.ui_state.meshes.insert(path.clone(), settings);
+                self.meshes.mesh = Some(path);
+            }
+            None => self.meshes.mesh = None,
         }
     }
 }

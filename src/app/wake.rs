@@ -1,7 +1,9 @@
 //! Waking the UI from another thread. egui draws a frame only on input or
 //! when asked to, so a background job that finishes asks for one: its
 //! result is on screen at once, not at the next mouse move (issue 36).
+//! And the other way: a thread that works on the newest request only.
 
+use std::sync::mpsc::{Receiver, TryRecvError};
 use std::sync::{Arc, OnceLock};
 
 /// Asks egui for a frame from any thread. Cloned into each job; the
@@ -38,5 +40,18 @@ impl Waker {
     pub fn as_fn(&self) -> impl Fn() + Send + Sync + 'static {
         let w = self.clone();
         move || w.wake()
+    }
+}
+
+/// Blocks for a message, then drains the queue and returns the newest one
+/// (older requests are superseded); `None` once the sender is gone.
+pub fn recv_newest<T>(rx: &Receiver<T>) -> Option<T> {
+    let mut newest = rx.recv().ok()?;
+    loop {
+        match rx.try_recv() {
+            Ok(newer) => newest = newer,
+            Err(TryRecvError::Empty) => return Some(newest),
+            Err(TryRecvError::Disconnected) => return None,
+        }
     }
 }

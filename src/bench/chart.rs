@@ -3,9 +3,8 @@
 //! beside the points, and the Pareto front of time against RMSE drawn.
 
 use super::report::pareto_front;
-use super::scenes::{Config, Kernel, Knob, Scene};
+use super::scenes::{Config, Scene};
 use super::Row;
-use crate::render::BurleySampling;
 use anyhow::{anyhow, Context as _, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -26,42 +25,13 @@ fn register_font() -> Result<()> {
         .ok_or_else(|| anyhow!("the chart font did not load"))
 }
 
-/// The series a row belongs to, and its colour: a method of fixed quality
-/// in its own colour (the registry's), the tapped method by kernel, the
-/// sampled one by sampling.
+/// The series a row belongs to, and its colour: the method's id with its
+/// configuration's series text, in the configuration's colour or the
+/// method's own (the registry's: `MethodInfo::bench`, `colour`).
 fn series(c: Config) -> (String, RGBColor) {
-    let own = |label: String| {
-        let [r, g, b] = c.method.sss().colour;
-        (label, RGBColor(r, g, b))
-    };
-    match c.knob {
-        Knob::Fixed => own(match c.method.sss().variant {
-            "" => c.method.id().to_string(),
-            v => format!("{} ({v})", c.method.id()),
-        }),
-        Knob::Taps {
-            kernel: Kernel::Jimenez2012,
-            ..
-        } => own(format!("{}, 2012 kernel", c.method.id())),
-        Knob::Taps {
-            kernel: Kernel::Preintegrated2015,
-            ..
-        } => (
-            format!("{}, 2015 kernel", c.method.id()),
-            RGBColor(23, 190, 207),
-        ),
-        Knob::Samples { sampling, .. } if sampling == BurleySampling::IMPROVED => (
-            format!("{} (improved)", c.method.id()),
-            RGBColor(214, 39, 40),
-        ),
-        Knob::Samples { sampling, .. } if sampling == BurleySampling::GOLUBEV => {
-            own(format!("{} (Golubev 2018)", c.method.id()))
-        }
-        Knob::Samples { .. } => (
-            format!("{}, one improvement", c.method.id()),
-            RGBColor(255, 127, 14),
-        ),
-    }
+    let (text, colour) = c.knob.series;
+    let [r, g, b] = colour.unwrap_or(c.method.sss().colour);
+    (format!("{}{text}", c.method.id()), RGBColor(r, g, b))
 }
 
 /// An axis label with three significant digits and no float noise.

@@ -45,10 +45,13 @@ pub struct Floor {
 /// nothing and the same colour (so the scene pass, and with it the ground
 /// truth's cells, are the look's own).
 pub fn d_to_zero_inputs(look: &ProfileInputs) -> Result<ProfileInputs> {
-    let albedo = look.surface_albedo.map(|a| (a as f64).clamp(1e-3, 1.0));
+    let albedo = look
+        .shared
+        .surface_albedo
+        .map(|a| (a as f64).clamp(1e-3, 1.0));
     let profile = Burley::from_scattering_distance(albedo, [D_ZERO_MM; 3])?;
     let mut inputs = ProfileInputs::new(&profile, 21, 17)?;
-    inputs.surface_albedo = look.surface_albedo;
+    inputs.shared.surface_albedo = look.shared.surface_albedo;
     Ok(inputs)
 }
 
@@ -61,22 +64,24 @@ pub fn measure(
     settings: &RenderSettings,
     plain: &[[f32; 4]],
 ) -> Result<Floor> {
-    let with = |method: Method, supersample: u32| RenderSettings {
+    let with = |method: Method| RenderSettings {
         method,
-        reference_supersample: supersample,
         ..settings.clone()
     };
     let zero = d_to_zero_inputs(look)?;
     let (_, none, _) = renderer
-        .render_with_diffuse(&zero, &with(Method::baseline(), 1))
+        .render_with_diffuse(&zero, &with(Method::baseline()))
         .context("floor: the none frame at d → 0")?;
     let (_, truth, _) = renderer
-        .render_with_diffuse(&zero, &with(Method::ground_truth(), 1))
+        .render_with_diffuse(&zero, &with(Method::ground_truth()))
         .context("floor: the ground truth at d → 0")?;
     let mask = metrics::sss_mask(&none);
     let d_to_zero = metrics::relative_rmse(&truth, &none, &mask);
+    // The ground truth's own option: 2 × 2 points a pixel.
+    let mut supersampled = look.clone();
+    supersampled.options.reference.supersample = 2;
     let (_, fine, _) = renderer
-        .render_with_diffuse(look, &with(Method::ground_truth(), 2))
+        .render_with_diffuse(&supersampled, &with(Method::ground_truth()))
         .context("floor: the supersampled ground truth")?;
     let sss = metrics::sss_mask(plain);
     let one_surface: Vec<bool> = sss

@@ -16,17 +16,12 @@ pub mod report;
 pub mod scenes;
 pub mod skip;
 
-use crate::model::fit::fit_jimenez;
-use crate::model::jimenez::Jimenez2012;
-use crate::model::separable::SeparableKernel;
-use crate::model::{RadialProfile, Rgb};
-use crate::render::{
-    gaussian_terms, FrameStats, GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer,
-};
+use crate::model::RadialProfile;
+use crate::render::{FrameStats, GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer};
 use crate::settings::{Preset, ProfileSpec};
 use anyhow::{Context, Result};
 use image::RgbaImage;
-use scenes::{Config, Kernel, Knob, Scene, Stage};
+use scenes::{Config, Scene, Stage};
 use std::path::Path;
 use std::time::Instant;
 
@@ -97,54 +92,45 @@ impl Options {
     }
 }
 
-/// The profile and everything derived from it once per run.
+/// The profile and the inputs of each configuration, each made once per
+/// run (the Gaussians' and Jimenez 2012's fits take a while).
 pub struct Prepared {
     pub profile: Box<dyn RadialProfile>,
+    pub spec: ProfileSpec,
+    /// Every method's inputs at the look's defaults (21 samples, 17 taps).
     pub base: ProfileInputs,
-    pub jimenez: Jimenez2012,
-    pub kernels_2015: Vec<(usize, SeparableKernel)>,
-    pub gaussians: Vec<(f64, Rgb)>,
+    made: std::sync::Mutex<Vec<(Config, ProfileInputs)>>,
 }
 
 impl Prepared {
     pub fn new(preset: &Preset) -> Result<Self> {
-        let spec = &preset.profile;
         let profile = preset.build_profile()?;
-        let p = profile.as_ref();
-        let jimenez = match spec {
-            ProfileSpec::Jimenez2012(j) => Jimenez2012::new(j.strength, j.falloff)?,
-            _ => fit_jimenez(p)?.model,
-        };
-        let kernels_2015 = scenes::SEPARABLE_TAPS
-            .iter()
-            .map(|&t| Ok((t, SeparableKernel::importance_sampled(p, t)?)))
-            .collect::<Result<_>>()?;
         Ok(Self {
-            base: ProfileInputs::new(p, 21, 17)?,
-            gaussians: gaussian_terms(spec, p)?,
-            jimenez,
-            kernels_2015,
+            base: ProfileInputs::new(profile.as_ref(), 21, 17)?,
+            spec: preset.profile.clone(),
             profile,
+            made: Default::default(),
         })
     }
 
-    /// The inputs of one configuration.
+    /// The inputs of one configuration: the base with the method's own
+    /// set to it (the method's `MethodInputs::bench`).
     pub fn inputs(&self, config: Config) -> Result<ProfileInputs> {
+        let made = |m: &Vec<(Config, ProfileInputs)>| {
+            m.iter().find(|(c, _)| *c == config).map(|(_, i)| i.clone())
+        };
+        if let Some(i) = self.made.lock().ok().as_deref().and_then(made) {
+            return Ok(i);
+        }
         let mut i = self.base.clone();
-        match config.knob {
-            Knob::Samples { samples, sampling } => {
-                i.set_burley(self.profile.as_ref(), samples, sampling)?
-            }
-            Knob::Taps { taps, kernel } => match kernel {
-                Kernel::Jimenez2012 => i.set_separable_kernel(&self.jimenez.kernel(taps)?, true),
-                Kernel::Preintegrated2015 => {
-                    let k = self.kernels_2015.iter().find(|k| k.0 == taps);
-                    let k = k.context("a separable tap count outside the bench's list")?;
-                    i.set_separable_kernel(&k.1, false)
-                }
-            },
-            Knob::Fixed if config.method.sss().reads.gaussians => i.set_gaussians(&self.gaussians),
-            Knob::Fixed => {}
+        i.bench(
+            &self.spec,
+            self.profile.as_ref(),
+            config.method,
+            &config.knob,
+        )?;
+        if let Ok(mut m) = self.made.lock() {
+            m.push((config, i.clone()));
         }
         Ok(i)
     }

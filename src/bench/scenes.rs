@@ -1,8 +1,6 @@
 //! The fixed scenes and the method configurations `bench` measures.
 
-use crate::render::{
-    BurleySampling, IrradiancePattern, Method, Quality, RenderSettings, Transmission,
-};
+use crate::render::{IrradiancePattern, Knob, Method, Quality, RenderSettings, Transmission};
 use crate::settings::OrbitView;
 
 /// What a scene renders.
@@ -131,47 +129,20 @@ pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
     ]
 }
 
-/// Which separable kernel.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Kernel {
-    /// Jimenez 2012's kernel with strength and falloff fitted to the profile.
-    Jimenez2012,
-    /// Jimenez 2015's importance-sampled pre-integrated kernel of the profile.
-    Preintegrated2015,
-}
-
-/// How a configuration sets its method's quality ([`Quality`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Knob {
-    /// The method's one configuration (`Quality::Fixed`).
-    Fixed,
-    /// Samples per pixel and the sampling strategy (`Quality::Samples`).
-    Samples {
-        samples: usize,
-        sampling: BurleySampling,
-    },
-    /// Taps of the separable kernel and which kernel (`Quality::Taps`).
-    Taps { taps: usize, kernel: Kernel },
-}
-
-/// One method at one setting of its quality.
+/// One method at one of its bench configurations ([`Knob`], declared by
+/// the method: `MethodInfo::bench`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Config {
     pub method: Method,
     pub knob: Knob,
 }
 
-pub const BURLEY_SAMPLES: [usize; 7] = [7, 13, 21, 34, 55, 89, 144];
-pub const SEPARABLE_TAPS: [usize; 5] = [7, 11, 17, 25, 33];
-/// The single improvements, measured alone at these counts.
-pub const ABLATION_SAMPLES: [usize; 2] = [21, 55];
-
 impl Config {
-    /// A method whose quality is fixed.
+    /// A method's one configuration.
     pub fn fixed(method: Method) -> Self {
         Self {
             method,
-            knob: Knob::Fixed,
+            knob: Knob::FIXED,
         }
     }
 
@@ -185,20 +156,12 @@ impl Config {
         Self::fixed(Method::baseline())
     }
 
-    /// The sampled method (`burley`) at `samples` with `sampling`.
-    pub fn samples(samples: usize, sampling: BurleySampling) -> Self {
-        Self {
-            method: Method::by_quality(Quality::Samples),
-            knob: Knob::Samples { samples, sampling },
-        }
-    }
-
-    /// The separable method at `taps` with `kernel`.
-    pub fn taps(taps: usize, kernel: Kernel) -> Self {
-        Self {
-            method: Method::by_quality(Quality::Taps),
-            knob: Knob::Taps { taps, kernel },
-        }
+    /// `method`'s bench configuration `variant` at `count`, if it has one.
+    pub fn of(method: Method, variant: &str, count: usize) -> Option<Self> {
+        (method.sss().bench)()
+            .into_iter()
+            .find(|k| k.variant == variant && k.count == count)
+            .map(|knob| Self { method, knob })
     }
 
     pub fn method(self) -> Method {
@@ -206,24 +169,13 @@ impl Config {
     }
 
     /// The CSV's `variant` column.
-    pub fn variant(self) -> String {
-        match self.knob {
-            Knob::Samples { sampling, .. } => sampling.id(),
-            Knob::Taps { kernel, .. } => match kernel {
-                Kernel::Jimenez2012 => "2012".into(),
-                Kernel::Preintegrated2015 => "2015".into(),
-            },
-            Knob::Fixed => self.method.sss().variant.into(),
-        }
+    pub fn variant(self) -> &'static str {
+        self.knob.variant
     }
 
-    /// Samples per pixel (burley), taps (separable), else 0.
+    /// Samples or taps, else 0.
     pub fn count(self) -> usize {
-        match self.knob {
-            Knob::Samples { samples, .. } => samples,
-            Knob::Taps { taps, .. } => taps,
-            Knob::Fixed => 0,
-        }
+        self.knob.count
     }
 
     /// `method/variant/count`, for labels.
@@ -238,63 +190,51 @@ impl Config {
 }
 
 /// Every configuration measured on every scene (the reference is rendered
-/// first and separately): each method of fixed quality, in the registry's
-/// order, then the tapped method at every kernel and tap count, the
-/// sampled one at every count of both samplings, then each single
-/// improvement to the sampling alone.
+/// first and separately): each method's own list (`MethodInfo::bench`),
+/// the methods of fixed quality first, then those set by taps, then by
+/// samples, each group in the registry's order.
 pub fn configs() -> Vec<Config> {
-    let quality = |m: &Method| m.sss().quality;
-    let mut c: Vec<Config> = Method::all()
+    let rank = |m: &Method| match m.sss().quality {
+        Quality::Fixed => 0,
+        Quality::Taps => 1,
+        Quality::Samples => 2,
+    };
+    let mut methods: Vec<Method> = Method::all()
         .iter()
-        .filter(|m| quality(m) == Quality::Fixed && !m.sss().ground_truth)
-        .map(|&m| Config::fixed(m))
+        .copied()
+        .filter(|m| !m.sss().ground_truth)
         .collect();
-    for kernel in [Kernel::Jimenez2012, Kernel::Preintegrated2015] {
-        c.extend(SEPARABLE_TAPS.map(|taps| Config::taps(taps, kernel)));
-    }
-    for sampling in [BurleySampling::IMPROVED, BurleySampling::GOLUBEV] {
-        c.extend(BURLEY_SAMPLES.map(|samples| Config::samples(samples, sampling)));
-    }
-    let single = [
-        BurleySampling {
-            antithetic: true,
-            ..BurleySampling::GOLUBEV
-        },
-        BurleySampling {
-            mis: true,
-            ..BurleySampling::GOLUBEV
-        },
-        BurleySampling {
-            r2_rotation: true,
-            ..BurleySampling::GOLUBEV
-        },
-        BurleySampling {
-            bilinear: true,
-            ..BurleySampling::GOLUBEV
-        },
-        BurleySampling {
-            centre_weight: true,
-            ..BurleySampling::GOLUBEV
-        },
-    ];
-    for sampling in single {
-        c.extend(ABLATION_SAMPLES.map(|samples| Config::samples(samples, sampling)));
-    }
-    c
+    methods.sort_by_key(rank);
+    methods
+        .into_iter()
+        .flat_map(|method| {
+            (method.sss().bench)()
+                .into_iter()
+                .map(move |knob| Config { method, knob })
+        })
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// Every configuration has its own label, every method but the
+    /// ground truth is measured, each at every configuration it declares
+    /// and no other (counted from the registry, so a new method's rows
+    /// cannot be left out).
     #[test]
-    fn every_config_has_a_distinct_label() {
+    fn every_method_is_benched_at_each_of_its_configs() {
         let c = configs();
         let mut labels: Vec<String> = c.iter().map(|c| c.label()).collect();
         labels.sort();
         labels.dedup();
         assert_eq!(labels.len(), c.len(), "{labels:?}");
-        // 3 + 2 kernels × 5 taps + 2 samplings × 7 counts + 5 flags × 2 counts.
-        assert_eq!(c.len(), 3 + 10 + 14 + 10);
+        for &m in Method::all() {
+            let rows = c.iter().filter(|c| c.method == m).count();
+            let declared = (m.sss().bench)().len();
+            let want = if m.sss().ground_truth { 0 } else { declared };
+            assert_eq!(rows, want, "{}", m.id());
+        }
     }
 }

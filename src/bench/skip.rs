@@ -6,7 +6,7 @@ use super::{measure, renderer_for, Options, Prepared};
 use crate::model::jimenez::{Jimenez2012, DEFAULT_FALLOFF};
 use crate::render::textures::{MeshTextures, TextureImage};
 use crate::render::{
-    BurleySampling, FrameStats, GpuContext, IrradiancePattern, Mesh, ProfileInputs, RenderSettings,
+    FrameStats, GpuContext, IrradiancePattern, Mesh, Method, ProfileInputs, RenderSettings,
     Renderer, Transmission,
 };
 use anyhow::{Context as _, Result};
@@ -114,8 +114,14 @@ fn masked_plane(fraction: f32, settings: &RenderSettings) -> Mesh {
     plane
 }
 
+/// `burley` at its default sampling and 21 samples: the method whose
+/// skipped work (coverage, strength 0, LOD) these studies measure.
+fn b21() -> Result<Config> {
+    Config::of(Method::Burley, "improved", 21).context("burley's bench configurations")
+}
+
 fn burley(prepared: &Prepared) -> Result<ProfileInputs> {
-    prepared.inputs(Config::samples(21, BurleySampling::IMPROVED))
+    prepared.inputs(b21()?)
 }
 
 /// SSS cost at 0, 10, 50 and 100 % coverage of a lit plane.
@@ -133,10 +139,7 @@ fn coverage(prepared: &Prepared, options: Options) -> Result<Vec<SkipRow>> {
             &with(&base, Config::none()),
             options.repeats,
         )?;
-        for (c, i) in [
-            (Config::samples(21, BurleySampling::IMPROVED), &inputs),
-            (Config::none(), &none_inputs),
-        ] {
+        for (c, i) in [(b21()?, &inputs), (Config::none(), &none_inputs)] {
             let m = measure(&mut r, i, &with(&base, c), options.repeats)?;
             rows.push(row("coverage", format!("{pct}%"), &m, none.frame_ms));
         }
@@ -162,7 +165,7 @@ fn head_studies(prepared: &Prepared, options: Options, r: &mut Renderer) -> Resu
             .map(|s| s.settings.clone())
             .context("a bench scene is missing")
     };
-    let b21 = Config::samples(21, BurleySampling::IMPROVED);
+    let b21 = b21()?;
     let inputs = burley(prepared)?;
     let none_inputs = prepared.inputs(Config::none())?;
     let mut rows = Vec::new();

@@ -96,7 +96,7 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
                 .filter(|f| {
                     f.is_file()
                         && f.extension().is_some_and(|x| {
-                            ["asset", "txt", "py", "mtlx", "tres", "ron"]
+                            crate::export::importable_extensions(true)
                                 .contains(&x.to_string_lossy().to_ascii_lowercase().as_str())
                         })
                 })

@@ -62,7 +62,6 @@ impl RenderArgs {
         let settings = RenderSettings {
             deterministic: self.deterministic,
             mesh_lod: !self.look.no_lod,
-            separable_rotation: self.view.separable_rotation,
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
@@ -97,18 +96,14 @@ impl RenderArgs {
         let (spec, p) = built(&self.model).map_err(|e| {
             anyhow::anyhow!(format!("{e:#}").replace("--albedo", "--volume-albedo"))
         })?;
-        let gaussian_taps = self.view.gaussian_taps;
-        crate::model::check_range("gaussian_taps", gaussian_taps as f64, 3.0, 63.0, "")?;
-        if gaussian_taps.is_multiple_of(2) {
-            anyhow::bail!("gaussian_taps = {gaussian_taps} must be odd");
-        }
-        let (samples, taps) = (rendering.samples, rendering.taps);
-        let mut inputs =
-            ProfileInputs::for_look(&spec, p.as_ref(), method, (samples, taps), gaussian_taps)?;
-        if self.view.burley_sampling != inputs.methods.burley.sampling {
-            inputs.set_burley(p.as_ref(), samples, self.view.burley_sampling)?;
-        }
-        Ok(inputs)
+        let counts = (rendering.samples, rendering.taps);
+        Ok(ProfileInputs::for_look(
+            &spec,
+            p.as_ref(),
+            method,
+            counts,
+            &self.view.methods,
+        )?)
     }
 
     /// The environment's irradiance SH, scaled by --environment-intensity.

@@ -2,7 +2,7 @@
 //! line's degrees become the [`OrbitView`]'s radians.
 
 use super::args::{parse_color, Color};
-use crate::render::BurleySampling;
+use crate::render::MethodOptions;
 use crate::settings::rendering::{MethodId, TexturingId, TransmissionId};
 use crate::settings::{OrbitView, RenderingSpec};
 use anyhow::Result;
@@ -73,18 +73,10 @@ pub struct ViewArgs {
     /// and falls off with the inverse square (perspective shadow map).
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub point_light: Option<f32>,
-    /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
-    #[arg(long)]
-    pub separable_rotation: bool,
-    /// `burley` sampling: `improved` (MIS across the channels, R2
-    /// rotations, an exact centre weight) or `golubev` (Golubev 2018 as
-    /// published); `bench` measures both.
-    #[arg(long, default_value = "improved", value_parser = sampling_parser())]
-    pub burley_sampling: BurleySampling,
-    /// Taps of each 1D Gaussian pass of `gaussians` (odd; 7 is d'Eon 2007's
-    /// kernel, 13 follows edges more closely at about twice the cost).
-    #[arg(long, default_value_t = 7)]
-    pub gaussian_taps: usize,
+    /// Each method's own flags (`render::sss::MethodOptions`: declared in
+    /// the method's file).
+    #[command(flatten)]
+    pub methods: MethodOptions,
     /// Render this many identical frames and report the last one's stats:
     /// the steady state of the editor, where the shadow map and the
     /// profile's tables are reused.
@@ -219,15 +211,6 @@ impl ViewArgs {
             exposure: self.exposure.unwrap_or(d.exposure),
         })
     }
-}
-
-/// `--burley-sampling`'s values: the named samplings
-/// (`BurleySampling::NAMED`).
-fn sampling_parser() -> impl clap::builder::TypedValueParser<Value = BurleySampling> {
-    let names = BurleySampling::NAMED.map(|(name, _)| name);
-    clap::builder::TypedValueParser::map(clap::builder::PossibleValuesParser::new(names), |name| {
-        BurleySampling::named(&name).unwrap_or_default()
-    })
 }
 
 /// The look's rendering settings (`RenderingSpec`, a preset's `rendering`

@@ -231,6 +231,7 @@ pub(super) const TARGET: super::Target = super::Target {
         }))
     }),
     reader: Some(super::Reader {
+        extensions: &["py"],
         claims: |ext, text| ext == "py" && text.contains("import bpy"),
         read: |text, path, _| read(text, path),
     }),

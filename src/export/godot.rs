@@ -393,6 +393,7 @@ pub(super) const TARGET: super::Target = super::Target {
     },
     params: None,
     reader: Some(super::Reader {
+        extensions: &["tres"],
         claims: |ext, text| ext == "tres" || text.trim_start().starts_with("[gd_resource"),
         read: |text, path, _| read(text, path),
     }),

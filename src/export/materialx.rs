@@ -131,6 +131,7 @@ pub(super) const TARGET: super::Target = super::Target {
     fidelity: super::burley_fidelity,
     params: None,
     reader: Some(super::Reader {
+        extensions: &["mtlx"],
         claims: |ext, text| {
             let head = text.trim_start();
             ext == "mtlx" || head.starts_with("<?xml") || head.starts_with("<materialx")

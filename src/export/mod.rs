@@ -103,9 +103,47 @@ pub type EngineParams = fn(&Burley, Option<f64>) -> Result<serde_json::Value, Mo
 
 /// How the importer finds and reads a target's files.
 pub struct Reader {
+    /// The extensions its files have (lower case, no dot): what the file
+    /// dialogs list, dropped files are told by, and `convert` picks from a
+    /// folder (`importable_extensions`).
+    pub extensions: &'static [&'static str],
     /// Whether a file with this (lower-case) extension and text is one.
     pub claims: fn(&str, &str) -> bool,
     pub read: fn(&str, &Path, &ImportOptions) -> Result<Vec<ImportedLook>, ImportError>,
+}
+
+/// The extensions the importer reads (lower case, no dot, each once), in
+/// the targets' order: with `presets`, scatterlab's own `.ron` too; without,
+/// the engines' files alone.
+pub fn importable_extensions(presets: bool) -> Vec<&'static str> {
+    let mut out: Vec<&'static str> = Vec::new();
+    for &f in Format::all() {
+        if f == Format::Ron && !presets {
+            continue;
+        }
+        for ext in f.target().reader.iter().flat_map(|r| r.extensions) {
+            if !out.contains(ext) {
+                out.push(ext);
+            }
+        }
+    }
+    out
+}
+
+/// The engines whose files the importer reads, with their extensions, for
+/// titles and messages: "Unity HDRP diffusion profile .asset, …".
+pub fn importable_kinds() -> String {
+    Format::all()
+        .iter()
+        .filter(|f| **f != Format::Ron)
+        .filter_map(|f| {
+            let t = f.target();
+            t.reader
+                .as_ref()
+                .map(|r| format!("{} .{}", t.name, r.extensions.join("/.")))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl Format {
@@ -326,6 +364,39 @@ mod target_tests {
     /// are unique, the first planned path is the one asked for and a
     /// companion never is it (Unreal's text given a .py name keeps its
     /// script apart).
+    /// A reader lists the extension its target exports with (what we
+    /// write, we read back from the same dialog), and the importable
+    /// extensions are the readers' (the engines' without the preset's own
+    /// `.ron`), each once: what the Import and Compare dialogs, dropped
+    /// files and `convert` on a folder take.
+    #[test]
+    fn importable_extensions_come_from_the_readers() {
+        for &f in Format::all() {
+            if let Some(r) = &f.target().reader {
+                assert!(r.extensions.contains(&f.extension()), "{}", f.id());
+                assert!(r.extensions.iter().all(|e| *e == e.to_ascii_lowercase()));
+            }
+        }
+        let all = importable_extensions(true);
+        let engines = importable_extensions(false);
+        assert!(all.contains(&"ron") && !engines.contains(&"ron"));
+        assert_eq!(all.len(), engines.len() + 1);
+        let mut unique = all.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), all.len(), "{all:?}");
+        // Today's readers (typed here): Unity, Unreal text and script,
+        // MaterialX, Godot, Blender's script.
+        for ext in ["asset", "txt", "py", "mtlx", "tres"] {
+            assert!(engines.contains(&ext), "{ext} in {engines:?}");
+        }
+        let kinds = importable_kinds();
+        assert!(
+            kinds.contains("Unreal subsurface profile .txt/.py"),
+            "{kinds}"
+        );
+    }
+
     #[test]
     fn targets_match_the_command_line() {
         use clap::ValueEnum;

@@ -20,6 +20,7 @@ pub(super) const RON: Target = Target {
     fidelity: |_| Some(0.0),
     params: None,
     reader: Some(Reader {
+        extensions: &["ron"],
         claims: |ext, _| ext == "ron",
         read: read_ron,
     }),

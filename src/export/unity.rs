@@ -228,6 +228,7 @@ pub(super) const TARGET: super::Target = super::Target {
         }))
     }),
     reader: Some(super::Reader {
+        extensions: &["asset"],
         claims: |ext, text| ext == "asset" || text.trim_start().starts_with("%YAML"),
         read: |text, path, _| read(text, path),
     }),

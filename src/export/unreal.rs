@@ -233,6 +233,7 @@ pub(super) const TARGET: super::Target = super::Target {
         }))
     }),
     reader: Some(super::Reader {
+        extensions: &["txt", "py"],
         claims: |ext, text| {
             (ext == "py" && text.contains("import unreal")) || text.trim_start().starts_with('(')
         },

@@ -43,7 +43,7 @@ pub const SPECULAR_KELEMEN: u32 = 1;
 pub const MAP_MODULATES: u32 = 0;
 pub const MAP_ABSOLUTE: u32 = 1;
 /// `BurleyUniforms::flags` bits (`SAMPLING_*` in `shaders/sss_burley.wgsl`;
-/// [`super::BurleySampling::shader_flags`]).
+/// [`crate::render::BurleySampling::shader_flags`]).
 pub const SAMPLING_R2_ROTATION: u32 = 1;
 pub const SAMPLING_CENTRE_WEIGHT: u32 = 2;
 pub const SAMPLING_BILINEAR: u32 = 4;

@@ -185,7 +185,7 @@ impl Mesh {
     /// after. `head` is [`Mesh::default_head_without_maps`].
     pub fn default_head_maps(head: &Mesh) -> Arc<MeshTextures> {
         DEFAULT_HEAD_MAPS
-            .get_or_init(|| Arc::new(super::procedural::bake(head)))
+            .get_or_init(|| Arc::new(procedural::bake(head)))
             .clone()
     }
 
@@ -212,7 +212,7 @@ impl Mesh {
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
         match ext.as_deref() {
-            Some("gltf") | Some("glb") => super::gltf_mesh::load(path, metres_per_unit),
+            Some("gltf") | Some("glb") => gltf::load(path, metres_per_unit),
             _ => Self::load_obj(path, metres_per_unit),
         }
     }
@@ -481,6 +481,10 @@ impl Mesh {
 }
 
 mod geometry;
+/// glTF 2.0 meshes (.gltf/.glb) with their buffers and textures.
+mod gltf;
+/// The default head's UV-space bake (its procedural maps).
+pub mod procedural;
 
 #[cfg(test)]
 mod tests;

@@ -13,7 +13,6 @@ pub mod environment;
 mod frame;
 #[cfg(feature = "gpu")]
 mod framing;
-mod gltf_mesh;
 pub mod gpu_types;
 pub mod ground_truth;
 #[cfg(feature = "gpu")]
@@ -23,7 +22,6 @@ pub mod mesh;
 mod passes;
 #[cfg(feature = "gpu")]
 pub mod pipelines;
-pub mod procedural;
 #[cfg(feature = "gpu")]
 mod profile_gpu;
 #[cfg(feature = "gpu")]
@@ -43,18 +41,21 @@ pub mod uv_layout;
 
 #[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
-#[cfg(feature = "gpu")]
-pub use inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
-pub use mesh::Mesh;
+pub use mesh::{procedural, Mesh};
 #[cfg(feature = "gpu")]
 pub use renderer::Renderer;
 #[cfg(feature = "gpu")]
 pub use settings::FrameStats;
 pub use settings::{
-    BurleySampling, IrradiancePattern, Method, Progressive, RenderSettings, Specular,
-    TexturingMode, Transmission,
+    IrradiancePattern, Method, Progressive, RenderSettings, Specular, TexturingMode, Transmission,
 };
 #[cfg(feature = "gpu")]
-pub use sss::{MethodInfo, Quality, Reads, Stochastic};
+pub use sss::burley::BurleySampling;
+#[cfg(feature = "gpu")]
+pub use sss::gaussians::{gaussian_taps, gaussian_terms};
+#[cfg(feature = "gpu")]
+pub use sss::{Knob, MethodInfo, Quality};
+#[cfg(feature = "gpu")]
+pub use sss::{MethodOptions, ProfileInputs};
 #[cfg(feature = "gpu")]
 pub use timing::PassStats;

@@ -1,34 +1,27 @@
-//! The profile's GPU resources, uploaded once per distinct
-//! [`ProfileInputs`] and reused by every later frame. Each method's file
-//! under `sss/` uploads and owns its share (`burley::Buffers`,
-//! `separable::Buffers`, `gaussians::Buffers`, `preintegrated::Tables`);
-//! the scene pass reads the transmittance table and Penner's tables.
+//! The profile's GPU resources that every method shares (the
+//! transmittance table the scene pass reads), and the helpers each
+//! method's file under `sss/` uploads its own share with (`storage`,
+//! `table`); `sss::ProfileGpu` gathers them.
 
-use super::inputs::ProfileInputs;
+use super::inputs::Shared;
 use super::readback::f32_to_half;
-use super::sss;
 use super::textures::sampled_texture;
 use wgpu::util::DeviceExt;
 
-pub(super) struct ProfileGpu {
-    /// Fingerprint of the inputs these buffers hold.
-    pub key: u64,
+/// What every method shares on the GPU.
+pub(super) struct SharedGpu {
     /// The thin-slab transmittance T(d)/total (the scene pass's).
     pub transmittance: wgpu::Buffer,
-    /// Each method's buffers.
-    pub methods: sss::Buffers,
 }
 
-impl ProfileGpu {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, inputs: &ProfileInputs) -> Self {
+impl SharedGpu {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         Self {
-            key: inputs.fingerprint(),
             transmittance: storage(
                 device,
                 "transmittance",
-                bytemuck::cast_slice(&inputs.transmittance),
+                bytemuck::cast_slice(&shared.transmittance),
             ),
-            methods: sss::Buffers::new(device, queue, &inputs.methods),
         }
     }
 }

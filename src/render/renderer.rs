@@ -8,7 +8,6 @@ use super::context::{GpuContext, GpuError};
 use super::frame::FrameEncoder;
 use super::framing::Framing;
 use super::gpu_types::SssUniforms;
-pub use super::inputs::{gaussian_taps, gaussian_terms, ProfileInputs};
 use super::mesh::Mesh;
 use super::passes::classify::ClassifyPass;
 use super::passes::composite::CompositePass;
@@ -16,15 +15,12 @@ use super::passes::scene::{ScenePass, SurfaceMaps};
 use super::passes::shadow::ShadowPass;
 use super::passes::{counter_buffers, pick_lod, MeshLod};
 pub use super::pipelines::shader_sources;
-use super::profile_gpu::ProfileGpu;
 pub use super::readback::{f32_to_half, half_to_f32};
 use super::readback::{read_u32x4, readback, rgba_halves};
 pub use super::settings::{
-    BurleySampling, FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode,
-    Transmission,
+    FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode, Transmission,
 };
-use super::sss::burley::LUT_SIZE;
-use super::sss::{self, SssFrame, SssPipelines};
+use super::sss::{self, ProfileGpu, ProfileInputs, SssFrame, SssPipelines};
 use super::targets::{HdrTarget, Targets};
 use super::textures::MeshTextures;
 use super::timing::{PassStats, PassTimer};
@@ -67,8 +63,9 @@ pub struct Renderer {
     /// The finest level of detail on the CPU, with its maps: the surface
     /// the ground truth (`reference`) integrates over.
     mesh: Mesh,
-    /// The ground truth's cloud, kept while only the view changes.
-    reference_cache: Option<sss::reference::Cache>,
+    /// What the methods keep from frame to frame (the ground truth's
+    /// cloud, kept while only the view changes).
+    sss_state: sss::State,
     /// Set to stop a ground truth under way (the editor's newer request;
     /// [`Renderer::cancel_with`]).
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
@@ -121,7 +118,7 @@ impl Renderer {
                 coarse: None,
                 ..mesh.clone()
             },
-            reference_cache: None,
+            sss_state: Default::default(),
             cancel: Default::default(),
             ctx,
         })
@@ -172,7 +169,7 @@ impl Renderer {
         self.profile = None;
         self.scene_key = None;
         self.mesh.textures = std::sync::Arc::new(maps.clone());
-        self.reference_cache = None;
+        self.sss_state = Default::default();
         Ok(())
     }
 
@@ -184,7 +181,12 @@ impl Renderer {
             return false;
         }
         let gpu = ProfileGpu::new(&self.ctx.device, &self.ctx.queue, inputs);
-        let scene_bg = self.scene.bind(&self.ctx.device, &gpu, &self.shadow);
+        let scene_bg = self.scene.bind(
+            &self.ctx.device,
+            &gpu.shared,
+            sss::scene_tables(&gpu.methods),
+            &self.shadow,
+        );
         self.profile = Some(ProfileBinding { gpu, scene_bg });
         true
     }
@@ -293,7 +295,10 @@ impl Renderer {
         };
         let ctx = &self.ctx;
         let camera = self.framing.camera_and_light(s);
-        let scene_u = self.scene.uniforms(&self.framing, &camera, inputs, s);
+        let mut scene_u = self
+            .scene
+            .uniforms(&self.framing, &camera, &inputs.shared, s);
+        sss::scene_terms(inputs, s.method, &mut scene_u);
         let lod_index = self.mesh_lod_for(s);
         let lod = &self.lods[lod_index];
         let scene_key = SceneKey {
@@ -319,7 +324,7 @@ impl Renderer {
             Some(n) => n,
             None => self.classify.count(ctx, &mut f, t)?,
         };
-        let method = if sss_pixels > 0 && inputs.scatters {
+        let method = if sss_pixels > 0 && inputs.shared.scatters {
             s.method
         } else {
             Method::baseline()
@@ -329,33 +334,22 @@ impl Renderer {
         let io = SssFrame {
             targets: t,
             profile: &profile.gpu,
+            inputs,
             sss_pixels,
-            uniforms: sss_uniforms(s, inputs, self.framing.metres_per_unit),
+            uniforms: sss_uniforms(s, self.framing.metres_per_unit),
             counters: &counters,
             lod: s.lod,
-            rotate_separable: s.separable_rotation && !s.deterministic,
+            deterministic: s.deterministic,
+            ctx,
+            mesh: &self.mesh,
+            shadow: &self.shadow,
+            scene: &scene_u,
+            view_from_world: camera.view,
+            settings: s,
+            cancel: &self.cancel,
         };
-        let reference_cpu_ms = if method.sss().ground_truth {
-            // The scene pass must be on the GPU before it is read back.
-            ctx.queue.submit([f.take().finish()]);
-            let io = sss::reference::Io::new(ctx, t, &self.shadow);
-            let (mesh, cache) = (&self.mesh, &mut self.reference_cache);
-            let timing = sss::reference::scatter(
-                ctx,
-                mesh,
-                &io,
-                &scene_u,
-                camera.view,
-                s,
-                inputs,
-                cache,
-                &self.cancel,
-            )?;
-            Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms)
-        } else {
-            None
-        };
-        let scattered = (method.sss().encode)(&mut f, &self.sss, &io);
+        let scattered = (method.sss().encode)(&mut f, &self.sss, &io, &mut self.sss_state)?;
+        let reference_cpu_ms = scattered.cpu_ms;
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
@@ -402,9 +396,10 @@ impl Renderer {
 }
 
 /// The uniforms every SSS pass shares; each pass sets its sample count
-/// ([`SssFrame::uniforms`]) and `separable` its direction, follow-surface
-/// term and axis rotation.
-fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32) -> SssUniforms {
+/// ([`SssFrame::uniforms`]) and its own fields (`burley` its table's
+/// reach, `separable` its direction, follow-surface term and axis
+/// rotation).
+fn sss_uniforms(s: &RenderSettings, metres_per_unit: f32) -> SssUniforms {
     SssUniforms {
         size: [s.width as f32, s.height as f32],
         pixels_per_unit_at_depth_1: s.height as f32 / (2.0 * (0.5 * s.view.fov_y_rad).tan()),
@@ -412,8 +407,8 @@ fn sss_uniforms(s: &RenderSettings, inputs: &ProfileInputs, metres_per_unit: f32
         rotation_offset_turns: s.progressive.map_or(0.0, |p| p.rotation_offset()),
         deterministic: s.deterministic as u32,
         sample_count: 0,
-        lut_radius_mm: inputs.methods.burley.lut_radius_mm,
-        lut_entries: LUT_SIZE as u32,
+        lut_radius_mm: 0.0,
+        lut_entries: 0,
         follow_surface: 0.0,
         direction: [0.0; 2],
         rotate_axis: 0,

@@ -8,103 +8,6 @@ pub use crate::settings::rendering::{
 };
 use crate::settings::{OrbitView, RenderingSpec};
 
-/// How `burley` places and weighs its samples. [`BurleySampling::GOLUBEV`]
-/// is Golubev 2018 as published (radii at the widest channel's quantiles
-/// (i + ½)/N, golden-angle angles, a white-noise per-pixel rotation); the
-/// other flags are the improvements `bench` measures against it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct BurleySampling {
-    /// Point-symmetric pairs of samples (antithetic variates): the linear
-    /// part of the irradiance cancels in each pair. Takes precedence over
-    /// `mis` (the pattern is the widest channel's).
-    pub antithetic: bool,
-    /// Radii from every channel's CDF in turn, weighted by the mixture
-    /// density (multiple importance sampling, balance heuristic).
-    pub mis: bool,
-    /// Per-pixel rotation from the R2 low-discrepancy sequence (Roberts
-    /// 2018) instead of a hash: neighbouring pixels get well-spread angles,
-    /// so the noise is blue rather than white.
-    pub r2_rotation: bool,
-    /// Fetch each sample bilinearly at its exact offset (SSS texels only)
-    /// instead of the nearest pixel: four loads instead of one.
-    pub bilinear: bool,
-    /// The centre pixel carries the energy inside its own footprint,
-    /// CDF(r_px), exactly; the samples estimate the rest (as Unreal does).
-    pub centre_weight: bool,
-}
-
-impl BurleySampling {
-    /// Golubev 2018 as published: the baseline.
-    pub const GOLUBEV: Self = Self {
-        antithetic: false,
-        mis: false,
-        r2_rotation: false,
-        bilinear: false,
-        centre_weight: false,
-    };
-    /// What `burley` uses: the improvements that measured better than the
-    /// baseline on the head (`docs/accuracy.md`).
-    pub const IMPROVED: Self = Self {
-        antithetic: true,
-        mis: false,
-        r2_rotation: true,
-        bilinear: false,
-        centre_weight: false,
-    };
-
-    /// The shader's `BurleyUniforms::flags`: the `SAMPLING_*` bit of each
-    /// option that is on.
-    pub fn shader_flags(self) -> u32 {
-        use super::gpu_types::{SAMPLING_BILINEAR, SAMPLING_CENTRE_WEIGHT, SAMPLING_R2_ROTATION};
-        [
-            (self.r2_rotation, SAMPLING_R2_ROTATION),
-            (self.centre_weight, SAMPLING_CENTRE_WEIGHT),
-            (self.bilinear, SAMPLING_BILINEAR),
-        ]
-        .iter()
-        .filter(|(on, _)| *on)
-        .fold(0, |bits, (_, bit)| bits | bit)
-    }
-
-    /// The samplings with a name, as `--burley-sampling` and the bench
-    /// call them.
-    pub const NAMED: [(&'static str, Self); 2] =
-        [("improved", Self::IMPROVED), ("golubev", Self::GOLUBEV)];
-
-    /// The named sampling `name` (one of [`BurleySampling::NAMED`]).
-    pub fn named(name: &str) -> Option<Self> {
-        Self::NAMED
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, s)| *s)
-    }
-
-    /// A short name: `golubev`, `improved`, or the flags that are on.
-    pub fn id(self) -> String {
-        match Self::NAMED.iter().find(|(_, s)| *s == self) {
-            Some((name, _)) => (*name).into(),
-            None => [
-                (self.antithetic, "antithetic"),
-                (self.mis, "mis"),
-                (self.r2_rotation, "r2"),
-                (self.bilinear, "bilinear"),
-                (self.centre_weight, "centre"),
-            ]
-            .iter()
-            .filter(|f| f.0)
-            .map(|f| f.1)
-            .collect::<Vec<_>>()
-            .join("+"),
-        }
-    }
-}
-
-impl Default for BurleySampling {
-    fn default() -> Self {
-        Self::IMPROVED
-    }
-}
-
 /// What one frame looks like.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderSettings {
@@ -131,21 +34,12 @@ pub struct RenderSettings {
     pub specular_f0: f32,
     /// Strength of the detail normal map (0 = smooth surface normals).
     pub detail_normal_strength: f32,
-    /// `preintegrated`: scatter shadow edges through Penner's penumbra table.
-    pub penumbra: bool,
-    /// `separable`: rotate both blur axes by a per-pixel random angle
-    /// (Jimenez 2015 §6); off under `deterministic`.
-    pub separable_rotation: bool,
     /// The environment's irradiance / π as order-2 SH
     /// ([`super::environment::Environment::irradiance_sh`]).
     pub environment_sh: [[f32; 3]; 9],
     /// Progressive refinement (the editor, once input stops): this frame
     /// is one more sample of a running mean; `None` renders it alone.
     pub progressive: Option<Progressive>,
-    /// `reference`: gather k × k points of each pixel's surface and average
-    /// them (1 = the pixel's centre; 2 is the check that one point is
-    /// enough, `bench`'s floor).
-    pub reference_supersample: u32,
 }
 
 /// One frame of progressive refinement: its SSS result joins the running
@@ -215,19 +109,6 @@ impl RenderSettings {
             ..Self::default()
         }
     }
-
-    /// Whether frames of these settings differ only by their random
-    /// rotations, so that a mean over frames converges: `burley` (rotated
-    /// sample disks) and `separable` with stochastic axis rotation.
-    #[cfg(feature = "gpu")]
-    pub fn is_stochastic(&self) -> bool {
-        !self.deterministic
-            && match self.method.sss().stochastic {
-                super::sss::Stochastic::Always => true,
-                super::sss::Stochastic::WhenRotated => self.separable_rotation,
-                super::sss::Stochastic::Never => false,
-            }
-    }
 }
 
 /// The specular model (its own buffer; never blurred).
@@ -292,11 +173,8 @@ impl Default for RenderSettings {
             specular: Specular::dual_ggx(&RenderingSpec::default().specular),
             specular_f0: RenderingSpec::default().f0() as f32,
             detail_normal_strength: 1.0,
-            penumbra: true,
-            separable_rotation: false,
             environment_sh: default_environment_sh(),
             progressive: None,
-            reference_supersample: 1,
         }
     }
 }

@@ -539,7 +539,13 @@ fn unusable_adapter_names_the_fix_in_one_line() {
 fn the_gl_backend_renders_like_vulkan() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
     std::fs::create_dir_all(&dir).unwrap();
-    for method in ["none", "preintegrated", "separable", "gaussians", "burley"] {
+    // Every method of the registry but the ground truth (below).
+    let ground_truth = scatterlab::render::Method::ground_truth();
+    for &m in scatterlab::render::Method::all() {
+        if m == ground_truth {
+            continue;
+        }
+        let method = m.id();
         let frame = |backend: &str| {
             let png = dir.join(format!("gl_vs_vulkan-{method}-{backend}.png"));
             let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
@@ -591,7 +597,7 @@ fn the_gl_backend_renders_like_vulkan() {
         .args([
             "render",
             "--method",
-            "reference",
+            ground_truth.id(),
             "--width",
             "32",
             "--height",

@@ -134,7 +134,7 @@ pub(super) fn worker(
                 Ok(r) => r,
                 Err(()) => return,
             },
-            None => match crate::app::analysis::recv_newest(rx) {
+            None => match crate::app::wake::recv_newest(rx) {
                 Some(r) => Some(r),
                 None => return,
             },

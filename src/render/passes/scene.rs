@@ -1,7 +1,8 @@
 //! The scene pass: the mesh lit by the light (shadowed), the environment
-//! and, for `preintegrated`, Penner's tables, into the G-buffer the SSS
+//! and, for the method lit here, its tables, into the G-buffer the SSS
 //! passes read (`shaders/scene.wgsl`, `fs_main`). Its uniforms gather the
-//! camera, the light and the look ([`SceneUniforms`]).
+//! camera, the light and the look ([`SceneUniforms`]); that method's terms
+//! are its own file's to set (`sss::scene_terms`).
 
 use super::super::context::{GpuContext, GpuError};
 use super::super::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
@@ -11,13 +12,12 @@ use super::super::gpu_types::{
     PATTERN_LIT, PATTERN_STEP, SPECULAR_DUAL_GGX, SPECULAR_KELEMEN, TRANSMISSION_OFF,
     TRANSMISSION_THICK, TRANSMISSION_THIN,
 };
-use super::super::inputs::ProfileInputs;
+use super::super::inputs::Shared;
 use super::super::pipelines::{buffer_entry, scene_pipeline, uniform_entry};
-use super::super::profile_gpu::ProfileGpu;
+use super::super::profile_gpu::SharedGpu;
 use super::super::settings::{
     IrradiancePattern, RenderSettings, Specular, TexturingMode, Transmission,
 };
-use super::super::sss;
 use super::super::targets::{HdrTarget, Targets};
 use super::super::textures::{self, AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
 use super::shadow::{ShadowPass, SHADOW_SIZE};
@@ -187,10 +187,14 @@ impl ScenePass {
     }
 
     /// The scene's bind group for a profile's tables and the shadow map.
+    /// The scene's bind group: the shared profile tables, the scene-lit
+    /// method's two `tables` (its lighting and penumbra tables), the
+    /// maps and the shadow map.
     pub fn bind(
         &self,
         device: &wgpu::Device,
-        gpu: &ProfileGpu,
+        shared: &SharedGpu,
+        tables: [&wgpu::TextureView; 2],
         shadow: &ShadowPass,
     ) -> wgpu::BindGroup {
         let sampler = |binding, s| wgpu::BindGroupEntry {
@@ -205,16 +209,16 @@ impl ScenePass {
                 buf(0, &self.uniforms),
                 tex(1, &shadow.view),
                 sampler(2, &shadow.sampler),
-                tex(3, &gpu.methods.preintegrated.lut),
+                tex(3, tables[0]),
                 sampler(4, &self.lut_sampler),
-                buf(5, &gpu.transmittance),
+                buf(5, &shared.transmittance),
                 tex(6, &maps[0]),
                 tex(7, &maps[1]),
                 tex(8, &maps[2]),
                 tex(9, &maps[3]),
                 tex(10, &maps[4]),
                 sampler(11, &self.surface_sampler),
-                tex(12, &gpu.methods.preintegrated.penumbra),
+                tex(12, tables[1]),
                 tex(13, &shadow.view),
             ],
         })
@@ -252,12 +256,14 @@ impl ScenePass {
     }
 
     /// The scene's uniforms for a frame: camera and light from `cl`, the
-    /// look from `inputs` and `s`.
+    /// look from `shared` and `s`. The scene-lit method's terms are off
+    /// here (`preintegrated`, `lut_*`, `normal_blend`, `penumbra_*`): its
+    /// file sets them (`sss::scene_terms`).
     pub fn uniforms(
         &self,
         framing: &Framing,
         cl: &CameraLight,
-        inputs: &ProfileInputs,
+        shared: &Shared,
         s: &RenderSettings,
     ) -> SceneUniforms {
         let rad = framing.radius;
@@ -279,8 +285,6 @@ impl ScenePass {
                 (PATTERN_CHECKERBOARD, period_mm / mm_per_unit)
             }
         };
-        let (preintegrated, lut_curvature_first, lut_curvature_last) =
-            sss::preintegrated::uniforms(s.method, &inputs.methods.preintegrated.lut_layout);
         let maps = &self.maps;
         SceneUniforms {
             clip_from_world: (cl.projection * cl.view).to_cols_array_2d(),
@@ -292,9 +296,9 @@ impl ScenePass {
                 None => cl.light.extend(0.0).into(),
             },
             light_radiance: [s.view.light_intensity; 4],
-            surface_albedo: rgb0(inputs.surface_albedo),
+            surface_albedo: rgb0(shared.surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
-            normal_blend: rgb0(inputs.methods.preintegrated.normal_blend),
+            normal_blend: [0.0; 4],
             environment_sh: s.environment_sh.map(rgb0),
             eyes: framing.eyes,
             pre_scatter_exponent: match s.texturing {
@@ -323,21 +327,19 @@ impl ScenePass {
                 Transmission::ThinObject => TRANSMISSION_THIN,
                 Transmission::ThickObject => TRANSMISSION_THICK,
             },
-            transmittance_range_mm: inputs.transmittance_range_mm,
-            transmittance_entries: inputs.transmittance.len() as u32,
+            transmittance_range_mm: shared.transmittance_range_mm,
+            transmittance_entries: shared.transmittance.len() as u32,
             mm_per_unit,
-            preintegrated,
-            lut_curvature_first,
-            lut_curvature_last,
-            penumbra_on: s.penumbra as u32,
+            preintegrated: 0,
+            lut_curvature_first: 0.0,
+            lut_curvature_last: 0.0,
+            penumbra_on: 0,
             albedo_map_mode: maps.albedo_mode,
             roughness_map_mode: maps.roughness_mode,
             thickness_map_range_mm: maps.thickness_range_mm,
             detail_normal_strength: s.detail_normal_strength,
-            penumbra_inv_width_first: 1.0
-                / inputs.methods.preintegrated.penumbra_layout.penumbra_max_mm as f32,
-            penumbra_inv_width_last: 1.0
-                / inputs.methods.preintegrated.penumbra_layout.penumbra_min_mm as f32,
+            penumbra_inv_width_first: 0.0,
+            penumbra_inv_width_last: 0.0,
             // The PCF's 4-texel footprint, in mm.
             pcf_footprint_mm: 4.0 * 2.0 * rad / SHADOW_SIZE as f32
                 * 1000.0

@@ -6,9 +6,10 @@
 //! `reference` (`sss/reference.rs`), which shares its irradiance (light,
 //! shadow map, PCF, maps) but none of its disk, pixel grid or weights.
 
-use super::{Scattered, SssFrame, SssPipelines};
+use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
 use crate::model::sampling::{AngleSequence, SamplePattern};
 use crate::model::{ModelError, RadialProfile, Rgb};
+use crate::render::context::GpuError;
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::GpuSample;
 use crate::render::gpu_types::{BurleyUniforms, SssUniforms};
@@ -16,7 +17,6 @@ use crate::render::pipelines::{
     buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, HDR,
 };
 use crate::render::profile_gpu::storage;
-use crate::render::settings::BurleySampling;
 use crate::render::targets::HdrTarget;
 
 /// `burley` in the registry (`sss::Method::sss`).
@@ -24,23 +24,190 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "burley",
     label: "burley (Golubev 2018 disk)",
     quality: super::Quality::Samples,
-    stochastic: super::Stochastic::Always,
-    reads: super::Reads {
-        separable_kernel: false,
-        penner_tables: false,
-        gaussians: false,
-    },
-    penner_in_scene_pass: false,
-    ground_truth: false,
-    baseline: false,
-    variant: "",
+    stochastic: |_| true,
     shader: Some((
         "sss_burley",
         include_str!("../../../shaders/sss_burley.wgsl"),
     )),
     colour: [31, 119, 180],
+    bench,
     encode,
+    ..super::MethodInfo::BASE
 };
+
+/// `burley`'s command-line options.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// `burley` sampling: `improved` (MIS across the channels, R2
+    /// rotations, an exact centre weight) or `golubev` (Golubev 2018 as
+    /// published); `bench` measures both.
+    #[arg(id = "burley_sampling", long = "burley-sampling", value_name = "BURLEY_SAMPLING", default_value = "improved", value_parser = sampling_parser())]
+    pub sampling: BurleySampling,
+}
+
+/// `--burley-sampling`: one of the named samplings
+/// (`BurleySampling::NAMED`).
+fn sampling_parser() -> impl clap::builder::TypedValueParser<Value = BurleySampling> {
+    let names = BurleySampling::NAMED.map(|(name, _)| name);
+    clap::builder::TypedValueParser::map(clap::builder::PossibleValuesParser::new(names), |name| {
+        BurleySampling::named(&name).unwrap_or_default()
+    })
+}
+
+/// Nothing is kept between frames.
+pub(in crate::render) type State = ();
+
+/// The sample counts `bench` measures.
+pub const BENCH_SAMPLES: [usize; 7] = [7, 13, 21, 34, 55, 89, 144];
+/// The single improvements, measured alone at these counts.
+pub const ABLATION_SAMPLES: [usize; 2] = [21, 55];
+
+/// `bench`'s configurations: both named samplings at every count, then
+/// each single improvement to Golubev 2018 alone (measurements, not
+/// options an artist picks).
+fn bench() -> Vec<Knob> {
+    let knob = |variant, count, series, shipped| Knob {
+        variant,
+        count,
+        series,
+        shipped,
+    };
+    let mut k: Vec<Knob> = BENCH_SAMPLES
+        .map(|n| knob("improved", n, (" (improved)", Some([214, 39, 40])), true))
+        .into_iter()
+        .chain(BENCH_SAMPLES.map(|n| knob("golubev", n, (" (Golubev 2018)", None), true)))
+        .collect();
+    for flag in ["antithetic", "mis", "r2", "bilinear", "centre"] {
+        k.extend(
+            ABLATION_SAMPLES
+                .map(|n| knob(flag, n, (", one improvement", Some([255, 127, 14])), false)),
+        );
+    }
+    k
+}
+
+/// How `burley` places and weighs its samples. [`BurleySampling::GOLUBEV`]
+/// is Golubev 2018 as published (radii at the widest channel's quantiles
+/// (i + ½)/N, golden-angle angles, a white-noise per-pixel rotation); the
+/// other flags are the improvements `bench` measures against it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BurleySampling {
+    /// Point-symmetric pairs of samples (antithetic variates): the linear
+    /// part of the irradiance cancels in each pair. Takes precedence over
+    /// `mis` (the pattern is the widest channel's).
+    pub antithetic: bool,
+    /// Radii from every channel's CDF in turn, weighted by the mixture
+    /// density (multiple importance sampling, balance heuristic).
+    pub mis: bool,
+    /// Per-pixel rotation from the R2 low-discrepancy sequence (Roberts
+    /// 2018) instead of a hash: neighbouring pixels get well-spread angles,
+    /// so the noise is blue rather than white.
+    pub r2_rotation: bool,
+    /// Fetch each sample bilinearly at its exact offset (SSS texels only)
+    /// instead of the nearest pixel: four loads instead of one.
+    pub bilinear: bool,
+    /// The centre pixel carries the energy inside its own footprint,
+    /// CDF(r_px), exactly; the samples estimate the rest (as Unreal does).
+    pub centre_weight: bool,
+}
+
+impl BurleySampling {
+    /// Golubev 2018 as published: the baseline.
+    pub const GOLUBEV: Self = Self {
+        antithetic: false,
+        mis: false,
+        r2_rotation: false,
+        bilinear: false,
+        centre_weight: false,
+    };
+    /// What `burley` uses: the improvements that measured better than the
+    /// baseline on the head (`docs/accuracy.md`).
+    pub const IMPROVED: Self = Self {
+        antithetic: true,
+        mis: false,
+        r2_rotation: true,
+        bilinear: false,
+        centre_weight: false,
+    };
+
+    /// The shader's `BurleyUniforms::flags`: the `SAMPLING_*` bit of each
+    /// option that is on.
+    pub fn shader_flags(self) -> u32 {
+        use crate::render::gpu_types::{
+            SAMPLING_BILINEAR, SAMPLING_CENTRE_WEIGHT, SAMPLING_R2_ROTATION,
+        };
+        [
+            (self.r2_rotation, SAMPLING_R2_ROTATION),
+            (self.centre_weight, SAMPLING_CENTRE_WEIGHT),
+            (self.bilinear, SAMPLING_BILINEAR),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(0, |bits, (_, bit)| bits | bit)
+    }
+
+    /// The samplings with a name, as `--burley-sampling` and the bench
+    /// call them.
+    pub const NAMED: [(&'static str, Self); 2] =
+        [("improved", Self::IMPROVED), ("golubev", Self::GOLUBEV)];
+
+    /// The named sampling `name` (one of [`BurleySampling::NAMED`]).
+    pub fn named(name: &str) -> Option<Self> {
+        Self::NAMED
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| *s)
+    }
+
+    /// A short name: `golubev`, `improved`, or the flags that are on.
+    pub fn id(self) -> String {
+        match Self::NAMED.iter().find(|(_, s)| *s == self) {
+            Some((name, _)) => (*name).into(),
+            None => [
+                (self.antithetic, "antithetic"),
+                (self.mis, "mis"),
+                (self.r2_rotation, "r2"),
+                (self.bilinear, "bilinear"),
+                (self.centre_weight, "centre"),
+            ]
+            .iter()
+            .filter(|f| f.0)
+            .map(|f| f.1)
+            .collect::<Vec<_>>()
+            .join("+"),
+        }
+    }
+}
+
+impl BurleySampling {
+    /// The sampling [`BurleySampling::id`] names: a named one, or the
+    /// flags joined by `+`.
+    pub fn from_id(id: &str) -> Option<Self> {
+        if let Some(s) = Self::named(id) {
+            return Some(s);
+        }
+        let mut s = Self::GOLUBEV;
+        for flag in id.split('+') {
+            let on = match flag {
+                "antithetic" => &mut s.antithetic,
+                "mis" => &mut s.mis,
+                "r2" => &mut s.r2_rotation,
+                "bilinear" => &mut s.bilinear,
+                "centre" => &mut s.centre_weight,
+                _ => return None,
+            };
+            *on = true;
+        }
+        Some(s)
+    }
+}
+
+impl Default for BurleySampling {
+    fn default() -> Self {
+        Self::IMPROVED
+    }
+}
 
 /// `burley`'s share of the profile on the GPU.
 pub(in crate::render) struct Buffers {
@@ -53,10 +220,12 @@ pub(in crate::render) struct Buffers {
     /// Low-LOD count, filter radius (the widest channel's 0.997-energy
     /// radius, mm) and sampling flags; `lod_on` is set per frame.
     uniforms: BurleyUniforms,
+    /// The radius (mm) the profile table reaches.
+    lut_radius_mm: f32,
 }
 
-impl Buffers {
-    pub fn new(device: &wgpu::Device, inputs: &Inputs) -> Self {
+impl super::MethodBuffers<Inputs> for Buffers {
+    fn new(device: &wgpu::Device, _: &wgpu::Queue, inputs: &Inputs) -> Self {
         let mut samples = inputs.samples.clone();
         samples.extend_from_slice(&inputs.low_samples);
         Self {
@@ -69,18 +238,20 @@ impl Buffers {
                 lod_on: 0,
                 flags: inputs.sampling.shader_flags(),
             },
+            lut_radius_mm: inputs.lut_radius_mm,
         }
     }
 }
 
 /// `burley`'s layout and pipeline (`fs_burley`, testing the stencil).
-pub(in crate::render) struct Pipeline {
+pub(in crate::render) struct Pipelines {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
 }
 
-impl Pipeline {
-    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
+impl super::MethodPipelines for Pipelines {
+    fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+        let module = &module("sss_burley");
         let storage = wgpu::BufferBindingType::Storage { read_only: true };
         let frag = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -113,14 +284,20 @@ impl Pipeline {
     }
 }
 
-pub(in crate::render) fn encode(
+fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
-) -> Scattered {
+    _: &mut super::State,
+) -> Result<Scattered, GpuError> {
     let gpu = &io.profile.methods.burley;
     let (samples, n, label) = (&gpu.samples, gpu.count, "sss burley");
-    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&io.uniforms(n)));
+    let uniforms = SssUniforms {
+        lut_radius_mm: gpu.lut_radius_mm,
+        lut_entries: LUT_SIZE as u32,
+        ..io.uniforms(n)
+    };
+    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
     let lod = f.uniform(
         "burley uniforms",
         bytemuck::bytes_of(&BurleyUniforms {
@@ -151,11 +328,12 @@ pub(in crate::render) fn encode(
         false,
         true,
     );
-    Scattered {
+    Ok(Scattered {
         target: HdrTarget::Ping,
         samples_per_pixel: n,
         counted_pass: Some(label),
-    }
+        cpu_ms: None,
+    })
 }
 
 /// `burley`'s CPU inputs: its sample patterns and the profile table its
@@ -178,16 +356,47 @@ pub struct Inputs {
 /// Entries of each half of `burley`'s profile table.
 pub(in crate::render) const LUT_SIZE: usize = 256;
 
+impl MethodInputs for Inputs {
+    /// Always baked (the patterns and the table take about a millisecond).
+    fn new(look: &Look<'_>, _bake: bool) -> Result<Self, ModelError> {
+        Self::of_profile(
+            look.profile,
+            look.samples,
+            look.options.burley.sampling,
+            (look.r_max_mm, look.total),
+        )
+    }
+
+    /// `variant` is the sampling's id, `count` its samples.
+    fn bench(&mut self, look: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
+        let sampling = BurleySampling::from_id(knob.variant).ok_or_else(|| {
+            ModelError::invalid("burley bench variant", format!("{:?}", knob.variant))
+        })?;
+        self.set_patterns(look.profile, knob.count, sampling)
+    }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(bytemuck::cast_slice(&self.samples));
+        h.write(bytemuck::cast_slice(&self.low_samples));
+        h.write(bytemuck::cast_slice(&self.lut));
+        let b = self.sampling;
+        h.write(&[b.shader_flags() as u8, b.mis as u8, b.antithetic as u8]);
+        h.write(bytemuck::cast_slice(&[
+            self.filter_radius_mm,
+            self.lut_radius_mm,
+        ]));
+    }
+}
+
 impl Inputs {
-    /// The default sampling's patterns of `samples` and the table out to
-    /// `r_max` (mm), for a profile of total reflectance `total`.
-    pub fn new(
+    /// `sampling`'s patterns of `samples` and the table out to `r_max`
+    /// (mm), for a profile of total reflectance `total`.
+    pub fn of_profile(
         profile: &dyn RadialProfile,
         samples: usize,
-        r_max: f64,
-        total: Rgb,
+        sampling: BurleySampling,
+        (r_max, total): (f64, Rgb),
     ) -> Result<Self, ModelError> {
-        let sampling = BurleySampling::default();
         let (samples, low_samples) = burley_patterns(profile, samples, sampling)?;
         let filter_radius_mm = profile
             .radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION)
@@ -215,18 +424,6 @@ impl Inputs {
         Ok(())
     }
 
-    /// Feeds everything the GPU receives from these inputs to `h`.
-    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
-        h.write(bytemuck::cast_slice(&self.samples));
-        h.write(bytemuck::cast_slice(&self.low_samples));
-        h.write(bytemuck::cast_slice(&self.lut));
-        let b = self.sampling;
-        h.write(&[b.shader_flags() as u8, b.mis as u8, b.antithetic as u8]);
-        h.write(bytemuck::cast_slice(&[
-            self.filter_radius_mm,
-            self.lut_radius_mm,
-        ]));
-    }
 }
 
 /// The full and the short (LOD) `burley` pattern: Golubev 2018's quantiles

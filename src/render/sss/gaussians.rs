@@ -4,8 +4,9 @@
 //! (additive blending), so N Gaussians cost 2N passes.
 
 use super::separable::{self, Into};
-use super::{Scattered, SssFrame, SssPipelines};
+use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
 use crate::model::{ModelError, RadialProfile};
+use crate::render::context::GpuError;
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::GpuTap;
 use crate::render::profile_gpu::storage;
@@ -15,21 +16,57 @@ use crate::render::targets::HdrTarget;
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "gaussians",
     label: "gaussians (d'Eon 2007)",
-    quality: super::Quality::Fixed,
-    stochastic: super::Stochastic::Never,
-    reads: super::Reads {
-        separable_kernel: false,
-        penner_tables: false,
-        gaussians: true,
-    },
-    penner_in_scene_pass: false,
-    ground_truth: false,
-    baseline: false,
-    variant: "6x2-passes",
-    shader: None,
+    slow_bake: true,
     colour: [148, 103, 189],
+    bench: || {
+        vec![Knob {
+            variant: "6x2-passes",
+            series: (" (6x2-passes)", None),
+            ..Knob::FIXED
+        }]
+    },
     encode,
+    ..super::MethodInfo::BASE
 };
+
+/// `gaussians`' command-line options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// Taps of each 1D Gaussian pass of `gaussians` (odd, 3–63; 7 is
+    /// d'Eon 2007's kernel, 13 follows edges more closely at about twice
+    /// the cost).
+    #[arg(id = "gaussian_taps", long = "gaussian-taps", value_name = "GAUSSIAN_TAPS", default_value_t = GAUSSIAN_TAPS, value_parser = odd_taps)]
+    pub taps: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            taps: GAUSSIAN_TAPS,
+        }
+    }
+}
+
+/// `--gaussian-taps`: an odd count from 3 to 63.
+fn odd_taps(text: &str) -> Result<usize, String> {
+    let n: usize = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a whole number"))?;
+    if !(3..=63).contains(&n) {
+        return Err(format!("gaussian_taps = {n} is outside its range [3, 63]"));
+    }
+    if n.is_multiple_of(2) {
+        return Err(format!("gaussian_taps = {n} must be odd"));
+    }
+    Ok(n)
+}
+
+/// Nothing is kept between frames.
+pub(in crate::render) type State = ();
+
+/// It draws with `separable`'s 1D pass.
+pub(in crate::render) type Pipelines = ();
 
 /// `gaussians`' share of the profile on the GPU: one tap buffer per
 /// Gaussian, with its RGB weight and σ (mm).
@@ -39,8 +76,8 @@ pub(in crate::render) struct Buffers {
     tap_count: u32,
 }
 
-impl Buffers {
-    pub fn new(device: &wgpu::Device, inputs: &Inputs) -> Self {
+impl super::MethodBuffers<Inputs> for Buffers {
+    fn new(device: &wgpu::Device, _: &wgpu::Queue, inputs: &Inputs) -> Self {
         Self {
             gaussians: inputs
                 .gaussians
@@ -56,20 +93,22 @@ impl Buffers {
     }
 }
 
-pub(in crate::render) fn encode(
+fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
-) -> Scattered {
+    _: &mut super::State,
+) -> Result<Scattered, GpuError> {
     let gpu = &io.profile.methods.gaussians;
     let taps = gpu.tap_count;
     if gpu.gaussians.is_empty() {
         // No Gaussians set: nothing to add, the diffuse stays unscattered.
-        return Scattered {
+        return Ok(Scattered {
             target: HdrTarget::Diffuse,
             samples_per_pixel: 0,
             counted_pass: None,
-        };
+            cpu_ms: None,
+        });
     }
     for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
         // Each Gaussian follows the surface with its own σ (Jimenez 2015
@@ -87,11 +126,12 @@ pub(in crate::render) fn encode(
             ["sss gaussian x", "sss gaussian y"],
         );
     }
-    Scattered {
+    Ok(Scattered {
         target: HdrTarget::Pong,
         samples_per_pixel: 2 * taps * gpu.gaussians.len() as u32,
         counted_pass: None,
-    }
+        cpu_ms: None,
+    })
 }
 
 /// `gaussians`' CPU inputs: each Gaussian's σ and weight, and the taps of
@@ -105,11 +145,35 @@ pub struct Inputs {
     pub taps: usize,
 }
 
-impl Default for Inputs {
-    fn default() -> Self {
-        Self {
+impl MethodInputs for Inputs {
+    /// With `bake`, the look's Gaussians ([`gaussian_terms`]: a fit for
+    /// any profile but a Gaussian sum, about a second); none otherwise.
+    fn new(look: &Look<'_>, bake: bool) -> Result<Self, ModelError> {
+        let mut inputs = Self {
             gaussians: Vec::new(),
-            taps: GAUSSIAN_TAPS,
+            taps: look.options.gaussians.taps,
+        };
+        if bake {
+            inputs.set(&terms_for(look.spec, look.profile)?);
+        }
+        Ok(inputs)
+    }
+
+    fn missing(&self) -> Option<&'static str> {
+        self.gaussians.is_empty().then_some("the Gaussians")
+    }
+
+    /// Its one configuration: the look's Gaussians.
+    fn bench(&mut self, look: &Look<'_>, _: &Knob) -> Result<(), ModelError> {
+        self.set(&terms_for(look.spec, look.profile)?);
+        Ok(())
+    }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(bytemuck::cast_slice(&[self.taps as u64]));
+        for (sigma, w) in &self.gaussians {
+            h.write(bytemuck::bytes_of(sigma));
+            h.write(bytemuck::cast_slice(w));
         }
     }
 }
@@ -135,15 +199,6 @@ impl Inputs {
             })
             .collect();
     }
-
-    /// Feeds everything the GPU receives from these inputs to `h`.
-    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
-        h.write(bytemuck::cast_slice(&[self.taps as u64]));
-        for (sigma, w) in &self.gaussians {
-            h.write(bytemuck::bytes_of(sigma));
-            h.write(bytemuck::cast_slice(w));
-        }
-    }
 }
 
 /// The Gaussians `gaussians` blurs with for the look `spec`: a Gaussian-sum
@@ -153,9 +208,17 @@ pub fn gaussian_terms(
     spec: &crate::settings::ProfileSpec,
     profile: &dyn RadialProfile,
 ) -> Result<Vec<(f64, crate::model::Rgb)>, ModelError> {
+    terms_for(Some(spec), profile)
+}
+
+/// [`gaussian_terms`], or with no look the six fitted to `profile`.
+fn terms_for(
+    spec: Option<&crate::settings::ProfileSpec>,
+    profile: &dyn RadialProfile,
+) -> Result<Vec<(f64, crate::model::Rgb)>, ModelError> {
     use crate::settings::ProfileSpec;
     Ok(match spec {
-        ProfileSpec::Gaussians(g) => {
+        Some(ProfileSpec::Gaussians(g)) => {
             let mut terms: Vec<(f64, crate::model::Rgb)> = g
                 .gaussians
                 .iter()

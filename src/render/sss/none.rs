@@ -7,18 +7,14 @@
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "none",
     label: "none (no scattering)",
-    quality: super::Quality::Fixed,
-    stochastic: super::Stochastic::Never,
-    reads: super::Reads {
-        separable_kernel: false,
-        penner_tables: false,
-        gaussians: false,
-    },
-    penner_in_scene_pass: false,
-    ground_truth: false,
     baseline: true,
-    variant: "",
-    shader: None,
     colour: [120, 120, 120],
-    encode: super::no_pass,
+    ..super::MethodInfo::BASE
 };
+
+/// Nothing of its own: no inputs, buffers, pipelines, options or state.
+pub type Inputs = ();
+pub(in crate::render) type Buffers = ();
+pub(in crate::render) type Pipelines = ();
+pub type Options = super::NoOptions;
+pub(in crate::render) type State = ();

@@ -1,43 +1,56 @@
 //! `preintegrated` (Penner 2011): no screen-space pass. The scene pass
 //! (`shaders/scene.wgsl`) looks Penner's D(θ, κ) up from the profile
-//! core's ring-integral table (uploaded in `profile_gpu.rs`) with the
-//! per-vertex curvature FaceWorks computes, instead of saturate(N·L).
+//! core's ring-integral table with the per-vertex curvature FaceWorks
+//! computes, instead of saturate(N·L); this file gives the scene pass its
+//! tables and uniforms ([`METHOD`]'s scene hook).
 
+use super::{Look, MethodInputs, ProfileInputs};
 use crate::model::lut::{LutLayout, ShadowLayout};
 use crate::model::{ModelError, RadialProfile};
+use crate::render::gpu_types::SceneUniforms;
 use crate::render::profile_gpu::table;
-use crate::render::settings::Method;
 
 /// `preintegrated` in the registry (`sss::Method::sss`).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "preintegrated",
     label: "preintegrated (Penner 2011)",
-    quality: super::Quality::Fixed,
-    stochastic: super::Stochastic::Never,
-    reads: super::Reads {
-        separable_kernel: false,
-        penner_tables: true,
-        gaussians: false,
-    },
-    penner_in_scene_pass: true,
-    ground_truth: false,
-    baseline: false,
-    variant: "",
-    shader: None,
     colour: [140, 86, 75],
-    encode: super::no_pass,
+    scene: Some(super::SceneHook {
+        tables: scene_tables,
+        uniforms: scene_uniforms,
+    }),
+    ..super::MethodInfo::BASE
 };
 
-/// Penner's tables on the GPU, filterable, read by the scene pass.
-pub(in crate::render) struct Tables {
-    /// D(θ, κ) − saturate(N·L).
-    pub lut: wgpu::TextureView,
-    /// The scattered shadow across a penumbra.
-    pub penumbra: wgpu::TextureView,
+/// `preintegrated`'s options (none on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// Scatter shadow edges through Penner's penumbra table.
+    #[arg(skip = true)]
+    pub penumbra: bool,
 }
 
-impl Tables {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, inputs: &Inputs) -> Self {
+impl Default for Options {
+    fn default() -> Self {
+        Self { penumbra: true }
+    }
+}
+
+/// Nothing is kept between frames, and its pass is the scene pass.
+pub(in crate::render) type State = ();
+pub(in crate::render) type Pipelines = ();
+
+/// Penner's tables on the GPU, filterable, read by the scene pass.
+pub(in crate::render) struct Buffers {
+    /// D(θ, κ) − saturate(N·L).
+    lut: wgpu::TextureView,
+    /// The scattered shadow across a penumbra.
+    penumbra: wgpu::TextureView,
+}
+
+impl super::MethodBuffers<Inputs> for Buffers {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue, inputs: &Inputs) -> Self {
         let (lut, pen) = (&inputs.lut_layout, &inputs.penumbra_layout);
         Self {
             lut: table(
@@ -58,15 +71,26 @@ impl Tables {
     }
 }
 
-/// `SceneUniforms::preintegrated` (1 for this method) and the curvature
-/// 1/r (1/mm) of the table's first and last rows
-/// (`lut_curvature_first`, `lut_curvature_last`).
-pub(in crate::render) fn uniforms(method: Method, layout: &LutLayout) -> (u32, f32, f32) {
-    (
-        method.sss().penner_in_scene_pass as u32,
-        1.0 / layout.curvature_radius(0) as f32,
-        1.0 / layout.curvature_radius(layout.height - 1) as f32,
-    )
+/// The scene pass's bindings 3 and 12.
+fn scene_tables(buffers: &super::Buffers) -> [&wgpu::TextureView; 2] {
+    let b = &buffers.preintegrated;
+    [&b.lut, &b.penumbra]
+}
+
+/// Its terms of the scene's uniforms: on when `drawn`, the curvature 1/r
+/// (1/mm) of the table's first and last rows, the per-channel normal
+/// blend, the penumbra table and its widths.
+fn scene_uniforms(inputs: &ProfileInputs, drawn: bool, u: &mut SceneUniforms) {
+    let i = &inputs.methods.preintegrated;
+    let (layout, pen) = (&i.lut_layout, &i.penumbra_layout);
+    u.preintegrated = drawn as u32;
+    u.lut_curvature_first = 1.0 / layout.curvature_radius(0) as f32;
+    u.lut_curvature_last = 1.0 / layout.curvature_radius(layout.height - 1) as f32;
+    let [r, g, b] = i.normal_blend;
+    u.normal_blend = [r, g, b, 0.0];
+    u.penumbra_on = inputs.options.preintegrated.penumbra as u32;
+    u.penumbra_inv_width_first = 1.0 / pen.penumbra_max_mm as f32;
+    u.penumbra_inv_width_last = 1.0 / pen.penumbra_min_mm as f32;
 }
 
 /// `preintegrated`'s CPU inputs: Penner's tables and per-channel normals.
@@ -85,12 +109,40 @@ pub struct Inputs {
     /// one: r/(r + 1 mm) for the channel's 0.997-energy radius r (Penner
     /// 2011's per-channel normals; wide red light ignores pores).
     pub normal_blend: [f32; 3],
+    /// False for the placeholders of inputs made for another method.
+    pub baked: bool,
+}
+
+impl MethodInputs for Inputs {
+    fn new(look: &Look<'_>, bake: bool) -> Result<Self, ModelError> {
+        Self::of_profile(look.profile, bake)
+    }
+
+    fn missing(&self) -> Option<&'static str> {
+        (!self.baked).then_some("Penner's pre-integrated and penumbra tables")
+    }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        use std::hash::Hash;
+        h.write(bytemuck::cast_slice(&self.lut));
+        h.write(bytemuck::cast_slice(&self.penumbra_lut));
+        h.write(bytemuck::cast_slice(&self.normal_blend));
+        let (l, p) = (&self.lut_layout, &self.penumbra_layout);
+        h.write(bytemuck::cast_slice(&[
+            p.penumbra_min_mm,
+            p.penumbra_max_mm,
+        ]));
+        h.write(bytemuck::cast_slice(&[p.width as u64, p.height as u64]));
+        (l.width, l.height).hash(h);
+        l.curvature_radius_min_mm.to_bits().hash(h);
+        l.curvature_radius_max_mm.to_bits().hash(h);
+    }
 }
 
 impl Inputs {
     /// Penner's tables of `profile`, or neutral placeholders of the same
     /// sizes when `bake` is off (25 ms saved for the other methods).
-    pub fn new(profile: &dyn RadialProfile, bake: bool) -> Result<Self, ModelError> {
+    pub fn of_profile(profile: &dyn RadialProfile, bake: bool) -> Result<Self, ModelError> {
         let lut_layout = LutLayout {
             width: 64,
             height: 64,
@@ -106,24 +158,8 @@ impl Inputs {
             penumbra_lut,
             penumbra_layout,
             normal_blend: radii.map(|r| (r / (r + 1.0)) as f32),
+            baked: bake,
         })
-    }
-
-    /// Feeds everything the GPU receives from these inputs to `h`.
-    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
-        use std::hash::Hash;
-        h.write(bytemuck::cast_slice(&self.lut));
-        h.write(bytemuck::cast_slice(&self.penumbra_lut));
-        h.write(bytemuck::cast_slice(&self.normal_blend));
-        let (l, p) = (&self.lut_layout, &self.penumbra_layout);
-        h.write(bytemuck::cast_slice(&[
-            p.penumbra_min_mm,
-            p.penumbra_max_mm,
-        ]));
-        h.write(bytemuck::cast_slice(&[p.width as u64, p.height as u64]));
-        (l.width, l.height).hash(h);
-        l.curvature_radius_min_mm.to_bits().hash(h);
-        l.curvature_radius_max_mm.to_bits().hash(h);
     }
 }
 

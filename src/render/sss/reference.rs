@@ -8,6 +8,7 @@
 //! target, and the composite pass applies albedo^post and specular to it as
 //! to every method's output.
 
+use super::{Look, MethodInputs, ProfileInputs, Scattered, SssFrame, SssPipelines};
 use crate::render::gpu_types::{SceneUniforms, SurfaceKind};
 use crate::render::ground_truth::{Cloud, Probe};
 use crate::render::mesh::Mesh;
@@ -15,36 +16,44 @@ use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
 use crate::render::readback::{f32_to_half, half_to_f32, readback};
 use crate::render::scene_cpu::{SceneIrradiance, ShadowMap, SurfaceMips};
 use crate::render::targets::{HdrTarget, Targets};
-use crate::render::{GpuContext, GpuError, ProfileInputs, RenderSettings};
+use crate::render::{GpuContext, GpuError, RenderSettings};
 use glam::{Mat4, Vec3, Vec4};
 use std::sync::Arc;
 use std::time::Instant;
 
 /// `reference` in the registry (`sss::Method::sss`): computed on the CPU
-/// into the ping target before the frame's composite ([`scatter`]), so it
-/// records no pass.
+/// into the ping target before the frame's composite ([`encode`]).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "reference",
     label: "reference (exact, slow)",
-    quality: super::Quality::Fixed,
-    stochastic: super::Stochastic::Never,
-    reads: super::Reads {
-        separable_kernel: false,
-        penner_tables: false,
-        gaussians: false,
-    },
-    penner_in_scene_pass: false,
     ground_truth: true,
-    baseline: false,
-    variant: "",
-    shader: None,
-    colour: [0, 0, 0],
-    encode: |_, _, _| super::Scattered {
-        target: HdrTarget::Ping,
-        samples_per_pixel: 0,
-        counted_pass: None,
-    },
+    encode,
+    ..super::MethodInfo::BASE
 };
+
+/// `reference`'s options (none on the command line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// Gather k × k points of each pixel's surface and average them (1 =
+    /// the pixel's centre; 2 is the check that one point is enough, the
+    /// bench's floor).
+    #[arg(skip = 1u32)]
+    pub supersample: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self { supersample: 1 }
+    }
+}
+
+/// It has no pass and nothing on the GPU of its own.
+pub(in crate::render) type Pipelines = ();
+pub(in crate::render) type Buffers = ();
+
+/// The ground truth's cells, kept while only the view changes.
+pub(in crate::render) type State = Option<Cache>;
 
 /// `reference`'s CPU input: the profile as the ground truth integrates it.
 #[derive(Debug, Clone)]
@@ -52,12 +61,47 @@ pub struct Inputs {
     pub table: Arc<crate::render::ground_truth::ProfileTable>,
 }
 
-impl Inputs {
-    pub fn new(profile: &dyn crate::model::RadialProfile) -> Self {
-        Self {
-            table: Arc::new(crate::render::ground_truth::ProfileTable::new(profile)),
-        }
+impl MethodInputs for Inputs {
+    fn new(look: &Look<'_>, _bake: bool) -> Result<Self, crate::model::ModelError> {
+        Ok(Self {
+            table: Arc::new(crate::render::ground_truth::ProfileTable::new(look.profile)),
+        })
     }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(&self.table.fingerprint().to_le_bytes());
+    }
+}
+
+/// Submits what the frame recorded so far (the scene pass must be on the
+/// GPU before it is read back), then fills the ping target with the
+/// ground truth ([`scatter`]).
+fn encode(
+    f: &mut crate::render::frame::FrameEncoder,
+    _: &SssPipelines,
+    io: &SssFrame,
+    state: &mut super::State,
+) -> Result<Scattered, GpuError> {
+    let ctx = io.ctx;
+    ctx.queue.submit([f.take().finish()]);
+    let textures = Io::new(ctx, io.targets, io.shadow);
+    let timing = scatter(
+        ctx,
+        io.mesh,
+        &textures,
+        io.scene,
+        io.view_from_world,
+        io.settings,
+        io.inputs,
+        &mut state.reference,
+        io.cancel,
+    )?;
+    Ok(Scattered {
+        target: HdrTarget::Ping,
+        samples_per_pixel: 0,
+        counted_pass: None,
+        cpu_ms: Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms),
+    })
 }
 
 /// Largest cell side of the ground truth's irradiance cloud (mm). The
@@ -116,13 +160,13 @@ impl Cache {
 }
 
 /// What the ground truth cost (CPU wall time, ms).
-pub(in crate::render) struct Timing {
+struct Timing {
     pub build_ms: Option<f64>,
     pub gather_ms: f64,
 }
 
 /// The textures this pass reads and writes.
-pub(in crate::render) struct Io<'a> {
+struct Io<'a> {
     pub diffuse: &'a wgpu::Texture,
     pub linear_depth: &'a wgpu::Texture,
     pub linear_depth_format: wgpu::TextureFormat,
@@ -147,7 +191,7 @@ impl<'a> Io<'a> {
 /// Fills the ping target with the ground truth's scattered diffuse on
 /// every SSS pixel (alpha = the pixel's mask; 0 elsewhere).
 #[allow(clippy::too_many_arguments)]
-pub(in crate::render) fn scatter(
+fn scatter(
     ctx: &GpuContext,
     mesh: &Mesh,
     io: &Io,
@@ -235,7 +279,7 @@ pub(in crate::render) fn scatter(
     );
     let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
     let scattered = cloud
-        .gather_all(&points, s.reference_supersample.max(1), &irr, cancel)
+        .gather_all(&points, inputs.options.reference.supersample.max(1), &irr, cancel)
         .ok_or(GpuError::Cancelled)?;
     if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
         eprintln!(
@@ -264,7 +308,10 @@ fn frame_key(cells: u64, scene: &SceneUniforms, s: &RenderSettings, inputs: &Pro
     cells.hash(&mut hs);
     inputs.methods.reference.table.fingerprint().hash(&mut hs);
     bytemuck::bytes_of(scene).hash(&mut hs);
-    let view = (s.view.fov_y_rad.to_bits(), s.reference_supersample);
+    let view = (
+        s.view.fov_y_rad.to_bits(),
+        inputs.options.reference.supersample,
+    );
     (s.width, s.height, view).hash(&mut hs);
     hs.finish()
 }

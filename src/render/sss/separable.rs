@@ -3,9 +3,11 @@
 //! and projection, and the follow-surface term. The same 1D pass serves
 //! each Gaussian of `gaussians`.
 
-use super::{Scattered, SssFrame, SssPipelines};
+use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
+use crate::model::jimenez::Jimenez2012;
 use crate::model::separable::SeparableKernel;
 use crate::model::{ModelError, RadialProfile};
+use crate::render::context::GpuError;
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::GpuTap;
 use crate::render::gpu_types::SssUniforms;
@@ -14,29 +16,56 @@ use crate::render::pipelines::{
 };
 use crate::render::profile_gpu::storage;
 use crate::render::targets::HdrTarget;
+use crate::settings::ProfileSpec;
 
 /// `separable` in the registry (`sss::Method::sss`).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "separable",
     label: "separable (Jimenez 2015)",
     quality: super::Quality::Taps,
-    stochastic: super::Stochastic::WhenRotated,
-    reads: super::Reads {
-        separable_kernel: true,
-        penner_tables: false,
-        gaussians: false,
-    },
-    penner_in_scene_pass: false,
-    ground_truth: false,
-    baseline: false,
-    variant: "",
+    stochastic: |o| o.separable.rotation,
+    compare_partner: true,
     shader: Some((
         "sss_separable",
         include_str!("../../../shaders/sss_separable.wgsl"),
     )),
     colour: [44, 160, 44],
+    bench,
     encode,
+    ..super::MethodInfo::BASE
 };
+
+/// `separable`'s command-line options.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// `separable`: rotate the blur axes per pixel (Jimenez 2015 §6).
+    #[arg(id = "separable_rotation", long = "separable-rotation")]
+    pub rotation: bool,
+}
+
+/// Nothing is kept between frames.
+pub(in crate::render) type State = ();
+
+/// The tap counts `bench` measures.
+pub const BENCH_TAPS: [usize; 5] = [7, 11, 17, 25, 33];
+
+/// `bench`'s configurations: Jimenez 2012's kernel fitted to the profile
+/// (`2012`) and Jimenez 2015's importance-sampled pre-integrated kernel
+/// (`2015`) at every tap count.
+fn bench() -> Vec<Knob> {
+    let knob = |variant, count, series| Knob {
+        variant,
+        count,
+        series,
+        shipped: true,
+    };
+    BENCH_TAPS
+        .map(|n| knob("2012", n, (", 2012 kernel", None)))
+        .into_iter()
+        .chain(BENCH_TAPS.map(|n| knob("2015", n, (", 2015 kernel", Some([23, 190, 207])))))
+        .collect()
+}
 
 /// `separable`'s share of the profile on the GPU: the kernel's taps.
 pub(in crate::render) struct Buffers {
@@ -46,8 +75,8 @@ pub(in crate::render) struct Buffers {
     depth_sigma_mm: f32,
 }
 
-impl Buffers {
-    pub fn new(device: &wgpu::Device, inputs: &Inputs) -> Self {
+impl super::MethodBuffers<Inputs> for Buffers {
+    fn new(device: &wgpu::Device, _: &wgpu::Queue, inputs: &Inputs) -> Self {
         Self {
             taps: storage(device, "separable taps", bytemuck::cast_slice(&inputs.taps)),
             count: inputs.taps.len() as u32,
@@ -65,8 +94,9 @@ pub(in crate::render) struct Pipelines {
     add: wgpu::RenderPipeline,
 }
 
-impl Pipelines {
-    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
+impl super::MethodPipelines for Pipelines {
+    fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+        let module = &module("sss_separable");
         let frag = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sss separable"),
@@ -168,7 +198,7 @@ pub(in crate::render) fn blur_xy(
         let u = SssUniforms {
             direction: dir,
             follow_surface: follow_surface(depth_sigma_mm),
-            rotate_axis: io.rotate_separable as u32,
+            rotate_axis: (io.inputs.options.separable.rotation && !io.deterministic) as u32,
             weight: [weight[0], weight[1], weight[2], 1.0],
             ..io.uniforms(taps.1)
         };
@@ -195,11 +225,12 @@ pub(in crate::render) fn blur_xy(
     }
 }
 
-pub(in crate::render) fn encode(
+fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
-) -> Scattered {
+    _: &mut super::State,
+) -> Result<Scattered, GpuError> {
     let gpu = &io.profile.methods.separable;
     blur_xy(
         f,
@@ -210,11 +241,12 @@ pub(in crate::render) fn encode(
         Into::Replace,
         ["sss separable x", "sss separable y"],
     );
-    Scattered {
+    Ok(Scattered {
         target: HdrTarget::Pong,
         samples_per_pixel: 2 * gpu.count,
         counted_pass: None,
-    }
+        cpu_ms: None,
+    })
 }
 
 /// `separable`'s CPU inputs: the kernel's taps and how the passes follow
@@ -226,6 +258,58 @@ pub struct Inputs {
     /// pre-integrated kernel (its widest channel's RMS width), or 0 for the
     /// Jimenez 2012 demo kernel's lerp towards the centre.
     pub depth_sigma_mm: f32,
+    /// False for the placeholder of inputs made for another method.
+    pub baked: bool,
+}
+
+impl MethodInputs for Inputs {
+    /// A Jimenez 2012 look keeps the demo's kernel (with its own taps);
+    /// any other profile uses the importance-sampled pre-integrated kernel
+    /// (Jimenez 2015 §4, §7). Without `bake`, the identity placeholder.
+    fn new(look: &Look<'_>, bake: bool) -> Result<Self, ModelError> {
+        if !bake {
+            return Ok(Self::identity());
+        }
+        match look.spec {
+            Some(ProfileSpec::Jimenez2012(j)) => Ok(Self::of_kernel(
+                &Jimenez2012::new(j.strength, j.falloff)?.kernel(look.taps)?,
+                true,
+            )),
+            _ => Self::importance_sampled(look.profile, look.taps),
+        }
+    }
+
+    fn missing(&self) -> Option<&'static str> {
+        (!self.baked).then_some("the separable kernel's taps")
+    }
+
+    /// `2012`: Jimenez 2012's kernel, the look's own for a Jimenez 2012
+    /// look, else fitted to the profile (`model::fit::fit_jimenez`);
+    /// `2015`: the importance-sampled pre-integrated kernel; `count` taps.
+    fn bench(&mut self, look: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
+        *self = match knob.variant {
+            "2012" => {
+                let jimenez = match look.spec {
+                    Some(ProfileSpec::Jimenez2012(j)) => Jimenez2012::new(j.strength, j.falloff)?,
+                    _ => crate::model::fit::fit_jimenez(look.profile)?.model,
+                };
+                Self::of_kernel(&jimenez.kernel(knob.count)?, true)
+            }
+            "2015" => Self::importance_sampled(look.profile, knob.count)?,
+            v => {
+                return Err(ModelError::invalid(
+                    "separable bench variant",
+                    format!("{v:?}"),
+                ))
+            }
+        };
+        Ok(())
+    }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write(bytemuck::cast_slice(&self.taps));
+        h.write(bytemuck::bytes_of(&self.depth_sigma_mm));
+    }
 }
 
 impl Inputs {
@@ -249,6 +333,7 @@ impl Inputs {
                 weight_offset: [1.0, 1.0, 1.0, 0.0],
             }],
             depth_sigma_mm: 0.0,
+            baked: false,
         }
     }
 
@@ -259,13 +344,8 @@ impl Inputs {
         Self {
             taps: gpu_taps(kernel),
             depth_sigma_mm: if demo_2012 { 0.0 } else { rms_width_mm(kernel) },
+            baked: true,
         }
-    }
-
-    /// Feeds everything the GPU receives from these inputs to `h`.
-    pub fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
-        h.write(bytemuck::cast_slice(&self.taps));
-        h.write(bytemuck::bytes_of(&self.depth_sigma_mm));
     }
 }
 

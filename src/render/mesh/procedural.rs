@@ -5,9 +5,9 @@
 //! functions of that 3D point. Landmarks are in the embedded head's units
 //! (decimetres, recentred; see assets/head/).
 
-use super::gpu_types::SurfaceKind;
-use super::mesh::Mesh;
-use super::textures::{AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
+use super::Mesh;
+use crate::render::gpu_types::SurfaceKind;
+use crate::render::textures::{AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 

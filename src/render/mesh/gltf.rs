@@ -4,9 +4,9 @@
 //! (generated otherwise); base colour, normal and metallic-roughness
 //! (green = roughness) textures come from the materials.
 
-use super::gpu_types::{SurfaceKind, Vertex};
-use super::mesh::{Mesh, MeshError};
-use super::textures::{
+use super::{Mesh, MeshError};
+use crate::render::gpu_types::{SurfaceKind, Vertex};
+use crate::render::textures::{
     from_dynamic, AlbedoMode, MeshTextures, RoughnessMode, TextureImage, TextureSlot,
 };
 use bytemuck::Zeroable;
@@ -345,7 +345,7 @@ fn decode(
     use gltf::image::Format;
     let (w, h) = (d.width, d.height);
     let fail = |message: String| {
-        MeshError::Texture(super::textures::TextureError::Load {
+        MeshError::Texture(crate::render::textures::TextureError::Load {
             path: origin.into(),
             slot: slot.name(),
             message,
