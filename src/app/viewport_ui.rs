@@ -444,72 +444,76 @@ impl EditorApp {
                 eprintln!("warning: {message}");
                 self.say(format!("Warning: {message}"))
             }
-            viewport::Reply::MeshLoaded(p, info) => {
-                self.log_line(format_args!(
-                    "mesh {} metres_per_unit={}",
-                    p.as_ref()
-                        .map_or("default head".into(), |p| p.display().to_string()),
-                    info.metres_per_unit
+            viewport::Reply::MeshLoaded(p, info) => self.mesh_loaded(p, info),
+        }
+    }
+
+    /// The render thread loaded a mesh (`None`: the default head): frame
+    /// it (a mesh the artist loads, or new units of it; the default head at
+    /// start-up keeps the remembered view), ask its units if new, say it.
+    fn mesh_loaded(&mut self, p: Option<PathBuf>, info: viewport::MeshInfo) {
+        self.log_line(format_args!(
+            "mesh {} metres_per_unit={}",
+            p.as_ref()
+                .map_or("default head".into(), |p| p.display().to_string()),
+            info.metres_per_unit
+        ));
+        // The default head the render thread sets up at start,
+        // arriving after a mesh was asked for (`edit --mesh`, a
+        // restored look, a file dropped at once): that mesh
+        // follows, so there is nothing to frame, size or say. (A
+        // mesh that failed to load is replaced by the head after
+        // an error, which the arms below handle.)
+        if p.is_none() && self.meshes.mesh.is_some() && !self.status().starts_with("Error") {
+            return;
+        }
+        self.meshes.mesh_info = Some(info);
+        // Frame a mesh the artist loads, or new units of
+        // it; the default head at start-up keeps the
+        // remembered view.
+        let key = (p.clone(), info.metres_per_unit);
+        let first_head = self.view.framed_for.is_none() && p.is_none();
+        if self.view.framed_for.as_ref() != Some(&key) && !first_head {
+            self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
+            self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
+        } else if first_head {
+            // A remembered view that shows under a fifth of the
+            // head (an extreme close-up, panned away) is no way to
+            // start: frame the head, keep the angles and the light.
+            let seen = self
+                .ui_state
+                .view
+                .orbit
+                .visible_fraction(info.framing_distance_m);
+            if seen < 0.2 {
+                let o = &mut self.ui_state.view.orbit;
+                o.camera_distance_m = info.framing_distance_m;
+                o.camera_pan_m = [0.0; 2];
+                self.say(format!(
+                    "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
+                    100.0 * seen
                 ));
-                // The default head the render thread sets up at start,
-                // arriving after a mesh was asked for (`edit --mesh`, a
-                // restored look, a file dropped at once): that mesh
-                // follows, so there is nothing to frame, size or say. (A
-                // mesh that failed to load is replaced by the head after
-                // an error, which the arms below handle.)
-                if p.is_none() && self.meshes.mesh.is_some() && !self.status().starts_with("Error")
-                {
-                    return;
-                }
-                self.meshes.mesh_info = Some(info);
-                // Frame a mesh the artist loads, or new units of
-                // it; the default head at start-up keeps the
-                // remembered view.
-                let key = (p.clone(), info.metres_per_unit);
-                let first_head = self.view.framed_for.is_none() && p.is_none();
-                if self.view.framed_for.as_ref() != Some(&key) && !first_head {
-                    self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
-                    self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
-                } else if first_head {
-                    // A remembered view that shows under a fifth of the
-                    // head (an extreme close-up, panned away) is no way to
-                    // start: frame the head, keep the angles and the light.
-                    let seen = self
-                        .ui_state
-                        .view
-                        .orbit
-                        .visible_fraction(info.framing_distance_m);
-                    if seen < 0.2 {
-                        let o = &mut self.ui_state.view.orbit;
-                        o.camera_distance_m = info.framing_distance_m;
-                        o.camera_pan_m = [0.0; 2];
-                        self.say(format!(
-                            "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
-                            100.0 * seen
-                        ));
-                    }
-                }
-                self.view.framed_for = Some(key);
-                if let Some(p) = &p {
-                    if !self.ui_state.meshes.contains_key(p) {
-                        self.meshes.units_prompt = Some(p.clone());
-                    }
-                }
-                match &p {
-                    Some(p) => self.say(format!("Mesh {}", p.display())),
-                    // The first load of the default head is not news.
-                    // After a failed load the error stays readable.
-                    None if self.status().starts_with("Error") => {
-                        let said = format!("{} (showing the default head)", self.status());
-                        self.say(said);
-                        self.meshes.mesh = None;
-                    }
-                    None if self.status().starts_with("Loading") => {
-                        self.say("Default head");
-                    }
-                    None => {}
-                }
             }
+        }
+        self.view.framed_for = Some(key);
+        if let Some(p) = &p {
+            if !self.ui_state.meshes.contains_key(p) {
+                self.meshes.units_prompt = Some(p.clone());
+            }
+        }
+        match &p {
+            Some(p) => self.say(format!("Mesh {}", p.display())),
+            // The first load of the default head is not news.
+            // After a failed load the error stays readable.
+            None if self.status().starts_with("Error") => {
+                let said = format!("{} (showing the default head)", self.status());
+                self.say(said);
+                self.meshes.mesh = None;
+            }
+            None if self.status().starts_with("Loading") => {
+                self.say("Default head");
+            }
+            None => {}
         }
     }
 

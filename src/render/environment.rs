@@ -70,11 +70,10 @@ impl Environment {
     /// and linearised) as an equirectangular map.
     pub fn load(path: &Path) -> Result<Self, EnvironmentError> {
         let origin = path.display().to_string();
-        let img =
-            super::textures::decode_bounded(path).map_err(|message| EnvironmentError::Load {
-                path: origin.clone(),
-                message,
-            })?;
+        let img = super::textures::decode_bounded(path).map_err(|e| EnvironmentError::Load {
+            path: origin.clone(),
+            message: e.to_string(),
+        })?;
         let (width, height) = (img.width() as usize, img.height() as usize);
         // An 8-bit image (most LDR maps): sRGB decoded through a table
         // of its 256 codes (IEC 61966-2-1 inverse transfer), straight from

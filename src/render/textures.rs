@@ -209,44 +209,58 @@ pub fn from_dynamic(
     })
 }
 
+/// Why an image file was not decoded ([`decode_bounded`]); its callers
+/// add the file and what it was for.
+#[derive(Debug, thiserror::Error)]
+pub enum DecodeError {
+    #[error("{0}")]
+    Read(#[from] std::io::Error),
+    /// Shorter than any image format's signature ("0 bytes: the file is
+    /// empty").
+    #[error("{0}")]
+    TooShort(String),
+    #[error("{width}×{height} is over the limit of {MAX_SIDE} pixels a side")]
+    TooWide { width: u32, height: u32 },
+    #[error("{width}×{height} is over the 64-megapixel limit")]
+    TooLarge { width: u32, height: u32 },
+    #[error("{0}")]
+    Image(#[from] image::ImageError),
+}
+
+/// The most pixels a side [`decode_bounded`] takes.
+pub const MAX_SIDE: u32 = 16384;
+
 /// Decodes an image file with bounded memory: at most 16384 pixels a side
 /// and 512 MiB per allocation (the image crate refuses more), and at most
 /// 64 megapixels, so later conversions (RGBA8, RGB32F) stay bounded too. A
 /// header claiming a huge image ran the fuzzer out of memory.
-pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, String> {
+pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, DecodeError> {
     const MAX_PIXELS: u64 = 64 << 20;
-    const MAX_SIDE: u32 = 16384;
-    let len = crate::fsutil::file_len(path).map_err(|e| e.to_string())?;
+    let len = crate::fsutil::file_len(path)?;
     // Shorter than any image format's signature (PNG's is 8 bytes).
     if let Some(problem) = crate::fsutil::too_short(len, 8, "an image") {
-        return Err(problem);
+        return Err(DecodeError::TooShort(problem));
     }
     // The header's size first (no pixel decoded), said in numbers when it
     // is over a limit (the image crate says only "Image size exceeds
     // limit").
-    let reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
-    let (w, h) = reader.into_dimensions().map_err(|e| e.to_string())?;
-    if w > MAX_SIDE || h > MAX_SIDE {
-        return Err(format!(
-            "{w}×{h} is over the limit of {MAX_SIDE} pixels a side"
-        ));
+    let reader = image::ImageReader::open(path)?.with_guessed_format()?;
+    let (width, height) = reader.into_dimensions()?;
+    if width > MAX_SIDE || height > MAX_SIDE {
+        return Err(DecodeError::TooWide { width, height });
     }
-    if w as u64 * h as u64 > MAX_PIXELS {
-        return Err(format!("{w}×{h} is over the 64-megapixel limit"));
+    if width as u64 * height as u64 > MAX_PIXELS {
+        return Err(DecodeError::TooLarge { width, height });
     }
-    let mut reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
+    let mut reader = image::ImageReader::open(path)?.with_guessed_format()?;
     reader.limits(bounded_limits());
-    reader.decode().map_err(|e| e.to_string())
+    Ok(reader.decode()?)
 }
 
 fn bounded_limits() -> image::Limits {
     let mut limits = image::Limits::default();
-    limits.max_image_width = Some(16384);
-    limits.max_image_height = Some(16384);
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
     limits.max_alloc = Some(512 << 20);
     limits
 }
@@ -254,10 +268,10 @@ fn bounded_limits() -> image::Limits {
 /// Loads an image file (PNG or JPEG) for `slot`.
 pub fn load(path: &Path, slot: TextureSlot) -> Result<TextureImage, TextureError> {
     let origin = path.display().to_string();
-    let img = decode_bounded(path).map_err(|message| TextureError::Load {
+    let img = decode_bounded(path).map_err(|e| TextureError::Load {
         path: origin.clone(),
         slot: slot.name(),
-        message,
+        message: e.to_string(),
     })?;
     from_dynamic(img, slot, &origin)
 }
