@@ -1,5 +1,6 @@
-//! The editor's menu bar, status bar, keyboard shortcuts, dropped files
-//! and the parameters panel's frame (its rows are `params_ui`).
+//! The editor's menu bar, keyboard shortcuts, dropped files and the
+//! parameters panel's frame (its rows are `params_ui`; the status bar is
+//! `report.rs`).
 
 use super::*;
 

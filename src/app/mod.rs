@@ -414,7 +414,7 @@ impl EditorApp {
             .show(ui, |ui| {
                 // Vertical only: the plot takes the panel's width (its rows
                 // wrap rather than widen it).
-                egui::ScrollArea::vertical().show(ui, |ui| plots::show(ui, self));
+                egui::ScrollArea::vertical().show(ui, |ui| plots::plots_panel_ui(ui, self));
             });
         self.layout.panel_rects[1] = Some(plots.response.rect);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;

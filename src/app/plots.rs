@@ -183,7 +183,7 @@ fn legend_entry_ui(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str
     ui.add(egui::Label::new(name).wrap_mode(egui::TextWrapMode::Extend));
 }
 
-pub fn show(ui: &mut egui::Ui, app: &mut EditorApp) {
+pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
     let auto = matches!(&app.profile.curves, Some(Ok(c)) if auto_log_radius(c));
     controls_ui(ui, &mut app.ui_state, auto);
     let s = &app.ui_state;

@@ -499,8 +499,8 @@ impl Worker {
         let mpu = settings.metres_per_unit;
         let t = Instant::now();
         // The GPU context starts while the mesh loads; the default head's
-        // surface maps (about a second) bake after its first frame, so the
-        // head shows first with neutral maps.
+        // surface maps (about a second) are left to `apply_pending_maps`,
+        // which the render thread runs before the first frame.
         let bake_later = mesh.is_none() && !Mesh::default_head_maps_baked();
         let (mesh_data, ctx) = std::thread::scope(|s| {
             let ctx = s.spawn(GpuContext::new_headless);

@@ -1,6 +1,7 @@
-//! The viewport panel: its toolbars, the mouse's orbit, pan and zoom, the
-//! request each frame makes of the render thread, the replies, and the
-//! overlays and compare labels drawn over the frame.
+//! The viewport panel: its toolbars, the mouse's orbit, pan and zoom, its
+//! keys, the request each frame makes of the render thread and the replies
+//! (a loaded mesh framed, a restored one kept as it was); what is drawn
+//! over the frame is `overlays.rs`.
 
 use super::*;
 
