@@ -49,7 +49,7 @@ kept = [(g, f) for g, f in faces if all(verts[v][1] > cut for v, _ in f)]
 
 used_v = sorted({v for _, f in kept for v, _ in f})
 xs = [verts[v][0] for v in used_v]; ys = [verts[v][1] for v in used_v]; zs = [verts[v][2] for v in used_v]
-# Recentre on the unsubdivided head's bounding box (render/procedural.rs's
+# Recentre on the unsubdivided head's bounding box (render/mesh/procedural.rs's
 # landmarks are in these coordinates).
 cx, cy, cz = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, (min(zs) + max(zs)) / 2
 
