@@ -44,16 +44,22 @@ fn modules(root: &Path) -> BTreeMap<Module, String> {
                 Some("mod") => rel[..rel.len() - 1].to_vec(),
                 _ => rel,
             };
-            let text = std::fs::read_to_string(&p).unwrap();
-            let code: String = text
-                .lines()
-                .map(|l| l.split("//").next().unwrap_or(""))
-                .collect::<Vec<_>>()
-                .join("\n");
-            out.insert(module, code);
+            out.insert(module, code_of(&p));
         }
     }
     out
+}
+
+/// A source file's code only: line comments and doc comments removed
+/// (a `//` inside a string literal cuts that line short too, which no
+/// `use` line or name the checks look for has).
+fn code_of(path: &Path) -> String {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.split("//").next().unwrap_or(""))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// The `use` statements of `code`: (public, the tree after `use`).
@@ -453,13 +459,7 @@ fn sources(dir: &str) -> Vec<(PathBuf, String)> {
             if p.is_dir() {
                 stack.push(p);
             } else if p.extension().is_some_and(|x| x == "rs") {
-                // Code only: line comments and doc comments removed.
-                let text = std::fs::read_to_string(&p).unwrap();
-                let code: String = text
-                    .lines()
-                    .map(|l| l.split("//").next().unwrap_or(""))
-                    .collect::<Vec<_>>()
-                    .join("\n");
+                let code = code_of(&p);
                 out.push((p, code));
             }
         }

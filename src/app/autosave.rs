@@ -216,7 +216,12 @@ impl Autosave {
             written_unix_s: unix_seconds(),
             ..now.recovery(now.doc.history(HISTORY_BYTES))
         };
-        let text = ron::ser::to_string_pretty(&recovery, Default::default()).ok()?;
+        // The look and its view one field a line (an artist may open the
+        // file); the history's presets one a line, compact, so the file
+        // holds about what `HISTORY_BYTES` counted (written pretty, 200
+        // steps of the default skin were 1.8× their compact size).
+        let layout = ron::ser::PrettyConfig::default().depth_limit(3);
+        let text = ron::ser::to_string_pretty(&recovery, layout).ok()?;
         let written = std::fs::create_dir_all(&self.dir)
             .and_then(|()| crate::fsutil::write_atomic(&self.file, text.as_bytes()));
         match written {
@@ -548,6 +553,47 @@ mod tests {
         let a = Autosave::new(&dir);
         assert_eq!(a.found.as_ref().unwrap().recovery.preset.name, "minimal");
         assert_eq!(a.found.as_ref().unwrap().recovery.split, 0.5);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The file gives the history back as it was, and the history takes
+    /// in it what its budget counted (compact RON, one preset a line), not
+    /// the 1.8× of fully pretty RON.
+    #[test]
+    fn the_history_is_written_as_its_budget_counts_it() {
+        let dir = std::env::temp_dir().join(format!("scatterlab-history-{}", std::process::id()));
+        let mut doc = Document::new(Preset::default_skin(), None);
+        for i in 0..40 {
+            doc.preset.description = format!("step {i}");
+            doc.commit();
+        }
+        let ui = UiState::default();
+        let mut a = Autosave::new(&dir);
+        let ticked = a.tick(
+            Snapshot {
+                doc: &doc,
+                ui: &ui,
+                mesh: None,
+            },
+            true,
+        );
+        assert!(ticked.message.is_none());
+        let text = std::fs::read_to_string(a.file()).unwrap();
+        let back: Recovery = ron::from_str(&text).unwrap();
+        let history = doc.history(HISTORY_BYTES);
+        assert_eq!(back.history, history);
+        assert_eq!(back.preset, doc.preset);
+        let counted: usize = history
+            .undo
+            .iter()
+            .map(|p| ron::to_string(p).unwrap().len())
+            .sum();
+        let written = text.len() - ron::to_string(&back.preset).unwrap().len();
+        eprintln!("history counted {counted} bytes; file without the look {written}");
+        assert!(
+            (written as f64) < 1.3 * counted as f64,
+            "{written} bytes written for {counted} counted"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
