@@ -36,6 +36,14 @@ pub enum GpuError {
         method: &'static str,
         missing: &'static str,
     },
+    #[error(
+        "{what} take {bytes} bytes, over the {limit} bytes the GPU allows in one storage buffer: use the CPU ground truth (`reference`), or a coarser mesh"
+    )]
+    TooLarge {
+        what: &'static str,
+        bytes: u64,
+        limit: u64,
+    },
     /// A newer request asked for the ground truth running now to stop
     /// (`Renderer::cancel_with`): not a failure, nothing to show.
     #[error("the ground truth was cancelled by a newer request")]

@@ -55,6 +55,7 @@
 
 mod cluster;
 mod gather;
+pub mod gpu;
 mod table;
 
 use cluster::{Cluster, ClusterKind};
@@ -196,6 +197,17 @@ impl Probe {
             _ => (Vec3::ZERO, Vec3::ZERO),
         }
     }
+}
+
+/// A point the gather adds the surface's light up at: on the SSS surface
+/// (mm), with its pixel's steps there (zero where no pixel sees it) and
+/// the pixel's SSS mask ([`Probe::profile_scale`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GatherPoint {
+    pub x_mm: Vec3,
+    pub pixel_dx_mm: Vec3,
+    pub pixel_dy_mm: Vec3,
+    pub profile_scale: f32,
 }
 
 /// The split of a triangle at its edge midpoints into four, in the order

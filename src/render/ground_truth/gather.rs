@@ -106,7 +106,17 @@ impl Cloud {
     /// the triangle by microns (5.7 µm at 75°, measured): the point is
     /// moved onto the nearest triangle when that is within 1 % of the
     /// pixel's footprint (else it stays, off the skin, with no footprint).
-    fn on_surface(&self, probe: &Probe) -> (Vec3, Vec3, Vec3) {
+    fn on_surface(&self, probe: &Probe) -> GatherPoint {
+        let (x_mm, pixel_dx_mm, pixel_dy_mm) = self.moved_on_surface(probe);
+        GatherPoint {
+            x_mm,
+            pixel_dx_mm,
+            pixel_dy_mm,
+            profile_scale: probe.profile_scale,
+        }
+    }
+
+    fn moved_on_surface(&self, probe: &Probe) -> (Vec3, Vec3, Vec3) {
         let reach = 0.01
             * (probe.ray_dx.length().max(probe.ray_dy.length()))
             * (probe.x_mm - probe.camera_mm).length()
@@ -149,13 +159,29 @@ impl Cloud {
         irradiance: &dyn SurfaceIrradiance,
         memo: &Memo,
     ) -> Option<[f32; 3]> {
+        let points = self.gather_points(probe, k)?;
+        let mut acc = [0.0f64; 3];
+        for p in &points {
+            let v = self.gather_at(p, irradiance, memo);
+            for c in 0..3 {
+                acc[c] += v[c] as f64;
+            }
+        }
+        Some(acc.map(|v| (v / points.len() as f64) as f32))
+    }
+
+    /// The points a probe's pixel is gathered at, k × k of them (k = 1:
+    /// the probe's own point moved onto the surface), each with its
+    /// pixel's steps there; the CPU and GPU gathers both read these
+    /// ([`Cloud::gather_supersampled`] says when there are none).
+    pub fn gather_points(&self, probe: &Probe, k: u32) -> Option<Vec<GatherPoint>> {
         let Some((corners, _)) = self.nearest(probe.x_mm, 10e-3).filter(|_| k > 1) else {
-            return Some(self.gather_with(probe, irradiance, memo));
+            return Some(vec![self.on_surface(probe)]);
         };
         let n = normal_of(corners);
         let (dx, dy) = probe.pixel_steps_mm(n);
         let tolerance = 0.05 * dx.length().max(dy.length()) + 1e-3;
-        let mut acc = [0.0f64; 3];
+        let mut out = Vec::with_capacity((k * k) as usize);
         for j in 0..k {
             for i in 0..k {
                 let (fx, fy) = (
@@ -180,13 +206,10 @@ impl Cloud {
                     ray,
                     ..*probe
                 };
-                let v = self.gather_with(&sub, irradiance, memo);
-                for c in 0..3 {
-                    acc[c] += v[c] as f64;
-                }
+                out.push(self.on_surface(&sub));
             }
         }
-        Some(acc.map(|v| (v / (k * k) as f64) as f32))
+        Some(out)
     }
 
     /// Σ R(‖x − y‖)·E(y)·dA / total per channel over the SSS surface: the
@@ -204,13 +227,23 @@ impl Cloud {
         irradiance: &dyn SurfaceIrradiance,
         memo: &Memo,
     ) -> [f32; 3] {
-        let (x, dx, dy) = self.on_surface(probe);
+        self.gather_at(&self.on_surface(probe), irradiance, memo)
+    }
+
+    /// The gather at a point already on the surface ([`Cloud::gather_points`]).
+    pub(super) fn gather_at(
+        &self,
+        point: &GatherPoint,
+        irradiance: &dyn SurfaceIrradiance,
+        memo: &Memo,
+    ) -> [f32; 3] {
+        let (x, dx, dy) = (point.x_mm, point.pixel_dx_mm, point.pixel_dy_mm);
         let pixel = Footprint {
             pixel_dx_mm: dx,
             pixel_dy_mm: dy,
             width_mm: 0.0,
         };
-        let profile = Scaled::new(&self.table, (probe.profile_scale as f64).clamp(1e-3, 1.0));
+        let profile = Scaled::new(&self.table, (point.profile_scale as f64).clamp(1e-3, 1.0));
         let query = Query {
             x,
             pixel,

@@ -4,7 +4,7 @@ use crate::model::quad;
 use crate::model::RadialProfile;
 
 /// A square of side `size_mm` in z = 0 cut into 2·n² triangles.
-fn plane(size_mm: f32, n: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+pub(super) fn plane(size_mm: f32, n: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let mut p = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
@@ -27,10 +27,10 @@ fn plane(size_mm: f32, n: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
 }
 
 /// Irradiance from a function of the position (mm).
-struct ByPosition<'a> {
-    p: &'a [Vec3],
-    t: &'a [[u32; 3]],
-    f: &'a (dyn Fn(Vec3) -> [f32; 3] + Sync),
+pub(super) struct ByPosition<'a> {
+    pub(super) p: &'a [Vec3],
+    pub(super) t: &'a [[u32; 3]],
+    pub(super) f: &'a (dyn Fn(Vec3) -> [f32; 3] + Sync),
 }
 
 impl SurfaceIrradiance for ByPosition<'_> {
@@ -40,7 +40,7 @@ impl SurfaceIrradiance for ByPosition<'_> {
     }
 }
 
-fn skin() -> Burley {
+pub(super) fn skin() -> Burley {
     Burley::from_scattering_distance([0.8; 3], [1.0, 0.5, 0.25]).unwrap()
 }
 

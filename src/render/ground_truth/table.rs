@@ -21,21 +21,21 @@ pub const ENERGY_FRACTION: f64 = 0.999;
 /// each distance, on a logarithmic grid of radii.
 #[derive(Debug, Clone)]
 pub struct ProfileTable {
-    ln_r0: f64,
-    inv_step: f64,
-    density: Vec<[f32; 3]>,
-    cdf: Vec<[f32; 3]>,
+    pub(super) ln_r0: f64,
+    pub(super) inv_step: f64,
+    pub(super) density: Vec<[f32; 3]>,
+    pub(super) cdf: Vec<[f32; 3]>,
     /// CDF at r = 0 (a Dirac part's share) and the grid's first radius:
     /// below it the CDF runs linearly from the one to the other.
-    cdf_zero: [f32; 3],
-    r0_mm: f64,
-    leaf_mm: Vec<f32>,
+    pub(super) cdf_zero: [f32; 3],
+    pub(super) r0_mm: f64,
+    pub(super) leaf_mm: Vec<f32>,
     /// dρ/dr (mm⁻³) by central differences on the grid, for the
     /// clusters' expansion ([`Cluster`]).
-    d1: Vec<[f32; 3]>,
+    pub(super) d1: Vec<[f32; 3]>,
     /// The profile's local decay length |ρ/ρ'| (mm), the shortest over
     /// the channels that are over a hundredth of their accuracy floor.
-    decay_mm: Vec<f32>,
+    pub(super) decay_mm: Vec<f32>,
     /// Radius (mm) beyond which nothing is summed: the widest channel's
     /// [`ENERGY_FRACTION`] radius.
     pub r_max_mm: f64,

@@ -1,0 +1,322 @@
+//! The gather on the GPU: `shaders/ground_truth.wgsl` walks the same
+//! clusters, quadtrees and profile table as [`Cloud::gather`] (flattened
+//! here into storage buffers), one compute invocation per point, by the
+//! same rules and constants. The points themselves (each probe moved onto
+//! the surface, with its pixel's steps there, and the k × k points of a
+//! supersampled pixel) come from the CPU's [`Cloud::gather_points`], so
+//! both paths gather at the same points.
+//!
+//! The irradiance the walk evaluates afresh (pieces below the cells, and
+//! those read over a pixel's footprint) comes from a WGSL module the
+//! caller prefixes, which defines `surface_irradiance`: the tests give it
+//! the functions their CPU twins compute (`gpu_gather_is_the_cpu_gather`).
+//!
+//! Held to the CPU path, not to itself: the CPU walks in f64 and this in
+//! f32, so the two agree to rounding, and the tests say how far.
+
+use super::table::ProfileTable;
+use super::{Cloud, GatherPoint};
+use crate::render::{GpuContext, GpuError};
+use wgpu::util::DeviceExt;
+
+/// Points a dispatch gathers at most (one submission each, so that no
+/// single submission runs long enough for a driver's watchdog).
+const POINTS_PER_DISPATCH: usize = 8192;
+
+/// The uniform block `GatherParams` of `ground_truth.wgsl`, field for
+/// field.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    ln_r0: f32,
+    inv_step: f32,
+    r0_mm: f32,
+    r_max_mm: f32,
+    epsilon_mm: f32,
+    reach_mm: f32,
+    count: u32,
+    first: u32,
+    cdf_zero: [f32; 4],
+    roots_at: u32,
+    order_at: u32,
+    clusters: u32,
+    _pad: u32,
+    gl_nodes: [f32; 8],
+    gl_weights: [f32; 8],
+}
+
+/// A cloud's clusters, cells and profile on the GPU, and the gather's
+/// pipeline with its irradiance module.
+pub struct GpuCloud {
+    pipeline: wgpu::ComputePipeline,
+    params: Params,
+    params_buffer: wgpu::Buffer,
+    tree: wgpu::Buffer,
+    node_e: wgpu::Buffer,
+    table: wgpu::Buffer,
+}
+
+/// f32 bits, with infinities (the table's "no limit") as the largest
+/// finite value: WGSL leaves arithmetic on infinities undefined.
+fn finite_bits(v: f32) -> u32 {
+    if v.is_infinite() {
+        f32::MAX.copysign(v).to_bits()
+    } else {
+        v.to_bits()
+    }
+}
+
+/// The table's entries as `TableEntry` (density and leaf side, CDF and
+/// decay length, slope), 12 floats each.
+fn table_entries(t: &ProfileTable) -> Vec<u32> {
+    let mut out = Vec::with_capacity(12 * t.density.len());
+    for i in 0..t.density.len() {
+        let d = t.density[i];
+        let c = t.cdf[i];
+        let s = t.d1[i];
+        out.extend(
+            [
+                d[0],
+                d[1],
+                d[2],
+                t.leaf_mm[i],
+                c[0],
+                c[1],
+                c[2],
+                t.decay_mm[i],
+                s[0],
+                s[1],
+                s[2],
+                0.0,
+            ]
+            .map(finite_bits),
+        );
+    }
+    out
+}
+
+impl GpuCloud {
+    /// Uploads `cloud` and builds the gather with `irradiance_wgsl`, the
+    /// module that defines `surface_irradiance` (see the shader's head).
+    pub fn new(ctx: &GpuContext, cloud: &Cloud, irradiance_wgsl: &str) -> Result<Self, GpuError> {
+        let cells = &**cloud.cells();
+        let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+        // Clusters (5 vec4s), roots (4 vec4s), the leaf order (4 a vec4).
+        let mut tree: Vec<u32> = Vec::with_capacity(
+            20 * cells.clusters.len() + 16 * cells.roots.len() + cells.order.len() + 4,
+        );
+        for cl in &cells.clusters {
+            let (leaf, a, b) = match cl.kind {
+                super::cluster::ClusterKind::Inner(left) => (0u32, left, 0u32),
+                super::cluster::ClusterKind::Leaf { first, count } => (1, first, count),
+            };
+            let f = |v: f32| v.to_bits();
+            tree.extend([cl.centre.x, cl.centre.y, cl.centre.z, cl.radius].map(f));
+            tree.extend(cl.power.map(f));
+            tree.push(leaf);
+            tree.extend(cl.dipole[0].to_array().map(f));
+            tree.push(a);
+            tree.extend(cl.dipole[1].to_array().map(f));
+            tree.push(b);
+            tree.extend(cl.dipole[2].to_array().map(f));
+            tree.push(0);
+        }
+        let roots_at = (tree.len() / 4) as u32;
+        for r in &cells.roots {
+            for (k, extra) in [r.side_mm, r.reach_mm, r.area_mm2].into_iter().enumerate() {
+                tree.extend(r.corners[k].to_array().map(f32::to_bits));
+                tree.push(extra.to_bits());
+            }
+            tree.extend([r.tri, r.levels, r.offset, 0]);
+        }
+        let order_at = (tree.len() / 4) as u32;
+        tree.extend(&cells.order);
+        while tree.len() % 4 != 0 || tree.is_empty() {
+            tree.push(0);
+        }
+        let node_e: Vec<f32> = if cells.node_e.is_empty() {
+            vec![0.0; 4]
+        } else {
+            cells.node_e.iter().flatten().copied().collect()
+        };
+        for (what, bytes) in [
+            ("the clusters and roots", 4 * tree.len() as u64),
+            ("the cells' irradiance", 4 * node_e.len() as u64),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        let t = cloud.table();
+        let (nodes, weights) = crate::model::quad::gl8();
+        let params = Params {
+            ln_r0: t.ln_r0 as f32,
+            inv_step: t.inv_step as f32,
+            r0_mm: t.r0_mm as f32,
+            r_max_mm: t.r_max_mm as f32,
+            epsilon_mm: t.epsilon_mm as f32,
+            reach_mm: cloud.reach_mm as f32,
+            count: 0,
+            first: 0,
+            cdf_zero: [t.cdf_zero[0], t.cdf_zero[1], t.cdf_zero[2], 0.0],
+            roots_at,
+            order_at,
+            clusters: cells.clusters.len() as u32,
+            _pad: 0,
+            gl_nodes: std::array::from_fn(|i| nodes[i] as f32),
+            gl_weights: std::array::from_fn(|i| weights[i] as f32),
+        };
+        let device = &ctx.device;
+        let storage = |label: &str, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let source = format!(
+            "{irradiance_wgsl}\n{}",
+            include_str!("../../../shaders/ground_truth.wgsl")
+        );
+        ctx.checked("the ground truth's gather (compute)", || {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("ground_truth.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("ground truth gather"),
+                layout: None,
+                module: &module,
+                entry_point: Some("cs_gather"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            Self {
+                pipeline,
+                params,
+                params_buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("ground truth params"),
+                    size: std::mem::size_of::<Params>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                tree: storage("ground truth tree", bytemuck::cast_slice(&tree)),
+                node_e: storage("ground truth cells", bytemuck::cast_slice(&node_e)),
+                table: storage(
+                    "ground truth table",
+                    bytemuck::cast_slice(&table_entries(t)),
+                ),
+            }
+        })
+    }
+
+    /// The gather at each point: what [`Cloud::gather_at`] gives there,
+    /// to f32 rounding. `None` for a point whose walk needed more than the
+    /// shader's stack (never seen; it would be a NaN, not a wrong value).
+    pub fn gather(
+        &self,
+        ctx: &GpuContext,
+        points: &[GatherPoint],
+    ) -> Result<Vec<Option<[f32; 3]>>, GpuError> {
+        if points.is_empty() {
+            return Ok(Vec::new());
+        }
+        let device = &ctx.device;
+        let mut data: Vec<[f32; 4]> = Vec::with_capacity(3 * points.len());
+        for p in points {
+            data.push([p.x_mm.x, p.x_mm.y, p.x_mm.z, p.profile_scale]);
+            data.push([p.pixel_dx_mm.x, p.pixel_dx_mm.y, p.pixel_dx_mm.z, 0.0]);
+            data.push([p.pixel_dy_mm.x, p.pixel_dy_mm.y, p.pixel_dy_mm.z, 0.0]);
+        }
+        let bytes = 16 * data.len() as u64;
+        let limit = device.limits().max_storage_buffer_binding_size as u64;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "the points to gather",
+                bytes,
+                limit,
+            });
+        }
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ground truth points"),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ground truth points readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = ctx.checked("the ground truth's gather (bind group)", || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ground truth"),
+                layout: &self.pipeline.get_bind_group_layout(0),
+                entries: &[
+                    (0, &self.params_buffer),
+                    (1, &self.tree),
+                    (2, &self.node_e),
+                    (3, &self.table),
+                    (4, &buffer),
+                ]
+                .map(|(binding, b)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                }),
+            })
+        })?;
+        for first in (0..points.len()).step_by(POINTS_PER_DISPATCH) {
+            let count = POINTS_PER_DISPATCH.min(points.len() - first);
+            let params = Params {
+                first: first as u32,
+                count: count as u32,
+                ..self.params
+            };
+            ctx.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&params));
+            let mut enc = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("ground truth gather"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
+            }
+            if first + count >= points.len() {
+                enc.copy_buffer_to_buffer(&buffer, 0, &read, 0, bytes);
+            }
+            ctx.queue.submit([enc.finish()]);
+        }
+        let (tx, rx) = std::sync::mpsc::channel();
+        read.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        let failed = |e: String| GpuError::Readback(format!("the ground truth's points: {e}"));
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| failed(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| failed(e.to_string()))?
+            .map_err(|e| failed(e.to_string()))?;
+        let mapped = read
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| failed(e.to_string()))?;
+        let v: &[[f32; 4]] = bytemuck::cast_slice(&mapped);
+        let out = (0..points.len())
+            .map(|i| {
+                let [r, g, b, _] = v[3 * i];
+                [r, g, b].iter().all(|c| c.is_finite()).then_some([r, g, b])
+            })
+            .collect();
+        drop(mapped);
+        read.unmap();
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+#[path = "gpu_tests.rs"]
+mod gpu_tests;
