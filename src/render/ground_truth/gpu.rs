@@ -100,7 +100,7 @@ impl GpuCloud {
     /// module that defines `surface_irradiance` (see the shader's head).
     pub fn new(ctx: &GpuContext, cloud: &Cloud, irradiance_wgsl: &str) -> Result<Self, GpuError> {
         let cells = &**cloud.cells();
-        let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
         // Clusters (5 vec4s), roots (4 vec4s), the leaf order (4 a vec4).
         let mut tree: Vec<u32> = Vec::with_capacity(
             20 * cells.clusters.len() + 16 * cells.roots.len() + cells.order.len() + 4,
@@ -131,7 +131,7 @@ impl GpuCloud {
         }
         let order_at = (tree.len() / 4) as u32;
         tree.extend(&cells.order);
-        while tree.len() % 4 != 0 || tree.is_empty() {
+        while !tree.len().is_multiple_of(4) || tree.is_empty() {
             tree.push(0);
         }
         let node_e: Vec<f32> = if cells.node_e.is_empty() {
@@ -229,7 +229,7 @@ impl GpuCloud {
             data.push([p.pixel_dy_mm.x, p.pixel_dy_mm.y, p.pixel_dy_mm.z, 0.0]);
         }
         let bytes = 16 * data.len() as u64;
-        let limit = device.limits().max_storage_buffer_binding_size as u64;
+        let limit = device.limits().max_storage_buffer_binding_size;
         if bytes > limit {
             return Err(GpuError::TooLarge {
                 what: "the points to gather",

@@ -105,11 +105,6 @@ fn edge_cpu(q: Vec3) -> [f32; 3] {
     }
 }
 
-/// Signed distance (mm) from that line.
-fn from_edge(q: Vec3) -> f64 {
-    (q.x as f64 + 0.3 * q.y as f64 - 0.2) / 1.09f64.sqrt()
-}
-
 /// Across a straight irradiance edge that cuts cells, with no pixel and
 /// with pixels 0.3 and 2 mm wide (their near field read over the
 /// footprint, the pieces split and evaluated afresh at the edge): the GPU
