@@ -2,7 +2,7 @@
 //! points, and to the closed forms the CPU's own tests use, on lavapipe
 //! in CI.
 
-use super::super::ground_truth_tests::{plane, skin, ByPosition};
+use super::super::ground_truth_tests::{plane, skin, slab, slab_light, ByPosition};
 use super::*;
 use crate::model::RadialProfile;
 use crate::render::ground_truth::{Probe, ProfileTable};
@@ -209,13 +209,8 @@ fn gpu_gather_keeps_a_uniform_planes_energy() {
 #[test]
 fn gpu_gather_transmits_a_back_lit_slabs_t_of_t() {
     let profile = skin();
-    let (mut p, mut t) = plane(80.0, 20);
-    let n = p.len() as u32;
-    let back: Vec<Vec3> = p.iter().map(|q| *q - Vec3::Z).collect();
-    p.extend(back);
-    let tris: Vec<[u32; 3]> = t.iter().map(|[a, b, c]| [a + n, c + n, b + n]).collect();
-    t.extend(tris);
-    let f = |q: Vec3| if q.z < -0.5 { [1.0; 3] } else { [0.0; 3] };
+    let (p, t) = slab();
+    let f = slab_light;
     let wgsl =
         "fn surface_irradiance(root: u32, tri: u32, bary: vec3<f32>, fp: Footprint) -> vec3<f32> {
         return select(vec3<f32>(0.0), vec3<f32>(1.0), root_point(root, bary).z < -0.5);

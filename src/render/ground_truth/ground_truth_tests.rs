@@ -167,19 +167,35 @@ fn a_dirac_part_survives_depth_noise() {
     }
 }
 
-/// A slab t = 1 mm thick lit on its back face only: on the front face
-/// the sum is the thin-slab transmittance T(t) = A/4 (e^(−t/d) +
-/// 3e^(−t/3d)) (Burley's closed form, typed here) over the total A.
-#[test]
-fn back_lit_slab_transmits_t_of_t() {
-    let profile = skin();
+/// An 80 mm slab 1 mm thick: the plane z = 0 facing +z and its copy at
+/// z = −1 facing −z.
+pub(super) fn slab() -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let (mut p, mut t) = plane(80.0, 20);
     let n = p.len() as u32;
     let back: Vec<Vec3> = p.iter().map(|q| *q - Vec3::Z).collect();
     p.extend(back);
     let tris: Vec<[u32; 3]> = t.iter().map(|[a, b, c]| [a + n, c + n, b + n]).collect();
     t.extend(tris);
-    let f = |q: Vec3| if q.z < -0.5 { [1.0; 3] } else { [0.0; 3] };
+    (p, t)
+}
+
+/// The slab's light: its back face only.
+pub(super) fn slab_light(q: Vec3) -> [f32; 3] {
+    if q.z < -0.5 {
+        [1.0; 3]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// A slab t = 1 mm thick lit on its back face only: on the front face
+/// the sum is the thin-slab transmittance T(t) = A/4 (e^(−t/d) +
+/// 3e^(−t/3d)) (Burley's closed form, typed here) over the total A.
+#[test]
+fn back_lit_slab_transmits_t_of_t() {
+    let profile = skin();
+    let (p, t) = slab();
+    let f = slab_light;
     let irr = ByPosition {
         p: &p,
         t: &t,
