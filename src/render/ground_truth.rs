@@ -55,6 +55,7 @@
 
 mod cluster;
 mod gather;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 mod table;
 
