@@ -4,6 +4,17 @@
 // one invocation per point, by the same rules and constants. The CPU path
 // is the reference the tests hold this to (`ground_truth/gpu.rs`).
 //
+// A walk that does not end by emptying its stack is reported, never
+// summed: Mesa's llvmpipe (lavapipe) ends every loop of an invocation
+// once all its loops together have run 65,535 iterations
+// (LP_MAX_TGSI_LOOP_ITERATIONS, gallivm/lp_bld_limits.h; the counter is
+// decremented in lp_exec_endloop, lp_bld_ir_common.c) and carries on
+// after them as if they had finished. On the default head a gather at
+// the lips needed about 4,300 pops, each with inner loops, and stopped
+// after 2,912 with a fiftieth of its light. So the four children are
+// pushed without a loop, and `finished` is set only by the walk's own
+// end: the caller gathers an unfinished point again elsewhere (`gpu.rs`).
+//
 // Differences from the CPU, all of rounding: f32 throughout (the CPU
 // walks distances and sums in f64), an explicit stack in place of
 // recursion (children pushed in reverse, so the order of the terms is the
@@ -74,7 +85,7 @@ const CLUSTER_THETA: f32 = 0.25;
 const CLUSTER_LEAF: f32 = 0.25;
 const CLUSTER_DECAY: f32 = 0.25;
 const UNEVEN: f32 = 0.01;
-const PI: f32 = 3.14159265358979;
+const GATHER_PI: f32 = 3.14159265358979;
 const STACK: u32 = 128u;
 
 fn f4(v: vec4<u32>) -> vec4<f32> {
@@ -232,7 +243,7 @@ fn edge_fan(s: Scaled, a: vec3<f32>, b: vec3<f32>, n: vec3<f32>, h: f32, cdf_h: 
     for (var sp = 0u; sp < spans; sp++) {
         let lo = los[sp];
         let hi = his[sp];
-        let pieces = max(ceil((hi - lo) / (PI / 4.0)), 1.0);
+        let pieces = max(ceil((hi - lo) / (GATHER_PI / 4.0)), 1.0);
         let step = (hi - lo) / pieces;
         for (var k = 0u; k < u32(pieces); k++) {
             let mid = lo + (f32(k) + 0.5) * step;
@@ -268,7 +279,7 @@ fn polar_weight(s: Scaled, x: vec3<f32>, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<
     var w = edge_fan(s, c0 - foot, c1 - foot, unit_n, h, cdf_h);
     w = w + edge_fan(s, c1 - foot, c2 - foot, unit_n, h, cdf_h);
     w = w + edge_fan(s, c2 - foot, c0 - foot, unit_n, h, cdf_h);
-    return w / (2.0 * PI);
+    return w / (2.0 * GATHER_PI);
 }
 
 // ---- The walk (`Cloud::visit`, `Cloud::integrate`) ----
@@ -294,6 +305,8 @@ var<private> depth: u32;
 // Set when a walk needed more than the stack holds (the result is then
 // NaN, never a silent wrong value).
 var<private> overflow: bool;
+// Set only where the walk ends by emptying its stack.
+var<private> finished: bool;
 
 fn push(item: Item) {
     if depth >= STACK {
@@ -316,6 +329,12 @@ fn midpoint_split(b0: vec3<f32>, b1: vec3<f32>, b2: vec3<f32>, k: u32) -> array<
     }
 }
 
+// Child k of a quadtree node (its index only down to the cells).
+fn push_child(it: Item, deeper: bool, k: u32) {
+    let b = midpoint_split(it.b0, it.b1, it.b2, k);
+    push(Item(1u, it.id, it.level + 1u, select(0u, 4u * it.index + k, deeper), b[0], b[1], b[2]));
+}
+
 fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec3<f32> {
     let m = clamp(profile_scale, 1e-3, 1.0);
     let s = Scaled(m, log(m), 1.0 / (m * m));
@@ -326,11 +345,13 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
     var acc = vec3<f32>(0.0);
     depth = 0u;
     overflow = false;
+    finished = false;
     if g.clusters > 0u {
         push(Item(0u, 0u, 0u, 0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0)));
     }
     loop {
         if depth == 0u {
+            finished = true;
             break;
         }
         depth = depth - 1u;
@@ -357,9 +378,9 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
                 let k = 1.0 / m;
                 let rho = lerp_density(a) * (k * k);
                 let d1 = lerp_slope(a) * (k * k * k);
-                let u = to / d;
+                let dir = to / d;
                 let power = f4(q1).xyz;
-                let dip = vec3<f32>(dot(u, f4(q2).xyz), dot(u, f4(q3).xyz), dot(u, q4.xyz));
+                let dip = vec3<f32>(dot(dir, f4(q2).xyz), dot(dir, f4(q3).xyz), dot(dir, q4.xyz));
                 acc = acc + power * rho + d1 * dip;
                 continue;
             }
@@ -398,32 +419,49 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
         if by_pixel {
             fp = Footprint(dx, dy, side);
         }
-        var e: vec3<f32>;
-        if it.level <= root.levels && !by_pixel {
+        // The piece's irradiance (the cells' mean, or afresh at its
+        // centroid) and, for a near piece whose share of the energy is
+        // large enough, its corners afresh until one differs from the mean
+        // (the CPU's `even`). One call site of the scene's shading: each
+        // one is a copy of `shade` that lavapipe compiles and, in a
+        // divergent loop, runs for every lane.
+        var e = vec3<f32>(0.0);
+        let from_cells = it.level <= root.levels && !by_pixel;
+        if from_cells {
             let n = 3u * (root.offset + level_start(it.level) + it.index);
             e = vec3<f32>(node_e[n], node_e[n + 1u], node_e[n + 2u]);
-        } else {
-            e = surface_irradiance(it.id, root.tri, (it.b0 + it.b1 + it.b2) / 3.0, fp);
         }
+        var share = vec3<f32>(0.0);
         if near {
             let lo = scaled_cdf(s, max(dist - reach, 0.0));
             let hi = scaled_cdf(s, dist + reach);
-            let share = max(hi - lo, vec3<f32>(0.0));
-            var even = side <= eps || all(share <= vec3<f32>(UNEVEN));
-            if !even {
-                even = true;
-                let bound = UNEVEN * max(abs(e), vec3<f32>(1e-6));
-                for (var k = 0u; k < 3u && even; k++) {
-                    var b = it.b0;
-                    if k == 1u {
-                        b = it.b1;
-                    } else if k == 2u {
-                        b = it.b2;
-                    }
-                    let v = surface_irradiance(it.id, root.tri, b, fp);
-                    even = all(abs(v - e) * share <= bound);
-                }
+            share = max(hi - lo, vec3<f32>(0.0));
+        }
+        let checked = near && !(side <= eps || all(share <= vec3<f32>(UNEVEN)));
+        var even = true;
+        var slot = select(0u, 1u, from_cells);
+        let last = select(0u, 3u, checked);
+        loop {
+            if slot > last || !even {
+                break;
             }
+            var b = (it.b0 + it.b1 + it.b2) / 3.0;
+            if slot == 1u {
+                b = it.b0;
+            } else if slot == 2u {
+                b = it.b1;
+            } else if slot == 3u {
+                b = it.b2;
+            }
+            let v = surface_irradiance(it.id, root.tri, b, fp);
+            if slot == 0u {
+                e = v;
+            } else {
+                even = all(abs(v - e) * share <= UNEVEN * max(abs(e), vec3<f32>(1e-6)));
+            }
+            slot = slot + 1u;
+        }
+        if near {
             if even {
                 if any(e != vec3<f32>(0.0)) {
                     acc = acc + e * polar_weight(s, x, c0, c1, c2);
@@ -443,14 +481,11 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
         }
         // Split into four, pushed last first so that child 0 is added
         // first, as the CPU's recursion adds them.
-        for (var k = 4u; k > 0u; k--) {
-            let b = midpoint_split(it.b0, it.b1, it.b2, k - 1u);
-            var index = 0u;
-            if it.level < root.levels {
-                index = 4u * it.index + (k - 1u);
-            }
-            push(Item(1u, it.id, it.level + 1u, index, b[0], b[1], b[2]));
-        }
+        let deeper = it.level < root.levels;
+        push_child(it, deeper, 3u);
+        push_child(it, deeper, 2u);
+        push_child(it, deeper, 1u);
+        push_child(it, deeper, 0u);
     }
     if overflow {
         return vec3<f32>(bitcast<f32>(0x7fc00000u));
@@ -468,5 +503,13 @@ fn cs_gather(@builtin(global_invocation_id) id: vec3<u32>) {
     let dx = points[i + 1u].xyz;
     let dy = points[i + 2u].xyz;
     let v = gather(p.xyz, dx, dy, p.w);
-    points[i] = vec4<f32>(v, 1.0);
+    // w: 1 the sum, 2 a walk that outgrew the stack (v is then NaN), 3 a
+    // walk the driver ended before its stack was empty.
+    var state = 1.0;
+    if overflow {
+        state = 2.0;
+    } else if !finished {
+        state = 3.0;
+    }
+    points[i] = vec4<f32>(v, state);
 }

@@ -319,14 +319,38 @@ fn scattered_shadow(lit: f32, n_dot_l: f32) -> vec3<f32> {
     return clamp((v - lo) / max(hi - lo, vec3<f32>(1e-4)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// The surface maps at a point, as `shade` reads them.
+struct Maps {
+    albedo: vec3<f32>,
+    normal: vec3<f32>,   // tangent space, −1..1
+    roughness: f32,
+    mask: f32,
+    thickness: f32,
+};
+
 @fragment
 fn fs_main(i: VertexOut) -> TargetsOut {
     // Every map is sampled first, in uniform control flow (derivatives).
-    let albedo_tex = textureSample(albedo_map, surface_sampler, i.uv).rgb;
-    let normal_tex = textureSample(normal_map, surface_sampler, i.uv).xyz * 2.0 - 1.0;
-    let rough_tex = textureSample(roughness_map, surface_sampler, i.uv).r;
-    let mask_tex = textureSample(mask_map, surface_sampler, i.uv).r;
-    let thickness_tex = textureSample(thickness_map, surface_sampler, i.uv).r;
+    var maps: Maps;
+    maps.albedo = textureSample(albedo_map, surface_sampler, i.uv).rgb;
+    maps.normal = textureSample(normal_map, surface_sampler, i.uv).xyz * 2.0 - 1.0;
+    maps.roughness = textureSample(roughness_map, surface_sampler, i.uv).r;
+    maps.mask = textureSample(mask_map, surface_sampler, i.uv).r;
+    maps.thickness = textureSample(thickness_map, surface_sampler, i.uv).r;
+    return shade(i, maps, true);
+}
+
+// What the scene pass writes for a point of the surface with its maps
+// read: the fragment shader's body, which the GPU ground truth
+// (ground_truth_scene.wgsl) calls at points no pixel sees, with
+// `transmission` off (the ground truth takes light through thin parts as
+// irradiance on their far side's cells).
+fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
+    let albedo_tex = maps.albedo;
+    let normal_tex = maps.normal;
+    let rough_tex = maps.roughness;
+    let mask_tex = maps.mask;
+    let thickness_tex = maps.thickness;
     let ng = normalize(i.normal);
     // Tangent frame (glTF/MikkTSpace convention: B = w N × T).
     var n = ng;
@@ -390,7 +414,7 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         }
         irradiance = light_radiance * lut_at * s3 / PI + hemi;
     }
-    if (u.transmission_mode != TRANSMISSION_OFF && mask > 0.0) {
+    if (transmission && u.transmission_mode != TRANSMISSION_OFF && mask > 0.0) {
         // Light through the back face (Jimenez 2010; Golubev 2018): thin
         // objects share the front's shadow; thick ones take max(baked,
         // shadow-map) thickness and are not shadowed by themselves.

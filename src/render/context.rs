@@ -147,8 +147,16 @@ impl GpuContext {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("scatterlab"),
                 required_features,
-                required_limits: wgpu::Limits::downlevel_defaults()
-                    .using_resolution(adapter.limits()),
+                required_limits: wgpu::Limits {
+                    // The GPU ground truth reads seven storage buffers in
+                    // one compute shader (ground_truth/gpu.rs); downlevel
+                    // devices that have fewer fall back to the CPU's.
+                    max_storage_buffers_per_shader_stage: adapter
+                        .limits()
+                        .max_storage_buffers_per_shader_stage
+                        .clamp(4, 8),
+                    ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits())
+                },
                 ..Default::default()
             })
             .await

@@ -347,9 +347,12 @@ impl Renderer {
             view_from_world: camera.view,
             settings: s,
             cancel: &self.cancel,
+            scene_bind: &profile.scene_bg,
+            scene_layout: self.scene.layout(),
         };
         let scattered = (method.sss().encode)(&mut f, &self.sss, &io, &mut self.sss_state)?;
         let reference_cpu_ms = scattered.cpu_ms;
+        let reference_gpu_unfinished = scattered.gpu_unfinished;
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
@@ -382,6 +385,7 @@ impl Renderer {
             sss_samples,
             lod_skipped_pixels,
             reference_cpu_ms,
+            reference_gpu_unfinished,
             profile_uploaded: false,
             scene_reused: reuse,
             target_bytes: t.bytes,

@@ -203,6 +203,10 @@ pub struct FrameStats {
     /// irradiance cloud (only when the light, look or profile changed) and
     /// the gather over the SSS pixels.
     pub reference_cpu_ms: Option<f64>,
+    /// `reference --reference-gpu`: the points whose walk the GPU did not
+    /// finish (the driver ended its loops, or the stack was too small),
+    /// gathered on the CPU instead; `None` when the CPU gathered them all.
+    pub reference_gpu_unfinished: Option<u64>,
     /// Whether this frame uploaded the profile's tables, patterns and
     /// kernels (false while the profile is unchanged).
     pub profile_uploaded: bool,

@@ -293,6 +293,25 @@ impl Cloud {
         (!cancelled()).then_some(out)
     }
 
+    /// The gather at points already on the surface, in parallel (the
+    /// points the GPU's walk did not finish, `sss/reference.rs`).
+    pub fn gather_at_points(
+        &self,
+        points: &[GatherPoint],
+        irradiance: &dyn SurfaceIrradiance,
+    ) -> Vec<[f32; 3]> {
+        points
+            .par_chunks(MEMO_CHUNK)
+            .flat_map_iter(|chunk| {
+                let memo = Memo::default();
+                chunk
+                    .iter()
+                    .map(|p| self.gather_at(p, irradiance, &memo))
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
     /// Adds the integral over cluster `i`: by its expansion where it is
     /// small enough for the rule at its distance, else over its children
     /// or, at a leaf, over each root's quadtree.

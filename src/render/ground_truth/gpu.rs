@@ -49,6 +49,7 @@ struct Params {
 /// pipeline with its irradiance module.
 pub struct GpuCloud {
     pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
     params: Params,
     params_buffer: wgpu::Buffer,
     tree: wgpu::Buffer,
@@ -97,8 +98,15 @@ fn table_entries(t: &ProfileTable) -> Vec<u32> {
 
 impl GpuCloud {
     /// Uploads `cloud` and builds the gather with `irradiance_wgsl`, the
-    /// module that defines `surface_irradiance` (see the shader's head).
-    pub fn new(ctx: &GpuContext, cloud: &Cloud, irradiance_wgsl: &str) -> Result<Self, GpuError> {
+    /// module that defines `surface_irradiance` (see the shader's head),
+    /// whose bind groups 0.. have the layouts `groups` (the gather's own
+    /// group is the next).
+    pub fn new(
+        ctx: &GpuContext,
+        cloud: &Cloud,
+        irradiance_wgsl: &str,
+        groups: &[&wgpu::BindGroupLayout],
+    ) -> Result<Self, GpuError> {
         let cells = &**cloud.cells();
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
         // Clusters (5 vec4s), roots (4 vec4s), the leaf order (4 a vec4).
@@ -174,18 +182,64 @@ impl GpuCloud {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
+        let own = groups.len();
         let source = format!(
             "{irradiance_wgsl}\n{}",
             include_str!("../../../shaders/ground_truth.wgsl")
+                .replace("@group(0)", &format!("@group({own})"))
         );
+        let needed = 4 + irradiance_wgsl.matches("var<storage").count() as u32;
+        let allowed = ctx.device.limits().max_storage_buffers_per_shader_stage;
+        if needed > allowed {
+            return Err(GpuError::Device(format!(
+                "the GPU ground truth reads {needed} storage buffers in one shader and this device allows {allowed}: use the CPU ground truth"
+            )));
+        }
         ctx.checked("the ground truth's gather (compute)", || {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("ground_truth.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
+            let compute = wgpu::ShaderStages::COMPUTE;
+            let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: compute,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            };
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ground truth gather"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: compute,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    entry(1, true),
+                    entry(2, true),
+                    entry(3, true),
+                    entry(4, false),
+                ],
+            });
+            let mut layouts: Vec<&wgpu::BindGroupLayout> = groups.to_vec();
+            layouts.push(&layout);
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ground truth gather"),
+                bind_group_layouts: &layouts.iter().map(|l| Some(*l)).collect::<Vec<_>>(),
+                ..Default::default()
+            });
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("ground truth gather"),
-                layout: None,
+                layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some("cs_gather"),
                 compilation_options: Default::default(),
@@ -193,6 +247,7 @@ impl GpuCloud {
             });
             Self {
                 pipeline,
+                layout,
                 params,
                 params_buffer: device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("ground truth params"),
@@ -211,13 +266,42 @@ impl GpuCloud {
     }
 
     /// The gather at each point: what [`Cloud::gather_at`] gives there,
-    /// to f32 rounding. `None` for a point whose walk needed more than the
-    /// shader's stack (never seen; it would be a NaN, not a wrong value).
+    /// to f32 rounding. `None` for a point whose walk did not finish here:
+    /// it needed more than the shader's stack, or the driver ended its
+    /// loops first (lavapipe's 65,535 iterations a invocation; see the
+    /// shader's head); the caller gathers those points on the CPU.
+    /// `groups` are the irradiance module's bind groups, in the order of
+    /// the layouts given to [`GpuCloud::new`].
     pub fn gather(
         &self,
         ctx: &GpuContext,
         points: &[GatherPoint],
+        groups: &[&wgpu::BindGroup],
     ) -> Result<Vec<Option<[f32; 3]>>, GpuError> {
+        let v = self.dispatch(ctx, points, groups)?;
+        if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
+            let state = |w: f32| v.iter().filter(|p| p[3] == w).count();
+            eprintln!(
+                "timing: GPU gather: {} points, {} outgrew the stack, {} ended by the driver",
+                points.len(),
+                state(2.0),
+                state(3.0)
+            );
+        }
+        Ok(v.iter()
+            .map(|&[r, g, b, state]| {
+                (state == 1.0 && [r, g, b].iter().all(|c| c.is_finite())).then_some([r, g, b])
+            })
+            .collect())
+    }
+
+    /// Each point's (rgb, state) as the shader writes it (`cs_gather`).
+    fn dispatch(
+        &self,
+        ctx: &GpuContext,
+        points: &[GatherPoint],
+        groups: &[&wgpu::BindGroup],
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
         if points.is_empty() {
             return Ok(Vec::new());
         }
@@ -251,7 +335,7 @@ impl GpuCloud {
         let bind = ctx.checked("the ground truth's gather (bind group)", || {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("ground truth"),
-                layout: &self.pipeline.get_bind_group_layout(0),
+                layout: &self.layout,
                 entries: &[
                     (0, &self.params_buffer),
                     (1, &self.tree),
@@ -281,7 +365,10 @@ impl GpuCloud {
                     timestamp_writes: None,
                 });
                 pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind, &[]);
+                for (k, g) in groups.iter().enumerate() {
+                    pass.set_bind_group(k as u32, *g, &[]);
+                }
+                pass.set_bind_group(groups.len() as u32, &bind, &[]);
                 pass.dispatch_workgroups(count.div_ceil(64) as u32, 1, 1);
             }
             if first + count >= points.len() {
@@ -305,15 +392,89 @@ impl GpuCloud {
             .get_mapped_range()
             .map_err(|e| failed(e.to_string()))?;
         let v: &[[f32; 4]] = bytemuck::cast_slice(&mapped);
-        let out = (0..points.len())
-            .map(|i| {
-                let [r, g, b, _] = v[3 * i];
-                [r, g, b].iter().all(|c| c.is_finite()).then_some([r, g, b])
-            })
-            .collect();
+        let out = (0..points.len()).map(|i| v[3 * i]).collect();
         drop(mapped);
         read.unmap();
         Ok(out)
+    }
+}
+
+/// The irradiance module of the renderer's GPU ground truth: the scene
+/// pass's WGSL (its `shade`, bindings in group 0) and the mesh's
+/// interpolation (group 1, [`MeshOnGpu`]).
+pub fn scene_irradiance_wgsl() -> String {
+    format!(
+        "{}\n{}",
+        include_str!("../../../shaders/scene.wgsl"),
+        include_str!("../../../shaders/ground_truth_scene.wgsl")
+    )
+}
+
+/// The mesh's vertices and triangles as storage buffers (group 1 of
+/// [`scene_irradiance_wgsl`]).
+pub struct MeshOnGpu {
+    pub layout: wgpu::BindGroupLayout,
+    pub bind: wgpu::BindGroup,
+}
+
+impl MeshOnGpu {
+    pub fn new(ctx: &GpuContext, mesh: &crate::render::Mesh) -> Result<Self, GpuError> {
+        let device = &ctx.device;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let vertices: &[u8] = bytemuck::cast_slice(&mesh.vertices);
+        let indices: &[u8] = bytemuck::cast_slice(&mesh.indices);
+        for (what, bytes) in [
+            ("the mesh's vertices", vertices.len() as u64),
+            ("the mesh's triangles", indices.len() as u64),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        ctx.checked("the ground truth's mesh", || {
+            let entry = |binding| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            };
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ground truth mesh"),
+                entries: &[entry(0), entry(1)],
+            });
+            let buffer = |label, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: if contents.is_empty() {
+                        &[0; 4]
+                    } else {
+                        contents
+                    },
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let v = buffer("ground truth vertices", vertices);
+            let i = buffer("ground truth indices", indices);
+            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ground truth mesh"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: v.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: i.as_entire_binding(),
+                    },
+                ],
+            });
+            Self { layout, bind }
+        })
     }
 }
 

@@ -42,7 +42,7 @@ impl Both {
         let irr = ByPosition { p, t, f };
         let cloud = Cloud::build(p, t, |_| true, &irr, ProfileTable::new(profile), 0.5);
         let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe in CI)");
-        let gpu = GpuCloud::new(&ctx, &cloud, wgsl).expect("the gather's pipeline");
+        let gpu = GpuCloud::new(&ctx, &cloud, wgsl, &[]).expect("the gather's pipeline");
         let mut cpu = Vec::new();
         let mut points = Vec::new();
         for probe in probes {
@@ -57,7 +57,7 @@ impl Both {
             points.push(pts);
         }
         let flat: Vec<GatherPoint> = points.iter().flatten().copied().collect();
-        let got = gpu.gather(&ctx, &flat).expect("the GPU gather");
+        let got = gpu.gather(&ctx, &flat, &[]).expect("the GPU gather");
         let mut gpu_out = Vec::new();
         let mut at = 0;
         for pts in &points {

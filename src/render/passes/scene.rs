@@ -104,7 +104,9 @@ pub(in crate::render) struct ScenePass {
 impl ScenePass {
     pub fn new(ctx: &GpuContext, module: &wgpu::ShaderModule, maps: SurfaceMaps) -> Self {
         let device = &ctx.device;
-        let frag = wgpu::ShaderStages::FRAGMENT;
+        // The GPU ground truth calls the scene pass's `shade` from a
+        // compute shader with this same bind group (ground_truth/gpu.rs).
+        let frag = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: frag,
@@ -126,7 +128,10 @@ impl ScenePass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene"),
             entries: &[
-                uniform_entry::<SceneUniforms>(0, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                uniform_entry::<SceneUniforms>(
+                    0,
+                    wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                ),
                 texture(1, wgpu::TextureSampleType::Depth),
                 sampler(2, wgpu::SamplerBindingType::Comparison),
                 texture(3, filterable),
@@ -184,6 +189,11 @@ impl ScenePass {
             }),
             maps,
         }
+    }
+
+    /// The layout of [`ScenePass::bind`]'s groups.
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
     }
 
     /// The scene's bind group for a profile's tables and the shadow map.

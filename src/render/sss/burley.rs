@@ -333,6 +333,7 @@ fn encode(
         samples_per_pixel: n,
         counted_pass: Some(label),
         cpu_ms: None,
+        gpu_unfinished: None,
     })
 }
 

@@ -108,6 +108,7 @@ fn encode(
             samples_per_pixel: 0,
             counted_pass: None,
             cpu_ms: None,
+            gpu_unfinished: None,
         });
     }
     for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
@@ -131,6 +132,7 @@ fn encode(
         samples_per_pixel: 2 * taps * gpu.gaussians.len() as u32,
         counted_pass: None,
         cpu_ms: None,
+        gpu_unfinished: None,
     })
 }
 

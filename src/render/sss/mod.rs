@@ -255,6 +255,10 @@ pub(in crate::render) struct SssFrame<'t> {
     pub view_from_world: glam::Mat4,
     pub settings: &'t RenderSettings,
     pub cancel: &'t std::sync::atomic::AtomicBool,
+    /// The scene pass's bind group and its layout (the GPU ground truth
+    /// evaluates the scene's `shade` with them).
+    pub scene_bind: &'t wgpu::BindGroup,
+    pub scene_layout: &'t wgpu::BindGroupLayout,
 }
 
 impl SssFrame<'_> {
@@ -275,6 +279,9 @@ pub(in crate::render) struct Scattered {
     pub counted_pass: Option<&'static str>,
     /// CPU time of a method computed on the CPU (ms).
     pub cpu_ms: Option<f64>,
+    /// `reference` on the GPU: the points whose walk the GPU did not
+    /// finish, gathered on the CPU instead.
+    pub gpu_unfinished: Option<u64>,
 }
 
 /// Records a method's passes (or computes it, `reference`).
@@ -294,6 +301,7 @@ pub(in crate::render) fn no_pass(
         samples_per_pixel: 0,
         counted_pass: None,
         cpu_ms: None,
+        gpu_unfinished: None,
     })
 }
 

@@ -10,7 +10,8 @@
 
 use super::{Look, MethodInputs, ProfileInputs, Scattered, SssFrame, SssPipelines};
 use crate::render::gpu_types::{SceneUniforms, SurfaceKind};
-use crate::render::ground_truth::{Cloud, Probe};
+use crate::render::ground_truth::gpu::{scene_irradiance_wgsl, GpuCloud, MeshOnGpu};
+use crate::render::ground_truth::{Cloud, GatherPoint, Probe};
 use crate::render::mesh::Mesh;
 use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
 use crate::render::readback::{f32_to_half, half_to_f32, readback};
@@ -40,11 +41,20 @@ pub struct Options {
     /// bench's floor).
     #[arg(skip = 1u32)]
     pub supersample: u32,
+    /// Gather the ground truth on the GPU: a compute shader walks the same
+    /// cells by the same rules, with the scene pass's own shading for the
+    /// light it evaluates afresh (the CPU gather is the reference it is
+    /// tested against).
+    #[arg(id = "reference_gpu", long = "reference-gpu")]
+    pub gpu: bool,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { supersample: 1 }
+        Self {
+            supersample: 1,
+            gpu: false,
+        }
     }
 }
 
@@ -89,6 +99,7 @@ fn encode(
         ctx,
         io.mesh,
         &textures,
+        (io.scene_bind, io.scene_layout),
         io.scene,
         io.view_from_world,
         io.settings,
@@ -101,6 +112,7 @@ fn encode(
         samples_per_pixel: 0,
         counted_pass: None,
         cpu_ms: Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms),
+        gpu_unfinished: timing.gpu_unfinished,
     })
 }
 
@@ -128,6 +140,9 @@ pub(in crate::render) struct Cache {
     /// size): showing the same view again (A/B toggles, compare modes)
     /// costs nothing.
     frame: Option<(u64, Vec<u8>)>,
+    /// The GPU gather's mesh and the newest cloud on the GPU (by its
+    /// profile's fingerprint), made on the first GPU frame.
+    gpu: Option<(MeshOnGpu, Option<(u64, GpuCloud)>)>,
 }
 
 impl Cache {
@@ -163,6 +178,8 @@ impl Cache {
 struct Timing {
     pub build_ms: Option<f64>,
     pub gather_ms: f64,
+    /// On the GPU: the points it did not finish (gathered on the CPU).
+    pub gpu_unfinished: Option<u64>,
 }
 
 /// The textures this pass reads and writes.
@@ -195,6 +212,7 @@ fn scatter(
     ctx: &GpuContext,
     mesh: &Mesh,
     io: &Io,
+    scene_group: (&wgpu::BindGroup, &wgpu::BindGroupLayout),
     scene: &SceneUniforms,
     view: Mat4,
     s: &RenderSettings,
@@ -225,6 +243,7 @@ fn scatter(
         return Ok(Timing {
             build_ms: None,
             gather_ms: 0.0,
+            gpu_unfinished: None,
         });
     }
     let encoder = ctx
@@ -261,6 +280,7 @@ fn scatter(
             shadow,
             mips,
             frame: None,
+            gpu: None,
         });
     }
     let Some(c) = cache.as_mut() else {
@@ -277,16 +297,34 @@ fn scatter(
         s.view.fov_y_rad,
         1000.0 * mesh.metres_per_unit,
     );
-    let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
-    let scattered = cloud
-        .gather_all(&points, inputs.options.reference.supersample.max(1), &irr, cancel)
-        .ok_or(GpuError::Cancelled)?;
+    let supersample = inputs.options.reference.supersample.max(1);
+    let on_gpu = inputs.options.reference.gpu;
+    let (scattered, gpu_unfinished) = if on_gpu {
+        let (v, unfinished) = gather_on_gpu(
+            ctx,
+            (mesh, scene),
+            c,
+            &cloud,
+            scene_group,
+            &points,
+            supersample,
+            cancel,
+        )?;
+        (v, Some(unfinished))
+    } else {
+        let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
+        let v = cloud
+            .gather_all(&points, supersample, &irr, cancel)
+            .ok_or(GpuError::Cancelled)?;
+        (v, None)
+    };
     if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
         eprintln!(
-            "timing: reference: {} cells, {} points, build {:?} ms, gather {:.0} ms",
+            "timing: reference: {} cells, {} points, build {:?} ms, gather ({}) {:.0} ms",
             cloud.len(),
             points.len(),
             build_ms,
+            if on_gpu { "GPU" } else { "CPU" },
             t0.elapsed().as_secs_f64() * 1e3
         );
     }
@@ -297,7 +335,90 @@ fn scatter(
     Ok(Timing {
         build_ms,
         gather_ms,
+        gpu_unfinished,
     })
+}
+
+/// Each probe's scattered irradiance (`None`: not one surface under a
+/// supersampled pixel).
+type Gathered = Vec<Option<[f32; 3]>>;
+
+/// The gather at every probe on the GPU (`ground_truth::gpu`): the
+/// probes' points are found on the CPU as for the CPU gather
+/// ([`Cloud::gather_points`]), the walk runs in a compute shader with the
+/// scene pass's shading, and a pixel's k × k points are averaged here.
+/// A point whose walk the GPU did not finish (the driver's loop limit;
+/// see `shaders/ground_truth.wgsl`) is gathered on the CPU; their number
+/// is returned with the values.
+#[allow(clippy::too_many_arguments)]
+fn gather_on_gpu(
+    ctx: &GpuContext,
+    (mesh, scene): (&Mesh, &SceneUniforms),
+    c: &mut Cache,
+    cloud: &Cloud,
+    (scene_bind, scene_layout): (&wgpu::BindGroup, &wgpu::BindGroupLayout),
+    probes: &[Probe],
+    supersample: u32,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<(Gathered, u64), GpuError> {
+    use rayon::prelude::*;
+    if c.gpu.is_none() {
+        c.gpu = Some((MeshOnGpu::new(ctx, mesh)?, None));
+    }
+    let Some((mesh_gpu, slot)) = c.gpu.as_mut() else {
+        return Err(GpuError::Readback("ground truth GPU cache".into()));
+    };
+    let fingerprint = cloud.table().fingerprint();
+    if slot.as_ref().is_none_or(|(f, _)| *f != fingerprint) {
+        let source = scene_irradiance_wgsl();
+        let t0 = Instant::now();
+        let g = GpuCloud::new(ctx, cloud, &source, &[scene_layout, &mesh_gpu.layout])?;
+        if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
+            eprintln!(
+                "timing: GPU gather: pipeline and upload {:.0} ms",
+                t0.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        *slot = Some((fingerprint, g));
+    }
+    let Some((_, gpu)) = slot.as_ref() else {
+        return Err(GpuError::Readback("ground truth GPU cloud".into()));
+    };
+    let per_probe: Vec<Option<Vec<GatherPoint>>> = probes
+        .par_iter()
+        .map(|p| cloud.gather_points(p, supersample))
+        .collect();
+    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(GpuError::Cancelled);
+    }
+    let flat: Vec<GatherPoint> = per_probe.iter().flatten().flatten().copied().collect();
+    let mut got = gpu.gather(ctx, &flat, &[scene_bind, &mesh_gpu.bind])?;
+    let unfinished: Vec<usize> = (0..got.len()).filter(|&i| got[i].is_none()).collect();
+    if !unfinished.is_empty() {
+        let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
+        let again: Vec<GatherPoint> = unfinished.iter().map(|&i| flat[i]).collect();
+        for (i, v) in unfinished.iter().zip(cloud.gather_at_points(&again, &irr)) {
+            got[*i] = Some(v);
+        }
+    }
+    let mut at = 0;
+    let values = per_probe
+        .iter()
+        .map(|pts| {
+            let pts = pts.as_ref()?;
+            let mine = &got[at..at + pts.len()];
+            at += pts.len();
+            let mut acc = [0.0f64; 3];
+            for v in mine {
+                let v = (*v)?;
+                for k in 0..3 {
+                    acc[k] += v[k] as f64;
+                }
+            }
+            Some(acc.map(|v| (v / pts.len() as f64) as f32))
+        })
+        .collect();
+    Ok((values, unfinished.len() as u64))
 }
 
 /// What a finished frame is kept under: the cells, the profile, the scene
@@ -311,6 +432,7 @@ fn frame_key(cells: u64, scene: &SceneUniforms, s: &RenderSettings, inputs: &Pro
     let view = (
         s.view.fov_y_rad.to_bits(),
         inputs.options.reference.supersample,
+        inputs.options.reference.gpu,
     );
     (s.width, s.height, view).hash(&mut hs);
     hs.finish()

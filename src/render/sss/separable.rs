@@ -246,6 +246,7 @@ fn encode(
         samples_per_pixel: 2 * gpu.count,
         counted_pass: None,
         cpu_ms: None,
+        gpu_unfinished: None,
     })
 }
 
