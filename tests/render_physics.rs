@@ -560,3 +560,110 @@ fn ground_truth_keeps_a_jimenez_looks_energy() {
         assert!(rel.abs() < 0.01, "channel {c}: {rel:+.4}");
     }
 }
+
+/// The editor's ground truth in tiles (`RenderSettings::truth_tiles`):
+/// each frame of a view gathers the next tiles nearest the focus for
+/// about the budget and the next frame goes on from there. Every partial
+/// frame's finished tiles hold exactly the pixels of the finished view,
+/// the tiles nearest the focus are finished first, and the finished view
+/// is exactly the frame a whole gather gives on another renderer (the same
+/// probes and walk; the memo of fresh evaluations is keyed by all their
+/// inputs, so how the pixels are batched changes no bit).
+#[test]
+fn reference_in_tiles_is_the_whole_frame() {
+    let head = Mesh::default_head().unwrap();
+    let profile = Burley::from_scattering_distance([0.8; 3], [1.0, 0.5, 0.25]).unwrap();
+    let inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    let whole = RenderSettings {
+        width: 192,
+        height: 108,
+        method: Method::Reference,
+        lod: false,
+        mesh_lod: false,
+        deterministic: true,
+        ..RenderSettings::default()
+    };
+    let tiled = RenderSettings {
+        truth_tiles: Some(scatterlab::render::TruthTiles {
+            tile_px: 32,
+            focus: [0.5, 0.5],
+            // One batch a frame.
+            budget_ms: 0.0,
+        }),
+        ..whole.clone()
+    };
+    let mut r = Renderer::new(GpuContext::new_headless().unwrap(), &head).unwrap();
+    let mut frames = Vec::new();
+    loop {
+        let (_, diffuse, stats) = r.render_with_diffuse(&inputs, &tiled).unwrap();
+        let progress = stats.truth_tiles.expect("a tiled frame reports its tiles");
+        let finished = progress.finished();
+        // After the first, a frame of tiles draws no scene again.
+        assert_eq!(
+            stats.scene_reused,
+            !frames.is_empty(),
+            "frame {}",
+            frames.len()
+        );
+        frames.push((diffuse, progress));
+        if finished {
+            break;
+        }
+        assert!(frames.len() < 100, "the tiles never finish");
+    }
+    eprintln!("{} frames to finish the view in tiles", frames.len());
+    assert!(
+        frames.len() >= 3,
+        "{} frames: not gathered in parts",
+        frames.len()
+    );
+    let (last, progress) = frames.last().unwrap();
+    let sss = last.iter().filter(|p| p[3] > 1.0 / 255.0).count() as u64;
+    assert_eq!(progress.pixels_total, sss);
+    assert_eq!(progress.pixels_done, sss);
+    // Tiles done only grow, and each partial frame's done tiles are final.
+    for pair in frames.windows(2) {
+        let (a, b) = (&pair[0].1, &pair[1].1);
+        assert!(a.done.iter().zip(&b.done).all(|(x, y)| !*x || *y));
+        assert!(a.tiles_done() < b.tiles_done());
+    }
+    for (diffuse, p) in &frames {
+        for (i, (v, f)) in diffuse.iter().zip(last).enumerate() {
+            let (x, y) = (i as u32 % 192, i as u32 / 192);
+            if p.is_done(x, y) {
+                assert_eq!(v, f, "pixel ({x}, {y}) of a finished tile changed");
+            }
+        }
+    }
+    // Nearest the focus first: every tile the first frame finished (with
+    // SSS pixels) is nearer the centre than every tile it left.
+    let first = &frames[0].1;
+    let distance = |t: usize| {
+        let (c, r) = (
+            (t as u32 % first.columns) as f32,
+            (t as u32 / first.columns) as f32,
+        );
+        (32.0 * c + 16.0 - 96.0).powi(2) + (32.0 * r + 16.0 - 54.0).powi(2)
+    };
+    let left = (0..first.done.len()).filter(|t| !first.done[*t]);
+    let nearest_left = left.map(distance).fold(f32::INFINITY, f32::min);
+    let batch: Vec<usize> = (0..first.done.len())
+        .filter(|t| first.done[*t])
+        .filter(|t| {
+            let (c, r) = (*t as u32 % first.columns, *t as u32 / first.columns);
+            (32 * r..(32 * r + 32).min(108)).any(|y| {
+                (32 * c..(32 * c + 32).min(192))
+                    .any(|x| last[(y * 192 + x) as usize][3] > 1.0 / 255.0)
+            })
+        })
+        .collect();
+    assert!(!batch.is_empty());
+    for t in batch {
+        assert!(distance(t) <= nearest_left, "tile {t} before a nearer one");
+    }
+    // The whole gather of the same view on a fresh renderer.
+    let mut fresh = Renderer::new(GpuContext::new_headless().unwrap(), &head).unwrap();
+    let (_, all_at_once, stats) = fresh.render_with_diffuse(&inputs, &whole).unwrap();
+    assert!(stats.truth_tiles.is_none());
+    assert_eq!(&all_at_once, last, "the tiled view is not the whole gather");
+}

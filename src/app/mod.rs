@@ -247,6 +247,7 @@ impl EditorApp {
                 difference_shown: None,
                 last_frame: None,
                 quality: None,
+                history: Default::default(),
                 truth_phase: None,
                 last_wheel: None,
             },

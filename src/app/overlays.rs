@@ -4,6 +4,9 @@
 
 use super::*;
 
+/// Viewport frames kept in [`EditorApp::viewport_history`].
+pub(super) const FRAME_HISTORY: usize = 256;
+
 impl EditorApp {
     /// While comparing: both sides, or A or B alone.
     pub fn ab(&self) -> AbView {
@@ -49,6 +52,14 @@ impl EditorApp {
     /// How far the last viewport frame had got.
     pub fn viewport_quality(&self) -> Option<viewport::Quality> {
         self.view.quality
+    }
+
+    /// The newest viewport frames (up to [`FRAME_HISTORY`]) as they
+    /// arrived: quality, size and the status line each set.
+    pub fn viewport_history(
+        &self,
+    ) -> impl Iterator<Item = &(viewport::Quality, (u32, u32), String)> + '_ {
+        self.view.history.iter()
     }
 
     /// Whether the viewport has rendered everything asked of it.
@@ -157,7 +168,22 @@ impl EditorApp {
                 32.0,
             );
         }
-        if let Some((done, text)) = self.truth_progress() {
+        if let Some(viewport::Quality::Truth {
+            done,
+            tiles,
+            left_s,
+            ..
+        }) = self
+            .view
+            .quality
+            .filter(|q| matches!(q, viewport::Quality::Truth { tiles, .. } if *tiles > 0))
+        {
+            // The tiles' own bar (their gathers report no other; the
+            // cells' bar shows before the first tiles).
+            let left = left_s.map_or(String::new(), |s| format!(" · {s:.0} s left"));
+            let text = format!("ground truth: {done} of {tiles} tiles{left}");
+            progress(ui, done as f32 / tiles as f32, text, 64.0);
+        } else if let Some((done, text)) = self.truth_progress() {
             // Above the "rendering … s" line.
             progress(ui, done, text, 64.0);
         }
@@ -166,7 +192,10 @@ impl EditorApp {
         }
         // After a coarse ground truth the full one is on its way with no
         // reply to wake the UI: look again for its progress bar.
-        if matches!(self.view.quality, Some(viewport::Quality::Coarse { .. })) {
+        if matches!(
+            self.view.quality,
+            Some(viewport::Quality::Coarse { .. } | viewport::Quality::Truth { .. })
+        ) {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(250));
         }

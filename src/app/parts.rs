@@ -52,6 +52,9 @@ pub(super) struct ViewportState {
     pub(super) last_frame: Option<(image::RgbaImage, u64)>,
     /// How far the last frame had got (preview, refining, converged).
     pub(super) quality: Option<viewport::Quality>,
+    /// The newest frames' quality, size and status line, oldest first
+    /// (several can arrive within one UI frame; tests read them).
+    pub(super) history: std::collections::VecDeque<(viewport::Quality, (u32, u32), String)>,
     /// The ground truth's (phase, items) on its progress bar, when the UI
     /// first saw it, the fraction then and the last fraction seen (for the
     /// time left).

@@ -96,8 +96,18 @@ impl Request {
     }
 }
 
-/// A coarse ground truth first, at 1/this of the resolution per axis.
+/// A coarse ground truth first, at 1/this of the resolution per axis (a
+/// comparison with the ground truth on one side; A alone gets tiles).
 pub const COARSE_TRUTH_DIVISOR: f32 = 4.0;
+
+/// The ground truth's tiles (px a side): 64 px hold about 2,000 SSS
+/// pixels of a face, 0.2 s of gathering on two cores.
+pub const TRUTH_TILE_PX: u32 = 64;
+
+/// What one frame of tiles may spend gathering (ms): the viewport shows
+/// new tiles about three times a second and takes a newer request
+/// between frames (one arriving during a frame stops its gather).
+pub const TRUTH_TILES_BUDGET_MS: f64 = 300.0;
 
 /// Finished frames kept, per view, so that going back to one costs nothing.
 const KEPT_FRAMES: usize = 8;
@@ -119,8 +129,17 @@ pub enum Quality {
     /// each direction.
     Preview { divisor: f32 },
     /// The ground truth at 1/`divisor` of the resolution, the full frame
-    /// next.
+    /// next (a comparison with the ground truth in it).
     Coarse { divisor: f32 },
+    /// The ground truth in full-resolution tiles over `under`'s frame
+    /// (the artist's converged method, or a labelled preview): `done` of
+    /// `tiles` finished, `left_s` the time left from the measured pace.
+    Truth {
+        done: u32,
+        tiles: u32,
+        left_s: Option<f64>,
+        under: MethodId,
+    },
     /// Full resolution; `frames` so far in the running mean, more to come.
     Refining { frames: u32 },
     /// Full resolution and final: the mean of `frames` stopped changing
@@ -139,6 +158,21 @@ impl Quality {
             Quality::Coarse { divisor } => {
                 format!("coarse, 1/{divisor:.0} resolution: the full frame next")
             }
+            Quality::Truth {
+                tiles: 0, under, ..
+            } => {
+                format!("{}'s frame, the ground truth's tiles next", under.id())
+            }
+            Quality::Truth {
+                done,
+                tiles,
+                left_s,
+                under,
+            } => format!(
+                "ground truth: {done} of {tiles} tiles over {}'s frame{}",
+                under.id(),
+                left_s.map_or(String::new(), |s| format!(", {s:.0} s left"))
+            ),
             Quality::Refining { frames } => format!("refining … {frames} frames"),
             Quality::Converged { frames: 1, ms } => format!("converged in {:.1} s", ms / 1e3),
             Quality::Converged { frames, ms } => {
@@ -219,6 +253,8 @@ pub struct Viewport {
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
     /// Failures a test injects into the render thread.
     faults: std::sync::Arc<Faults>,
+    /// The pointer over the viewport, for the ground truth's tiles.
+    focus: Focus,
     /// Render-thread failures since the last frame: a request that fails
     /// every time is sent again only twice, not for ever.
     failures_in_a_row: u32,
@@ -248,9 +284,19 @@ impl Viewport {
         let theirs = cancel.clone();
         let faults = std::sync::Arc::new(Faults::default());
         let their_faults = faults.clone();
+        let focus = Focus::default();
+        let their_focus = focus.clone();
         let spawned = std::thread::Builder::new()
             .name("scatterlab-render".into())
-            .spawn(move || supervise(&req_rx, &reply_tx, &theirs, &wake, &their_faults));
+            .spawn(move || {
+                supervise(
+                    &req_rx,
+                    &reply_tx,
+                    (&theirs, &their_focus),
+                    &wake,
+                    &their_faults,
+                )
+            });
         let thread = match spawned {
             Ok(t) => Some(t),
             Err(e) => {
@@ -268,7 +314,18 @@ impl Viewport {
             thread,
             cancel,
             faults,
+            focus,
             failures_in_a_row: 0,
+        }
+    }
+
+    /// Where the pointer is over the viewport (fractions of its width and
+    /// height; `None`: not over it): the ground truth's next tiles are the
+    /// nearest to it, else to the centre. Read between frames; it changes
+    /// no request.
+    pub fn set_focus(&self, at: Option<[f32; 2]>) {
+        if let Ok(mut f) = self.focus.lock() {
+            *f = at;
         }
     }
 
@@ -445,7 +502,14 @@ struct Worker {
     finished: Vec<(Request, Finished)>,
     /// Shared with the [`Viewport`] and every renderer made here.
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Where the pointer is over the viewport, set by the UI: the ground
+    /// truth's tiles nearest it first.
+    focus: Focus,
 }
+
+/// The pointer over the viewport (fractions of its width and height),
+/// shared by the UI and the render thread.
+type Focus = std::sync::Arc<std::sync::Mutex<Option<[f32; 2]>>>;
 
 /// A finished frame as it was sent.
 #[derive(Clone)]
@@ -461,6 +525,15 @@ fn timings_on() -> bool {
 }
 
 impl Worker {
+    /// The pointer over the viewport, else its centre.
+    fn focus(&self) -> [f32; 2] {
+        self.focus
+            .lock()
+            .ok()
+            .and_then(|f| *f)
+            .unwrap_or([0.5, 0.5])
+    }
+
     fn inputs(&mut self, look: &Look, m: Method) -> Result<ProfileInputs, String> {
         let key = (
             look.profile.clone(),
@@ -583,7 +656,7 @@ impl Worker {
                 ((full_w as f32 / d).round() as u32).max(16),
                 ((full_h as f32 / d).round() as u32).max(16),
             ),
-            Pass::Refine(_) => (full_w, full_h),
+            Pass::Refine(_) | Pass::Tiles => (full_w, full_h),
         };
         let mut notes: Vec<String> = Vec::new();
         // The ground truth takes seconds to minutes: while the artist
@@ -692,8 +765,15 @@ impl Worker {
         let settings = RenderSettings {
             progressive: match pass {
                 Pass::Refine(frame) => Some(Progressive { slot, frame }),
-                Pass::Preview(_) | Pass::Coarse(_) => None,
+                Pass::Preview(_) | Pass::Coarse(_) | Pass::Tiles => None,
             },
+            truth_tiles: (pass == Pass::Tiles && settings.method.sss().ground_truth).then(|| {
+                crate::render::TruthTiles {
+                    tile_px: TRUTH_TILE_PX,
+                    focus: self.focus(),
+                    budget_ms: TRUTH_TILES_BUDGET_MS,
+                }
+            }),
             ..settings
         };
         let renderer = self.renderer.as_mut().ok_or("no renderer")?;
@@ -706,7 +786,7 @@ impl Worker {
             stochastic,
         };
         self.kept[slot] = (!stochastic && matches!(pass, Pass::Refine(_))).then(|| side.clone());
-        if matches!(pass, Pass::Coarse(_)) {
+        if matches!(pass, Pass::Coarse(_) | Pass::Tiles) {
             self.kept[slot] = None;
         }
         Ok(side)
@@ -723,6 +803,9 @@ enum Pass {
     Coarse(f32),
     /// Full resolution, frame n of the running mean.
     Refine(u32),
+    /// The ground truth's next tiles at full resolution (A alone), nearest
+    /// the focus first ([`crate::render::TruthTiles`]).
+    Tiles,
 }
 
 /// One side of a frame.

@@ -25,6 +25,14 @@ impl EditorApp {
             egui::Sense::click_and_drag(),
         );
         self.viewport_input(ui, rect, &response, framing);
+        // The ground truth's next tiles are those nearest the pointer.
+        if let Some(vp) = &self.view.viewport {
+            let at = response.hover_pos().map(|p| {
+                let f = (p - rect.min) / rect.size();
+                [f.x, f.y]
+            });
+            vp.set_focus(at);
+        }
         response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
         let req = self.frame_request(ui, rect);
         let valid = self.doc.preset.rendering.validate().is_ok()
@@ -395,11 +403,26 @@ impl EditorApp {
                 quality,
                 seq,
             } => {
+                // A ground truth in tiles adds how far it has got and the
+                // time left it showed (tools/measure_live.sh checks both).
+                let tiles = match quality {
+                    viewport::Quality::Truth {
+                        done,
+                        tiles,
+                        left_s,
+                        ..
+                    } => format!(
+                        " tiles={done}/{tiles} left_s={}",
+                        left_s.map_or("none".into(), |s| format!("{s:.2}"))
+                    ),
+                    _ => String::new(),
+                };
                 self.log_line(format_args!(
-                    "frame {} {}x{} seq={seq} render_ms={wall_ms:.1} method={}",
+                    "frame {} {}x{} seq={seq} render_ms={wall_ms:.1} method={}{tiles}",
                     match quality {
                         viewport::Quality::Preview { .. } => "preview",
                         viewport::Quality::Coarse { .. } => "coarse",
+                        viewport::Quality::Truth { .. } => "truth-tiles",
                         viewport::Quality::Refining { .. } => "refining",
                         viewport::Quality::Converged { .. } => "converged",
                     },
@@ -436,6 +459,13 @@ impl EditorApp {
                     note.map(|n| format!(" · {n}")).unwrap_or_default(),
                     stats.adapter
                 );
+                let size = (self.view.last_frame.as_ref()).map_or((0, 0), |f| f.0.dimensions());
+                self.view
+                    .history
+                    .push_back((quality, size, self.view.frame_info.clone()));
+                if self.view.history.len() > super::overlays::FRAME_HISTORY {
+                    self.view.history.pop_front();
+                }
             }
             // The same request is not sent again (it would fail
             // again); the next change renders.

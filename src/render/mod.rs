@@ -48,6 +48,7 @@ pub use renderer::Renderer;
 pub use settings::FrameStats;
 pub use settings::{
     IrradiancePattern, Method, Progressive, RenderSettings, Specular, TexturingMode, Transmission,
+    TruthProgress, TruthTiles,
 };
 #[cfg(feature = "gpu")]
 pub use sss::burley::BurleySampling;

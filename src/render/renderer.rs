@@ -264,10 +264,13 @@ impl Renderer {
 
     /// The SSS pixels counted by the last frame if its scene, depth,
     /// stencil and classification can be reused: a progressive frame past
-    /// the first changes only the rotations.
+    /// the first changes only the rotations, and a frame of the ground
+    /// truth's tiles only the tiles gathered (the key holds everything the
+    /// scene pass depends on).
     fn reusable_scene(&self, key: &SceneKey, s: &RenderSettings) -> Option<u64> {
-        match (&self.scene_key, s.progressive) {
-            (Some((last, pixels)), Some(p)) if p.frame > 0 && last == key => Some(*pixels),
+        let later = s.progressive.is_some_and(|p| p.frame > 0) || s.truth_tiles.is_some();
+        match &self.scene_key {
+            Some((last, pixels)) if later && last == key => Some(*pixels),
             _ => None,
         }
     }
@@ -353,6 +356,7 @@ impl Renderer {
         let scattered = (method.sss().encode)(&mut f, &self.sss, &io, &mut self.sss_state)?;
         let reference_cpu_ms = scattered.cpu_ms;
         let reference_gpu_unfinished = scattered.gpu_unfinished;
+        let truth_tiles = scattered.truth_tiles.clone();
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
@@ -386,6 +390,7 @@ impl Renderer {
             lod_skipped_pixels,
             reference_cpu_ms,
             reference_gpu_unfinished,
+            truth_tiles,
             profile_uploaded: false,
             scene_reused: reuse,
             target_bytes: t.bytes,

@@ -40,6 +40,59 @@ pub struct RenderSettings {
     /// Progressive refinement (the editor, once input stops): this frame
     /// is one more sample of a running mean; `None` renders it alone.
     pub progressive: Option<Progressive>,
+    /// The ground truth in tiles (the editor): this frame gathers the next
+    /// tiles of the view for about a budget and the next frame of the same
+    /// view goes on from there; `None` gathers the whole view.
+    pub truth_tiles: Option<TruthTiles>,
+}
+
+/// How the editor asks for the ground truth: in square tiles of
+/// `tile_px`, those nearest `focus` first (fractions of the frame's width
+/// and height: the cursor, else the centre), for about `budget_ms` of
+/// gathering a frame. The finished view is the same frame as one gathered
+/// whole.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthTiles {
+    pub tile_px: u32,
+    pub focus: [f32; 2],
+    pub budget_ms: f64,
+}
+
+/// How far a view's ground truth in tiles has got
+/// ([`FrameStats::truth_tiles`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TruthProgress {
+    pub tile_px: u32,
+    /// Tiles across and down.
+    pub columns: u32,
+    pub rows: u32,
+    /// Per tile, row by row: whether its pixels are the ground truth's
+    /// (a tile with no SSS pixel is done from the start).
+    pub done: Vec<bool>,
+    /// The tiles that hold SSS pixels, and how many of those are done.
+    pub skin_tiles: u32,
+    pub skin_tiles_done: u32,
+    /// SSS pixels gathered and in all.
+    pub pixels_done: u64,
+    pub pixels_total: u64,
+    /// Time spent gathering this view so far, over all its frames (ms).
+    pub gather_ms: f64,
+}
+
+impl TruthProgress {
+    pub fn finished(&self) -> bool {
+        self.done.iter().all(|d| *d)
+    }
+
+    pub fn tiles_done(&self) -> usize {
+        self.done.iter().filter(|d| **d).count()
+    }
+
+    /// Whether pixel (x, y) is in a finished tile.
+    pub fn is_done(&self, x: u32, y: u32) -> bool {
+        let (c, r) = (x / self.tile_px.max(1), y / self.tile_px.max(1));
+        c < self.columns && r < self.rows && self.done[(r * self.columns + c) as usize]
+    }
 }
 
 /// One frame of progressive refinement: its SSS result joins the running
@@ -175,6 +228,7 @@ impl Default for RenderSettings {
             detail_normal_strength: 1.0,
             environment_sh: default_environment_sh(),
             progressive: None,
+            truth_tiles: None,
         }
     }
 }
@@ -207,6 +261,9 @@ pub struct FrameStats {
     /// finish (the driver ended its loops, or the stack was too small),
     /// gathered on the CPU instead; `None` when the CPU gathered them all.
     pub reference_gpu_unfinished: Option<u64>,
+    /// `reference` in tiles ([`RenderSettings::truth_tiles`]): how far the
+    /// view has got with this frame.
+    pub truth_tiles: Option<TruthProgress>,
     /// Whether this frame uploaded the profile's tables, patterns and
     /// kernels (false while the profile is unchanged).
     pub profile_uploaded: bool,

@@ -413,11 +413,13 @@ fn the_viewport_previews_while_dragging_and_converges_after() {
     assert_eq!(h.state().viewport_frame().unwrap().0.width(), full);
 }
 
-/// "Refine to the truth" (issue 23): the method's converged frame, then a
-/// coarse ground truth, then the full one, named in the status; going
-/// back to that view shows its finished frame at once.
+/// "Refine to the truth" (issues 23 and 38): the method's converged frame
+/// stays on screen and the ground truth replaces it tile by tile at full
+/// resolution (never a coarser frame over a converged one), the status
+/// bar naming what is shown at every frame; going back to that view shows
+/// its finished frame at once.
 #[test]
-fn refine_to_the_truth_goes_coarse_then_full_and_keeps_the_frame() {
+fn refine_to_the_truth_fills_tiles_over_the_converged_frame_and_keeps_it() {
     use scatterlab::app::viewport::Quality;
     let state = UiState {
         refine_to_truth: true,
@@ -426,15 +428,52 @@ fn refine_to_the_truth_goes_coarse_then_full_and_keeps_the_frame() {
     // A small window: the ground truth is a CPU frame.
     let mut h = harness_of(EditorApp::new(None, state, None, true), [900.0, 560.0]);
     h.step();
-    let saw_coarse = std::cell::Cell::new(false);
     step_until(&mut h, "the full ground truth", |a| {
-        if matches!(a.viewport_quality(), Some(Quality::Coarse { .. })) {
-            saw_coarse.set(true);
-        }
         matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
             && a.frame_info().starts_with("reference")
     });
-    assert!(saw_coarse.get(), "no coarse ground truth came first");
+    // Every frame after burley's converged one: its quality, size and
+    // status line.
+    let history: Vec<_> = h.state().viewport_history().cloned().collect();
+    let start = history
+        .iter()
+        .position(|(q, _, info)| {
+            matches!(q, Quality::Converged { .. }) && info.starts_with("burley")
+        })
+        .expect("burley converged first");
+    let size = history[start].1;
+    let seen = &history[start + 1..];
+    for (q, s, info) in seen {
+        eprintln!("{q:?} {s:?} {info}");
+        assert_eq!(
+            *s, size,
+            "a frame of another size over the converged one: {info}"
+        );
+        assert!(
+            !matches!(q, Quality::Coarse { .. }),
+            "a coarse frame: {info}"
+        );
+    }
+    let tiles: Vec<_> = seen
+        .iter()
+        .filter_map(|(q, _, _)| match q {
+            Quality::Truth { done, tiles, .. } if *tiles > 0 => Some((*done, *tiles)),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        !tiles.is_empty(),
+        "no frame of tiles came before the full truth"
+    );
+    assert!(
+        tiles.windows(2).all(|w| w[0].0 <= w[1].0),
+        "tiles went back: {tiles:?}"
+    );
+    // The status said the tiles were next before the first of them.
+    assert!(seen
+        .iter()
+        .any(|(q, _, info)| matches!(q, Quality::Truth { tiles: 0, .. })
+            && info.contains("burley's frame, the ground truth's tiles next")));
     let info = h.state().frame_info().to_string();
     assert!(
         info.contains("the ground truth, refined from burley"),

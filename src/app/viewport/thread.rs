@@ -18,6 +18,34 @@ pub(super) struct Refine {
     /// The request as the artist made it, when `req` is its ground truth
     /// ("refine to the truth"), with the method it was refined from.
     pub(super) truth_of: Option<(Request, MethodId)>,
+    /// The ground truth in tiles: the frame under the tiles not yet done
+    /// (the method's converged frame, or a preview) and how fast the
+    /// tiles have come.
+    pub(super) tiles: TilesState,
+}
+
+/// A ground truth in tiles as the render thread follows it.
+#[derive(Default)]
+pub(super) struct TilesState {
+    /// The frame shown where tiles are not done, and its method.
+    under: Option<(image::RgbaImage, MethodId)>,
+    /// Frames of tiles so far.
+    frames: u32,
+    /// Wall time and SSS pixels of the frames after the first (the first
+    /// may also build the cells): the pace of the time left.
+    paced_ms: f64,
+    paced_pixels: u64,
+    pixels_done: u64,
+}
+
+impl TilesState {
+    /// Under the tiles: `image`, the converged frame of `method`.
+    pub(super) fn over(image: image::RgbaImage, method: MethodId) -> Self {
+        Self {
+            under: Some((image, method)),
+            ..Self::default()
+        }
+    }
 }
 
 /// The newest request waiting, without blocking; `Err` when the UI has
@@ -69,13 +97,13 @@ impl Faults {
 pub(super) fn supervise(
     rx: &Receiver<Request>,
     tx: &Sender<Reply>,
-    cancel: &std::sync::Arc<std::sync::atomic::AtomicBool>,
+    (cancel, focus): (&std::sync::Arc<std::sync::atomic::AtomicBool>, &Focus),
     wake: &impl Fn(),
     faults: &Faults,
 ) {
     loop {
         let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            worker(rx, tx, cancel.clone(), wake, faults)
+            worker(rx, tx, (cancel.clone(), focus.clone()), wake, faults)
         }));
         let Err(panic) = run else {
             return;
@@ -104,11 +132,11 @@ pub(super) fn supervise(
 pub(super) fn worker(
     rx: &Receiver<Request>,
     tx: &Sender<Reply>,
-    cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    (cancel, focus): (std::sync::Arc<std::sync::atomic::AtomicBool>, Focus),
     wake: &impl Fn(),
     faults: &Faults,
 ) {
-    let mut w = Worker::new(cancel);
+    let mut w = Worker::new(cancel, focus);
     // Set up the default head before the UI's first request arrives (an
     // error here recurs, and is reported, at that request).
     // The editor learns the head's framing from it (Reset view, zoom limits,
@@ -182,6 +210,7 @@ pub(super) fn worker(
             since: t0,
             coarse_done: false,
             truth_of: None,
+            tiles: TilesState::default(),
         };
         if w.pending_maps.is_some() {
             // The head first, with neutral maps; then the same view with
@@ -215,7 +244,7 @@ pub(super) fn worker(
 
 impl Worker {
     /// A worker with no renderer yet, cancelled through `cancel`.
-    fn new(cancel: std::sync::Arc<std::sync::atomic::AtomicBool>) -> Self {
+    fn new(cancel: std::sync::Arc<std::sync::atomic::AtomicBool>, focus: Focus) -> Self {
         Worker {
             renderer: None,
             mesh_path: None,
@@ -229,6 +258,7 @@ impl Worker {
             full_frame_ms: None,
             finished: Vec::new(),
             cancel,
+            focus,
         }
     }
 }
@@ -347,8 +377,12 @@ pub(super) fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Send
 /// more frames would still change the image (false: converged, failed, or
 /// the UI has gone).
 pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
-    // The ground truth takes seconds: a coarse one over the whole view
-    // first (a new request in between is taken before the full frame).
+    if r.req.has_truth() && r.req.b.is_none() {
+        return truth_tiles_step(w, r, tx);
+    }
+    // A comparison with the ground truth takes seconds: a coarse one over
+    // the whole view first (a new request in between is taken before the
+    // full frame).
     if r.frames == 0 && !r.coarse_done && r.req.has_truth() {
         r.coarse_done = true;
         let divisor = COARSE_TRUTH_DIVISOR;
@@ -406,8 +440,8 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
     }
     let note = with_truth_note(&r.truth_of, rendered.note);
     // "Refine to the truth": the method's converged frame is shown, and
-    // the ground truth of the same view follows, kept as the view's
-    // finished frame.
+    // the ground truth of the same view follows in tiles over it, kept as
+    // the view's finished frame.
     let to_truth = done
         && r.req.refine_to_truth
         && r.truth_of.is_none()
@@ -435,6 +469,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
             w.finished.truncate(KEPT_FRAMES);
         }
     }
+    let under = to_truth.then(|| (rendered.image.clone(), rendered.stats.clone()));
     let reply = Reply::Frame {
         difference_scale: rendered.difference_scale,
         image: rendered.image,
@@ -455,9 +490,149 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
         r.frames = 0;
         r.prev = None;
         r.coarse_done = false;
+        // Said at once: the converged frame stays, the tiles come next.
+        if let Some((image, stats)) = &under {
+            let next = Reply::Frame {
+                difference_scale: None,
+                image: image.clone(),
+                stats: Box::new(stats.clone()),
+                wall_ms: 0.0,
+                note: with_truth_note(&r.truth_of, None),
+                seq: r.req.seq,
+                quality: Quality::Truth {
+                    done: 0,
+                    tiles: 0,
+                    left_s: None,
+                    under: from,
+                },
+            };
+            if tx.send(next).is_err() {
+                return false;
+            }
+        }
+        r.tiles = under.map_or_else(TilesState::default, |(i, _)| TilesState::over(i, from));
         return true;
     }
     sent && !done
+}
+
+/// One step of the ground truth in tiles (A alone): first, where there is
+/// no converged frame of the artist's method to show under the tiles, the
+/// preview method's full-resolution frame, labelled; then each step a
+/// frame of the next tiles composed over it, the finished tiles the
+/// ground truth's, until every tile is done. Returns whether more steps
+/// follow (false: finished, failed, a newer request, or the UI has gone).
+fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    let t1 = Instant::now();
+    let Some((under, under_method)) = &r.tiles.under else {
+        let method = r.req.a.rendering.method.preview();
+        let rendered = match w.frame(&r.req, Pass::Preview(1.0)) {
+            Ok(x) => x,
+            Err(e) if is_cancelled(&e) => return false,
+            Err(e) => {
+                let _ = tx.send(Reply::Error(e));
+                return false;
+            }
+        };
+        r.tiles = TilesState::over(rendered.image.clone(), method);
+        let reply = Reply::Frame {
+            difference_scale: None,
+            image: rendered.image,
+            stats: Box::new(rendered.stats),
+            wall_ms: t1.elapsed().as_secs_f64() * 1e3,
+            note: Some(format!(
+                "{} stands in where the ground truth's tiles are not done",
+                method.id()
+            )),
+            seq: r.req.seq,
+            quality: Quality::Truth {
+                done: 0,
+                tiles: 0,
+                left_s: None,
+                under: method,
+            },
+        };
+        return tx.send(reply).is_ok();
+    };
+    let (under, under_method) = (under.clone(), *under_method);
+    let rendered = match w.frame(&r.req, Pass::Tiles) {
+        Ok(x) => x,
+        Err(e) if is_cancelled(&e) => return false,
+        Err(e) => {
+            let _ = tx.send(Reply::Error(e));
+            return false;
+        }
+    };
+    let Some(progress) = rendered.stats.truth_tiles.clone() else {
+        let _ = tx.send(Reply::Error(
+            "the ground truth's frame reported no tiles".into(),
+        ));
+        return false;
+    };
+    let mut image = rendered.image;
+    let finished = progress.finished();
+    if !finished && under.dimensions() == image.dimensions() {
+        for (x, y, p) in image.enumerate_pixels_mut() {
+            if !progress.is_done(x, y) {
+                *p = *under.get_pixel(x, y);
+            }
+        }
+    }
+    // The pace of the frames after the first (which may build the cells).
+    let t = &mut r.tiles;
+    if t.frames > 0 {
+        t.paced_ms += t1.elapsed().as_secs_f64() * 1e3;
+        t.paced_pixels += progress.pixels_done.saturating_sub(t.pixels_done);
+    }
+    t.frames += 1;
+    t.pixels_done = progress.pixels_done;
+    let left = progress.pixels_total.saturating_sub(progress.pixels_done);
+    let left_s =
+        (t.paced_pixels > 0).then(|| t.paced_ms / t.paced_pixels as f64 * left as f64 / 1e3);
+    let quality = if finished {
+        Quality::Converged {
+            frames: 1,
+            ms: r.since.elapsed().as_secs_f64() * 1e3,
+        }
+    } else {
+        Quality::Truth {
+            done: progress.skin_tiles_done,
+            tiles: progress.skin_tiles,
+            left_s,
+            under: under_method,
+        }
+    };
+    let note = with_truth_note(&r.truth_of, rendered.note);
+    if finished {
+        let key = r
+            .truth_of
+            .as_ref()
+            .map_or_else(|| r.req.key(), |(k, _)| k.key());
+        w.finished.retain(|(k, _)| *k != key);
+        w.finished.insert(
+            0,
+            (
+                key,
+                Finished {
+                    image: image.clone(),
+                    stats: rendered.stats.clone(),
+                    note: note.clone(),
+                    difference_scale: None,
+                },
+            ),
+        );
+        w.finished.truncate(KEPT_FRAMES);
+    }
+    let reply = Reply::Frame {
+        difference_scale: None,
+        image,
+        stats: Box::new(rendered.stats),
+        wall_ms: t1.elapsed().as_secs_f64() * 1e3,
+        note,
+        seq: r.req.seq,
+        quality,
+    };
+    tx.send(reply).is_ok() && !finished
 }
 
 /// A frame's note, led by "the ground truth, refined from …" when it is

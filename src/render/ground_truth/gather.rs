@@ -264,15 +264,20 @@ impl Cloud {
     /// The gather at many probes, in parallel, each over k × k points of
     /// its pixel ([`Cloud::gather_supersampled`]); `None` when `cancel`
     /// was set meanwhile (it is read before each chunk of probes).
+    /// `progress`: report it to [`super::progress`] (a whole frame; the
+    /// editor's tiles report their own).
     pub fn gather_all(
         &self,
         probes: &[Probe],
         supersample: u32,
         irradiance: &dyn SurfaceIrradiance,
         cancel: &std::sync::atomic::AtomicBool,
+        progress: bool,
     ) -> Option<Vec<Option<[f32; 3]>>> {
         let cancelled = || cancel.load(std::sync::atomic::Ordering::Relaxed);
-        start(2, probes.len());
+        if progress {
+            start(2, probes.len());
+        }
         let out = probes
             .par_chunks(MEMO_CHUNK)
             .flat_map_iter(|chunk| {
@@ -283,13 +288,17 @@ impl Cloud {
                 chunk
                     .iter()
                     .map(|p| {
-                        step();
+                        if progress {
+                            step();
+                        }
                         self.supersampled_with(p, supersample, irradiance, &memo)
                     })
                     .collect::<Vec<_>>()
             })
             .collect();
-        finish();
+        if progress {
+            finish();
+        }
         (!cancelled()).then_some(out)
     }
 

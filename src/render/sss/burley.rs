@@ -334,6 +334,7 @@ fn encode(
         counted_pass: Some(label),
         cpu_ms: None,
         gpu_unfinished: None,
+        truth_tiles: None,
     })
 }
 

@@ -109,6 +109,7 @@ fn encode(
             counted_pass: None,
             cpu_ms: None,
             gpu_unfinished: None,
+            truth_tiles: None,
         });
     }
     for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
@@ -133,6 +134,7 @@ fn encode(
         counted_pass: None,
         cpu_ms: None,
         gpu_unfinished: None,
+        truth_tiles: None,
     })
 }
 

@@ -282,6 +282,8 @@ pub(in crate::render) struct Scattered {
     /// `reference` on the GPU: the points whose walk the GPU did not
     /// finish, gathered on the CPU instead.
     pub gpu_unfinished: Option<u64>,
+    /// `reference` in tiles: how far the view has got.
+    pub truth_tiles: Option<crate::render::settings::TruthProgress>,
 }
 
 /// Records a method's passes (or computes it, `reference`).
@@ -302,6 +304,7 @@ pub(in crate::render) fn no_pass(
         counted_pass: None,
         cpu_ms: None,
         gpu_unfinished: None,
+        truth_tiles: None,
     })
 }
 

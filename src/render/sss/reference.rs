@@ -17,10 +17,13 @@ use crate::render::passes::shadow::{ShadowPass, SHADOW_SIZE};
 use crate::render::readback::{f32_to_half, half_to_f32, readback};
 use crate::render::scene_cpu::{SceneIrradiance, ShadowMap, SurfaceMips};
 use crate::render::targets::{HdrTarget, Targets};
+use crate::render::settings::TruthProgress;
 use crate::render::{GpuContext, GpuError, RenderSettings};
 use glam::{Mat4, Vec3, Vec4};
 use std::sync::Arc;
 use std::time::Instant;
+
+mod tiles;
 
 /// `reference` in the registry (`sss::Method::sss`): computed on the CPU
 /// into the ping target before the frame's composite ([`encode`]).
@@ -113,6 +116,7 @@ fn encode(
         counted_pass: None,
         cpu_ms: Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms),
         gpu_unfinished: timing.gpu_unfinished,
+        truth_tiles: timing.tiles,
     })
 }
 
@@ -143,6 +147,8 @@ pub(in crate::render) struct Cache {
     /// The GPU gather's mesh and the newest cloud on the GPU (by its
     /// profile's fingerprint), made on the first GPU frame.
     gpu: Option<(MeshOnGpu, Option<(u64, GpuCloud)>)>,
+    /// The view being gathered in tiles, as far as it has got.
+    partial: Option<tiles::Partial>,
 }
 
 impl Cache {
@@ -180,6 +186,8 @@ struct Timing {
     pub gather_ms: f64,
     /// On the GPU: the points it did not finish (gathered on the CPU).
     pub gpu_unfinished: Option<u64>,
+    /// In tiles: how far the view has got.
+    pub tiles: Option<TruthProgress>,
 }
 
 /// The textures this pass reads and writes.
@@ -206,7 +214,10 @@ impl<'a> Io<'a> {
 }
 
 /// Fills the ping target with the ground truth's scattered diffuse on
-/// every SSS pixel (alpha = the pixel's mask; 0 elsewhere).
+/// every SSS pixel (alpha = the pixel's mask; 0 elsewhere). With
+/// [`RenderSettings::truth_tiles`] (the editor) only the next tiles are
+/// gathered, for about the budget, and the rest of the view is left for
+/// the next frames of the same view ([`tiles`]).
 #[allow(clippy::too_many_arguments)]
 fn scatter(
     ctx: &GpuContext,
@@ -229,11 +240,6 @@ fn scatter(
         });
     }
     let (w, h) = (s.width, s.height);
-    let depth_bpp: u32 = match io.linear_depth_format {
-        wgpu::TextureFormat::R32Float => 4,
-        wgpu::TextureFormat::R16Float => 2,
-        _ => 8,
-    };
     // The same cells, profile and view as the last frame: its texels,
     // before any readback (A/B toggles and compare modes ask for it again).
     let k = SceneIrradiance::key(scene);
@@ -244,8 +250,70 @@ fn scatter(
             build_ms: None,
             gather_ms: 0.0,
             gpu_unfinished: None,
+            tiles: s.truth_tiles.map(|t| tiles::finished(t, (w, h))),
         });
     }
+    let gather = Gather {
+        ctx,
+        mesh,
+        scene,
+        scene_group,
+        supersample: inputs.options.reference.supersample.max(1),
+        on_gpu: inputs.options.reference.gpu,
+        cancel,
+    };
+    if let Some(t) = s.truth_tiles {
+        return tiles::scatter(&gather, io, (view, s, inputs), cache, (k, frame_key), t);
+    }
+    let t0 = Instant::now();
+    let (pixels, points, build_ms) = prepare(&gather, io, (view, s, inputs), cache, k)?;
+    let Some(c) = cache.as_mut() else {
+        return Err(GpuError::Readback("ground truth cache".into()));
+    };
+    let cloud = c.cloud(inputs)?;
+    let (scattered, gpu_unfinished) = gather.run(c, &cloud, &points, true)?;
+    if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
+        eprintln!(
+            "timing: reference: {} cells, {} points, build {:?} ms, gather ({}) {:.0} ms",
+            cloud.len(),
+            points.len(),
+            build_ms,
+            if gather.on_gpu { "GPU" } else { "CPU" },
+            t0.elapsed().as_secs_f64() * 1e3
+        );
+    }
+    let gather_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let out = rgba_half_texels(pixels, scattered, (w, h));
+    write_ping(ctx, io.ping, &out, w, h);
+    c.frame = Some((frame_key, out));
+    Ok(Timing {
+        build_ms,
+        gather_ms,
+        gpu_unfinished,
+        tiles: None,
+    })
+}
+
+/// Each SSS pixel (its index and mask) with its probe, and the time the
+/// cells took when they were built for this frame: the scene's diffuse
+/// and depth read back, the cells made where the light, look or maps
+/// changed (the cache keeps them otherwise).
+type Prepared = (Vec<(usize, f32)>, Vec<Probe>, Option<f64>);
+
+fn prepare(
+    g: &Gather,
+    io: &Io,
+    (view, s, inputs): (Mat4, &RenderSettings, &ProfileInputs),
+    cache: &mut Option<Cache>,
+    k: u64,
+) -> Result<Prepared, GpuError> {
+    let ctx = g.ctx;
+    let (w, h) = (s.width, s.height);
+    let depth_bpp: u32 = match io.linear_depth_format {
+        wgpu::TextureFormat::R32Float => 4,
+        wgpu::TextureFormat::R16Float => 2,
+        _ => 8,
+    };
     let encoder = ctx
         .device
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -272,7 +340,7 @@ fn scatter(
     let mut build_ms = None;
     if cache.as_ref().is_none_or(|c| c.key != k) {
         let t0 = Instant::now();
-        let (cloud, shadow, mips) = build_cloud(ctx, mesh, io, scene, inputs)?;
+        let (cloud, shadow, mips) = build_cloud(ctx, g.mesh, io, g.scene, inputs)?;
         build_ms = Some(t0.elapsed().as_secs_f64() * 1e3);
         *cache = Some(Cache {
             key: k,
@@ -281,62 +349,64 @@ fn scatter(
             mips,
             frame: None,
             gpu: None,
+            partial: None,
         });
     }
-    let Some(c) = cache.as_mut() else {
-        return Err(GpuError::Readback("ground truth cache".into()));
-    };
-    let cloud = c.cloud(inputs)?;
     // Each SSS pixel's point on the surface, from its linear view depth.
-    let t0 = Instant::now();
     let (pixels, points) = surface_points(
         |i| half(&diffuse_bytes[8 * i..8 * i + 8], 3),
         depth_at,
         (w, h),
         view,
         s.view.fov_y_rad,
-        1000.0 * mesh.metres_per_unit,
+        1000.0 * g.mesh.metres_per_unit,
     );
-    let supersample = inputs.options.reference.supersample.max(1);
-    let on_gpu = inputs.options.reference.gpu;
-    let (scattered, gpu_unfinished) = if on_gpu {
-        let (v, unfinished) = gather_on_gpu(
-            ctx,
-            (mesh, scene),
-            c,
-            &cloud,
-            scene_group,
-            &points,
-            supersample,
-            cancel,
-        )?;
-        (v, Some(unfinished))
-    } else {
-        let irr = SceneIrradiance::new(mesh, *scene, &c.shadow, &c.mips);
+    Ok((pixels, points, build_ms))
+}
+
+/// What a gather needs besides the cells and the probes.
+struct Gather<'a> {
+    ctx: &'a GpuContext,
+    mesh: &'a Mesh,
+    scene: &'a SceneUniforms,
+    scene_group: (&'a wgpu::BindGroup, &'a wgpu::BindGroupLayout),
+    /// k × k points a pixel (the floor's 2 × 2 check).
+    supersample: u32,
+    on_gpu: bool,
+    cancel: &'a std::sync::atomic::AtomicBool,
+}
+
+impl Gather<'_> {
+    /// The gather at `probes` on the CPU, or on the GPU with the points it
+    /// does not finish gathered on the CPU (their number). `progress`:
+    /// report it to [`crate::render::ground_truth::progress`] (the whole
+    /// frame at once; a tile of it is reported by the frame's tiles).
+    fn run(
+        &self,
+        c: &mut Cache,
+        cloud: &Cloud,
+        probes: &[Probe],
+        progress: bool,
+    ) -> Result<(Gathered, Option<u64>), GpuError> {
+        if self.on_gpu {
+            let (v, unfinished) = gather_on_gpu(
+                self.ctx,
+                (self.mesh, self.scene),
+                c,
+                cloud,
+                self.scene_group,
+                probes,
+                self.supersample,
+                self.cancel,
+            )?;
+            return Ok((v, Some(unfinished)));
+        }
+        let irr = SceneIrradiance::new(self.mesh, *self.scene, &c.shadow, &c.mips);
         let v = cloud
-            .gather_all(&points, supersample, &irr, cancel)
+            .gather_all(probes, self.supersample, &irr, self.cancel, progress)
             .ok_or(GpuError::Cancelled)?;
-        (v, None)
-    };
-    if std::env::var_os("SCATTERLAB_TIMINGS").is_some() {
-        eprintln!(
-            "timing: reference: {} cells, {} points, build {:?} ms, gather ({}) {:.0} ms",
-            cloud.len(),
-            points.len(),
-            build_ms,
-            if on_gpu { "GPU" } else { "CPU" },
-            t0.elapsed().as_secs_f64() * 1e3
-        );
+        Ok((v, None))
     }
-    let gather_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let out = rgba_half_texels(pixels, scattered, (w, h));
-    write_ping(ctx, io.ping, &out, w, h);
-    c.frame = Some((frame_key, out));
-    Ok(Timing {
-        build_ms,
-        gather_ms,
-        gpu_unfinished,
-    })
 }
 
 /// Each probe's scattered irradiance (`None`: not one surface under a

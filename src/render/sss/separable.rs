@@ -247,6 +247,7 @@ fn encode(
         counted_pass: None,
         cpu_ms: None,
         gpu_unfinished: None,
+        truth_tiles: None,
     })
 }
 
