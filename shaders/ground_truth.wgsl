@@ -52,7 +52,9 @@ struct GatherParams {
     roots_at: u32,
     order_at: u32,
     clusters: u32,
-    _pad: u32,
+    // A near piece is split where a corner differs from its mean by more
+    // than this, over its share of the energy (`TruthBound::uneven`).
+    uneven: f32,
     // 8-point Gauss–Legendre on [−1, 1] (`model::quad::gl8`).
     gl_nodes: array<vec4<f32>, 2>,
     gl_weights: array<vec4<f32>, 2>,
@@ -79,12 +81,12 @@ struct TableEntry {
 
 const TABLE_SIZE: u32 = 2048u;
 // `table.rs`: THETA; `cluster.rs`: CLUSTER_THETA, CLUSTER_LEAF,
-// CLUSTER_DECAY; `gather.rs`: UNEVEN.
+// CLUSTER_DECAY (the bound's τ is in the table's leaf sizes, its
+// splitting tolerance in `g.uneven`).
 const THETA: f32 = 1.0;
 const CLUSTER_THETA: f32 = 0.25;
 const CLUSTER_LEAF: f32 = 0.25;
 const CLUSTER_DECAY: f32 = 0.25;
-const UNEVEN: f32 = 0.01;
 const GATHER_PI: f32 = 3.14159265358979;
 const STACK: u32 = 128u;
 
@@ -437,7 +439,7 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
             let hi = scaled_cdf(s, dist + reach);
             share = max(hi - lo, vec3<f32>(0.0));
         }
-        let checked = near && !(side <= eps || all(share <= vec3<f32>(UNEVEN)));
+        let checked = near && !(side <= eps || all(share <= vec3<f32>(g.uneven)));
         var even = true;
         var slot = select(0u, 1u, from_cells);
         let last = select(0u, 3u, checked);
@@ -457,7 +459,7 @@ fn gather(x: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>, profile_scale: f32) -> vec
             if slot == 0u {
                 e = v;
             } else {
-                even = all(abs(v - e) * share <= UNEVEN * max(abs(e), vec3<f32>(1e-6)));
+                even = all(abs(v - e) * share <= g.uneven * max(abs(e), vec3<f32>(1e-6)));
             }
             slot = slot + 1u;
         }

@@ -46,6 +46,14 @@ impl Record {
             })
     }
 
+    /// Field `k` as a finite number, or `None` where it is empty.
+    pub fn opt_num(&self, k: usize) -> Result<Option<f64>> {
+        if self.text(k).is_empty() {
+            return Ok(None);
+        }
+        self.num(k).map(Some)
+    }
+
     /// Field `k`, which must be one of `list`.
     pub fn one_of(&self, k: usize, list: &[&'static str]) -> Result<&'static str> {
         list.iter()

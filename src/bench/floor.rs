@@ -45,14 +45,20 @@ pub struct Floor {
 /// nothing and the same colour (so the scene pass, and with it the ground
 /// truth's cells, are the look's own).
 pub fn d_to_zero_inputs(look: &ProfileInputs) -> Result<ProfileInputs> {
+    let profile = d_to_zero_profile(look)?;
+    let mut inputs = ProfileInputs::new(&profile, 21, 17)?;
+    inputs.shared.surface_albedo = look.shared.surface_albedo;
+    Ok(inputs)
+}
+
+/// The profile of [`d_to_zero_inputs`]: Burley with the look's colour and
+/// d = [`D_ZERO_MM`].
+pub fn d_to_zero_profile(look: &ProfileInputs) -> Result<Burley> {
     let albedo = look
         .shared
         .surface_albedo
         .map(|a| (a as f64).clamp(1e-3, 1.0));
-    let profile = Burley::from_scattering_distance(albedo, [D_ZERO_MM; 3])?;
-    let mut inputs = ProfileInputs::new(&profile, 21, 17)?;
-    inputs.shared.surface_albedo = look.shared.surface_albedo;
-    Ok(inputs)
+    Ok(Burley::from_scattering_distance(albedo, [D_ZERO_MM; 3])?)
 }
 
 /// Measures the floor of the scene `settings` with the look `look`, given

@@ -15,6 +15,7 @@ pub mod metrics;
 pub mod report;
 pub mod scenes;
 pub mod skip;
+pub mod truth;
 
 use crate::model::RadialProfile;
 use crate::render::{FrameStats, GpuContext, Mesh, ProfileInputs, RenderSettings, Renderer};
@@ -74,6 +75,8 @@ pub struct Options {
     pub size: (u32, u32),
     /// Timed frames per configuration after one warm-up (the minimum is kept).
     pub repeats: u32,
+    /// Also gather the ground truth on the GPU (`truth.csv`'s `gpu-final`).
+    pub gpu_truth: bool,
 }
 
 impl Options {
@@ -82,11 +85,13 @@ impl Options {
             Self {
                 size: (320, 180),
                 repeats: 1,
+                gpu_truth: false,
             }
         } else {
             Self {
                 size: (640, 360),
                 repeats: 3,
+                gpu_truth: false,
             }
         }
     }
@@ -199,13 +204,14 @@ pub fn renderer_for(stage: Stage) -> Result<Renderer> {
     Ok(Renderer::new(GpuContext::new_headless()?, &mesh)?)
 }
 
-/// Every configuration on one scene, and the ground truth's floor there.
+/// Every configuration on one scene, and the ground truth's floor and
+/// its other paths there.
 pub fn bench_scene(
     renderer: &mut Renderer,
     prepared: &Prepared,
     scene: &Scene,
     options: Options,
-) -> Result<(Vec<Row>, floor::Floor)> {
+) -> Result<(Vec<Row>, floor::Floor, Vec<truth::TruthRow>)> {
     let settings = |c: Config| RenderSettings {
         method: c.method(),
         ..scene.settings.clone()
@@ -242,6 +248,20 @@ pub fn bench_scene(
         &reference.diffuse,
     )
     .with_context(|| format!("{}: the ground truth's floor", scene.id))?;
+    let mut truth_rows = truth::measure(
+        renderer,
+        (
+            &prepared.inputs(Config::reference())?,
+            prepared.profile.as_ref(),
+        ),
+        &settings(Config::reference()),
+        (&reference.diffuse, &reference.stats, floor.d_to_zero),
+        options.gpu_truth,
+    )
+    .with_context(|| format!("{}: the ground truth's paths", scene.id))?;
+    for t in &mut truth_rows {
+        t.scene = scene.id;
+    }
     let mask = metrics::sss_mask(&reference.diffuse);
     let inner = metrics::interior(&mask, scene.settings.width as usize, INTERIOR_MARGIN_PX);
     let row = |c: Config, m: &Measured| {
@@ -278,7 +298,7 @@ pub fn bench_scene(
     for r in &mut rows {
         r.none_frame_ms = none_frame_ms;
     }
-    Ok((rows, floor))
+    Ok((rows, floor, truth_rows))
 }
 
 /// Redraws the charts and the report of an earlier run from its
@@ -287,6 +307,7 @@ pub fn replot(dir: &Path, quick: bool) -> Result<()> {
     let options = Options::new(quick);
     let rows = report::read_csv(&dir.join("results.csv"))?;
     let floors = report::read_floor_csv(&dir.join("floor.csv"))?;
+    let truths = truth::read_csv(&dir.join("truth.csv"))?;
     let skip_rows = skip::read_csv(&dir.join("skip.csv"))?;
     let first = rows.first().context("results.csv has no rows")?;
     let scenes = scenes::scenes((first.width, first.height));
@@ -297,6 +318,7 @@ pub fn replot(dir: &Path, quick: bool) -> Result<()> {
         scenes: &scenes,
         rows: &rows,
         floors: &floors,
+        truth: &truths,
         skip: &skip_rows,
         options: Options {
             size: (first.width, first.height),
@@ -310,8 +332,11 @@ pub fn replot(dir: &Path, quick: bool) -> Result<()> {
 }
 
 /// `scatterlab bench --out DIR [--quick] [--preset FILE]`.
-pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
-    let options = Options::new(quick);
+pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>, gpu_truth: bool) -> Result<()> {
+    let options = Options {
+        gpu_truth,
+        ..Options::new(quick)
+    };
     let preset = match preset {
         Some(p) => Preset::load(p)?,
         None => Preset::default_skin(),
@@ -328,6 +353,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
     let mut plane: Option<Renderer> = None;
     let mut rows = Vec::new();
     let mut floors = Vec::new();
+    let mut truths = Vec::new();
     for (k, scene) in scenes.iter().enumerate() {
         let t = Instant::now();
         let slot = match scene.stage {
@@ -338,9 +364,10 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
             Some(r) => r,
             None => slot.insert(renderer_for(scene.stage)?),
         };
-        let (scene_rows, floor) = bench_scene(renderer, &prepared, scene, options)?;
+        let (scene_rows, floor, truth_rows) = bench_scene(renderer, &prepared, scene, options)?;
         rows.extend(scene_rows);
         floors.push((scene.id, floor));
+        truths.extend(truth_rows);
         eprintln!(
             "[{}/{}] {}: {:.1} s",
             k + 1,
@@ -351,6 +378,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
     }
     report::write_csv(&out.join("results.csv"), &rows)?;
     report::write_floor_csv(&out.join("floor.csv"), &floors)?;
+    truth::write_csv(&out.join("truth.csv"), &truths)?;
     for scene in &scenes {
         chart::write(&out.join(format!("{}.png", scene.id)), scene, &rows)?;
     }
@@ -365,6 +393,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>) -> Result<()> {
         scenes: &scenes,
         rows: &rows,
         floors: &floors,
+        truth: &truths,
         skip: &skip_rows,
         options,
         adapter: &adapter,

@@ -178,6 +178,8 @@ pub struct Context<'a> {
     pub scenes: &'a [Scene],
     pub rows: &'a [Row],
     pub floors: &'a [(&'static str, Floor)],
+    /// The ground truth's other paths (`truth.csv`; none in older runs).
+    pub truth: &'a [super::truth::TruthRow],
     pub skip: &'a [SkipRow],
     pub options: Options,
     pub adapter: &'a str,
@@ -354,6 +356,13 @@ pub fn markdown(c: &Context) -> String {
         timing
     );
     floor_table(&mut s, c);
+    let none_ms = |scene: &str| {
+        c.rows
+            .iter()
+            .find(|r| r.scene == scene)
+            .map(|r| r.none_frame_ms)
+    };
+    super::truth::markdown(&mut s, c.truth, &none_ms);
     for scene in c.scenes {
         let rows: Vec<&Row> = c.rows.iter().filter(|r| r.scene == scene.id).collect();
         let _ = writeln!(s, "## {}\n\n{}.\n", scene.id, scene.description);

@@ -19,6 +19,10 @@ pub struct BenchArgs {
     /// and skip.csv (no rendering).
     #[arg(long)]
     pub replot: bool,
+    /// Also gather each scene's ground truth on the GPU (`truth.csv`,
+    /// `render --reference-gpu`): its time and its distance from the CPU's.
+    #[arg(long)]
+    pub reference_gpu: bool,
 }
 
 impl BenchArgs {
@@ -26,7 +30,12 @@ impl BenchArgs {
         if self.replot {
             crate::bench::replot(&self.out, self.quick)
         } else {
-            crate::bench::run_cli(&self.out, self.quick, self.preset.as_deref())
+            crate::bench::run_cli(
+                &self.out,
+                self.quick,
+                self.preset.as_deref(),
+                self.reference_gpu,
+            )
         }
     }
 }

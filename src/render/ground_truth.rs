@@ -60,7 +60,7 @@ pub mod gpu;
 mod table;
 
 use cluster::{Cluster, ClusterKind};
-pub use table::{ProfileTable, ENERGY_FRACTION};
+pub use table::{ProfileTable, TruthBound, ENERGY_FRACTION};
 
 use glam::Vec3;
 use rayon::prelude::*;

@@ -357,6 +357,7 @@ impl Renderer {
         let reference_cpu_ms = scattered.cpu_ms;
         let reference_gpu_unfinished = scattered.gpu_unfinished;
         let truth_tiles = scattered.truth_tiles.clone();
+        let reference_build_ms = scattered.build_ms;
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
@@ -389,6 +390,7 @@ impl Renderer {
             sss_samples,
             lod_skipped_pixels,
             reference_cpu_ms,
+            reference_build_ms,
             reference_gpu_unfinished,
             truth_tiles,
             profile_uploaded: false,

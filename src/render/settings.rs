@@ -257,6 +257,9 @@ pub struct FrameStats {
     /// irradiance cloud (only when the light, look or profile changed) and
     /// the gather over the SSS pixels.
     pub reference_cpu_ms: Option<f64>,
+    /// `reference`: the part of `reference_cpu_ms` that built the cells
+    /// (`None` where they were kept from an earlier frame).
+    pub reference_build_ms: Option<f64>,
     /// `reference --reference-gpu`: the points whose walk the GPU did not
     /// finish (the driver ended its loops, or the stack was too small),
     /// gathered on the CPU instead; `None` when the CPU gathered them all.

@@ -7,11 +7,6 @@ use super::*;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
-/// A near piece is split where a corner's irradiance differs from the
-/// piece's mean by more than this fraction of it, over the piece's share
-/// of the profile's energy (at most 1).
-const UNEVEN: f32 = 0.01;
-
 impl Cloud {
     /// The cells with the profile `table`: each root goes into every bucket
     /// its bounding box touches (buckets half the profile's reach wide); a
@@ -437,10 +432,12 @@ impl Cloud {
             let (lo, hi) = (table.cdf((dist - reach).max(0.0)), table.cdf(dist + reach));
             let share = [0, 1, 2].map(|c| (hi[c] - lo[c]).max(0.0));
             let even = side <= q.epsilon_mm
-                || share.iter().all(|w| *w <= UNEVEN)
+                || share.iter().all(|w| *w <= self.table.uneven)
                 || node.bary.iter().all(|b| {
                     let v = q.memo.at(irradiance, root.tri, *b, footprint);
-                    (0..3).all(|c| (v[c] - e[c]).abs() * share[c] <= UNEVEN * e[c].abs().max(1e-6))
+                    (0..3).all(|c| {
+                        (v[c] - e[c]).abs() * share[c] <= self.table.uneven * e[c].abs().max(1e-6)
+                    })
                 });
             if even {
                 if e != [0.0; 3] {

@@ -40,7 +40,8 @@ struct Params {
     roots_at: u32,
     order_at: u32,
     clusters: u32,
-    _pad: u32,
+    /// The table's splitting tolerance (`TruthBound::uneven`).
+    uneven: f32,
     gl_nodes: [f32; 8],
     gl_weights: [f32; 8],
 }
@@ -170,7 +171,7 @@ impl GpuCloud {
             roots_at,
             order_at,
             clusters: cells.clusters.len() as u32,
-            _pad: 0,
+            uneven: t.uneven,
             gl_nodes: std::array::from_fn(|i| nodes[i] as f32),
             gl_weights: std::array::from_fn(|i| weights[i] as f32),
         };

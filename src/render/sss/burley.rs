@@ -335,6 +335,7 @@ fn encode(
         cpu_ms: None,
         gpu_unfinished: None,
         truth_tiles: None,
+        build_ms: None,
     })
 }
 

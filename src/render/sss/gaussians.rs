@@ -110,6 +110,7 @@ fn encode(
             cpu_ms: None,
             gpu_unfinished: None,
             truth_tiles: None,
+            build_ms: None,
         });
     }
     for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
@@ -135,6 +136,7 @@ fn encode(
         cpu_ms: None,
         gpu_unfinished: None,
         truth_tiles: None,
+        build_ms: None,
     })
 }
 

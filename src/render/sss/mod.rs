@@ -284,6 +284,9 @@ pub(in crate::render) struct Scattered {
     pub gpu_unfinished: Option<u64>,
     /// `reference` in tiles: how far the view has got.
     pub truth_tiles: Option<crate::render::settings::TruthProgress>,
+    /// `reference`: the part of `cpu_ms` that built the cells, where this
+    /// frame built them.
+    pub build_ms: Option<f64>,
 }
 
 /// Records a method's passes (or computes it, `reference`).
@@ -305,6 +308,7 @@ pub(in crate::render) fn no_pass(
         cpu_ms: None,
         gpu_unfinished: None,
         truth_tiles: None,
+        build_ms: None,
     })
 }
 

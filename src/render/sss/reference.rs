@@ -50,6 +50,11 @@ pub struct Options {
     /// tested against).
     #[arg(id = "reference_gpu", long = "reference-gpu")]
     pub gpu: bool,
+    /// The error bound of the ground truth: `final` (the yardstick's), or
+    /// `loose` for a quicker first look (the same walk with the rule's τ
+    /// four times larger; docs/rendering.md measures both).
+    #[arg(long = "truth-bound", value_enum, default_value_t)]
+    pub bound: crate::render::ground_truth::TruthBound,
 }
 
 impl Default for Options {
@@ -57,6 +62,7 @@ impl Default for Options {
         Self {
             supersample: 1,
             gpu: false,
+            bound: Default::default(),
         }
     }
 }
@@ -77,7 +83,10 @@ pub struct Inputs {
 impl MethodInputs for Inputs {
     fn new(look: &Look<'_>, _bake: bool) -> Result<Self, crate::model::ModelError> {
         Ok(Self {
-            table: Arc::new(crate::render::ground_truth::ProfileTable::new(look.profile)),
+            table: Arc::new(crate::render::ground_truth::ProfileTable::with_bound(
+                look.profile,
+                look.options.reference.bound,
+            )),
         })
     }
 
@@ -117,6 +126,7 @@ fn encode(
         cpu_ms: Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms),
         gpu_unfinished: timing.gpu_unfinished,
         truth_tiles: timing.tiles,
+        build_ms: timing.build_ms,
     })
 }
 
