@@ -214,17 +214,8 @@ fn back_lit_slab_transmits_t_of_t() {
     }
 }
 
-/// A sphere of radius 5 mm under a directional light along +z, E =
-/// max(n·z, 0): at the pole facing the light, on the terminator and at
-/// the dark pole, against the integral over the sphere by nested
-/// adaptive quadrature (polar angle about the point, then azimuth):
-/// M = ∫∫ ρ(2a sin(γ/2)) E(y) a² sin γ dγ dφ, with the chord 2a sin(γ/2).
-#[test]
-fn sphere_lit_from_one_side_matches_quadrature() {
-    let profile = Burley::from_scattering_distance([0.8; 3], [2.0, 1.0, 0.5]).unwrap();
-    let a = 5.0f64;
-    // A UV sphere, fine enough that its flat facets sit within 1 µm.
-    let (nu, nv) = (720usize, 360usize);
+/// A UV sphere of radius `a` (mm) with `nu` × `nv` quads split in two.
+pub(super) fn uv_sphere(a: f64, (nu, nv): (usize, usize)) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let mut p = Vec::new();
     for j in 0..=nv {
         let th = std::f64::consts::PI * j as f64 / nv as f64;
@@ -245,6 +236,44 @@ fn sphere_lit_from_one_side_matches_quadrature() {
             t.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
         }
     }
+    (p, t)
+}
+
+/// The scattered light at polar angle `theta0` on a sphere of radius `a`
+/// under a directional light along +z (E = max(n·z, 0)), channel `c`, by
+/// nested adaptive quadrature (polar angle γ about the point, then
+/// azimuth): M = ∫∫ ρ(2a sin(γ/2)) E(y) a² sin γ dγ dφ, with the chord
+/// 2a sin(γ/2).
+pub(super) fn sphere_by_quadrature(
+    profile: &dyn RadialProfile,
+    a: f64,
+    theta0: f64,
+    c: usize,
+) -> f64 {
+    let total = profile.total_reflectance();
+    // y at angle γ from x (azimuth φ about x): its z coordinate.
+    let inner = |g: f64| {
+        let rho = profile.reflectance(2.0 * a * (0.5 * g).sin())[c] / total[c];
+        let ring = |ph: f64| {
+            let z = g.cos() * theta0.cos() - g.sin() * ph.cos() * theta0.sin();
+            z.max(0.0)
+        };
+        let e = quad::integrate(&ring, 0.0, 2.0 * std::f64::consts::PI, 1e-12, 1e-10);
+        rho * e * a * a * g.sin()
+    };
+    quad::integrate(&inner, 0.0, std::f64::consts::PI, 1e-10, 1e-8)
+}
+
+/// A sphere of radius 5 mm under a directional light along +z, E =
+/// max(n·z, 0): at the pole facing the light, on the terminator and at
+/// the dark pole, against the integral over the sphere by nested
+/// adaptive quadrature ([`sphere_by_quadrature`]).
+#[test]
+fn sphere_lit_from_one_side_matches_quadrature() {
+    let profile = Burley::from_scattering_distance([0.8; 3], [2.0, 1.0, 0.5]).unwrap();
+    let a = 5.0f64;
+    // A UV sphere, fine enough that its flat facets sit within 1 µm.
+    let (p, t) = uv_sphere(a, (720, 360));
     let f = |q: Vec3| [(q.z / a as f32).max(0.0); 3];
     let irr = ByPosition {
         p: &p,
@@ -252,22 +281,11 @@ fn sphere_lit_from_one_side_matches_quadrature() {
         f: &f,
     };
     let cloud = Cloud::build(&p, &t, |_| true, &irr, ProfileTable::new(&profile), 0.5);
-    let total = profile.total_reflectance();
     for theta0 in [0.0f64, 0.5 * std::f64::consts::PI, std::f64::consts::PI] {
         let x = Vec3::new((a * theta0.sin()) as f32, 0.0, (a * theta0.cos()) as f32);
         let got = cloud.gather(&Probe::point(x), &irr);
         for c in 0..3 {
-            // y at angle γ from x (azimuth φ about x): its z coordinate.
-            let inner = |g: f64| {
-                let rho = profile.reflectance(2.0 * a * (0.5 * g).sin())[c] / total[c];
-                let ring = |ph: f64| {
-                    let z = g.cos() * theta0.cos() - g.sin() * ph.cos() * theta0.sin();
-                    z.max(0.0)
-                };
-                let e = quad::integrate(&ring, 0.0, 2.0 * std::f64::consts::PI, 1e-12, 1e-10);
-                rho * e * a * a * g.sin()
-            };
-            let want = quad::integrate(&inner, 0.0, std::f64::consts::PI, 1e-10, 1e-8);
+            let want = sphere_by_quadrature(&profile, a, theta0, c);
             eprintln!("sphere θ0 {theta0:.3} channel {c}: {} vs {want:.5}", got[c]);
             assert!(
                 (got[c] as f64 - want).abs() < 0.003 + 0.005 * want,
@@ -294,27 +312,7 @@ fn penners_table_is_the_ground_truths_sphere() {
         Burley::from_scattering_distance([0.91058, 0.338275, 0.2718], [0.7568628, 0.32156864, 0.2])
             .unwrap();
     for c in [3.0f64, 10.0] {
-        let (nu, nv) = (720usize, 360usize);
-        let mut p = Vec::new();
-        for j in 0..=nv {
-            let th = std::f64::consts::PI * j as f64 / nv as f64;
-            for i in 0..nu {
-                let ph = 2.0 * std::f64::consts::PI * i as f64 / nu as f64;
-                p.push(Vec3::new(
-                    (c * th.sin() * ph.cos()) as f32,
-                    (c * th.sin() * ph.sin()) as f32,
-                    (c * th.cos()) as f32,
-                ));
-            }
-        }
-        let mut t = Vec::new();
-        let id = |i: usize, j: usize| (j * nu + i % nu) as u32;
-        for j in 0..nv {
-            for i in 0..nu {
-                t.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
-                t.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
-            }
-        }
+        let (p, t) = uv_sphere(c, (720, 360));
         let f = |q: Vec3| [(q.z / c as f32).max(0.0); 3];
         let irr = ByPosition {
             p: &p,
