@@ -7,7 +7,9 @@ use std::process::ExitCode;
 /// worker thread (render, analysis, the ground truth's pool) frees in that
 /// thread's arena, and the editor's resident memory grew 50 % over a
 /// 21-minute soak that way (`MALLOC_ARENA_MAX=2` held it flat); mimalloc
-/// gives freed pages back (docs/robustness.md has the figures).
+/// gives freed pages back (docs/robustness.md has the figures). Its v2
+/// line (Cargo.toml): v3 holds freed pages for a second, and the ground
+/// truth's peak went over its 400 MB budget with it.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
