@@ -670,3 +670,61 @@ fn blender_addon_round_trips_in_blender_5_and_4_5() {
         assert!(refused.contains("no exact Cycles form"), "{tag}: {v}");
     }
 }
+
+/// `render --out FILE.exr` opens in the OpenEXR bindings with its layers,
+/// and holds what the PNG of the same frame shows: the PNG is
+/// sRGB(ACES(exposure × RGB)) of its radiance (Narkowicz 2015's curve,
+/// typed in the checker) to 8-bit rounding, the radiance is scattered ×
+/// albedo + specular, `none`'s scattered layer is its unscattered one bit
+/// for bit, and burley's smooths (tests/clients/render_exr_check.py).
+/// With `--compare` an EXR is refused, naming the flag and the file.
+#[test]
+fn render_exr_layers_make_the_png_in_openexr() {
+    let dir = tmp_dir("render-exr");
+    let render = |method: &str, out: &Path, extra: &[&str]| -> std::process::Output {
+        Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+            .args(["render", "--method", method, "--deterministic", "--no-lod"])
+            .args([
+                "--width",
+                "256",
+                "--height",
+                "256",
+                "--camera-distance",
+                "0.3",
+            ])
+            .args(["--exposure", "1.7"])
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let (exr, png, none) = (
+        dir.join("burley.exr"),
+        dir.join("burley.png"),
+        dir.join("none.exr"),
+    );
+    for (method, out) in [("burley", &exr), ("burley", &png), ("none", &none)] {
+        let o = render(method, out, &[]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let v = run_client(
+        "render_exr_check.py",
+        &[
+            exr.to_str().unwrap(),
+            png.to_str().unwrap(),
+            none.to_str().unwrap(),
+        ],
+        &[],
+    );
+    eprintln!("render EXR: {v}");
+    assert!(v["png_max_255"].as_f64().unwrap() <= 1.0, "{v}");
+    let refused = dir.join("compare.exr");
+    let o = render("burley", &refused, &["--compare", "none"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && !refused.exists(), "{err}");
+    assert!(
+        err.contains("--out") && err.contains("compare.exr") && err.contains("--compare"),
+        "{err}"
+    );
+}

@@ -26,7 +26,11 @@ pub struct RenderArgs {
     /// Turn off the per-pixel random rotation (reproducible images).
     #[arg(long)]
     pub deterministic: bool,
-    #[arg(long, value_name = "FILE.png")]
+    /// The image: a PNG (tone-mapped sRGB), or with `.exr` the frame's
+    /// linear float layers (the scattered and unscattered diffuse
+    /// irradiance, albedo, specular and, as R, G, B, A, the radiance
+    /// before exposure and tone mapping).
+    #[arg(long, value_name = "FILE.png|FILE.exr")]
     pub out: PathBuf,
     /// Also write per-frame statistics as JSON.
     #[arg(long, value_name = "FILE.json")]
@@ -64,10 +68,19 @@ impl RenderArgs {
             mesh_lod: !self.look.no_lod,
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
+        let exr = self.writes_exr()?;
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
         let (mut image, mut stats) = renderer.render(&inputs, &settings)?;
         for _ in 1..self.view.frames {
             (image, stats) = renderer.render(&inputs, &settings)?;
+        }
+        if exr {
+            // The last frame again, with its layers read back (a frame of
+            // the same request draws the same image).
+            let (_, layers, stats) = renderer.render_layers(&inputs, &settings)?;
+            let bytes = exr_layers(&layers, settings.view.exposure, stats.method)
+                .with_context(|| format!("{}: cannot encode the layers", self.out.display()))?;
+            return self.write_bytes(&bytes, "linear layers", &stats);
         }
         let diff_scale = self.compared(&mut renderer, &rendering, &settings, &mut image)?;
         self.write(&image, &stats)?;
@@ -151,23 +164,55 @@ impl RenderArgs {
         Ok(Some(scale))
     }
 
+    /// Whether `--out` names an OpenEXR file: its layers are one method's,
+    /// so `--compare` and `--diff` (pictures of two) write PNGs only.
+    fn writes_exr(&self) -> Result<bool> {
+        let exr = self
+            .out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        if exr && (self.compare.is_some() || self.diff) {
+            anyhow::bail!(
+                "--out {}: an EXR holds one method's linear layers; --compare and --diff write a PNG (render each method to its own .exr to compare them)",
+                self.out.display()
+            );
+        }
+        Ok(exr)
+    }
+
     /// Writes the PNG (and --stats) atomically and says what it wrote.
     fn write(&self, image: &image::RgbaImage, stats: &crate::render::FrameStats) -> Result<()> {
-        let out = &self.out;
         let mut bytes = Vec::new();
         image.write_to(
             &mut std::io::Cursor::new(&mut bytes),
             image::ImageFormat::Png,
         )?;
-        crate::fsutil::write_atomic(out, &bytes)
+        self.write_bytes(&bytes, "", stats)
+    }
+
+    /// Writes `bytes` to --out (and --stats) atomically and says what it
+    /// wrote.
+    fn write_bytes(
+        &self,
+        bytes: &[u8],
+        what: &str,
+        stats: &crate::render::FrameStats,
+    ) -> Result<()> {
+        let out = &self.out;
+        crate::fsutil::write_atomic(out, bytes)
             .with_context(|| format!("{}: cannot write", out.display()))?;
         if let Some(path) = &self.stats {
             crate::fsutil::write_atomic(path, serde_json::to_string_pretty(stats)?.as_bytes())
                 .with_context(|| format!("{}: cannot write", path.display()))?;
         }
         let passes: Vec<_> = stats.passes.iter().map(|p| p.name).collect();
+        let what = if what.is_empty() {
+            String::new()
+        } else {
+            format!("{what}, ")
+        };
         println!(
-            "wrote {} ({}×{}, {}, passes: {})",
+            "wrote {} ({}×{}, {what}{}, passes: {})",
             out.display(),
             self.width,
             self.height,
@@ -176,4 +221,65 @@ impl RenderArgs {
         );
         Ok(())
     }
+}
+
+/// The frame's layers as one OpenEXR part of 32-bit float channels, named
+/// as compositors name layers (`scattered.R` …), row-major with y down:
+/// - `R`, `G`, `B`, `A`: the radiance the composite pass tone-maps
+///   ([`FrameLayers::radiance`]), alpha the coverage. The PNG of the same
+///   frame is sRGB(ACES(exposure × RGB)) with Narkowicz's 2015 fit of the
+///   ACES curve (`composite.wgsl`); the background, 0 here, is grey there;
+/// - `scattered.*`: the scattered diffuse irradiance (what the bench
+///   compares), alpha the SSS mask;
+/// - `unscattered.*`: the scene's diffuse irradiance × albedo^pre, before
+///   any SSS pass, alpha the SSS mask;
+/// - `albedo.*`: albedo^post, alpha the coverage;
+/// - `specular.*`: the specular radiance.
+///
+/// The header holds the exposure (`exposure`, a float) and the method.
+fn exr_layers(layers: &crate::render::FrameLayers, exposure: f32, method: &str) -> Result<Vec<u8>> {
+    use exr::prelude::*;
+    let (w, h) = (layers.width as usize, layers.height as usize);
+    let radiance = layers.radiance();
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    let mut add = |prefix: &str, names: &[&str], get: &dyn Fn(usize, usize) -> f32| {
+        for (k, n) in names.iter().enumerate() {
+            let name = if prefix.is_empty() {
+                n.to_string()
+            } else {
+                format!("{prefix}.{n}")
+            };
+            let samples = (0..w * h).map(|i| get(i, k)).collect();
+            channels.push(AnyChannel::new(name.as_str(), FlatSamples::F32(samples)));
+        }
+    };
+    let rgba = ["R", "G", "B", "A"];
+    add("", &rgba, &|i, k| radiance[i][k]);
+    add("scattered", &rgba, &|i, k| layers.scattered[i][k]);
+    add("unscattered", &rgba, &|i, k| layers.unscattered[i][k]);
+    add("albedo", &rgba, &|i, k| layers.albedo[i][k]);
+    add("specular", &rgba[..3], &|i, k| layers.specular[i][k]);
+    let mut attributes = LayerAttributes::named("");
+    attributes.comments = Some(Text::from(
+        "scatterlab render: linear layers before exposure and tone mapping; the PNG is sRGB(ACES(exposure * RGB)) (Narkowicz 2015) on the mesh",
+    ));
+    attributes.software_name = Some(Text::from(
+        format!("scatterlab {}", env!("CARGO_PKG_VERSION")).as_str(),
+    ));
+    attributes
+        .other
+        .insert(Text::from("exposure"), AttributeValue::F32(exposure));
+    attributes.other.insert(
+        Text::from("method"),
+        AttributeValue::Text(Text::from(method)),
+    );
+    let layer = Layer::new(
+        (w, h),
+        attributes,
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    let mut cursor = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer).write().to_buffered(&mut cursor)?;
+    Ok(cursor.into_inner())
 }

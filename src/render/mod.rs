@@ -43,7 +43,7 @@ pub mod uv_layout;
 pub use context::{GpuContext, GpuError};
 pub use mesh::{procedural, Mesh};
 #[cfg(feature = "gpu")]
-pub use renderer::Renderer;
+pub use renderer::{FrameLayers, Renderer};
 #[cfg(feature = "gpu")]
 pub use settings::FrameStats;
 pub use settings::{

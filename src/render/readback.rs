@@ -151,10 +151,68 @@ pub(super) fn readback(
     Ok(out)
 }
 
+/// An unsigned float of `mantissa_bits` and a 5-bit exponent (bias 15),
+/// as packed in B10G11R11_UFLOAT (the Vulkan specification's "Unsigned
+/// 11-Bit Floating-Point Numbers" and "10-Bit" sections: no sign bit, the
+/// exponent and mantissa as in a half).
+fn small_float(bits: u32, mantissa_bits: u32) -> f32 {
+    let exp = ((bits >> mantissa_bits) & 0x1f) as i32;
+    let frac = (bits & ((1 << mantissa_bits) - 1)) as f32 / (1u32 << mantissa_bits) as f32;
+    match exp {
+        0 => frac * 2f32.powi(-14),
+        31 => {
+            if frac == 0.0 {
+                f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
+        e => (1.0 + frac) * 2f32.powi(e - 15),
+    }
+}
+
+/// Rows of Rg11b10Ufloat texels (4 bytes each: R in bits 0–10, G in
+/// 11–21, B in 22–31) as f32 RGB.
+pub(super) fn rg11b10(bytes: &[u8]) -> Vec<[f32; 3]> {
+    bytes
+        .chunks_exact(4)
+        .map(|px| {
+            let v = u32::from_le_bytes([px[0], px[1], px[2], px[3]]);
+            [
+                small_float(v & 0x7ff, 6),
+                small_float((v >> 11) & 0x7ff, 6),
+                small_float(v >> 22, 5),
+            ]
+        })
+        .collect()
+}
+
 /// Rows of Rgba16Float texels (8 bytes each, little-endian halves) as f32 RGBA.
 pub(super) fn rgba_halves(bytes: &[u8]) -> Vec<[f32; 4]> {
     bytes
         .chunks_exact(8)
         .map(|px| [0, 1, 2, 3].map(|k| half_to_f32(u16::from_le_bytes([px[2 * k], px[2 * k + 1]]))))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// B10G11R11_UFLOAT by the Vulkan specification's definitions (bias
+    /// 15, no sign): 1.0, 2.0 and 0.5 exactly; the largest finite values
+    /// the specification gives, 65024 (11 bits) and 64512 (10 bits); a
+    /// mantissa's half; and the smallest denormal, 2⁻¹⁴/64.
+    #[test]
+    fn rg11b10_decodes_by_the_vulkan_definition() {
+        let pack = |r: u32, g: u32, b: u32| (r | (g << 11) | (b << 22)).to_le_bytes();
+        let px = rg11b10(&pack(15 << 6, 16 << 6, 14 << 5));
+        assert_eq!(px, vec![[1.0, 2.0, 0.5]]);
+        let px = rg11b10(&pack((30 << 6) | 63, (15 << 6) | 32, (30 << 5) | 31));
+        assert_eq!(px, vec![[65024.0, 1.5, 64512.0]]);
+        let px = rg11b10(&pack(1, 31 << 6, (14 << 5) | 16));
+        assert_eq!(px[0][0], 2f32.powi(-14) / 64.0);
+        assert!(px[0][1].is_infinite());
+        assert_eq!(px[0][2], 0.75);
+    }
 }

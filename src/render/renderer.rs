@@ -212,12 +212,43 @@ impl Renderer {
         self.render_inner(inputs, s, true)
     }
 
+    /// As [`Renderer::render`], also reading back every linear layer the
+    /// composite pass combined ([`FrameLayers`]; `render --out FILE.exr`).
+    pub fn render_layers(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+    ) -> Result<(image::RgbaImage, FrameLayers, FrameStats), GpuError> {
+        let (image, layers, stats) = self.render_read(inputs, s, Want::Layers)?;
+        let layers = layers.ok_or_else(|| GpuError::Readback("the frame's layers".into()))?;
+        Ok((image, layers, stats))
+    }
+
     fn render_inner(
         &mut self,
         inputs: &ProfileInputs,
         s: &RenderSettings,
         want_diffuse: bool,
     ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
+        let want = if want_diffuse {
+            Want::Diffuse
+        } else {
+            Want::Image
+        };
+        let (image, layers, stats) = self.render_read(inputs, s, want)?;
+        Ok((
+            image,
+            layers.map(|l| l.scattered).unwrap_or_default(),
+            stats,
+        ))
+    }
+
+    fn render_read(
+        &mut self,
+        inputs: &ProfileInputs,
+        s: &RenderSettings,
+        want: Want,
+    ) -> Result<(image::RgbaImage, Option<FrameLayers>, FrameStats), GpuError> {
         if let Some(missing) = inputs.missing_for(s.method) {
             return Err(GpuError::InputsLack {
                 method: s.method.id(),
@@ -242,7 +273,7 @@ impl Renderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let uploaded = self.ensure_profile(inputs);
-        let result = self.encode_and_read(inputs, s, want_diffuse);
+        let result = self.encode_and_read(inputs, s, want);
         let error = pollster::block_on(scope.pop());
         if error.is_some() || result.is_err() {
             // The shadow map or the profile may be incomplete: redo them.
@@ -291,8 +322,8 @@ impl Renderer {
         &mut self,
         inputs: &ProfileInputs,
         s: &RenderSettings,
-        want_diffuse: bool,
-    ) -> Result<(image::RgbaImage, Vec<[f32; 4]>, FrameStats), GpuError> {
+        want: Want,
+    ) -> Result<(image::RgbaImage, Option<FrameLayers>, FrameStats), GpuError> {
         let (Some(t), Some(profile)) = (self.targets.as_ref(), self.profile.as_ref()) else {
             return Err(GpuError::Readback("no targets".into()));
         };
@@ -370,14 +401,7 @@ impl Renderer {
             ..
         } = f;
         timer.resolve(&mut encoder);
-        let diffuse_textures = [t.texture(HdrTarget::Diffuse), shown];
-        let (image, diffuse) = read_frame(
-            ctx,
-            encoder,
-            &t.output,
-            want_diffuse.then_some(diffuse_textures),
-            (s.width, s.height),
-        )?;
+        let (image, diffuse) = read_frame(ctx, encoder, t, shown, want, (s.width, s.height))?;
         let (sss_samples, lod_skipped_pixels) =
             sss_counts(ctx, &scattered, &counters_read, sss_pixels, &mut timer);
         let passes = timer.finish(ctx);
@@ -464,34 +488,114 @@ fn sss_gpu_ms(passes: &[PassStats]) -> Option<f64> {
         .flatten()
 }
 
-/// Submits `encoder` and reads back the 8-bit output and, with
-/// `diffuse` (the scene's diffuse and what composite showed), the
-/// scattered diffuse irradiance composite used: the shown texture on SSS
-/// pixels, the scene's diffuse elsewhere.
+/// What a frame reads back besides its 8-bit output.
+#[derive(Clone, Copy, PartialEq)]
+enum Want {
+    Image,
+    /// The scattered diffuse ([`FrameLayers::scattered`]) only.
+    Diffuse,
+    Layers,
+}
+
+/// Linear float layers of one frame, row-major with y down, as the
+/// composite pass (`composite.wgsl`, `fs_composite`) read them, before
+/// exposure and tone mapping: `render --out FILE.exr` writes them.
+#[derive(Clone, Debug, Default)]
+pub struct FrameLayers {
+    pub width: u32,
+    pub height: u32,
+    /// The scattered diffuse irradiance the composite used: the method's
+    /// output on SSS pixels, the scene's diffuse elsewhere (what the bench
+    /// compares with the ground truth). Alpha: the SSS mask (as the
+    /// method wrote it on SSS pixels, the scene's elsewhere).
+    pub scattered: Vec<[f32; 4]>,
+    /// The scene pass's diffuse irradiance × albedo^pre, before any SSS
+    /// pass (`scene.wgsl`'s target 0). Alpha: the SSS mask, −1 on eyes
+    /// and teeth, −2 on the background.
+    pub unscattered: Vec<[f32; 4]>,
+    /// albedo^post (8-bit linear, as the composite reads it). Alpha:
+    /// coverage, 1 on the mesh and 0 on the background.
+    pub albedo: Vec<[f32; 4]>,
+    /// Specular radiance (never blurred).
+    pub specular: Vec<[f32; 3]>,
+}
+
+impl FrameLayers {
+    /// The linear radiance the composite pass tone-maps: scattered ×
+    /// albedo^post + specular on the mesh, 0 on the background (which the
+    /// composite paints a studio grey). Alpha: coverage.
+    pub fn radiance(&self) -> Vec<[f32; 4]> {
+        (0..self.albedo.len())
+            .map(|i| {
+                let (d, a, sp) = (self.scattered[i], self.albedo[i], self.specular[i]);
+                if a[3] <= 0.0 {
+                    return [0.0; 4];
+                }
+                [
+                    d[0] * a[0] + sp[0],
+                    d[1] * a[1] + sp[1],
+                    d[2] * a[2] + sp[2],
+                    a[3],
+                ]
+            })
+            .collect()
+    }
+}
+
+/// Submits `encoder` and reads back the 8-bit output and what `want`
+/// asks for: the scattered diffuse irradiance composite used (the shown
+/// texture on SSS pixels, the scene's diffuse elsewhere), or every layer.
 fn read_frame(
     ctx: &GpuContext,
     encoder: wgpu::CommandEncoder,
-    output: &wgpu::Texture,
-    diffuse: Option<[&wgpu::Texture; 2]>,
+    t: &Targets,
+    shown: &wgpu::Texture,
+    want: Want,
     (width, height): (u32, u32),
-) -> Result<(image::RgbaImage, Vec<[f32; 4]>), GpuError> {
-    let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(output, 4)];
-    if let Some([unscattered, shown]) = diffuse {
-        wanted.push((unscattered, 8));
+) -> Result<(image::RgbaImage, Option<FrameLayers>), GpuError> {
+    let mut wanted: Vec<(&wgpu::Texture, u32)> = vec![(&t.output, 4)];
+    if want != Want::Image {
+        wanted.push((t.texture(HdrTarget::Diffuse), 8));
         wanted.push((shown, 8));
     }
+    let rg11b10 = t.specular_texture.format() == wgpu::TextureFormat::Rg11b10Ufloat;
+    if want == Want::Layers {
+        wanted.push((&t.albedo_texture, 4));
+        wanted.push((&t.specular_texture, if rg11b10 { 4 } else { 8 }));
+    }
     let mut bytes = ctx.checked("frame", || readback(ctx, encoder, &wanted, width, height))??;
-    let diffuse = if diffuse.is_some() {
-        let out = rgba_halves(&bytes.pop().unwrap_or_default());
-        let unscattered = rgba_halves(&bytes.pop().unwrap_or_default());
-        out.into_iter()
-            .zip(unscattered)
-            .map(|(o, d)| if o[3] > 1.0 / 255.0 { o } else { d })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let image = image::RgbaImage::from_raw(width, height, bytes.swap_remove(0))
+    let image = image::RgbaImage::from_raw(width, height, std::mem::take(&mut bytes[0]))
         .ok_or_else(|| GpuError::Readback("size mismatch".into()))?;
-    Ok((image, diffuse))
+    if want == Want::Image {
+        return Ok((image, None));
+    }
+    let unscattered = rgba_halves(&bytes[1]);
+    let scattered = rgba_halves(&bytes[2])
+        .into_iter()
+        .zip(&unscattered)
+        .map(|(o, d)| if o[3] > 1.0 / 255.0 { o } else { *d })
+        .collect();
+    let mut layers = FrameLayers {
+        width,
+        height,
+        scattered,
+        ..Default::default()
+    };
+    if want == Want::Layers {
+        layers.albedo = bytes[3]
+            .chunks_exact(4)
+            .map(|p| p.try_into().map(|p: [u8; 4]| p.map(|v| v as f32 / 255.0)))
+            .collect::<Result<_, _>>()
+            .map_err(|_| GpuError::Readback("albedo texels".into()))?;
+        layers.specular = if rg11b10 {
+            super::readback::rg11b10(&bytes[4])
+        } else {
+            rgba_halves(&bytes[4])
+                .into_iter()
+                .map(|p| [p[0], p[1], p[2]])
+                .collect()
+        };
+        layers.unscattered = unscattered;
+    }
+    Ok((image, Some(layers)))
 }

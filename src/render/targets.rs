@@ -20,8 +20,10 @@ pub(super) struct Targets {
     /// Diffuse, ping, pong (indexed by [`HdrTarget`]).
     hdr: [(wgpu::Texture, wgpu::TextureView); 3],
     pub specular: wgpu::TextureView,
+    pub specular_texture: wgpu::Texture,
     /// albedo^post and coverage.
     pub albedo: wgpu::TextureView,
+    pub albedo_texture: wgpu::Texture,
     pub linear_depth: wgpu::TextureView,
     pub linear_depth_texture: wgpu::Texture,
     /// Depth buffer; its stencil marks the SSS pixels.
@@ -56,8 +58,12 @@ impl Targets {
             (t, v)
         };
         let hdr = [hdr("diffuse"), hdr("sss ping"), hdr("sss pong")];
-        let specular = view(&make("specular", ctx.specular_format, rt));
-        let albedo = view(&make("albedo", ALBEDO, rt));
+        // Copied out for `render --out FILE.exr`'s layers.
+        let rt_copy = rt | wgpu::TextureUsages::COPY_SRC;
+        let specular_texture = make("specular", ctx.specular_format, rt_copy);
+        let specular = view(&specular_texture);
+        let albedo_texture = make("albedo", ALBEDO, rt_copy);
+        let albedo = view(&albedo_texture);
         let linear_depth_texture = make(
             "linear depth",
             ctx.linear_depth_format,
@@ -78,7 +84,9 @@ impl Targets {
             size: (w, h),
             hdr,
             specular,
+            specular_texture,
             albedo,
+            albedo_texture,
             linear_depth,
             linear_depth_texture,
             depth_stencil,
