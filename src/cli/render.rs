@@ -69,18 +69,35 @@ impl RenderArgs {
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
         let exr = self.writes_exr()?;
+        let n = self.view.methods.reference.supersample;
+        if n > 1 && rendering.method != MethodId::ground_truth() {
+            anyhow::bail!(
+                "--supersample {n}: only the ground truth gathers sub-points of a pixel (use --method reference)"
+            );
+        }
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
-        let (mut image, mut stats) = renderer.render(&inputs, &settings)?;
         for _ in 1..self.view.frames {
-            (image, stats) = renderer.render(&inputs, &settings)?;
+            renderer.render(&inputs, &settings)?;
+        }
+        // The last frame, with what it reads back: the layers for an EXR,
+        // the scattered diffuse for the N × N check.
+        let (mut image, layers, stats) = if exr || n > 1 {
+            let (image, layers, stats) = renderer.render_layers(&inputs, &settings)?;
+            (image, Some(layers), stats)
+        } else {
+            let (image, stats) = renderer.render(&inputs, &settings)?;
+            (image, None, stats)
+        };
+        if let (true, Some(layers)) = (exr, &layers) {
+            let bytes = exr_layers(layers, settings.view.exposure, stats.method)
+                .with_context(|| format!("{}: cannot encode the layers", self.out.display()))?;
+            self.write_bytes(&bytes, "linear layers", &stats)?;
+        }
+        if let (true, Some(layers)) = (n > 1, &layers) {
+            self.supersample_check(&mut renderer, &inputs, &settings, &layers.scattered)?;
         }
         if exr {
-            // The last frame again, with its layers read back (a frame of
-            // the same request draws the same image).
-            let (_, layers, stats) = renderer.render_layers(&inputs, &settings)?;
-            let bytes = exr_layers(&layers, settings.view.exposure, stats.method)
-                .with_context(|| format!("{}: cannot encode the layers", self.out.display()))?;
-            return self.write_bytes(&bytes, "linear layers", &stats);
+            return Ok(());
         }
         let diff_scale = self.compared(&mut renderer, &rendering, &settings, &mut image)?;
         self.write(&image, &stats)?;
@@ -162,6 +179,45 @@ impl RenderArgs {
         let (d, scale) = crate::render::compare::difference_view(image, &b, self.diff_scale);
         *image = d;
         Ok(Some(scale))
+    }
+
+    /// The ground truth's N × N check on this view, as the bench's floor
+    /// takes it (`bench::floor::measure`): the truth at one point a pixel
+    /// against the N × N one just rendered (`fine`, each sub-point with its
+    /// own footprint), over the SSS pixels whose footprint is one surface.
+    fn supersample_check(
+        &self,
+        renderer: &mut Renderer,
+        inputs: &ProfileInputs,
+        settings: &RenderSettings,
+        fine: &[[f32; 4]],
+    ) -> Result<()> {
+        use crate::bench::metrics;
+        let n = inputs.options.reference.supersample;
+        let mut plain_inputs = inputs.clone();
+        plain_inputs.options.reference.supersample = 1;
+        let (_, plain, _) = renderer
+            .render_with_diffuse(&plain_inputs, settings)
+            .context("the ground truth at one point a pixel")?;
+        let sss = metrics::sss_mask(&plain);
+        let one_surface: Vec<bool> = sss
+            .iter()
+            .zip(fine)
+            .map(|(m, f)| *m && f[..3].iter().all(|v| v.is_finite()))
+            .collect();
+        let count = |m: &[bool]| m.iter().filter(|v| **v).count();
+        let (n_sss, n_one) = (count(&sss), count(&one_surface));
+        if n_one == 0 {
+            anyhow::bail!(
+                "--supersample {n}: no SSS pixel on this view has one surface under it ({n_sss} SSS pixels)"
+            );
+        }
+        println!(
+            "{n}×{n} check: the ground truth at one point a pixel is {:.5} (relative RMSE) from {n}×{n} points a pixel, over {n_one} SSS pixels; {:.2} % of the {n_sss} SSS pixels are not one surface under the pixel and are left out",
+            metrics::relative_rmse(fine, &plain, &one_surface),
+            100.0 * (1.0 - n_one as f64 / n_sss as f64)
+        );
+        Ok(())
     }
 
     /// Whether `--out` names an OpenEXR file: its layers are one method's,

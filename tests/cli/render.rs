@@ -747,3 +747,66 @@ fn render_takes_every_field_of_the_look() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--supersample N` runs the ground truth's N × N check on any view: the
+/// truth at one point a pixel against N × N points a pixel, each read over
+/// its own footprint (finer sampling must change nothing beyond the
+/// yardstick's 1 % rule). Here a view the bench does not have (yaw 35°,
+/// pitch −10°, 160 × 120); a method other than the truth, or N out of
+/// 1–8, is refused naming the flag.
+#[test]
+fn render_supersample_runs_the_truths_check_on_any_view() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ss-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("ss.png");
+    let view = [
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--camera-yaw",
+        "35",
+        "--camera-pitch",
+        "-10",
+        "--deterministic",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let (code, out, err) = run(&[
+        &["render", "--method", "reference", "--supersample", "2"][..],
+        &view,
+    ]
+    .concat());
+    assert_eq!(code, 0, "{err}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("2×2 check:"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let number = |after: &str| -> f64 {
+        let rest = &line[line.find(after).unwrap() + after.len()..];
+        rest.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    let rmse = number("one point a pixel is ");
+    let mixed = number("SSS pixels; ");
+    eprintln!("{line}");
+    assert!(rmse > 0.0 && rmse < 0.01, "{line}");
+    assert!(mixed < 10.0, "{line}");
+    let (code, _, err) = run(&[
+        &["render", "--method", "burley", "--supersample", "2"][..],
+        &view,
+    ]
+    .concat());
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--supersample") && err.contains("--method reference"),
+        "{err}"
+    );
+    let (code, _, err) = run(&[
+        &["render", "--method", "reference", "--supersample", "9"][..],
+        &view,
+    ]
+    .concat());
+    assert_ne!(code, 0);
+    assert!(err.contains("--supersample"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

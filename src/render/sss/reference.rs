@@ -39,10 +39,18 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
 #[group(skip)]
 pub struct Options {
-    /// Gather k × k points of each pixel's surface and average them (1 =
-    /// the pixel's centre; 2 is the check that one point is enough, the
-    /// bench's floor).
-    #[arg(skip = 1u32)]
+    /// With `--method reference`: gather N × N points of each pixel's
+    /// surface, each read over its own footprint, and average them (1: the
+    /// pixel's centre). 2 is the bench's check that one point is enough;
+    /// `render` also gathers one point a pixel and prints how far it is
+    /// from the N × N truth.
+    #[arg(
+        id = "supersample",
+        long = "supersample",
+        value_name = "N",
+        default_value_t = 1,
+        value_parser = clap::value_parser!(u32).range(1..=8)
+    )]
     pub supersample: u32,
     /// Gather the ground truth on the GPU: a compute shader walks the same
     /// cells by the same rules, with the scene pass's own shading for the
