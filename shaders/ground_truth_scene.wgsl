@@ -93,5 +93,9 @@ fn surface_irradiance(root: u32, tri: u32, bary: vec3<f32>, fp: Footprint) -> ve
     maps.roughness = textureSampleLevel(roughness_map, surface_sampler, i.uv, normal_lod).r;
     maps.mask = textureSampleLevel(mask_map, surface_sampler, i.uv, normal_lod).r;
     maps.thickness = textureSampleLevel(thickness_map, surface_sampler, i.uv, normal_lod).r;
+    // `preintegrated` is never the ground truth's shading.
+    maps.blurred_r = maps.normal;
+    maps.blurred_g = maps.normal;
+    maps.blurred_b = maps.normal;
     return shade(i, maps, false).diffuse.rgb;
 }

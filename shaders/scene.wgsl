@@ -34,7 +34,7 @@ struct SceneUniforms {
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
     surface_albedo: vec4<f32>,    // rgb: the look's colour (total reflectance), linear
     transmission_tint: vec4<f32>,
-    normal_blend: vec4<f32>,      // rgb: per-channel blend of the detail normal to the smooth one (preintegrated)
+    blur_sigma_mm: vec4<f32>,     // rgb: per-channel σ (mm) picking each blurred normal's mip (preintegrated)
     environment_sh: array<vec4<f32>, 9>, // rgb: irradiance/π of the environment, order-2 SH (render::environment)
     eyes: array<vec4<f32>, 2>,    // eyeballs: xyz centre, w radius (0 = none)
     pre_scatter_exponent: f32,    // 0 or 0.5
@@ -326,7 +326,24 @@ struct Maps {
     roughness: f32,
     mask: f32,
     thickness: f32,
+    // `preintegrated`: the normal map read per channel at the mip whose
+    // texels are the profile's σ wide (tangent space, −1..1).
+    blurred_r: vec3<f32>,
+    blurred_g: vec3<f32>,
+    blurred_b: vec3<f32>,
 };
+
+// The mip of the normal map whose texels are `sigma_mm` wide on the
+// surface, never finer than the pixel's own: FaceWorks'
+// GFSDK_FaceWorks_CalculateMipLevelForBlurredNormal, max(the hardware's
+// level, log2(max(size·radius, uv_scale)/uv_scale)) (NVIDIAGameWorks/
+// FaceWorks include/GFSDK_FaceWorks.hlsli and src/runtime.cpp lines
+// 158–161), with the UV scale measured at the pixel from the derivatives
+// (texels per mm = √(texel area / surface area) of the pixel's footprint)
+// where FaceWorks averages it over the mesh.
+fn blurred_level(sigma_mm: f32, hardware: f32, texels_per_mm: f32) -> f32 {
+    return max(hardware, log2(max(sigma_mm * texels_per_mm, 1.0)));
+}
 
 @fragment
 fn fs_main(i: VertexOut) -> TargetsOut {
@@ -337,6 +354,23 @@ fn fs_main(i: VertexOut) -> TargetsOut {
     maps.roughness = textureSample(roughness_map, surface_sampler, i.uv).r;
     maps.mask = textureSample(mask_map, surface_sampler, i.uv).r;
     maps.thickness = textureSample(thickness_map, surface_sampler, i.uv).r;
+    maps.blurred_r = maps.normal;
+    maps.blurred_g = maps.normal;
+    maps.blurred_b = maps.normal;
+    if (u.preintegrated == 1u) {
+        let size = vec2<f32>(textureDimensions(normal_map, 0));
+        let duvx = dpdx(i.uv) * size;
+        let duvy = dpdy(i.uv) * size;
+        let dwx = dpdx(i.world) * u.mm_per_unit;
+        let dwy = dpdy(i.world) * u.mm_per_unit;
+        let hardware = 0.5 * log2(max(max(dot(duvx, duvx), dot(duvy, duvy)), 1e-12));
+        let texel_area = abs(duvx.x * duvy.y - duvx.y * duvy.x);
+        let texels_per_mm = sqrt(texel_area / max(length(cross(dwx, dwy)), 1e-12));
+        let s = u.blur_sigma_mm.xyz;
+        maps.blurred_r = textureSampleLevel(normal_map, surface_sampler, i.uv, blurred_level(s.x, hardware, texels_per_mm)).xyz * 2.0 - 1.0;
+        maps.blurred_g = textureSampleLevel(normal_map, surface_sampler, i.uv, blurred_level(s.y, hardware, texels_per_mm)).xyz * 2.0 - 1.0;
+        maps.blurred_b = textureSampleLevel(normal_map, surface_sampler, i.uv, blurred_level(s.z, hardware, texels_per_mm)).xyz * 2.0 - 1.0;
+    }
     return shade(i, maps, true);
 }
 
@@ -352,15 +386,7 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     let mask_tex = maps.mask;
     let thickness_tex = maps.thickness;
     let ng = normalize(i.normal);
-    // Tangent frame (glTF/MikkTSpace convention: B = w N × T).
-    var n = ng;
-    let t_raw = i.tangent.xyz - ng * dot(ng, i.tangent.xyz);
-    if (dot(t_raw, t_raw) > 1e-12 && u.detail_normal_strength > 0.0) {
-        let t = normalize(t_raw);
-        let b = cross(ng, t) * select(1.0, -1.0, i.tangent.w < 0.0);
-        let d = vec3<f32>(normal_tex.xy * u.detail_normal_strength, max(normal_tex.z, 1e-3));
-        n = normalize(t * d.x + b * d.y + ng * d.z);
-    }
+    let n = mapped_normal(ng, i.tangent, normal_tex);
     let v = normalize(u.camera_position.xyz - i.world);
     let light = light_at(i.world);
     let l = light.xyz;
@@ -399,14 +425,15 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     var irradiance = light_radiance * nl / PI + hemi;
     if (u.preintegrated == 1u && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
-        // saturate(N·L), each channel with its own normal (the detail normal
-        // bent back towards the smooth one as far as that channel scatters),
-        // and the penumbra table scatters the shadow edge.
+        // saturate(N·L), each channel with its own normal (the normal map
+        // read at the mip as wide as that channel scatters, FaceWorks'
+        // blurred normal; the vertex normal would throw away the shape a
+        // coarse scan keeps in its map), and the penumbra table scatters
+        // the shadow edge. κ is the mean curvature, 0 on hollows.
         let curv = clamp((i.curvature - u.lut_curvature_first) / (u.lut_curvature_last - u.lut_curvature_first), 0.0, 1.0);
-        let k = u.normal_blend.xyz;
-        let nr = normalize(mix(n, ng, k.x));
-        let ngr = normalize(mix(n, ng, k.y));
-        let nb = normalize(mix(n, ng, k.z));
+        let nr = mapped_normal(ng, i.tangent, maps.blurred_r);
+        let ngr = mapped_normal(ng, i.tangent, maps.blurred_g);
+        let nb = mapped_normal(ng, i.tangent, maps.blurred_b);
         let lut_at = preintegrated_d(dot(nr, l), dot(ngr, l), dot(nb, l), curv);
         var s3 = vec3<f32>(shadow);
         if (u.penumbra_on == 1u) {
@@ -486,6 +513,20 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
 
 // D(θ, κ) of each channel at its own N·L: the table holds
 // D − saturate(N·L) (FaceWorks' delta), added back here.
+// The normal map's tangent-space normal in world space (glTF/MikkTSpace:
+// B = w N × T), scaled by the detail strength; the geometric normal where
+// there is no tangent frame.
+fn mapped_normal(ng: vec3<f32>, tangent: vec4<f32>, normal_tex: vec3<f32>) -> vec3<f32> {
+    let t_raw = tangent.xyz - ng * dot(ng, tangent.xyz);
+    if (dot(t_raw, t_raw) > 1e-12 && u.detail_normal_strength > 0.0) {
+        let t = normalize(t_raw);
+        let b = cross(ng, t) * select(1.0, -1.0, tangent.w < 0.0);
+        let d = vec3<f32>(normal_tex.xy * u.detail_normal_strength, max(normal_tex.z, 1e-3));
+        return normalize(t * d.x + b * d.y + ng * d.z);
+    }
+    return ng;
+}
+
 fn preintegrated_d(nl_r: f32, nl_g: f32, nl_b: f32, curv: f32) -> vec3<f32> {
     let r = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_r + 0.5, curv), 0.0).r;
     let g = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_g + 0.5, curv), 0.0).g;

@@ -325,10 +325,13 @@ fn every_method_loses_light_where_skin_meets_teeth() {
 
 /// The methods against the ground truth on a view of the scan the bench
 /// does not have (its right side, lit from the right and above; the
-/// bench's scenes are the default head). Each blur method (the bench's
+/// bench's scenes are the default head). Each method (the bench's
 /// configurations: `burley` 21 samples, `separable` 2015 at 17 taps,
-/// `gaussians`) scatters the same light the ground truth does, so each
-/// must come closer to it than the unscattered frame; the figures, with
+/// `gaussians`, and `preintegrated`, which before its blurred normals were
+/// read from the normal map's mips and its curvature was signed was 30–48 %
+/// worse than `none` on the scan) scatters the same light the ground truth
+/// does, so each must come closer to it than the unscattered frame; the
+/// figures, with
 /// the share of `none`'s error each removes, are written to
 /// target/test-output/scan_held_out.csv and quoted in
 /// docs/accuracy.md.
@@ -391,7 +394,7 @@ fn the_methods_against_the_ground_truth_on_a_held_out_scan_view() {
     let dir = out_dir();
     std::fs::write(dir.join("scan_held_out.csv"), csv).unwrap();
     assert!(none.0 > 0.005, "the view scatters visibly: none {}", none.0);
-    for (name, e) in &errors[2..] {
+    for (name, e) in &errors[1..] {
         assert!(
             *e < none.0,
             "{name}: {e} is not closer than none ({})",

@@ -385,6 +385,43 @@ mod tests {
         Burley::from_scattering_distance([0.9, 0.5, 0.3], [0.756_862_8, 0.321_568_64, 0.2]).unwrap()
     }
 
+    /// `model::axis_sigma_mm` against two closed forms. Burley: the radial
+    /// density 2πr R(r)/A = (e^(−r/d) + e^(−r/3d))/(4d) (Christensen &
+    /// Burley 2015 eq. 2) has ⟨r²⟩ = (2d³ + 2·27d³)/(4d) = 14d², so σ = √7·d.
+    /// d'Eon's six Gaussians: a Gaussian of variance v has ⟨r²⟩ = 2v, so
+    /// σ² = Σ wᵢvᵢ / Σ wᵢ per channel, red √(0.4935) from the table's own
+    /// numbers; and one Gaussian of 7.41 mm² alone is σ = 2.72 mm, the
+    /// "2.7 mm" diffusion radius FaceWorks gives for skin.
+    #[test]
+    fn axis_sigma_matches_burley_and_deon() {
+        let p = skin();
+        let sigma = crate::model::axis_sigma_mm(&p);
+        for c in 0..3 {
+            let want = 7f64.sqrt() * p.scattering_distance_mm()[c];
+            assert!(
+                (sigma[c] / want - 1.0).abs() < 1e-6,
+                "channel {c}: {} vs {want}",
+                sigma[c]
+            );
+        }
+        let deon = crate::model::gaussian::GaussianSum::deon_skin();
+        let sigma = crate::model::axis_sigma_mm(&deon);
+        for c in 0..3 {
+            let terms = crate::model::gaussian::DEON_SKIN;
+            let w: f64 = terms.iter().map(|t| t.1[c]).sum();
+            let wv: f64 = terms.iter().map(|t| t.1[c] * t.0).sum();
+            let want = (wv / w).sqrt();
+            assert!(
+                (sigma[c] / want - 1.0).abs() < 1e-6,
+                "d'Eon channel {c}: {} vs {want}",
+                sigma[c]
+            );
+        }
+        let widest = crate::model::gaussian::GaussianSum::new(&[(7.41, [1.0; 3])]).unwrap();
+        let sigma = crate::model::axis_sigma_mm(&widest);
+        assert!((sigma[0] - 2.722).abs() < 1e-3, "{}", sigma[0]);
+    }
+
     /// Christensen & Burley 2015: ∫2πr R(r) dr = A, by adaptive quadrature.
     #[test]
     fn integrates_to_albedo() {

@@ -358,6 +358,34 @@ pub fn strip_cdf_numerically<P: RadialProfile + ?Sized>(p: &P, x_mm: f64) -> Rgb
 
 /// Direct quadrature of T(d) = ∫₀^∞ 2πr R(√(r²+d²)) dr, independent of the
 /// tail identity used by [`RadialProfile::transmittance`]; used to check it.
+/// The profile's per-axis standard deviation σ (mm) per channel: its
+/// light's spread along one direction of the surface, σ² = ⟨r²⟩/2 for a
+/// radially symmetric spread. ⟨r²⟩ = ∫₀^∞ 2r·tail(r) dr (integration by
+/// parts of ∫ r² dP; the Dirac part sits at r = 0 and adds nothing),
+/// integrated in ln r, where r²·tail(r) is smooth, by adaptive
+/// quadrature. For a Gaussian of variance v it is √v; for Burley's
+/// profile √7·d (`axis_sigma_matches_burley_and_deon`). FaceWorks'
+/// "diffusion radius" of skin, 2.7 mm, is the σ of d'Eon's widest
+/// Gaussian (7.41 mm²); `preintegrated` picks its blurred normal's mip
+/// from it.
+pub fn axis_sigma_mm<P: RadialProfile + ?Sized>(p: &P) -> Rgb {
+    rgb_map(|c| {
+        if p.tail(0.0)[c] <= 0.0 {
+            return 0.0;
+        }
+        let scale = p.length_scale_mm().max(1e-9);
+        // r²·tail(r) in ln r: 2r·tail(r) dr = 2r²·tail(r) d(ln r).
+        let f = |u: f64| {
+            let r = u.exp();
+            2.0 * r * r * p.tail(r)[c]
+        };
+        let lo = (1e-9 * scale).ln();
+        let hi = p.inverse_cdf(c, 1.0 - 1e-12).max(scale).ln() + 2.0;
+        let mean_r2 = quad::integrate(&f, lo, hi, 1e-14 * scale * scale, 1e-10);
+        (0.5 * mean_r2).max(0.0).sqrt()
+    })
+}
+
 pub fn transmittance_by_quadrature<P: RadialProfile + ?Sized>(p: &P, thickness_mm: f64) -> Rgb {
     let d = thickness_mm;
     let scale = p.length_scale_mm().max(d);

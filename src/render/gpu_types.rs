@@ -76,9 +76,10 @@ gpu_struct! {
         pub surface_albedo: [f32; 4],
         /// rgb: transmission tint.
         pub transmission_tint: [f32; 4],
-        /// rgb, `preintegrated`: per-channel blend of the detail normal back
-        /// to the smooth one (Penner 2011).
-        pub normal_blend: [f32; 4],
+        /// rgb, `preintegrated`: the profile's per-axis σ (mm) per channel,
+        /// which picks the mip of the normal map each channel's blurred
+        /// normal is read from (FaceWorks' `CalculateMipLevelForBlurredNormal`).
+        pub blur_sigma_mm: [f32; 4],
         /// The environment's irradiance / π as nine SH coefficients (rgb
         /// each), in `environment::sh9`'s order.
         pub environment_sh: [[f32; 4]; 9],

@@ -1,5 +1,5 @@
 //! What a mesh computes from its triangles once loaded: MikkTSpace
-//! tangents, smooth normals, per-vertex curvature (FaceWorks' estimate)
+//! tangents, smooth normals, per-vertex curvature (the mean curvature, clamped at 0)
 //! and the thickness along the inward normal (ray cast), for the
 //! transmission and pre-integrated methods.
 
@@ -104,11 +104,29 @@ impl Mesh {
         }
     }
 
-    /// Per-vertex curvature as FaceWorks computes it
-    /// (`GFSDK_FaceWorks_CalculateMeshCurvature`): each edge's |ΔN|/|ΔP|,
-    /// the mean of the smallest and largest at each vertex, then `passes`
-    /// rounds of averaging over neighbours. Stored in 1/mm. Vertices that
-    /// share a position (UV seams) share the result.
+    /// Per-vertex curvature for Penner's table: the mean curvature H
+    /// (1/mm), signed, then clamped so that concave skin is flat.
+    ///
+    /// - The mean-curvature normal by the cotangent Laplacian (Meyer,
+    ///   Desbrun, Schröder & Barr 2003, eq. 8):
+    ///   K(xᵢ) = 1/(2 A_mixed) Σⱼ (cot αᵢⱼ + cot βᵢⱼ)(xᵢ − xⱼ) = 2H n(xᵢ),
+    ///   with A_mixed their Voronoi area, halved or quartered on obtuse
+    ///   triangles (their Fig. 4).
+    /// - H = ½ K·n: positive where the surface bulges along its normal (a
+    ///   sphere of radius ρ, 1/ρ; a cylinder, 1/2ρ), negative where it is
+    ///   hollow (the eye sockets, the sides of the nose).
+    /// - Averaged over neighbours `passes` times, then clamped at 0:
+    ///   Penner's table is integrated over a sphere, and a hollow is
+    ///   treated as flat (FaceWorks' edge estimate,
+    ///   `GFSDK_FaceWorks_CalculateMeshCurvature`, which this replaced,
+    ///   has no sign: it took every hollow for a bump, and read the
+    ///   default head and the scan 1.7–1.8× tighter than H).
+    ///
+    /// The operator has no meaning on a boundary (the neck's cut, the eye
+    /// openings): a boundary vertex takes the mean of its inner
+    /// neighbours. Vertices that share a position (UV seams) share the
+    /// result. Tests: `sphere_curvature_is_one_over_radius`,
+    /// `cylinder_curvature_is_half_over_radius`, `hollow_curvature_is_flat`.
     pub fn compute_curvature(&mut self, passes: usize) {
         use std::collections::HashMap;
         let key = |p: [f32; 3]| (p[0].to_bits(), p[1].to_bits(), p[2].to_bits());
@@ -122,49 +140,101 @@ impl Mesh {
             })
             .collect();
         let n = id.len();
-        let (mut lo, mut hi) = (vec![f32::INFINITY; n], vec![0.0f32; n]);
+        let mm = (self.metres_per_unit * 1000.0) as f64;
+        let mut pos = vec![glam::DVec3::ZERO; n];
+        let mut normal = vec![glam::DVec3::ZERO; n];
+        for (v, &i) in self.vertices.iter().zip(&vid) {
+            pos[i] = Vec3::from(v.position).as_dvec3() * mm;
+            normal[i] += Vec3::from(v.normal).as_dvec3();
+        }
+        let mut laplacian = vec![glam::DVec3::ZERO; n];
+        let mut area = vec![0.0f64; n];
         let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut edge_faces: HashMap<(usize, usize), u32> = HashMap::new();
         for tri in self.indices.chunks_exact(3) {
+            let t = [0, 1, 2].map(|k| vid[tri[k] as usize]);
+            if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                continue;
+            }
+            let p = t.map(|i| pos[i]);
+            let twice_area = (p[1] - p[0]).cross(p[2] - p[0]).length();
+            if !(twice_area > 0.0) {
+                continue;
+            }
+            // cot of the angle at corner k: (u·v)/|u×v| of its two edges.
+            let cot = |k: usize| {
+                let (u, v) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+                u.dot(v) / twice_area
+            };
+            let cots = [cot(0), cot(1), cot(2)];
             for k in 0..3 {
-                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                let dp =
-                    Vec3::from(self.vertices[b].position) - Vec3::from(self.vertices[a].position);
-                let dn = Vec3::from(self.vertices[b].normal) - Vec3::from(self.vertices[a].normal);
-                if dp.length_squared() <= 0.0 {
-                    continue;
-                }
-                let kappa = (dn.length_squared() / dp.length_squared()).sqrt();
-                for (v, w) in [(vid[a], vid[b]), (vid[b], vid[a])] {
-                    lo[v] = lo[v].min(kappa);
-                    hi[v] = hi[v].max(kappa);
-                    neighbours[v].push(w);
-                }
+                // The edge opposite corner k.
+                let (i, j) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+                let d = pos[i] - pos[j];
+                laplacian[i] += cots[k] * d;
+                laplacian[j] -= cots[k] * d;
+                neighbours[i].push(j);
+                neighbours[j].push(i);
+                *edge_faces.entry((i.min(j), i.max(j))).or_default() += 1;
+            }
+            // A_mixed (Meyer et al. 2003, Fig. 4).
+            let obtuse = cots.iter().position(|c| *c < 0.0);
+            for k in 0..3 {
+                area[t[k]] += match obtuse {
+                    None => {
+                        let (q, r) = ((k + 1) % 3, (k + 2) % 3);
+                        0.125
+                            * ((p[r] - p[k]).length_squared() * cots[q]
+                                + (p[q] - p[k]).length_squared() * cots[r])
+                    }
+                    Some(o) if o == k => 0.25 * twice_area,
+                    Some(_) => 0.125 * twice_area,
+                };
             }
         }
-        let mut curv: Vec<f32> = (0..n)
+        let mut boundary = vec![false; n];
+        for ((i, j), faces) in &edge_faces {
+            if *faces == 1 {
+                boundary[*i] = true;
+                boundary[*j] = true;
+            }
+        }
+        let mut h: Vec<f64> = (0..n)
             .map(|i| {
-                if lo[i].is_finite() {
-                    0.5 * (lo[i] + hi[i])
+                let nrm = normal[i].normalize_or_zero();
+                if area[i] > 0.0 && !boundary[i] {
+                    0.5 * laplacian[i].dot(nrm) / (2.0 * area[i])
                 } else {
                     0.0
                 }
             })
             .collect();
+        for i in 0..n {
+            if boundary[i] {
+                let inner: Vec<f64> = neighbours[i]
+                    .iter()
+                    .filter(|&&j| !boundary[j])
+                    .map(|&j| h[j])
+                    .collect();
+                if !inner.is_empty() {
+                    h[i] = inner.iter().sum::<f64>() / inner.len() as f64;
+                }
+            }
+        }
         for _ in 0..passes {
-            curv = (0..n)
+            h = (0..n)
                 .map(|i| {
                     if neighbours[i].is_empty() {
-                        curv[i]
+                        h[i]
                     } else {
-                        neighbours[i].iter().map(|&j| curv[j]).sum::<f32>()
-                            / neighbours[i].len() as f32
+                        neighbours[i].iter().map(|&j| h[j]).sum::<f64>()
+                            / neighbours[i].len() as f64
                     }
                 })
                 .collect();
         }
-        let per_mm = 1.0 / (self.metres_per_unit * 1000.0);
         for (v, i) in self.vertices.iter_mut().zip(vid) {
-            v.curvature_per_mm = curv[i] * per_mm;
+            v.curvature_per_mm = h[i].max(0.0) as f32;
         }
     }
 

@@ -68,9 +68,9 @@ fn default_head_loads_with_three_materials() {
         .all(|v| (Vec3::from(v.normal).length() - 1.0).abs() < 1e-3));
 }
 
-/// A sphere of radius ρ has curvature 1/ρ everywhere (away from the poles).
-#[test]
-fn sphere_curvature_is_one_over_radius() {
+/// A UV sphere of radius 5 units (48 × 24), its faces wound outwards, or
+/// inwards with `inside` (the surface seen from within: a hollow).
+fn sphere_obj(inside: bool) -> String {
     let mut obj = String::new();
     let (nu, nv) = (48, 24);
     for j in 0..=nv {
@@ -91,13 +91,22 @@ fn sphere_curvature_is_one_over_radius() {
         for i in 0..nu {
             let a = j * nu + i + 1;
             let b = j * nu + (i + 1) % nu + 1;
-            obj += &format!(
-                "f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n",
-                c = b + nu,
-                d = a + nu
-            );
+            let (c, d) = (b + nu, a + nu);
+            obj += &if inside {
+                format!("f {d}/{d} {c}/{c} {b}/{b} {a}/{a}\n")
+            } else {
+                format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n")
+            };
         }
     }
+    obj
+}
+
+/// A sphere of radius ρ has mean curvature 1/ρ everywhere (away from the
+/// poles), and thickness 2ρ.
+#[test]
+fn sphere_curvature_is_one_over_radius() {
+    let obj = sphere_obj(false);
     // 5 units at 0.01 m per unit: radius 50 mm.
     let m = Mesh::from_obj_text(&obj, "sphere", 0.01).unwrap();
     // Inward rays cross the sphere: thickness is its diameter, 100 mm
@@ -113,6 +122,74 @@ fn sphere_curvature_is_one_over_radius() {
         assert!(
             (v.curvature_per_mm - 1.0 / 50.0).abs() < 0.002,
             "{}",
+            v.curvature_per_mm
+        );
+    }
+}
+
+/// The same sphere seen from inside (faces wound inwards, so its normals
+/// point to the centre) is hollow: H = −1/ρ, and Penner's table takes a
+/// hollow as flat (0).
+#[test]
+fn hollow_curvature_is_flat() {
+    let m = Mesh::from_obj_text(&sphere_obj(true), "hollow", 0.01).unwrap();
+    let centre_ward = m
+        .vertices
+        .iter()
+        .filter(|v| v.position[1].abs() < 3.0)
+        .all(|v| Vec3::from(v.normal).dot(Vec3::from(v.position)) < 0.0);
+    assert!(
+        centre_ward,
+        "the normals of the inward-wound sphere point out"
+    );
+    for v in &m.vertices {
+        assert_eq!(v.curvature_per_mm, 0.0);
+    }
+}
+
+/// An open cylinder of radius ρ = 50 mm: mean curvature (0 + 1/ρ)/2 =
+/// 1/(2ρ) away from its two cut ends (do Carmo 1976, §3-3: H is the mean of
+/// the principal curvatures), and its boundary rows take their inner
+/// neighbours' value.
+#[test]
+fn cylinder_curvature_is_half_over_radius() {
+    let (nu, nv) = (64, 20);
+    let mut obj = String::new();
+    for j in 0..=nv {
+        for i in 0..nu {
+            let ph = std::f32::consts::TAU * i as f32 / nu as f32;
+            obj += &format!(
+                "v {} {} {}\nvt {} {}\n",
+                5.0 * ph.cos(),
+                10.0 * j as f32 / nv as f32,
+                -5.0 * ph.sin(),
+                i as f32 / nu as f32,
+                j as f32 / nv as f32
+            );
+        }
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            let a = j * nu + i + 1;
+            let b = j * nu + (i + 1) % nu + 1;
+            let (c, d) = (b + nu, a + nu);
+            obj += &format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n");
+        }
+    }
+    let m = Mesh::from_obj_text(&obj, "cylinder", 0.01).unwrap();
+    let outward = m.vertices.iter().all(|v| {
+        let radial = Vec3::new(v.position[0], 0.0, v.position[2]);
+        Vec3::from(v.normal).dot(radial) > 0.0
+    });
+    assert!(
+        outward,
+        "the cylinder's normals point inwards: wind it the other way"
+    );
+    for v in &m.vertices {
+        assert!(
+            (v.curvature_per_mm - 1.0 / 100.0).abs() < 0.0005,
+            "at y {}: {}",
+            v.position[1],
             v.curvature_per_mm
         );
     }

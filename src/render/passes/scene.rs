@@ -267,7 +267,7 @@ impl ScenePass {
 
     /// The scene's uniforms for a frame: camera and light from `cl`, the
     /// look from `shared` and `s`. The scene-lit method's terms are off
-    /// here (`preintegrated`, `lut_*`, `normal_blend`, `penumbra_*`): its
+    /// here (`preintegrated`, `lut_*`, `blur_sigma_mm`, `penumbra_*`): its
     /// file sets them (`sss::scene_terms`).
     pub fn uniforms(
         &self,
@@ -308,7 +308,7 @@ impl ScenePass {
             light_radiance: [s.view.light_intensity; 4],
             surface_albedo: rgb0(shared.surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
-            normal_blend: [0.0; 4],
+            blur_sigma_mm: [0.0; 4],
             environment_sh: s.environment_sh.map(rgb0),
             eyes: framing.eyes,
             pre_scatter_exponent: match s.texturing {

@@ -1,8 +1,10 @@
 //! `preintegrated` (Penner 2011): no screen-space pass. The scene pass
 //! (`shaders/scene.wgsl`) looks Penner's D(θ, κ) up from the profile
-//! core's ring-integral table with the per-vertex curvature FaceWorks
-//! computes, instead of saturate(N·L); this file gives the scene pass its
-//! tables and uniforms ([`METHOD`]'s scene hook).
+//! core's ring-integral table with the per-vertex mean curvature
+//! (`Mesh::compute_curvature`: signed, a hollow read as flat), instead of
+//! saturate(N·L), each channel with its own normal read from a mip of the
+//! normal map as FaceWorks reads its blurred normal; this file gives the
+//! scene pass its tables and uniforms ([`METHOD`]'s scene hook).
 
 use super::{Look, MethodInputs, ProfileInputs};
 use crate::model::lut::{LutLayout, ShadowLayout};
@@ -78,16 +80,16 @@ fn scene_tables(buffers: &super::Buffers) -> [&wgpu::TextureView; 2] {
 }
 
 /// Its terms of the scene's uniforms: on when `drawn`, the curvature 1/r
-/// (1/mm) of the table's first and last rows, the per-channel normal
-/// blend, the penumbra table and its widths.
+/// (1/mm) of the table's first and last rows, each channel's σ for its
+/// blurred normal, the penumbra table and its widths.
 fn scene_uniforms(inputs: &ProfileInputs, drawn: bool, u: &mut SceneUniforms) {
     let i = &inputs.methods.preintegrated;
     let (layout, pen) = (&i.lut_layout, &i.penumbra_layout);
     u.preintegrated = drawn as u32;
     u.lut_curvature_first = 1.0 / layout.curvature_radius(0) as f32;
     u.lut_curvature_last = 1.0 / layout.curvature_radius(layout.height - 1) as f32;
-    let [r, g, b] = i.normal_blend;
-    u.normal_blend = [r, g, b, 0.0];
+    let [r, g, b] = i.blur_sigma_mm;
+    u.blur_sigma_mm = [r, g, b, 0.0];
     u.penumbra_on = inputs.options.preintegrated.penumbra as u32;
     u.penumbra_inv_width_first = 1.0 / pen.penumbra_max_mm as f32;
     u.penumbra_inv_width_last = 1.0 / pen.penumbra_min_mm as f32;
@@ -105,10 +107,15 @@ pub struct Inputs {
     /// Penner's penumbra table (row-major) and its layout.
     pub penumbra_lut: Vec<[f32; 4]>,
     pub penumbra_layout: ShadowLayout,
-    /// Per channel, how far the detail normal bends back to the smooth
-    /// one: r/(r + 1 mm) for the channel's 0.997-energy radius r (Penner
-    /// 2011's per-channel normals; wide red light ignores pores).
-    pub normal_blend: [f32; 3],
+    /// Per channel, the profile's per-axis σ (mm, `model::axis_sigma_mm`):
+    /// each channel's blurred normal is the normal map read at the mip
+    /// whose texels are σ wide (FaceWorks' `CalculateMipLevelForBlurredNormal`,
+    /// `src/runtime.cpp` lines 158–161 of NVIDIAGameWorks/FaceWorks:
+    /// log2(max(normalMapSize·diffusionRadius, averageUVScale) /
+    /// averageUVScale), its diffusion radius 2.7 mm for skin being σ of
+    /// d'Eon's widest Gaussian), so wide red light ignores pores and the
+    /// mid-scale shape stays.
+    pub blur_sigma_mm: [f32; 3],
     /// False for the placeholders of inputs made for another method.
     pub baked: bool,
 }
@@ -126,7 +133,7 @@ impl MethodInputs for Inputs {
         use std::hash::Hash;
         h.write(bytemuck::cast_slice(&self.lut));
         h.write(bytemuck::cast_slice(&self.penumbra_lut));
-        h.write(bytemuck::cast_slice(&self.normal_blend));
+        h.write(bytemuck::cast_slice(&self.blur_sigma_mm));
         let (l, p) = (&self.lut_layout, &self.penumbra_layout);
         h.write(bytemuck::cast_slice(&[
             p.penumbra_min_mm,
@@ -151,13 +158,13 @@ impl Inputs {
         };
         let penumbra_layout = ShadowLayout::default();
         let (lut, penumbra_lut) = penner_tables(profile, bake, lut_layout, penumbra_layout)?;
-        let radii = profile.radius_for_energy(crate::model::DEFAULT_ENERGY_FRACTION);
+        let sigma = crate::model::axis_sigma_mm(profile);
         Ok(Self {
             lut,
             lut_layout,
             penumbra_lut,
             penumbra_layout,
-            normal_blend: radii.map(|r| (r / (r + 1.0)) as f32),
+            blur_sigma_mm: sigma.map(|s| s as f32),
             baked: bake,
         })
     }
