@@ -288,7 +288,8 @@ impl RenderArgs {
 /// - `scattered.*`: the scattered diffuse irradiance (what the bench
 ///   compares), alpha the SSS mask;
 /// - `unscattered.*`: the scene's diffuse irradiance × albedo^pre, before
-///   any SSS pass, alpha the SSS mask;
+///   any SSS pass (for `preintegrated`, lit in the scene pass, its
+///   scattered light), alpha the SSS mask;
 /// - `albedo.*`: albedo^post, alpha the coverage;
 /// - `specular.*`: the specular radiance.
 ///

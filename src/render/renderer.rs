@@ -510,8 +510,9 @@ pub struct FrameLayers {
     /// method wrote it on SSS pixels, the scene's elsewhere).
     pub scattered: Vec<[f32; 4]>,
     /// The scene pass's diffuse irradiance × albedo^pre, before any SSS
-    /// pass (`scene.wgsl`'s target 0). Alpha: the SSS mask, −1 on eyes
-    /// and teeth, −2 on the background.
+    /// pass (`scene.wgsl`'s target 0; `preintegrated` scatters in the scene
+    /// pass, so for it this is already its scattered light). Alpha: the SSS
+    /// mask, −1 on eyes and teeth, −2 on the background.
     pub unscattered: Vec<[f32; 4]>,
     /// albedo^post (8-bit linear, as the composite reads it). Alpha:
     /// coverage, 1 on the mesh and 0 on the background.
