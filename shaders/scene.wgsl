@@ -511,8 +511,6 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     return o;
 }
 
-// D(θ, κ) of each channel at its own N·L: the table holds
-// D − saturate(N·L) (FaceWorks' delta), added back here.
 // The normal map's tangent-space normal in world space (glTF/MikkTSpace:
 // B = w N × T), scaled by the detail strength; the geometric normal where
 // there is no tangent frame.
@@ -527,6 +525,8 @@ fn mapped_normal(ng: vec3<f32>, tangent: vec4<f32>, normal_tex: vec3<f32>) -> ve
     return ng;
 }
 
+// D(θ, κ) of each channel at its own N·L: the table holds
+// D − saturate(N·L) (FaceWorks' delta), added back here.
 fn preintegrated_d(nl_r: f32, nl_g: f32, nl_b: f32, curv: f32) -> vec3<f32> {
     let r = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_r + 0.5, curv), 0.0).r;
     let g = textureSampleLevel(preintegrated_lut, lut_sampler, vec2<f32>(0.5 * nl_g + 0.5, curv), 0.0).g;
