@@ -10,12 +10,14 @@
 //! 0.3 s from Mesa's shader cache.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::scan::{scan, scan_view};
+
 use scatterlab::bench::{floor, metrics};
 use scatterlab::model::burley::Burley;
-use scatterlab::render::textures::{self, AlbedoMode, TextureSlot};
 use scatterlab::render::{GpuContext, Mesh, Method, ProfileInputs, RenderSettings, Renderer};
 use scatterlab::settings::OrbitView;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The default head at 320×180, full mesh (the ground truth's own), no
 /// SSS level of detail.
@@ -34,45 +36,6 @@ fn head_view(method: Method, yaw_deg: f32, light_azimuth_deg: f32) -> RenderSett
         mesh_lod: false,
         deterministic: true,
         ..Default::default()
-    }
-}
-
-/// Lee Perry-Smith's scan as another tool wrote it (glTF at 0.0462 m/unit,
-/// external colour and normal maps with V flipped; assets/scan), as
-/// tests/yardstick.rs loads it.
-fn scan() -> Mesh {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scan");
-    let mut mesh = Mesh::load(&root.join("LeePerrySmith.glb"), 0.0462).unwrap();
-    let maps = std::sync::Arc::make_mut(&mut mesh.textures);
-    let mut albedo = textures::load(&root.join("Map-COL.jpg"), TextureSlot::Albedo).unwrap();
-    albedo.flip_v();
-    maps.albedo = albedo;
-    maps.albedo_mode = AlbedoMode::Absolute;
-    let normal_map = root.join("Infinite-Level_02_Tangent_SmoothUV.jpg");
-    let mut normal = textures::load(&normal_map, TextureSlot::Normal).unwrap();
-    normal.flip_v();
-    maps.normal = normal;
-    mesh
-}
-
-/// The scan at about 1 mm a pixel (tests/yardstick.rs' `scan_view`).
-fn scan_view(mesh: &Mesh, yaw_deg: f32, light: (f32, f32)) -> RenderSettings {
-    RenderSettings {
-        width: 192,
-        height: 192,
-        method: Method::Reference,
-        view: OrbitView {
-            camera_yaw_rad: yaw_deg.to_radians(),
-            camera_distance_m: mesh.framing_distance_m(30f32.to_radians()),
-            fov_y_rad: 20f32.to_radians(),
-            light_azimuth_rad: light.0.to_radians(),
-            light_elevation_rad: light.1.to_radians(),
-            ..OrbitView::default()
-        },
-        mesh_lod: false,
-        lod: false,
-        deterministic: true,
-        ..RenderSettings::default()
     }
 }
 

@@ -9,16 +9,18 @@
 //! the profile (closed forms: Ki₁ for Burley, erf for Gaussian sums).
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::scan::{scan, scan_view};
+
 use scatterlab::bench::floor;
 use scatterlab::model::burley::Burley;
 use scatterlab::model::RadialProfile;
-use scatterlab::render::textures::{self, AlbedoMode, TextureSlot};
 use scatterlab::render::{
     BurleySampling, GpuContext, IrradiancePattern, Mesh, Method, ProfileInputs, RenderSettings,
     Renderer, TexturingMode,
 };
 use scatterlab::settings::OrbitView;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 fn out_dir() -> PathBuf {
     let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
@@ -40,46 +42,6 @@ fn write_failure(name: &str, a: &[[f32; 4]], b: &[[f32; 4]], (w, h): (u32, u32))
     let path = out_dir().join(format!("{name}-actual-and-diff.png"));
     img.save(&path).unwrap();
     eprintln!("wrote {}", path.display());
-}
-
-/// Lee Perry-Smith's scan as another tool wrote it (glTF at 0.0462 m/unit,
-/// external colour and normal maps with V flipped; assets/scan).
-fn scan() -> Mesh {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scan");
-    let mut mesh = Mesh::load(&root.join("LeePerrySmith.glb"), 0.0462).unwrap();
-    let maps = std::sync::Arc::make_mut(&mut mesh.textures);
-    let mut albedo = textures::load(&root.join("Map-COL.jpg"), TextureSlot::Albedo).unwrap();
-    albedo.flip_v();
-    maps.albedo = albedo;
-    maps.albedo_mode = AlbedoMode::Absolute;
-    let normal_map = root.join("Infinite-Level_02_Tangent_SmoothUV.jpg");
-    let mut normal = textures::load(&normal_map, TextureSlot::Normal).unwrap();
-    normal.flip_v();
-    maps.normal = normal;
-    mesh
-}
-
-/// The scan at ~1 mm a pixel (the bench's 640×360 head shots are 0.8–0.9
-/// mm): 20° of view at the framing distance over 192 pixels.
-fn scan_view(mesh: &Mesh, yaw_deg: f32, light: (f32, f32)) -> RenderSettings {
-    let fov = 20f32.to_radians();
-    RenderSettings {
-        width: 192,
-        height: 192,
-        method: Method::Reference,
-        view: OrbitView {
-            camera_yaw_rad: yaw_deg.to_radians(),
-            camera_distance_m: mesh.framing_distance_m(30f32.to_radians()),
-            fov_y_rad: fov,
-            light_azimuth_rad: light.0.to_radians(),
-            light_elevation_rad: light.1.to_radians(),
-            ..OrbitView::default()
-        },
-        mesh_lod: false,
-        lod: false,
-        deterministic: true,
-        ..RenderSettings::default()
-    }
 }
 
 /// On the scan with its maps, seen from the side and from the front-left,

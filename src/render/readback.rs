@@ -55,22 +55,11 @@ pub fn f32_to_half(x: f32) -> u16 {
     (half + ((mant >> 12) & 1)) as u16
 }
 
-/// IEEE 754 binary16 → f32 (the HDR targets are Rgba16Float).
+/// IEEE 754 binary16 → f32 (the HDR targets are Rgba16Float): a sign bit
+/// over the same 5-bit-exponent float as RG11B10's, with 10 mantissa bits.
 pub fn half_to_f32(h: u16) -> f32 {
     let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = ((h >> 10) & 0x1f) as i32;
-    let frac = (h & 0x3ff) as f32;
-    sign * match exp {
-        0 => frac * 2f32.powi(-24),
-        31 => {
-            if frac == 0.0 {
-                f32::INFINITY
-            } else {
-                f32::NAN
-            }
-        }
-        e => (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
-    }
+    sign * small_float((h & 0x7fff) as u32, 10)
 }
 
 /// Copies each texture (with its bytes per pixel) into a buffer, submits
@@ -151,10 +140,10 @@ pub(super) fn readback(
     Ok(out)
 }
 
-/// An unsigned float of `mantissa_bits` and a 5-bit exponent (bias 15),
-/// as packed in B10G11R11_UFLOAT (the Vulkan specification's "Unsigned
-/// 11-Bit Floating-Point Numbers" and "10-Bit" sections: no sign bit, the
-/// exponent and mantissa as in a half).
+/// An unsigned float of `mantissa_bits` and a 5-bit exponent (bias 15):
+/// a half's magnitude (10 bits), or B10G11R11_UFLOAT's channels (6 and 5;
+/// the Vulkan specification's "Unsigned 11-Bit Floating-Point Numbers" and
+/// "10-Bit" sections: no sign bit, the exponent and mantissa as in a half).
 fn small_float(bits: u32, mantissa_bits: u32) -> f32 {
     let exp = ((bits >> mantissa_bits) & 0x1f) as i32;
     let frac = (bits & ((1 << mantissa_bits) - 1)) as f32 / (1u32 << mantissa_bits) as f32;

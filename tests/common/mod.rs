@@ -77,3 +77,5 @@ pub fn quad_gltf_textured(half: f32, v_up: bool, uri: &str) -> String {
         &base[..end]
     )
 }
+
+pub mod scan;

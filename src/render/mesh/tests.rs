@@ -68,23 +68,20 @@ fn default_head_loads_with_three_materials() {
         .all(|v| (Vec3::from(v.normal).length() - 1.0).abs() < 1e-3));
 }
 
-/// A UV sphere of radius 5 units (48 × 24), its faces wound outwards, or
-/// inwards with `inside` (the surface seen from within: a hollow).
-fn sphere_obj(inside: bool) -> String {
+/// An OBJ of a (nu × nv)-quad grid closed in u (a band: sphere, cylinder),
+/// its vertex at grid point (i, j) at `point(i/nu, j/nv)` with that UV; the
+/// quads wound (a, b, b + nu, a + nu), or the other way with `flip`.
+fn wrapped_grid_obj(
+    (nu, nv): (u32, u32),
+    flip: bool,
+    point: impl Fn(f32, f32) -> [f32; 3],
+) -> String {
     let mut obj = String::new();
-    let (nu, nv) = (48, 24);
     for j in 0..=nv {
         for i in 0..nu {
-            let th = std::f32::consts::PI * j as f32 / nv as f32;
-            let ph = std::f32::consts::TAU * i as f32 / nu as f32;
-            obj += &format!(
-                "v {} {} {}\nvt {} {}\n",
-                5.0 * th.sin() * ph.cos(),
-                5.0 * th.cos(),
-                5.0 * th.sin() * ph.sin(),
-                i as f32 / nu as f32,
-                j as f32 / nv as f32
-            );
+            let (u, v) = (i as f32 / nu as f32, j as f32 / nv as f32);
+            let p = point(u, v);
+            obj += &format!("v {} {} {}\nvt {u} {v}\n", p[0], p[1], p[2]);
         }
     }
     for j in 0..nv {
@@ -92,7 +89,7 @@ fn sphere_obj(inside: bool) -> String {
             let a = j * nu + i + 1;
             let b = j * nu + (i + 1) % nu + 1;
             let (c, d) = (b + nu, a + nu);
-            obj += &if inside {
+            obj += &if flip {
                 format!("f {d}/{d} {c}/{c} {b}/{b} {a}/{a}\n")
             } else {
                 format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n")
@@ -100,6 +97,19 @@ fn sphere_obj(inside: bool) -> String {
         }
     }
     obj
+}
+
+/// A UV sphere of radius 5 units (48 × 24), its faces wound outwards, or
+/// inwards with `inside` (the surface seen from within: a hollow).
+fn sphere_obj(inside: bool) -> String {
+    wrapped_grid_obj((48, 24), inside, |u, v| {
+        let (th, ph) = (std::f32::consts::PI * v, std::f32::consts::TAU * u);
+        [
+            5.0 * th.sin() * ph.cos(),
+            5.0 * th.cos(),
+            5.0 * th.sin() * ph.sin(),
+        ]
+    })
 }
 
 /// A sphere of radius ρ has mean curvature 1/ρ everywhere (away from the
@@ -153,29 +163,11 @@ fn hollow_curvature_is_flat() {
 /// neighbours' value.
 #[test]
 fn cylinder_curvature_is_half_over_radius() {
-    let (nu, nv) = (64, 20);
-    let mut obj = String::new();
-    for j in 0..=nv {
-        for i in 0..nu {
-            let ph = std::f32::consts::TAU * i as f32 / nu as f32;
-            obj += &format!(
-                "v {} {} {}\nvt {} {}\n",
-                5.0 * ph.cos(),
-                10.0 * j as f32 / nv as f32,
-                -5.0 * ph.sin(),
-                i as f32 / nu as f32,
-                j as f32 / nv as f32
-            );
-        }
-    }
-    for j in 0..nv {
-        for i in 0..nu {
-            let a = j * nu + i + 1;
-            let b = j * nu + (i + 1) % nu + 1;
-            let (c, d) = (b + nu, a + nu);
-            obj += &format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n");
-        }
-    }
+    // Radius 5 units, 10 units tall.
+    let obj = wrapped_grid_obj((64, 20), false, |u, v| {
+        let ph = std::f32::consts::TAU * u;
+        [5.0 * ph.cos(), 10.0 * v, -5.0 * ph.sin()]
+    });
     let m = Mesh::from_obj_text(&obj, "cylinder", 0.01).unwrap();
     let outward = m.vertices.iter().all(|v| {
         let radial = Vec3::new(v.position[0], 0.0, v.position[2]);
