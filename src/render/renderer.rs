@@ -383,6 +383,7 @@ impl Renderer {
             cancel: &self.cancel,
             scene_bind: &profile.scene_bg,
             scene_layout: self.scene.layout(),
+            drawn: lod,
         };
         let scattered = (method.sss().encode)(&mut f, &self.sss, &io, &mut self.sss_state)?;
         let reference_cpu_ms = scattered.cpu_ms;

@@ -30,6 +30,10 @@ pub enum MethodId {
     /// Penner 2011 pre-integrated skin: D(θ, curvature) from a lookup table
     /// in the scene pass, no screen-space pass.
     Preintegrated,
+    /// d'Eon & Luebke 2007 texture-space diffusion: the light gathered
+    /// over the mesh's UV atlas, where surface the camera cannot see (the
+    /// lid margin, the back of the ear) has its texels too.
+    TextureSpace,
     /// The ground truth: the profile integrated over the whole SSS surface
     /// in object space on the CPU (`render::ground_truth`); seconds to
     /// minutes a frame.

@@ -46,6 +46,22 @@ impl MeshLod {
         }
     }
 
+    /// Draws the mesh with `pipeline` and `groups` (groups 0, 1, …).
+    pub fn draw_with(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        pipeline: &wgpu::RenderPipeline,
+        groups: &[&wgpu::BindGroup],
+    ) {
+        pass.set_pipeline(pipeline);
+        for (i, g) in groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, *g, &[]);
+        }
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+
     /// Draws the mesh with `pipeline` and `bind_group` (group 0).
     fn draw(
         &self,

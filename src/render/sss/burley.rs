@@ -212,16 +212,16 @@ impl Default for BurleySampling {
 /// `burley`'s share of the profile on the GPU.
 pub(in crate::render) struct Buffers {
     /// The main pattern followed by the LOD's short one.
-    samples: wgpu::Buffer,
+    pub(super) samples: wgpu::Buffer,
     /// r·R_N(r) per channel (the weights), then the CDF.
-    profile_lut: wgpu::Buffer,
+    pub(super) profile_lut: wgpu::Buffer,
     /// Samples of the main pattern.
-    count: u32,
+    pub(super) count: u32,
     /// Low-LOD count, filter radius (the widest channel's 0.997-energy
     /// radius, mm) and sampling flags; `lod_on` is set per frame.
     uniforms: BurleyUniforms,
     /// The radius (mm) the profile table reaches.
-    lut_radius_mm: f32,
+    pub(super) lut_radius_mm: f32,
 }
 
 impl super::MethodBuffers<Inputs> for Buffers {

@@ -19,6 +19,7 @@ use super::frame::FrameEncoder;
 use super::gpu_types::{SceneUniforms, SssUniforms};
 use super::mesh::Mesh;
 use super::passes::shadow::ShadowPass;
+use super::passes::MeshLod;
 use super::settings::{Method, RenderSettings};
 use super::targets::{HdrTarget, Targets};
 use crate::model::{ModelError, RadialProfile, Rgb};
@@ -135,6 +136,7 @@ methods! {
     Separable => separable,
     Gaussians => gaussians,
     Preintegrated => preintegrated,
+    TextureSpace => texture_space,
     Reference => reference,
 }
 
@@ -259,6 +261,9 @@ pub(in crate::render) struct SssFrame<'t> {
     /// evaluates the scene's `shade` with them).
     pub scene_bind: &'t wgpu::BindGroup,
     pub scene_layout: &'t wgpu::BindGroupLayout,
+    /// The level of detail the scene pass drew (`texture-space` draws it
+    /// again: into its atlas, and with the scene's depth).
+    pub drawn: &'t MeshLod,
 }
 
 impl SssFrame<'_> {

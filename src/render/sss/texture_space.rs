@@ -1,0 +1,453 @@
+//! `texture-space` (d'Eon & Luebke 2007, GPU Gems 3 ch. 14: texture-space
+//! diffusion): the light is gathered over the mesh's UV atlas, where every
+//! triangle has its texels whether the camera sees it or not, so the light
+//! that reaches a visible pixel from the lid margin or the back of the ear
+//! is there to be gathered; the screen-space methods only see the pixels
+//! on screen. Three passes, all timed as SSS
+//! (`shaders/texture_space_scene.wgsl`, `shaders/sss_texture_space.wgsl`):
+//!
+//! 1. **irradiance**: the mesh drawn at its UVs into an `N × N` atlas
+//!    (`--atlas-size`), each texel shaded by the scene pass's own `shade`
+//!    (light, shadow map, environment, maps, transmission) and given its
+//!    surface position and its texel-to-surface Jacobian (d'Eon's stretch
+//!    map, from the rasteriser's derivatives);
+//! 2. **blur**: burley's importance-sampled disk (Golubev 2018; its
+//!    samples and profile table, `sss::burley`) on each texel's tangent
+//!    plane, carried into texel steps by its Jacobian and weighted by
+//!    R(ρ) at the 3D distance between the surface points (d'Eon sums six
+//!    separable Gaussians with a stretch map instead; one radial profile
+//!    keeps the method exact for any look, and the 3D distance makes a
+//!    sample that crosses a UV seam weigh next to nothing);
+//! 3. **lookup**: the mesh drawn again with the scene pass's vertex shader
+//!    and depth test Equal, reading the blurred atlas at each pixel's UV.
+//!
+//! What it needs of a mesh: UVs that do not overlap (the default head's
+//! and the Lee Perry-Smith scan's do not); overlapping islands take the
+//! light of whichever triangle was drawn last.
+
+use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
+use crate::model::ModelError;
+use crate::render::context::GpuError;
+use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
+use crate::render::gpu_types::{SssUniforms, Vertex};
+use crate::render::pipelines::{
+    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, DEPTH_STENCIL,
+    HDR,
+};
+use crate::render::sss::burley::LUT_SIZE;
+use crate::render::targets::HdrTarget;
+
+/// `texture-space` in the registry (`sss::Method::sss`).
+pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
+    id: "texture-space",
+    label: "texture-space (d'Eon & Luebke 2007 atlas)",
+    quality: super::Quality::Samples,
+    stochastic: |_| true,
+    shader: Some((
+        "sss_texture_space",
+        include_str!("../../../shaders/sss_texture_space.wgsl"),
+    )),
+    colour: [23, 190, 207],
+    bench,
+    encode,
+    ..super::MethodInfo::BASE
+};
+
+/// The atlas sizes `bench` measures.
+pub const BENCH_ATLAS: [u32; 3] = [512, 1024, 2048];
+
+/// `bench`'s configurations: each atlas size at burley's default count.
+fn bench() -> Vec<Knob> {
+    BENCH_ATLAS
+        .map(|n| Knob {
+            variant: match n {
+                512 => "atlas512",
+                1024 => "atlas1024",
+                _ => "atlas2048",
+            },
+            count: 21,
+            series: ("", None),
+            shipped: true,
+        })
+        .to_vec()
+}
+
+/// `texture-space`'s command-line options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+#[group(skip)]
+pub struct Options {
+    /// `texture-space`: the side of its irradiance atlas in texels. On the
+    /// default head a texel is about 0.95 mm of skin at 1024 and 0.47 mm
+    /// at 2048 (its UV islands cover 24 % of the square).
+    #[arg(
+        id = "atlas_size",
+        long = "atlas-size",
+        value_name = "TEXELS",
+        default_value_t = DEFAULT_ATLAS,
+        value_parser = clap::value_parser!(u32).range(64..=4096)
+    )]
+    pub atlas_size: u32,
+}
+
+/// The default atlas side (texels).
+pub const DEFAULT_ATLAS: u32 = 1024;
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            atlas_size: DEFAULT_ATLAS,
+        }
+    }
+}
+
+/// `texture-space`'s CPU inputs: the atlas size (its samples and table
+/// are burley's, uploaded with burley's buffers).
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub atlas_size: u32,
+}
+
+impl MethodInputs for Inputs {
+    fn new(look: &Look<'_>, _bake: bool) -> Result<Self, ModelError> {
+        Ok(Self {
+            atlas_size: look.options.texture_space.atlas_size,
+        })
+    }
+
+    /// `variant` is `atlas<N>`.
+    fn bench(&mut self, _: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
+        self.atlas_size = knob
+            .variant
+            .strip_prefix("atlas")
+            .and_then(|n| n.parse().ok())
+            .ok_or_else(|| {
+                ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant))
+            })?;
+        Ok(())
+    }
+
+    fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
+        h.write_u32(self.atlas_size);
+    }
+}
+
+/// Nothing of its own on the GPU per profile (burley's buffers serve).
+pub(in crate::render) type Buffers = ();
+
+/// The blur's layout and pipeline (the passes that draw the mesh need
+/// the scene's bind-group layout and are built with the [`State`]).
+pub(in crate::render) struct Pipelines {
+    layout: wgpu::BindGroupLayout,
+    blur: wgpu::RenderPipeline,
+}
+
+impl super::MethodPipelines for Pipelines {
+    fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+        let module = &module("sss_texture_space");
+        let storage = wgpu::BufferBindingType::Storage { read_only: true };
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss texture-space blur"),
+            entries: &[
+                uniform_entry::<SssUniforms>(0, frag),
+                texture_entry(1),
+                texture_entry(2),
+                buffer_entry(3, storage, frag),
+                buffer_entry(4, storage, frag),
+                texture_entry(5),
+            ],
+        });
+        Self {
+            blur: fullscreen_pipeline(
+                device,
+                module,
+                "fs_atlas_blur",
+                &layout,
+                Output::Replace(HDR),
+                Stencil::None,
+            ),
+            layout,
+        }
+    }
+}
+
+/// Kept between frames: the mesh passes (built on first use, with the
+/// scene's layout) and the atlas's textures (for one size).
+#[derive(Default)]
+pub(in crate::render) struct State {
+    passes: Option<MeshPasses>,
+    atlas: Option<Atlas>,
+}
+
+/// The two passes that draw the mesh.
+struct MeshPasses {
+    atlas: wgpu::RenderPipeline,
+    lookup: wgpu::RenderPipeline,
+    lookup_layout: wgpu::BindGroupLayout,
+}
+
+/// Position (mm): 32-bit floats (a head is 300 mm across; half floats
+/// would round a position to 0.125 mm). The frame (mm per texel step) is
+/// a half float: 32 bytes a texel is the most a pass may write.
+const WIDE: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// The atlas's textures.
+struct Atlas {
+    size: u32,
+    irradiance: wgpu::TextureView,
+    position: wgpu::TextureView,
+    frame: wgpu::TextureView,
+    scattered: wgpu::TextureView,
+}
+
+impl Atlas {
+    fn new(device: &wgpu::Device, size: u32) -> Self {
+        let make = |label, format| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: size,
+                        height: size,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        Self {
+            size,
+            irradiance: make("texture-space irradiance", HDR),
+            position: make("texture-space position", WIDE),
+            frame: make("texture-space frame", HDR),
+            scattered: make("texture-space scattered", HDR),
+        }
+    }
+}
+
+impl MeshPasses {
+    fn new(device: &wgpu::Device, scene_layout: &wgpu::BindGroupLayout) -> Self {
+        let source = format!(
+            "{}\n{}",
+            include_str!("../../../shaders/scene.wgsl"),
+            include_str!("../../../shaders/texture_space_scene.wgsl")
+        );
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("texture_space_scene"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("texture-space lookup"),
+            entries: &[texture_entry(0)],
+        });
+        let layout = |label, groups: &[Option<&wgpu::BindGroupLayout>]| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: groups,
+                ..Default::default()
+            })
+        };
+        let vertices = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32, 5 => Float32, 6 => Float32x4],
+        })];
+        let target = |format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        };
+        let atlas_layout = layout("texture-space atlas", &[Some(scene_layout)]);
+        let atlas = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("texture-space atlas"),
+            layout: Some(&atlas_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_atlas"),
+                compilation_options: Default::default(),
+                buffers: &vertices,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_atlas"),
+                compilation_options: Default::default(),
+                targets: &[target(HDR), target(WIDE), target(HDR)],
+            }),
+            // UV islands are wound either way: nothing is culled, and no
+            // depth (islands do not overlap).
+            primitive: wgpu::PrimitiveState {
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        let lookup_pl = layout(
+            "texture-space lookup",
+            &[Some(scene_layout), Some(&lookup_layout)],
+        );
+        let lookup = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("texture-space lookup"),
+            layout: Some(&lookup_pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &vertices,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_lookup"),
+                compilation_options: Default::default(),
+                targets: &[target(HDR)],
+            }),
+            // The scene pass's culling, and its depth: only the fragment
+            // the scene pass kept passes Equal (same vertex shader, same
+            // mesh, same uniforms).
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_STENCIL,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Equal),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            atlas,
+            lookup,
+            lookup_layout,
+        }
+    }
+}
+
+fn encode(
+    f: &mut FrameEncoder,
+    p: &SssPipelines,
+    io: &SssFrame,
+    state: &mut super::State,
+) -> Result<Scattered, GpuError> {
+    let state = &mut state.texture_space;
+    let size = io.inputs.methods.texture_space.atlas_size;
+    let device = f.device;
+    let passes = state
+        .passes
+        .get_or_insert_with(|| MeshPasses::new(device, io.scene_layout));
+    if state.atlas.as_ref().map(|a| a.size) != Some(size) {
+        state.atlas = None;
+        state.atlas = Some(Atlas::new(device, size));
+    }
+    let Some(atlas) = state.atlas.as_ref() else {
+        return Err(GpuError::Readback("texture-space: no atlas".into()));
+    };
+    let texels = (size as u64).pow(2);
+    // 1. The irradiance atlas: every triangle at its UVs.
+    {
+        let label = "sss texture-space irradiance";
+        let background = wgpu::Color {
+            r: 0.0,
+            g: 0.0,
+            b: 0.0,
+            a: crate::render::gpu_types::DIFFUSE_ALPHA_BACKGROUND as f64,
+        };
+        let colour = [
+            Some(color_attachment_clearing(&atlas.irradiance, Some(background))),
+            Some(color_attachment(&atlas.position, false)),
+            Some(color_attachment(&atlas.frame, false)),
+        ];
+        let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &colour,
+            depth_stencil_attachment: None,
+            timestamp_writes: f.timer.render(label, texels, 0),
+            ..Default::default()
+        });
+        io.drawn.draw_with(&mut pass, &passes.atlas, &[io.scene_bind]);
+    }
+    // 2. The blur over the atlas.
+    let burley = &io.profile.methods.burley;
+    let n = burley.count;
+    let uniforms = SssUniforms {
+        size: [size as f32; 2],
+        lut_radius_mm: burley.lut_radius_mm,
+        lut_entries: LUT_SIZE as u32,
+        ..io.uniforms(n)
+    };
+    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
+    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sss texture-space blur"),
+        layout: &p.texture_space.layout,
+        entries: &[
+            buf(0, &u),
+            tex(1, &atlas.irradiance),
+            tex(2, &atlas.position),
+            buf(3, &burley.samples),
+            buf(4, &burley.profile_lut),
+            tex(5, &atlas.frame),
+        ],
+    });
+    f.fullscreen(
+        Some(&atlas.scattered),
+        &p.texture_space.blur,
+        &bg,
+        "sss texture-space blur",
+        (texels, texels * n as u64),
+        false,
+        false,
+    );
+    // 3. The lookup at each pixel's UV, into the ping target.
+    {
+        let label = "sss texture-space lookup";
+        let t = io.targets;
+        let lookup_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &passes.lookup_layout,
+            entries: &[tex(0, &atlas.scattered)],
+        });
+        let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
+        let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &colour,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth_stencil,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+            }),
+            timestamp_writes: f.timer.render(label, io.sss_pixels, 4 * io.sss_pixels),
+            ..Default::default()
+        });
+        io.drawn
+            .draw_with(&mut pass, &passes.lookup, &[io.scene_bind, &lookup_bg]);
+    }
+    Ok(Scattered {
+        target: HdrTarget::Ping,
+        samples_per_pixel: n,
+        counted_pass: None,
+        cpu_ms: None,
+        gpu_unfinished: None,
+        truth_tiles: None,
+        build_ms: None,
+    })
+}
