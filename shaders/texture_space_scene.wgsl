@@ -1,20 +1,28 @@
-// `texture-space` (d'Eon & Luebke 2007, GPU Gems 3 ch. 14), its two passes
-// that draw the mesh; scene.wgsl is prefixed to this file, its bindings in
-// group 0, and sss_texture_space.wgsl holds the blur between them.
+// `texture-space` (d'Eon & Luebke 2007, GPU Gems 3 ch. 14: texture-space
+// diffusion): scene.wgsl is prefixed to this file, its bindings in group
+// 0; this file's own are in group 1.
 //
 // 1. `vs_atlas`/`fs_atlas` rasterise the mesh at its UVs into the atlas
 //    (d'Eon & Luebke 2007 §14.4.1: "the irradiance texture"), every
 //    triangle, seen or not: the lid margin and the back of the ear get
 //    their light although the camera cannot see them. Each texel gets what
-//    the scene pass would write there (`shade`, transmission included),
-//    its surface position (mm) and the map from its texel steps to the
-//    surface (mm): the stretch map of §14.4.2, here the whole 2×2 Jacobian
-//    in an orthonormal frame of the tangent plane, from the rasteriser's
-//    derivatives of the position (exact per triangle: UV and position are
-//    both linear across it).
-// 2. `fs_lookup` draws the mesh again with the scene pass's vertex shader
-//    and depth (compare Equal), and reads the blurred atlas at the
-//    pixel's UV, bilinear over the covered texels only.
+//    the scene pass would write there (`shade`, transmission included)
+//    and its surface position (mm, as two half floats).
+// 2. `fs_gather` draws the mesh again with the scene pass's vertex shader
+//    and depth (compare Equal) on the SSS pixels (the classify pass's
+//    stencil). At each pixel it places burley's importance-sampled disk
+//    (Golubev 2018: its samples and profile table) on the surface's
+//    tangent plane in mm, carries each sample into UV by the triangle's
+//    own surface-to-UV map (from the rasteriser's derivatives of the
+//    position and the UV: exact per triangle, d'Eon's stretch map without
+//    its isotropy), reads the atlas there, and weighs the sample by the
+//    profile at the 3D distance between the two surface points, with
+//    weights normalised as `fs_burley`'s are: a sample that crosses a UV
+//    seam lands on another island, far away in 3D, and weighs next to
+//    nothing. d'Eon blurs the whole atlas with six separable Gaussians
+//    instead; gathering at the pixels on screen alone costs what burley's
+//    pass costs, where blurring a 1024² atlas cost 3.4× that (measured,
+//    docs/accuracy.md).
 
 @vertex
 fn vs_atlas(v: VertexIn) -> VertexOut {
@@ -35,13 +43,13 @@ fn vs_atlas(v: VertexIn) -> VertexOut {
 struct AtlasOut {
     // What the scene pass writes to its diffuse target (scene.wgsl's head).
     @location(0) diffuse: vec4<f32>,
-    // xyz: the surface point (mm), w: 1 where a triangle covers the texel.
-    @location(1) position_mm: vec4<f32>,
-    // x = |W_x|, y = W_y·e1, z = W_y·e2 (mm per texel step): the texel
-    // steps W_x (along u) and W_y (along v) in the frame e1 = W_x/|W_x|,
-    // e2 ⟂ e1 in the triangle's plane. A surface offset (s1, s2) in mm is
-    // the texel offset t with t_y = s2/z, t_x = (s1 − y·t_y)/x.
-    @location(2) frame_mm: vec4<f32>,
+    // xyz: the surface point (mm) rounded to half floats, w: 1 where a
+    // triangle covers the texel; and what the rounding left out (half
+    // floats: a 32-bit target is not renderable on every backend, GL's
+    // included, and hi + lo keeps ~1e-4 mm where half floats alone would
+    // keep 0.125 mm at 200 mm).
+    @location(1) position_hi: vec4<f32>,
+    @location(2) position_lo: vec4<f32>,
 };
 
 @fragment
@@ -55,48 +63,163 @@ fn fs_atlas(i: VertexOut) -> AtlasOut {
     maps.blurred_r = maps.normal;
     maps.blurred_g = maps.normal;
     maps.blurred_b = maps.normal;
-    let wx = dpdx(i.world) * u.mm_per_unit;
-    let wy = dpdy(i.world) * u.mm_per_unit;
-    let lx = length(wx);
-    let e1 = wx / max(lx, 1e-12);
-    let along = dot(wy, e1);
-    let across = length(wy - e1 * along);
     var o: AtlasOut;
     o.diffuse = shade(i, maps, true).diffuse;
-    o.position_mm = vec4<f32>(i.world * u.mm_per_unit, 1.0);
-    o.frame_mm = vec4<f32>(lx, along, across, 1.0);
+    let p = i.world * u.mm_per_unit;
+    let hi = vec3<f32>(unpack2x16float(pack2x16float(p.xy)), unpack2x16float(pack2x16float(vec2<f32>(p.z, 0.0))).x);
+    o.position_hi = vec4<f32>(hi, 1.0);
+    o.position_lo = vec4<f32>(p - hi, 0.0);
     return o;
 }
 
-// The blurred atlas (sss_texture_space.wgsl's output).
-@group(1) @binding(0) var atlas_scattered: texture_2d<f32>;
+// Twin of `render::gpu_types::SssUniforms` (as sss_common.wgsl declares
+// it; this module cannot include that file, whose bindings are scene.wgsl's).
+struct SssUniforms {
+    size: vec2<f32>,
+    pixels_per_unit_at_depth_1: f32,
+    mm_per_unit: f32,
+    rotation_offset_turns: f32,
+    deterministic: u32,
+    sample_count: u32,
+    lut_radius_mm: f32,
+    lut_entries: u32,
+    follow_surface: f32,
+    direction: vec2<f32>,
+    rotate_axis: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    weight: vec4<f32>,
+};
+
+// Twin of `render::gpu_types::GpuSample` (sss_burley.wgsl's `Sample`).
+struct Sample {
+    radius_mm: f32,
+    angle: f32,
+    inv_pdf: f32,     // A_dom / R_dom(r)
+    pad: f32,
+};
+
+@group(1) @binding(0) var<uniform> s: SssUniforms;
+// The atlas: what `fs_atlas` wrote.
+@group(1) @binding(1) var atlas_irradiance: texture_2d<f32>;
+@group(1) @binding(2) var atlas_position_hi: texture_2d<f32>;
+@group(1) @binding(3) var atlas_position_lo: texture_2d<f32>;
+// The scene pass's diffuse target: the pixel's own light and SSS mask.
+@group(1) @binding(4) var scene_diffuse: texture_2d<f32>;
+// burley's pattern and table (sss_burley.wgsl): r·R_N(r) per channel,
+// then the CDF.
+@group(1) @binding(5) var<storage, read> samples: array<Sample>;
+@group(1) @binding(6) var<storage, read> profile_lut: array<vec4<f32>>;
+
+// The atlas's clear value where no triangle lies, beside its Rust twin
+// (sss_common.wgsl's DIFFUSE_ALPHA_BACKGROUND).
+const ATLAS_EMPTY: f32 = -2.0;
+
+fn profile_rr(r_mm: f32) -> vec3<f32> {
+    let n = f32(s.lut_entries);
+    let t = sqrt(clamp(r_mm / s.lut_radius_mm, 0.0, 1.0)) * (n - 1.0);
+    let i = min(u32(t), u32(n) - 2u);
+    let f = t - f32(i);
+    return mix(profile_lut[i].rgb, profile_lut[i + 1u].rgb, f);
+}
+
+// One atlas texel as a sample sees it (sss_common.wgsl's `light_from`,
+// the edge convention of issue 22): rgb its light, a its weight's share.
+// Skin gives its light; eyes and teeth give none but count (the skin's
+// medium ends there); an empty texel is no surface and is renormalised
+// away. And its surface point (mm; w = 1 where covered).
+fn atlas_texel(q: vec2<i32>) -> array<vec4<f32>, 2> {
+    let size = vec2<i32>(textureDimensions(atlas_irradiance, 0));
+    let c = clamp(q, vec2<i32>(0), size - vec2<i32>(1));
+    let e = textureLoad(atlas_irradiance, c, 0);
+    let hi = textureLoad(atlas_position_hi, c, 0);
+    let p = vec4<f32>(hi.xyz + textureLoad(atlas_position_lo, c, 0).xyz, hi.w);
+    var light = vec4<f32>(0.0);
+    if (e.a > 0.5 * DIFFUSE_ALPHA_NOT_SKIN) {
+        light = vec4<f32>(e.rgb, 1.0);
+    } else if (e.a > 0.5 * (DIFFUSE_ALPHA_NOT_SKIN + ATLAS_EMPTY)) {
+        light = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    return array<vec4<f32>, 2>(light, p);
+}
+
+// The R2 sequence (Roberts 2018) over the pixel grid, as fs_burley's.
+fn r2(p: vec2<i32>) -> f32 {
+    return fract(0.5 + f32(p.x) * 0.7548776662 + f32(p.y) * 0.5698402910);
+}
 
 @fragment
-fn fs_lookup(i: VertexOut) -> @location(0) vec4<f32> {
-    let size = vec2<i32>(textureDimensions(atlas_scattered, 0));
-    let f = i.uv * vec2<f32>(size) - vec2<f32>(0.5);
+fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
+    // The triangle's maps, in uniform control flow: a step of one pixel
+    // moves W_x, W_y on the surface (mm) and D_x, D_y in UV.
+    let wx = dpdx(i.world) * u.mm_per_unit;
+    let wy = dpdy(i.world) * u.mm_per_unit;
+    let dx = dpdx(i.uv);
+    let dy = dpdy(i.uv);
+    let p = vec2<i32>(i.clip.xy);
+    let pixel = textureLoad(scene_diffuse, p, 0);
+    // The tangent frame e1 = W_x/|W_x|, e2 ⟂ e1 in the triangle's plane:
+    // W_x = (a, 0), W_y = (b, c) there, so a surface offset (s1, s2) mm
+    // is the pixel step (t_x, t_y) with t_y = s2/c, t_x = (s1 − b·t_y)/a,
+    // and the UV offset t_x·D_x + t_y·D_y.
+    let a = length(wx);
+    let e1 = wx / max(a, 1e-20);
+    let b = dot(wy, e1);
+    let c = length(wy - e1 * b);
+    if (a <= 0.0 || c <= 0.0) {
+        return pixel;
+    }
+    let size = vec2<f32>(textureDimensions(atlas_irradiance, 0));
+    let x = i.world * u.mm_per_unit;
+    // A sample is read at the nearest texel's centre, up to half a
+    // texel's diagonal from where it was placed (texel side in mm: √(mm²
+    // per UV² of the triangle) / atlas size): that much of the 3D distance
+    // is rounding, not a step onto another sheet of the surface.
+    let mm_per_uv = sqrt(length(cross(wx, wy)) / max(abs(dx.x * dy.y - dx.y * dy.x), 1e-30));
+    let rounding_mm = 0.70710678 * mm_per_uv / max(size.x, size.y);
+    var rotation = 0.0;
+    if (s.deterministic == 0u) {
+        rotation = 6.28318531 * fract(r2(p) + s.rotation_offset_turns);
+    }
+    var sum = vec3<f32>(0.0);
+    var wsum = vec3<f32>(0.0);
+    for (var k = 0u; k < s.sample_count; k = k + 1u) {
+        let smp = samples[k];
+        let angle = smp.angle + rotation;
+        let d = vec2<f32>(cos(angle), sin(angle)) * smp.radius_mm;
+        let ty = d.y / c;
+        let tx = (d.x - b * ty) / a;
+        let uv = i.uv + tx * dx + ty * dy;
+        let texel = atlas_texel(vec2<i32>(floor(uv * size)));
+        let light = texel[0];
+        let y = texel[1];
+        // The profile at the 3D distance less the rounding, never nearer
+        // than the sample's own radius: r on the sample's own sheet, the
+        // 3D distance where it crossed a seam onto another island.
+        let rho = max(length(y.xyz - x) - rounding_mm, smp.radius_mm);
+        let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * light.a * y.w;
+        sum = sum + w * light.rgb;
+        wsum = wsum + w;
+    }
+    // The centre: the atlas at this pixel's UV, bilinear over covered
+    // skin texels (the pixel's own value where none is: a sliver thinner
+    // than a texel), carrying the profile's Dirac share, CDF(0).
+    let f = i.uv * size - vec2<f32>(0.5);
     let base = vec2<i32>(floor(f));
     let t = f - floor(f);
-    var col = vec3<f32>(0.0);
-    var mask = 0.0;
+    var centre = vec3<f32>(0.0);
     var covered = 0.0;
     for (var k = 0; k < 4; k = k + 1) {
         let o = vec2<i32>(k & 1, k >> 1u);
-        let q = clamp(base + o, vec2<i32>(0), size - vec2<i32>(1));
-        let c = textureLoad(atlas_scattered, q, 0);
+        let e = textureLoad(atlas_irradiance, clamp(base + o, vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1)), 0);
         let bw = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
-        // Only skin texels the atlas covered (alpha = the SSS mask there;
-        // eyes, teeth and empty texels are negative).
-        if (c.a > 1.0 / 255.0) {
-            col = col + bw * c.rgb;
-            mask = mask + bw * c.a;
+        if (e.a > 1.0 / 255.0) {
+            centre = centre + bw * e.rgb;
             covered = covered + bw;
         }
     }
-    if (covered <= 0.0) {
-        // No covered skin texel here (a sliver thinner than a texel): the
-        // composite keeps the scene's unscattered value.
-        return vec4<f32>(0.0);
-    }
-    return vec4<f32>(col / covered, mask / covered);
+    centre = select(pixel.rgb, centre / max(covered, 1e-6), covered > 0.0);
+    let ring = select(centre, sum / wsum, wsum > vec3<f32>(0.0));
+    return vec4<f32>(mix(ring, centre, profile_lut[s.lut_entries].rgb), pixel.a);
 }

@@ -88,6 +88,11 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ),
     ]
     .into_iter()
+    // `texture-space`'s passes that draw the mesh: the scene's shading.
+    .chain([(
+        super::sss::texture_space::MODULE,
+        super::sss::texture_space::wgsl(),
+    )])
     // Each method's own pass (`MethodInfo::shader`), after the shared code.
     .chain(super::Method::all().iter().filter_map(|m| {
         m.sss()

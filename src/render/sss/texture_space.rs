@@ -31,7 +31,7 @@ use crate::render::context::GpuError;
 use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
 use crate::render::gpu_types::{SssUniforms, Vertex};
 use crate::render::pipelines::{
-    buffer_entry, fullscreen_pipeline, texture_entry, uniform_entry, Output, Stencil, DEPTH_STENCIL,
+    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL,
     HDR,
 };
 use crate::render::sss::burley::LUT_SIZE;
@@ -43,10 +43,6 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     label: "texture-space (d'Eon & Luebke 2007 atlas)",
     quality: super::Quality::Samples,
     stochastic: |_| true,
-    shader: Some((
-        "sss_texture_space",
-        include_str!("../../../shaders/sss_texture_space.wgsl"),
-    )),
     colour: [23, 190, 207],
     bench,
     encode,
@@ -134,41 +130,31 @@ impl MethodInputs for Inputs {
 /// Nothing of its own on the GPU per profile (burley's buffers serve).
 pub(in crate::render) type Buffers = ();
 
-/// The blur's layout and pipeline (the passes that draw the mesh need
-/// the scene's bind-group layout and are built with the [`State`]).
+/// The module of its two passes (scene.wgsl with
+/// `shaders/texture_space_scene.wgsl`); their pipelines need the scene's
+/// bind-group layout and are built with the [`State`].
 pub(in crate::render) struct Pipelines {
-    layout: wgpu::BindGroupLayout,
-    blur: wgpu::RenderPipeline,
+    module: wgpu::ShaderModule,
 }
 
 impl super::MethodPipelines for Pipelines {
-    fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
-        let module = &module("sss_texture_space");
-        let storage = wgpu::BufferBindingType::Storage { read_only: true };
-        let frag = wgpu::ShaderStages::FRAGMENT;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sss texture-space blur"),
-            entries: &[
-                uniform_entry::<SssUniforms>(0, frag),
-                texture_entry(1),
-                texture_entry(2),
-                buffer_entry(3, storage, frag),
-                buffer_entry(4, storage, frag),
-                texture_entry(5),
-            ],
-        });
+    fn new(_: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
         Self {
-            blur: fullscreen_pipeline(
-                device,
-                module,
-                "fs_atlas_blur",
-                &layout,
-                Output::Replace(HDR),
-                Stencil::None,
-            ),
-            layout,
+            module: module(MODULE),
         }
     }
+}
+
+/// Its module's name in `pipelines::shader_sources`.
+pub(in crate::render) const MODULE: &str = "texture_space";
+
+/// Its module's source: the scene pass's, then its own.
+pub(in crate::render) fn wgsl() -> String {
+    format!(
+        "{}\n{}",
+        include_str!("../../../shaders/scene.wgsl"),
+        include_str!("../../../shaders/texture_space_scene.wgsl")
+    )
 }
 
 /// Kept between frames: the mesh passes (built on first use, with the
@@ -182,22 +168,19 @@ pub(in crate::render) struct State {
 /// The two passes that draw the mesh.
 struct MeshPasses {
     atlas: wgpu::RenderPipeline,
-    lookup: wgpu::RenderPipeline,
-    lookup_layout: wgpu::BindGroupLayout,
+    gather: wgpu::RenderPipeline,
+    gather_layout: wgpu::BindGroupLayout,
 }
 
-/// Position (mm): 32-bit floats (a head is 300 mm across; half floats
-/// would round a position to 0.125 mm). The frame (mm per texel step) is
-/// a half float: 32 bytes a texel is the most a pass may write.
-const WIDE: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 /// The atlas's textures.
 struct Atlas {
     size: u32,
     irradiance: wgpu::TextureView,
+    /// The position (mm) in half floats, and what they left out: GL
+    /// cannot render to 32-bit floats.
     position: wgpu::TextureView,
-    frame: wgpu::TextureView,
-    scattered: wgpu::TextureView,
+    position_lo: wgpu::TextureView,
 }
 
 impl Atlas {
@@ -224,27 +207,31 @@ impl Atlas {
         Self {
             size,
             irradiance: make("texture-space irradiance", HDR),
-            position: make("texture-space position", WIDE),
-            frame: make("texture-space frame", HDR),
-            scattered: make("texture-space scattered", HDR),
+            position: make("texture-space position", HDR),
+            position_lo: make("texture-space position residual", HDR),
         }
     }
 }
 
 impl MeshPasses {
-    fn new(device: &wgpu::Device, scene_layout: &wgpu::BindGroupLayout) -> Self {
-        let source = format!(
-            "{}\n{}",
-            include_str!("../../../shaders/scene.wgsl"),
-            include_str!("../../../shaders/texture_space_scene.wgsl")
-        );
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("texture_space_scene"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let lookup_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("texture-space lookup"),
-            entries: &[texture_entry(0)],
+    fn new(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        scene_layout: &wgpu::BindGroupLayout,
+    ) -> Self {
+        let frag = wgpu::ShaderStages::FRAGMENT;
+        let storage = wgpu::BufferBindingType::Storage { read_only: true };
+        let gather_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("texture-space gather"),
+            entries: &[
+                uniform_entry::<SssUniforms>(0, frag),
+                texture_entry(1),
+                texture_entry(2),
+                texture_entry(3),
+                texture_entry(4),
+                buffer_entry(5, storage, frag),
+                buffer_entry(6, storage, frag),
+            ],
         });
         let layout = |label, groups: &[Option<&wgpu::BindGroupLayout>]| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -270,16 +257,16 @@ impl MeshPasses {
             label: Some("texture-space atlas"),
             layout: Some(&atlas_layout),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs_atlas"),
                 compilation_options: Default::default(),
                 buffers: &vertices,
             },
             fragment: Some(wgpu::FragmentState {
-                module: &module,
+                module,
                 entry_point: Some("fs_atlas"),
                 compilation_options: Default::default(),
-                targets: &[target(HDR), target(WIDE), target(HDR)],
+                targets: &[target(HDR), target(HDR), target(HDR)],
             }),
             // UV islands are wound either way: nothing is culled, and no
             // depth (islands do not overlap).
@@ -292,28 +279,35 @@ impl MeshPasses {
             multiview_mask: None,
             cache: None,
         });
-        let lookup_pl = layout(
-            "texture-space lookup",
-            &[Some(scene_layout), Some(&lookup_layout)],
+        let sss_pixels = wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::Equal,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Keep,
+        };
+        let gather_pl = layout(
+            "texture-space gather",
+            &[Some(scene_layout), Some(&gather_layout)],
         );
-        let lookup = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("texture-space lookup"),
-            layout: Some(&lookup_pl),
+        let gather = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("texture-space gather"),
+            layout: Some(&gather_pl),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
                 buffers: &vertices,
             },
             fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_lookup"),
+                module,
+                entry_point: Some("fs_gather"),
                 compilation_options: Default::default(),
                 targets: &[target(HDR)],
             }),
             // The scene pass's culling, and its depth: only the fragment
             // the scene pass kept passes Equal (same vertex shader, same
-            // mesh, same uniforms).
+            // mesh, same uniforms); and only on SSS pixels (stencil 1, as
+            // the screen-space passes).
             primitive: wgpu::PrimitiveState {
                 cull_mode: Some(wgpu::Face::Back),
                 ..Default::default()
@@ -322,7 +316,12 @@ impl MeshPasses {
                 format: DEPTH_STENCIL,
                 depth_write_enabled: Some(false),
                 depth_compare: Some(wgpu::CompareFunction::Equal),
-                stencil: Default::default(),
+                stencil: wgpu::StencilState {
+                    front: sss_pixels,
+                    back: sss_pixels,
+                    read_mask: 0xff,
+                    write_mask: 0,
+                },
                 bias: Default::default(),
             }),
             multisample: Default::default(),
@@ -331,8 +330,8 @@ impl MeshPasses {
         });
         Self {
             atlas,
-            lookup,
-            lookup_layout,
+            gather,
+            gather_layout,
         }
     }
 }
@@ -348,7 +347,7 @@ fn encode(
     let device = f.device;
     let passes = state
         .passes
-        .get_or_insert_with(|| MeshPasses::new(device, io.scene_layout));
+        .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
     if state.atlas.as_ref().map(|a| a.size) != Some(size) {
         state.atlas = None;
         state.atlas = Some(Atlas::new(device, size));
@@ -369,7 +368,7 @@ fn encode(
         let colour = [
             Some(color_attachment_clearing(&atlas.irradiance, Some(background))),
             Some(color_attachment(&atlas.position, false)),
-            Some(color_attachment(&atlas.frame, false)),
+            Some(color_attachment(&atlas.position_lo, false)),
         ];
         let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
@@ -380,45 +379,30 @@ fn encode(
         });
         io.drawn.draw_with(&mut pass, &passes.atlas, &[io.scene_bind]);
     }
-    // 2. The blur over the atlas.
+    // 2. The gather at each SSS pixel, into the ping target.
     let burley = &io.profile.methods.burley;
     let n = burley.count;
-    let uniforms = SssUniforms {
-        size: [size as f32; 2],
-        lut_radius_mm: burley.lut_radius_mm,
-        lut_entries: LUT_SIZE as u32,
-        ..io.uniforms(n)
-    };
-    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
-    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sss texture-space blur"),
-        layout: &p.texture_space.layout,
-        entries: &[
-            buf(0, &u),
-            tex(1, &atlas.irradiance),
-            tex(2, &atlas.position),
-            buf(3, &burley.samples),
-            buf(4, &burley.profile_lut),
-            tex(5, &atlas.frame),
-        ],
-    });
-    f.fullscreen(
-        Some(&atlas.scattered),
-        &p.texture_space.blur,
-        &bg,
-        "sss texture-space blur",
-        (texels, texels * n as u64),
-        false,
-        false,
-    );
-    // 3. The lookup at each pixel's UV, into the ping target.
     {
-        let label = "sss texture-space lookup";
+        let label = "sss texture-space gather";
         let t = io.targets;
-        let lookup_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let uniforms = SssUniforms {
+            lut_radius_mm: burley.lut_radius_mm,
+            lut_entries: LUT_SIZE as u32,
+            ..io.uniforms(n)
+        };
+        let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
+        let gather_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
-            layout: &passes.lookup_layout,
-            entries: &[tex(0, &atlas.scattered)],
+            layout: &passes.gather_layout,
+            entries: &[
+                buf(0, &u),
+                tex(1, &atlas.irradiance),
+                tex(2, &atlas.position),
+                tex(3, &atlas.position_lo),
+                tex(4, t.view(HdrTarget::Diffuse)),
+                buf(5, &burley.samples),
+                buf(6, &burley.profile_lut),
+            ],
         });
         let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
         let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -435,11 +419,12 @@ fn encode(
                     store: wgpu::StoreOp::Store,
                 }),
             }),
-            timestamp_writes: f.timer.render(label, io.sss_pixels, 4 * io.sss_pixels),
+            timestamp_writes: f.timer.render(label, io.sss_pixels, io.sss_pixels * n as u64),
             ..Default::default()
         });
+        pass.set_stencil_reference(1);
         io.drawn
-            .draw_with(&mut pass, &passes.lookup, &[io.scene_bind, &lookup_bg]);
+            .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]);
     }
     Ok(Scattered {
         target: HdrTarget::Ping,
