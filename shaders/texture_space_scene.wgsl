@@ -19,7 +19,11 @@
 //    profile at the 3D distance between the two surface points, with
 //    weights normalised as `fs_burley`'s are: a sample that crosses a UV
 //    seam lands on another island, far away in 3D, and weighs next to
-//    nothing. d'Eon blurs the whole atlas with six separable Gaussians
+//    nothing. Samples nearer than `--near-field-mm` (1 mm) are read on
+//    screen instead, as fs_burley reads them: the issue's hybrid, a
+//    screen-space near field with an object-space middle field (the
+//    atlas's texels, 0.5–1 mm, are coarser than the green and blue
+//    profiles). d'Eon blurs the whole atlas with six separable Gaussians
 //    instead; gathering at the pixels on screen alone costs what burley's
 //    pass costs, where blurring a 1024² atlas cost 3.4× that (measured,
 //    docs/accuracy.md).
@@ -111,9 +115,20 @@ struct Sample {
 // then the CDF.
 @group(1) @binding(5) var<storage, read> samples: array<Sample>;
 @group(1) @binding(6) var<storage, read> profile_lut: array<vec4<f32>>;
+// The scene pass's linear view depth (world units).
+@group(1) @binding(7) var scene_depth: texture_2d<f32>;
 
-// The atlas's clear value where no triangle lies, beside its Rust twin
-// (sss_common.wgsl's DIFFUSE_ALPHA_BACKGROUND).
+// Twin of `render::gpu_types::TextureSpaceUniforms`.
+struct TextureSpaceUniforms {
+    near_field_mm: f32,   // samples nearer are read on screen (0: none)
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
+};
+@group(1) @binding(8) var<uniform> ts: TextureSpaceUniforms;
+
+// The atlas's clear value where no triangle lies, and the background's on
+// screen, beside its Rust twin (sss_common.wgsl's DIFFUSE_ALPHA_BACKGROUND).
 const ATLAS_EMPTY: f32 = -2.0;
 
 fn profile_rr(r_mm: f32) -> vec3<f32> {
@@ -124,24 +139,30 @@ fn profile_rr(r_mm: f32) -> vec3<f32> {
     return mix(profile_lut[i].rgb, profile_lut[i + 1u].rgb, f);
 }
 
-// One atlas texel as a sample sees it (sss_common.wgsl's `light_from`,
-// the edge convention of issue 22): rgb its light, a its weight's share.
-// Skin gives its light; eyes and teeth give none but count (the skin's
-// medium ends there); an empty texel is no surface and is renormalised
-// away. And its surface point (mm; w = 1 where covered).
+// What a sample sees at a texel or pixel whose alpha is `a` (the scene
+// pass's convention; sss_common.wgsl's `light_from`, the edge convention
+// of issue 22): rgb its light, a its weight's share. Skin gives its light;
+// eyes and teeth give none but count (the skin's medium ends there); no
+// surface (an empty texel, the background) is renormalised away.
+fn sees(a: f32, light: vec3<f32>) -> vec4<f32> {
+    if (a > 0.5 * DIFFUSE_ALPHA_NOT_SKIN) {
+        return vec4<f32>(light, 1.0);
+    }
+    if (a > 0.5 * (DIFFUSE_ALPHA_NOT_SKIN + ATLAS_EMPTY)) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    return vec4<f32>(0.0);
+}
+
+// One atlas texel as a sample sees it, and its surface point (mm; w = 1
+// where covered).
 fn atlas_texel(q: vec2<i32>) -> array<vec4<f32>, 2> {
     let size = vec2<i32>(textureDimensions(atlas_irradiance, 0));
     let c = clamp(q, vec2<i32>(0), size - vec2<i32>(1));
     let e = textureLoad(atlas_irradiance, c, 0);
     let hi = textureLoad(atlas_position_hi, c, 0);
     let p = vec4<f32>(hi.xyz + textureLoad(atlas_position_lo, c, 0).xyz, hi.w);
-    var light = vec4<f32>(0.0);
-    if (e.a > 0.5 * DIFFUSE_ALPHA_NOT_SKIN) {
-        light = vec4<f32>(e.rgb, 1.0);
-    } else if (e.a > 0.5 * (DIFFUSE_ALPHA_NOT_SKIN + ATLAS_EMPTY)) {
-        light = vec4<f32>(0.0, 0.0, 0.0, 1.0);
-    }
-    return array<vec4<f32>, 2>(light, p);
+    return array<vec4<f32>, 2>(sees(e.a, e.rgb), p);
 }
 
 // The R2 sequence (Roberts 2018) over the pixel grid, as fs_burley's.
@@ -184,22 +205,45 @@ fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
     }
     var sum = vec3<f32>(0.0);
     var wsum = vec3<f32>(0.0);
+    let ppm = s.pixels_per_unit_at_depth_1 / (max(i.view_depth, 1e-6) * u.mm_per_unit);
+    let screen = vec2<i32>(textureDimensions(scene_diffuse, 0));
+    // The SSS mask m scales the profile's radii, as the ground truth's
+    // (ρ_m(r) = ρ(r/m)/m², render/ground_truth/table.rs `Scaled`) and
+    // fs_burley's disk do: the samples go out to r·m, and the weight
+    // ρ_m/pdf_m is ρ(ρ/m)/pdf(r).
+    let m = pixel.a;
     for (var k = 0u; k < s.sample_count; k = k + 1u) {
         let smp = samples[k];
         let angle = smp.angle + rotation;
-        let d = vec2<f32>(cos(angle), sin(angle)) * smp.radius_mm;
+        let dir = vec2<f32>(cos(angle), sin(angle));
+        if (smp.radius_mm < ts.near_field_mm) {
+            // The near field on screen, as fs_burley reads it (pixel
+            // resolution where the atlas's texels are coarser than the
+            // green and blue profiles): the same sample on a disk facing
+            // the camera, weighed at √(r² + Δz²).
+            let q = clamp(p + vec2<i32>(round(dir * smp.radius_mm * m * ppm)), vec2<i32>(0), screen - vec2<i32>(1));
+            let e = textureLoad(scene_diffuse, q, 0);
+            let seen = sees(e.a, e.rgb);
+            let dz = (textureLoad(scene_depth, q, 0).r - i.view_depth) * u.mm_per_unit;
+            let rho = sqrt(smp.radius_mm * smp.radius_mm * m * m + dz * dz) / m;
+            let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a;
+            sum = sum + w * seen.rgb;
+            wsum = wsum + w;
+            continue;
+        }
+        let d = dir * smp.radius_mm * m;
         let ty = d.y / c;
         let tx = (d.x - b * ty) / a;
         let uv = i.uv + tx * dx + ty * dy;
         let texel = atlas_texel(vec2<i32>(floor(uv * size)));
-        let light = texel[0];
+        let seen = texel[0];
         let y = texel[1];
         // The profile at the 3D distance less the rounding, never nearer
         // than the sample's own radius: r on the sample's own sheet, the
         // 3D distance where it crossed a seam onto another island.
-        let rho = max(length(y.xyz - x) - rounding_mm, smp.radius_mm);
-        let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * light.a * y.w;
-        sum = sum + w * light.rgb;
+        let rho = max(length(y.xyz - x) - rounding_mm, smp.radius_mm * m) / m;
+        let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a * y.w;
+        sum = sum + w * seen.rgb;
         wsum = wsum + w;
     }
     // The centre: the atlas at this pixel's UV, bilinear over covered

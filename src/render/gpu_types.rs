@@ -181,6 +181,21 @@ gpu_struct! {
 const _: () = assert!(std::mem::size_of::<SssUniforms>() == 80);
 
 gpu_struct! {
+    /// Twin of `TextureSpaceUniforms` in `shaders/texture_space_scene.wgsl`:
+    /// where `texture-space` hands over from the screen to the atlas.
+    pub struct TextureSpaceUniforms {
+        /// Samples nearer than this (mm, before the SSS mask scales the
+        /// radii) are read on screen, the rest in the atlas; 0: all in
+        /// the atlas.
+        pub near_field_mm: f32,
+        pub pad0: f32,
+        pub pad1: f32,
+        pub pad2: f32,
+    }
+}
+const _: () = assert!(std::mem::size_of::<TextureSpaceUniforms>() == 16);
+
+gpu_struct! {
     /// Twin of `BurleyUniforms` in `shaders/sss_burley.wgsl`: the discrete
     /// LOD and the sampling flags.
     pub struct BurleyUniforms {

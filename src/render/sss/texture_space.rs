@@ -29,7 +29,7 @@ use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
 use crate::model::ModelError;
 use crate::render::context::GpuError;
 use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
-use crate::render::gpu_types::{SssUniforms, Vertex};
+use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
 use crate::render::pipelines::{
     buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL,
     HDR,
@@ -49,27 +49,26 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ..super::MethodInfo::BASE
 };
 
-/// The atlas sizes `bench` measures.
-pub const BENCH_ATLAS: [u32; 3] = [512, 1024, 2048];
-
-/// `bench`'s configurations: each atlas size at burley's default count.
+/// `bench`'s configurations: the atlas at 1024 and 2048 texels, with the
+/// default near field on screen and with every sample in the atlas, at
+/// burley's default count (21).
 fn bench() -> Vec<Knob> {
-    BENCH_ATLAS
-        .map(|n| Knob {
-            variant: match n {
-                512 => "atlas512",
-                1024 => "atlas1024",
-                _ => "atlas2048",
-            },
-            count: 21,
-            series: ("", None),
-            shipped: true,
-        })
-        .to_vec()
+    let knob = |variant, series| Knob {
+        variant,
+        count: 21,
+        series,
+        shipped: true,
+    };
+    vec![
+        knob("atlas1024", (" 1024²", None)),
+        knob("atlas2048", (" 2048²", Some([0, 128, 128]))),
+        knob("atlas1024-only", (" 1024², atlas only", Some([158, 218, 229]))),
+        knob("atlas2048-only", (" 2048², atlas only", Some([100, 160, 170]))),
+    ]
 }
 
 /// `texture-space`'s command-line options.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::Args)]
+#[derive(Debug, Clone, Copy, PartialEq, clap::Args)]
 #[group(skip)]
 pub struct Options {
     /// `texture-space`: the side of its irradiance atlas in texels. On the
@@ -83,7 +82,31 @@ pub struct Options {
         value_parser = clap::value_parser!(u32).range(64..=4096)
     )]
     pub atlas_size: u32,
+    /// `texture-space`: samples nearer than this (mm) are read on screen
+    /// at pixel resolution, the rest in the atlas (0: all in the atlas).
+    #[arg(
+        id = "near_field_mm",
+        long = "near-field-mm",
+        value_name = "MM",
+        default_value_t = DEFAULT_NEAR_FIELD_MM,
+        value_parser = near_field_parser
+    )]
+    pub near_field_mm: f32,
 }
+
+/// `--near-field-mm`: finite, 0 to 100 mm.
+fn near_field_parser(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if v.is_finite() && (0.0..=100.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} mm: the near field must be 0 to 100 mm"))
+    }
+}
+
+/// The default near field (mm): on the default head and the scan it
+/// measured best of 0, 0.5, 1 and 2 mm (docs/accuracy.md).
+pub const DEFAULT_NEAR_FIELD_MM: f32 = 1.0;
 
 /// The default atlas side (texels).
 pub const DEFAULT_ATLAS: u32 = 1024;
@@ -92,6 +115,7 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             atlas_size: DEFAULT_ATLAS,
+            near_field_mm: DEFAULT_NEAR_FIELD_MM,
         }
     }
 }
@@ -101,29 +125,36 @@ impl Default for Options {
 #[derive(Debug, Clone)]
 pub struct Inputs {
     pub atlas_size: u32,
+    /// Samples nearer (mm) are read on screen.
+    pub near_field_mm: f32,
 }
 
 impl MethodInputs for Inputs {
     fn new(look: &Look<'_>, _bake: bool) -> Result<Self, ModelError> {
+        let o = &look.options.texture_space;
         Ok(Self {
-            atlas_size: look.options.texture_space.atlas_size,
+            atlas_size: o.atlas_size,
+            near_field_mm: o.near_field_mm,
         })
     }
 
-    /// `variant` is `atlas<N>`.
+    /// `variant` is `atlas<N>` (the default near field) or
+    /// `atlas<N>-only` (no near field: every sample in the atlas).
     fn bench(&mut self, _: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
-        self.atlas_size = knob
-            .variant
-            .strip_prefix("atlas")
-            .and_then(|n| n.parse().ok())
-            .ok_or_else(|| {
-                ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant))
-            })?;
+        let bad = || ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant));
+        let rest = knob.variant.strip_prefix("atlas").ok_or_else(bad)?;
+        let (size, only) = match rest.strip_suffix("-only") {
+            Some(size) => (size, true),
+            None => (rest, false),
+        };
+        self.atlas_size = size.parse().map_err(|_| bad())?;
+        self.near_field_mm = if only { 0.0 } else { DEFAULT_NEAR_FIELD_MM };
         Ok(())
     }
 
     fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
         h.write_u32(self.atlas_size);
+        h.write_u32(self.near_field_mm.to_bits());
     }
 }
 
@@ -231,6 +262,8 @@ impl MeshPasses {
                 texture_entry(4),
                 buffer_entry(5, storage, frag),
                 buffer_entry(6, storage, frag),
+                texture_entry(7),
+                uniform_entry::<TextureSpaceUniforms>(8, frag),
             ],
         });
         let layout = |label, groups: &[Option<&wgpu::BindGroupLayout>]| {
@@ -391,6 +424,15 @@ fn encode(
             ..io.uniforms(n)
         };
         let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
+        let near = f.uniform(
+            "texture-space uniforms",
+            bytemuck::bytes_of(&TextureSpaceUniforms {
+                near_field_mm: io.inputs.methods.texture_space.near_field_mm,
+                pad0: 0.0,
+                pad1: 0.0,
+                pad2: 0.0,
+            }),
+        );
         let gather_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
             layout: &passes.gather_layout,
@@ -402,6 +444,8 @@ fn encode(
                 tex(4, t.view(HdrTarget::Diffuse)),
                 buf(5, &burley.samples),
                 buf(6, &burley.profile_lut),
+                tex(7, &t.linear_depth),
+                buf(8, &near),
             ],
         });
         let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
