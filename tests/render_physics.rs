@@ -13,9 +13,13 @@ use scatterlab::render::{
 };
 
 const WIDTH: u32 = 256;
-/// `texture-space`'s bound on the edge: measured 0.020, 0.026, 0.039 on
-/// lavapipe (burley's pattern: 0.017, 0.011, 0.016); blue's d = 0.25 mm is
-/// 1.25 texels, and each sample snaps to a texel.
+/// `texture-space`'s bound on the edge. Measured on lavapipe: 0.017,
+/// 0.011, 0.016 with every sample in the atlas and with the 1 mm near
+/// field on screen alike (burley's own with this pattern; on a flat plane
+/// both read the same weights, and the step's side differs only for
+/// samples that snap across it), 0.020, 0.026, 0.039 before the atlas's
+/// snapping to texel centres was taken off the 3D distance; light from
+/// off screen 0.025, 0.018, 0.010 (burley there: 0.22, 0.12, 0.05).
 const TEXTURE_SPACE_EDGE: f64 = 0.05;
 /// Field of view and distance so that the image spans 24 mm at the plane.
 const SPAN_MM: f32 = 24.0;
@@ -130,20 +134,78 @@ fn texture_space_follows_the_strip_cdf_across_an_edge() {
         .burley
         .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
         .unwrap();
-    let (_, diffuse, stats) = r
+    // With the default near field (samples under 1 mm read on screen),
+    // then with every sample in the atlas.
+    for near_field_mm in [inputs.methods.texture_space.near_field_mm, 0.0] {
+        inputs.methods.texture_space.near_field_mm = near_field_mm;
+        let (_, diffuse, stats) = r
+            .render_with_diffuse(&inputs, &settings(Method::TextureSpace))
+            .unwrap();
+        assert!(
+            stats.passes.iter().any(|p| p.name == "sss texture-space irradiance"),
+            "{:?}",
+            stats.passes
+        );
+        let worst = worst_edge_deviation(&profile, &diffuse);
+        eprintln!("texture-space, near field {near_field_mm} mm: worst deviation per channel: {worst:?}");
+        assert!(
+            worst.iter().all(|w| *w < TEXTURE_SPACE_EDGE),
+            "near field {near_field_mm} mm: worst deviation per channel {worst:?}"
+        );
+    }
+}
+
+/// Light from surface the camera cannot see, with a closed form: the
+/// plane moved 13 mm to the left, so the frame shows x from −25 to −1 mm
+/// and the lit half (x > 0) lies wholly off screen. The scattered light
+/// is still Φ(x), the strip CDF, at every column. A screen-space pass
+/// cannot see the lit half (burley's samples off the frame read its edge
+/// column: dark); `texture-space` reads it in its atlas.
+#[test]
+fn texture_space_sees_light_from_off_screen() {
+    let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
+    const SHIFT_MM: f32 = 13.0;
+    let mut plane = Mesh::plane(200.0, 0.001);
+    for v in &mut plane.vertices {
+        v.position[0] -= SHIFT_MM;
+    }
+    plane.focus = [-SHIFT_MM, 0.0, 0.0];
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &plane).unwrap();
+    let mut inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
+    inputs
+        .methods
+        .burley
+        .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
+        .unwrap();
+    let worst = |d: &[[f32; 4]]| {
+        let mut worst = [0.0f64; 3];
+        for px in 0..WIDTH as usize {
+            let x_mm = column_mm(px) - SHIFT_MM as f64;
+            let expected = profile.strip_cdf(x_mm);
+            for c in 0..3 {
+                worst[c] = worst[c].max((d[32 * WIDTH as usize + px][c] as f64 - expected[c]).abs());
+            }
+        }
+        worst
+    };
+    // The right edge column (x = −1.05 mm) holds Φ ≈ 0.14 of red (Ki₁,
+    // d = 1 mm): enough light to miss.
+    let edge = profile.strip_cdf(column_mm(WIDTH as usize - 1) - SHIFT_MM as f64);
+    assert!(edge[0] > 0.1, "{edge:?}");
+    let (_, ts, _) = r
         .render_with_diffuse(&inputs, &settings(Method::TextureSpace))
         .unwrap();
+    let (_, burley, _) = r
+        .render_with_diffuse(&inputs, &settings(Method::Burley))
+        .unwrap();
+    let (ts, burley) = (worst(&ts), worst(&burley));
+    eprintln!("off-screen light: worst deviation texture-space {ts:?}, burley {burley:?}");
     assert!(
-        stats.passes.iter().any(|p| p.name == "sss texture-space blur"),
-        "{:?}",
-        stats.passes
+        ts.iter().all(|w| *w < TEXTURE_SPACE_EDGE),
+        "texture-space: {ts:?}"
     );
-    let worst = worst_edge_deviation(&profile, &diffuse);
-    eprintln!("texture-space: worst deviation per channel: {worst:?}");
-    assert!(
-        worst.iter().all(|w| *w < TEXTURE_SPACE_EDGE),
-        "worst deviation per channel {worst:?}"
-    );
+    assert!(burley[0] > 2.0 * TEXTURE_SPACE_EDGE, "burley saw it: {burley:?}");
 }
 
 /// RMS of (rendered − Φ(x)) over rows 8–56 and every channel.

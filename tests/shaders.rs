@@ -36,10 +36,11 @@ fn parsed(module_name: &str) -> naga::Module {
 fn every_gpu_struct_matches_its_wgsl_twin() {
     use scatterlab::render::gpu_types::{
         BurleyUniforms, CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms,
+        TextureSpaceUniforms,
     };
     type Fields = &'static [(&'static str, usize, &'static str)];
     // (WGSL module, WGSL struct, Rust size, Rust fields)
-    let twins: [(&str, &str, usize, Fields); 7] = [
+    let twins: [(&str, &str, usize, Fields); 11] = [
         (
             "scene",
             "SceneUniforms",
@@ -75,6 +76,30 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
             "Tap",
             std::mem::size_of::<GpuTap>(),
             GpuTap::FIELDS,
+        ),
+        (
+            "texture_space",
+            "SceneUniforms",
+            std::mem::size_of::<SceneUniforms>(),
+            SceneUniforms::FIELDS,
+        ),
+        (
+            "texture_space",
+            "SssUniforms",
+            std::mem::size_of::<SssUniforms>(),
+            SssUniforms::FIELDS,
+        ),
+        (
+            "texture_space",
+            "Sample",
+            std::mem::size_of::<GpuSample>(),
+            GpuSample::FIELDS,
+        ),
+        (
+            "texture_space",
+            "TextureSpaceUniforms",
+            std::mem::size_of::<TextureSpaceUniforms>(),
+            TextureSpaceUniforms::FIELDS,
         ),
         (
             "composite",
@@ -217,7 +242,7 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
         _ => None,
     });
     // The diffuse target's alphas off the skin (f32 constants).
-    let alphas: [(&str, &[(&str, f32)]); 2] = [
+    let alphas: [(&str, &[(&str, f32)]); 3] = [
         (
             "scene",
             &[("DIFFUSE_ALPHA_NOT_SKIN", g::DIFFUSE_ALPHA_NOT_SKIN)],
@@ -227,6 +252,13 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
             &[
                 ("DIFFUSE_ALPHA_NOT_SKIN", g::DIFFUSE_ALPHA_NOT_SKIN),
                 ("DIFFUSE_ALPHA_BACKGROUND", g::DIFFUSE_ALPHA_BACKGROUND),
+            ],
+        ),
+        (
+            "texture_space",
+            &[
+                ("DIFFUSE_ALPHA_NOT_SKIN", g::DIFFUSE_ALPHA_NOT_SKIN),
+                ("ATLAS_EMPTY", g::DIFFUSE_ALPHA_BACKGROUND),
             ],
         ),
     ];
