@@ -142,12 +142,17 @@ fn texture_space_follows_the_strip_cdf_across_an_edge() {
             .render_with_diffuse(&inputs, &settings(Method::TextureSpace))
             .unwrap();
         assert!(
-            stats.passes.iter().any(|p| p.name == "sss texture-space irradiance"),
+            stats
+                .passes
+                .iter()
+                .any(|p| p.name == "sss texture-space irradiance"),
             "{:?}",
             stats.passes
         );
         let worst = worst_edge_deviation(&profile, &diffuse);
-        eprintln!("texture-space, near field {near_field_mm} mm: worst deviation per channel: {worst:?}");
+        eprintln!(
+            "texture-space, near field {near_field_mm} mm: worst deviation per channel: {worst:?}"
+        );
         assert!(
             worst.iter().all(|w| *w < TEXTURE_SPACE_EDGE),
             "near field {near_field_mm} mm: worst deviation per channel {worst:?}"
@@ -184,7 +189,8 @@ fn texture_space_sees_light_from_off_screen() {
             let x_mm = column_mm(px) - SHIFT_MM as f64;
             let expected = profile.strip_cdf(x_mm);
             for c in 0..3 {
-                worst[c] = worst[c].max((d[32 * WIDTH as usize + px][c] as f64 - expected[c]).abs());
+                worst[c] =
+                    worst[c].max((d[32 * WIDTH as usize + px][c] as f64 - expected[c]).abs());
             }
         }
         worst
@@ -205,7 +211,10 @@ fn texture_space_sees_light_from_off_screen() {
         ts.iter().all(|w| *w < TEXTURE_SPACE_EDGE),
         "texture-space: {ts:?}"
     );
-    assert!(burley[0] > 2.0 * TEXTURE_SPACE_EDGE, "burley saw it: {burley:?}");
+    assert!(
+        burley[0] > 2.0 * TEXTURE_SPACE_EDGE,
+        "burley saw it: {burley:?}"
+    );
 }
 
 /// RMS of (rendered − Φ(x)) over rows 8–56 and every channel.
