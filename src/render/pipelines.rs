@@ -65,6 +65,9 @@ fn sized_buffer_entry(
 
 pub(super) const FULLSCREEN: &str = include_str!("../../shaders/fullscreen.wgsl");
 
+/// `texture-space`'s module in [`shader_sources`].
+pub(super) const TEXTURE_SPACE_MODULE: &str = "texture_space";
+
 pub(super) const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");
 
 /// Every WGSL module the renderer builds, as (name, full source) pairs;
@@ -88,10 +91,15 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ),
     ]
     .into_iter()
-    // `texture-space`'s passes that draw the mesh: the scene's shading.
+    // `texture-space`'s passes draw the mesh with the scene's bindings
+    // and its `shade`: scene.wgsl first.
     .chain([(
-        super::sss::texture_space::MODULE,
-        super::sss::texture_space::wgsl(),
+        TEXTURE_SPACE_MODULE,
+        format!(
+            "{}\n{}",
+            include_str!("../../shaders/scene.wgsl"),
+            include_str!("../../shaders/texture_space_scene.wgsl")
+        ),
     )])
     // Each method's own pass (`MethodInfo::shader`), after the shared code.
     .chain(super::Method::all().iter().filter_map(|m| {

@@ -31,7 +31,7 @@ use crate::render::context::GpuError;
 use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
 use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
 use crate::render::pipelines::{
-    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL,
+    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, TEXTURE_SPACE_MODULE,
     HDR,
 };
 use crate::render::sss::burley::LUT_SIZE;
@@ -161,9 +161,10 @@ impl MethodInputs for Inputs {
 /// Nothing of its own on the GPU per profile (burley's buffers serve).
 pub(in crate::render) type Buffers = ();
 
-/// The module of its two passes (scene.wgsl with
-/// `shaders/texture_space_scene.wgsl`); their pipelines need the scene's
-/// bind-group layout and are built with the [`State`].
+/// The module of its two passes (scene.wgsl, then
+/// `shaders/texture_space_scene.wgsl`: `pipelines::shader_sources`); their
+/// pipelines need the scene's bind-group layout and are built with the
+/// [`State`].
 pub(in crate::render) struct Pipelines {
     module: wgpu::ShaderModule,
 }
@@ -171,21 +172,9 @@ pub(in crate::render) struct Pipelines {
 impl super::MethodPipelines for Pipelines {
     fn new(_: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
         Self {
-            module: module(MODULE),
+            module: module(TEXTURE_SPACE_MODULE),
         }
     }
-}
-
-/// Its module's name in `pipelines::shader_sources`.
-pub(in crate::render) const MODULE: &str = "texture_space";
-
-/// Its module's source: the scene pass's, then its own.
-pub(in crate::render) fn wgsl() -> String {
-    format!(
-        "{}\n{}",
-        include_str!("../../../shaders/scene.wgsl"),
-        include_str!("../../../shaders/texture_space_scene.wgsl")
-    )
 }
 
 /// Kept between frames: the mesh passes (built on first use, with the
