@@ -47,10 +47,18 @@ sleep 1
 mkdir -p "$WORK/run" "$WORK/data" "$WORK/config"
 chmod 700 "$WORK/run"
 LOG="$WORK/frames.log"
+# METHOD=<preset variant> (e.g. TextureSpace) measures the drags with that
+# method instead of the default skin's.
+PRESET_ARGS=()
+if [[ -n "${METHOD:-}" ]]; then
+    sed "s|^    profile: |    rendering: (method: $METHOD),\n    profile: |" presets/skin_default.ron >"$WORK/method.ron"
+    grep -q "method: $METHOD" "$WORK/method.ron" || { echo "error: could not write the $METHOD preset" >&2; exit 1; }
+    PRESET_ARGS=(--preset "$WORK/method.ron")
+fi
 # A fresh state directory: the default window size and layout.
 DISPLAY="$DISP" XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$WORK/data" \
     XDG_CONFIG_HOME="$WORK/config" SCATTERLAB_FRAME_LOG="$LOG" \
-    "$BIN" edit >"$WORK/editor.out" 2>&1 &
+    "$BIN" edit "${PRESET_ARGS[@]}" >"$WORK/editor.out" 2>&1 &
 EDITOR_PID=$!
 export DISPLAY="$DISP"
 
@@ -102,6 +110,7 @@ SLIDER=("$DOWN" "$UP")
 wait_for "converged" "$UP" 30
 sleep 0.5
 import -window root "$WORK/after.png" 2>/dev/null || true
+[[ -n "${KEEP_AFTER:-}" ]] && cp "$WORK/after.png" "$KEEP_AFTER"
 
 # The ground truth as the viewport's method: the default skin with
 # method Reference, in a second editor with its own state.
