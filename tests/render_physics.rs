@@ -19,7 +19,7 @@ const WIDTH: u32 = 256;
 /// both read the same weights, and the step's side differs only for
 /// samples that snap across it), 0.020, 0.026, 0.039 before the atlas's
 /// snapping to texel centres was taken off the 3D distance; light from
-/// off screen 0.025, 0.018, 0.010 (burley there: 0.22, 0.12, 0.05).
+/// off screen 0.019, 0.024, 0.018 (burley there: 0.22, 0.12, 0.05).
 const TEXTURE_SPACE_EDGE: f64 = 0.05;
 /// Field of view and distance so that the image spans 24 mm at the plane.
 const SPAN_MM: f32 = 24.0;
@@ -119,8 +119,9 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     );
 }
 
-/// `texture-space` gathers over the plane's UV atlas (200 mm on 1024
-/// texels: 0.2 mm a texel, twice the pixel), not over the screen: the same
+/// `texture-space` gathers over the plane's UV atlas (200 mm on 512
+/// texels, the cap for a 256-pixel frame: 0.39 mm a texel, four times the
+/// pixel), not over the screen: the same
 /// closed-form strip CDF must come out of it, through the atlas's Jacobian
 /// (mm per texel step, from the rasteriser's derivatives) and the bilinear
 /// lookup at each pixel's UV.

@@ -49,9 +49,12 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     ..super::MethodInfo::BASE
 };
 
-/// `bench`'s configurations: the atlas at 1024 and 2048 texels, with the
-/// default near field on screen and with every sample in the atlas, at
-/// burley's default count (21).
+/// `bench`'s configurations: the default (a 1024² atlas with the 1 mm
+/// near field on screen) and every sample in the atlas, at burley's
+/// default count (21). (2048² was measured in the full bench of
+/// 2026-12-05 within 2 points of 1024² for 1.6–2.3× the time,
+/// docs/accuracy.md; at the quick bench's 320 × 180 [`atlas_side`] caps it
+/// to 1024².)
 fn bench() -> Vec<Knob> {
     let knob = |variant, series| Knob {
         variant,
@@ -61,9 +64,7 @@ fn bench() -> Vec<Knob> {
     };
     vec![
         knob("atlas1024", (" 1024²", None)),
-        knob("atlas2048", (" 2048²", Some([0, 128, 128]))),
         knob("atlas1024-only", (" 1024², atlas only", Some([158, 218, 229]))),
-        knob("atlas2048-only", (" 2048², atlas only", Some([100, 160, 170]))),
     ]
 }
 
@@ -73,7 +74,9 @@ fn bench() -> Vec<Knob> {
 pub struct Options {
     /// `texture-space`: the side of its irradiance atlas in texels. On the
     /// default head a texel is about 0.95 mm of skin at 1024 and 0.47 mm
-    /// at 2048 (its UV islands cover 24 % of the square).
+    /// at 2048 (its UV islands cover 24 % of the square). A frame never
+    /// draws more than the power of two at or above twice its longer side
+    /// (at least 256): small frames and drag previews take a smaller atlas.
     #[arg(
         id = "atlas_size",
         long = "atlas-size",
@@ -358,6 +361,22 @@ impl MeshPasses {
     }
 }
 
+/// The atlas side a frame of `frame` pixels draws: `--atlas-size`, but
+/// never more than the power of two at or above twice the frame's longer
+/// side (and never under 256). The atlas costs the same at any frame size
+/// (48–54 ms at 1024² on lavapipe), so without the cap the editor's drag
+/// previews (about 120–200 px a side) paid for texels four to eight times
+/// finer than their pixels and ran at 6–7.5 frames a second
+/// (docs/accuracy.md); the bench's frames (320 and 640 px wide) and the
+/// editor's full frames keep the full atlas.
+pub fn atlas_side(atlas_size: u32, (width, height): (u32, u32)) -> u32 {
+    let cap = (2 * width.max(height)).next_power_of_two().max(MIN_ATLAS);
+    atlas_size.min(cap)
+}
+
+/// The smallest atlas side [`atlas_side`] picks.
+pub const MIN_ATLAS: u32 = 256;
+
 fn encode(
     f: &mut FrameEncoder,
     p: &SssPipelines,
@@ -365,7 +384,7 @@ fn encode(
     state: &mut super::State,
 ) -> Result<Scattered, GpuError> {
     let state = &mut state.texture_space;
-    let size = io.inputs.methods.texture_space.atlas_size;
+    let size = atlas_side(io.inputs.methods.texture_space.atlas_size, io.targets.size);
     let device = f.device;
     let passes = state
         .passes
@@ -468,4 +487,21 @@ fn encode(
         truth_tiles: None,
         build_ms: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cap by hand: 2 × 176 = 352 → 512; 2 × 640 = 1280 → 2048,
+    /// above the asked 1024; 2 × 40 = 80 → 128, under the floor.
+    #[test]
+    fn the_atlas_is_capped_by_the_frame() {
+        assert_eq!(atlas_side(1024, (176, 197)), 512);
+        assert_eq!(atlas_side(1024, (640, 360)), 1024);
+        assert_eq!(atlas_side(2048, (640, 360)), 2048);
+        assert_eq!(atlas_side(2048, (320, 180)), 1024);
+        assert_eq!(atlas_side(1024, (40, 40)), MIN_ATLAS);
+        assert_eq!(atlas_side(128, (40, 40)), 128);
+    }
 }
