@@ -43,7 +43,7 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     label: "texture-space (d'Eon & Luebke 2007 atlas)",
     quality: super::Quality::Samples,
     stochastic: |_| true,
-    colour: [23, 190, 207],
+    colour: [227, 119, 194],
     bench,
     encode,
     ..super::MethodInfo::BASE
@@ -64,7 +64,7 @@ fn bench() -> Vec<Knob> {
     };
     vec![
         knob("atlas1024", (" 1024²", None)),
-        knob("atlas1024-only", (" 1024², atlas only", Some([158, 218, 229]))),
+        knob("atlas1024-only", (" 1024², atlas only", Some([247, 182, 210]))),
     ]
 }
 
