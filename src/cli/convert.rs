@@ -6,7 +6,7 @@ use super::built;
 use crate::export::{import_file, Format, ImportOptions};
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, clap::Args)]
 pub struct ConvertArgs {
@@ -85,33 +85,60 @@ fn convert(
     Ok(())
 }
 
-/// The importable files among `paths` (folders: their files, not deeper).
-fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+/// The files `--from` names: a file as given, and a folder's files with
+/// an importable extension, in its subfolders too (sorted; hidden files
+/// and folders, such as `.git`, and links to folders are not followed).
+/// Each with whether it was found in a folder: a folder's file that is no
+/// engine profile (a README, a material, binary data) is skipped, where a
+/// file named on its own is refused.
+fn expand(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>> {
+    let extensions = crate::export::importable_extensions(true);
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            let mut files: Vec<PathBuf> = std::fs::read_dir(p)
-                .with_context(|| format!("{}: cannot list the folder", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| {
-                    f.is_file()
-                        && f.extension().is_some_and(|x| {
-                            crate::export::importable_extensions(true)
-                                .contains(&x.to_string_lossy().to_ascii_lowercase().as_str())
-                        })
-                })
-                .collect();
+            let mut files = Vec::new();
+            walk(p, &extensions, &mut files)?;
             files.sort();
-            out.extend(files);
+            out.extend(files.into_iter().map(|f| (f, true)));
         } else {
-            out.push(p.clone());
+            out.push((p.clone(), false));
         }
     }
     Ok(out)
 }
 
+/// The files under `dir` with one of `extensions`, depth first.
+fn walk(dir: &Path, extensions: &[&str], out: &mut Vec<PathBuf>) -> Result<()> {
+    let entries = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot list the folder", dir.display()))?;
+    for entry in entries {
+        let entry = entry.with_context(|| format!("{}: cannot list the folder", dir.display()))?;
+        let path = entry.path();
+        if entry.file_name().to_string_lossy().starts_with('.') {
+            continue;
+        }
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if kind.is_dir() {
+            walk(&path, extensions, out)?;
+        } else if (kind.is_file() || kind.is_symlink() && path.is_file())
+            && path.extension().is_some_and(|x| {
+                extensions.contains(&x.to_string_lossy().to_ascii_lowercase().as_str())
+            })
+        {
+            out.push(path);
+        }
+    }
+    Ok(())
+}
+
 /// `convert --from`: every look of every file written in `--to`'s format
 /// into `--out`, a summary line per file; non-zero if any file failed.
+/// Found in folders, files that are no engine profile are skipped and
+/// counted, and a look read twice (a Unity profile list beside the
+/// profiles it names) is written once, from the file with the fewest
+/// looks (the profile's own).
 fn convert_files(args: &ConvertArgs) -> Result<()> {
     let out = args
         .out
@@ -124,19 +151,63 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
     };
     let files = expand(&args.from)?;
     if files.is_empty() {
-        bail!("--from: no engine files found");
+        bail!(
+            "--from: no engine files found (looked for {} files, in subfolders too)",
+            crate::export::importable_extensions(true)
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    // Read everything first: a look met twice is written once.
+    let mut read: Vec<(PathBuf, Result<Vec<crate::export::ImportedLook>>)> = Vec::new();
+    let mut skipped: Vec<(PathBuf, String)> = Vec::new();
+    for (file, in_folder) in &files {
+        match import_file(file, &options) {
+            Err(e) if *in_folder && e.is_not_engine() => {
+                skipped.push((file.clone(), one_line(&e.to_string(), file)));
+            }
+            r => read.push((file.clone(), r.map_err(anyhow::Error::from))),
+        }
+    }
+    let mut order: Vec<usize> = (0..read.len()).collect();
+    order.sort_by_key(|&i| read[i].1.as_ref().map_or(0, Vec::len));
+    let mut seen: Vec<crate::settings::Preset> = Vec::new();
+    let mut repeated = vec![0usize; read.len()];
+    let mut keep: Vec<Vec<bool>> = read
+        .iter()
+        .map(|(_, r)| vec![true; r.as_ref().map_or(0, Vec::len)])
+        .collect();
+    for i in order {
+        if let Ok(looks) = &read[i].1 {
+            for (k, l) in looks.iter().enumerate() {
+                if seen.contains(&l.preset) {
+                    keep[i][k] = false;
+                    repeated[i] += 1;
+                } else {
+                    seen.push(l.preset.clone());
+                }
+            }
+        }
     }
     let mut failed = 0;
     let mut summary = Vec::new();
-    for file in &files {
+    for (i, (file, looks)) in read.iter().enumerate() {
         let line = (|| -> Result<Value> {
-            let looks = import_file(file, &options)?;
+            let looks = match looks {
+                Ok(l) => l,
+                Err(e) => bail!("{e:#}"),
+            };
             let stem = file
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "look".into());
             let mut converted = Vec::new();
-            for (i, l) in looks.iter().enumerate() {
+            for (k, l) in looks.iter().enumerate() {
+                if !keep[i][k] {
+                    continue;
+                }
                 let name = if looks.len() == 1 {
                     stem.clone()
                 } else {
@@ -145,7 +216,6 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
                         crate::export::import::file_stem_of(&l.preset.name)
                     )
                 };
-                let _ = i;
                 let target = out.join(format!("{name}.{}", args.to.extension()));
                 let planned = crate::export::planned_paths(args.to, &target);
                 if !args.force {
@@ -161,7 +231,11 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
                     "round_trip_relative_l2_error": (args.to.target().fidelity)(&l.preset),
                 }));
             }
-            Ok(json!({ "file": file.display().to_string(), "looks": converted }))
+            Ok(json!({
+                "file": file.display().to_string(),
+                "looks": converted,
+                "looks_read_from_other_files": repeated[i],
+            }))
         })();
         match line {
             Ok(v) => {
@@ -192,6 +266,13 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
                                 .unwrap_or_default()
                         );
                     }
+                    if repeated[i] > 0 {
+                        println!(
+                            "{}: {} look(s) it names were written from their own files",
+                            file.display(),
+                            repeated[i]
+                        );
+                    }
                 }
                 summary.push(v);
             }
@@ -208,16 +289,49 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
             }
         }
     }
+    let converted = read.len() - failed;
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&json!({ "files": summary }))?
+            serde_json::to_string_pretty(&json!({
+                "files": summary,
+                "skipped": skipped
+                    .iter()
+                    .map(|(f, why)| json!({ "file": f.display().to_string(), "why": why }))
+                    .collect::<Vec<_>>(),
+                "converted_files": converted,
+                "failed_files": failed,
+            }))?
+        );
+    } else {
+        println!(
+            "{converted} file(s) converted, {failed} failed, {} skipped (not engine profiles{})",
+            skipped.len(),
+            if skipped.is_empty() {
+                String::new()
+            } else {
+                let shown: Vec<String> = skipped
+                    .iter()
+                    .take(5)
+                    .map(|(f, _)| f.display().to_string())
+                    .collect();
+                let more = skipped.len().saturating_sub(shown.len());
+                format!(
+                    ": {}{}",
+                    shown.join(", "),
+                    if more > 0 {
+                        format!(" and {more} more; --json lists each with why")
+                    } else {
+                        String::new()
+                    }
+                )
+            }
         );
     }
     if failed > 0 {
         bail!(
             "{failed} of {} file(s) could not be converted (see above)",
-            files.len()
+            read.len()
         );
     }
     Ok(())

@@ -47,6 +47,11 @@ pub enum ImportError {
     /// The file as a whole is not what it should be.
     #[error("{path}: {message}")]
     File { path: PathBuf, message: String },
+    /// The file is not an engine's profile at all (a README, binary data,
+    /// a Unity asset of another kind): a folder's scan skips it, where a
+    /// file named on its own is refused.
+    #[error("{path}: {message}")]
+    NotEngine { path: PathBuf, message: String },
 }
 
 impl ImportError {
@@ -63,6 +68,19 @@ impl ImportError {
             path: path.to_owned(),
             message: one_line(message.into()),
         }
+    }
+
+    pub fn not_engine(path: &Path, message: impl Into<String>) -> Self {
+        Self::NotEngine {
+            path: path.to_owned(),
+            message: one_line(message.into()),
+        }
+    }
+
+    /// Whether the file is no engine profile at all (what a folder's scan
+    /// skips), rather than a profile that is broken.
+    pub fn is_not_engine(&self) -> bool {
+        matches!(self, Self::NotEngine { .. })
     }
 }
 
@@ -108,7 +126,7 @@ pub(crate) fn read_text(path: &Path) -> Result<String, ImportError> {
     let bytes = std::fs::read(path).map_err(read)?;
     String::from_utf8(bytes)
         .map_err(|e| {
-            ImportError::file(
+            ImportError::not_engine(
                 path,
                 format!(
                     "not text (invalid UTF-8 at byte {}): not a file scatterlab imports",
@@ -148,7 +166,7 @@ pub fn import_text(
             }
         }
     }
-    Err(ImportError::file(
+    Err(ImportError::not_engine(
         path,
         format!("not a file scatterlab imports; it reads {KINDS}"),
     ))

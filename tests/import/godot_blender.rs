@@ -209,7 +209,11 @@ fn convert_from_files_and_folders_in_a_batch() {
         "{stderr}"
     );
     let lines: Vec<&str> = stdout.lines().collect();
-    assert_eq!(lines.len(), 3, "{stdout}");
+    assert_eq!(lines.len(), 4, "{stdout}");
+    assert_eq!(
+        lines[3], "2 file(s) converted, 1 failed, 0 skipped (not engine profiles)",
+        "{stdout}"
+    );
     assert!(lines[0].contains("holds the look exactly"), "{stdout}");
     assert!(
         lines[2].contains("FAILED") && lines[2].contains("malformed YAML"),
@@ -229,7 +233,8 @@ fn convert_from_files_and_folders_in_a_batch() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stdout}");
-    assert_eq!(stdout.lines().count(), 4, "{stdout}");
+    // A line per look, then the counts.
+    assert_eq!(stdout.lines().count(), 5, "{stdout}");
     let (code, stdout, _) = cli(&[
         "convert",
         "--from",

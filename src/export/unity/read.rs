@@ -124,7 +124,9 @@ fn read_depth(text: &str, path: &Path, depth: usize) -> Result<Vec<ImportedLook>
         }
     }
     if looks.is_empty() {
-        return Err(ImportError::file(
+        // A Unity asset of another kind (a material, lighting data, a
+        // volume profile without a diffusion profile list).
+        return Err(ImportError::not_engine(
             path,
             if behaviours == 0 {
                 "no Unity object in the file: not an HDRP asset".to_owned()
