@@ -91,7 +91,7 @@ fn convert(
 /// Each with whether it was found in a folder: a folder's file that is no
 /// engine profile (a README, a material, binary data) is skipped, where a
 /// file named on its own is refused.
-fn expand(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>> {
+pub(super) fn expand(paths: &[PathBuf]) -> Result<Vec<(PathBuf, bool)>> {
     let extensions = crate::export::importable_extensions(true);
     let mut out = Vec::new();
     for p in paths {
@@ -133,6 +133,93 @@ fn walk(dir: &Path, extensions: &[&str], out: &mut Vec<PathBuf>) -> Result<()> {
     Ok(())
 }
 
+/// Every file of a batch read: each file's looks (or why it failed), the
+/// folders' files that are no engine profile (skipped, with why), and which
+/// looks to write: a look met in several files is kept once, from the file
+/// with the fewest looks (a profile's own asset rather than a list that
+/// names it).
+pub(super) struct Batch {
+    pub read: Vec<(PathBuf, Result<Vec<crate::export::ImportedLook>>)>,
+    pub skipped: Vec<(PathBuf, String)>,
+    /// Per file, per look: whether it is written.
+    pub keep: Vec<Vec<bool>>,
+    /// Per file: its looks written from other files.
+    pub repeated: Vec<usize>,
+}
+
+/// Reads `files` (from [`expand`]) as [`Batch`] says.
+pub(super) fn read_all(files: &[(PathBuf, bool)], options: &ImportOptions) -> Batch {
+    let mut read: Vec<(PathBuf, Result<Vec<crate::export::ImportedLook>>)> = Vec::new();
+    let mut skipped: Vec<(PathBuf, String)> = Vec::new();
+    for (file, in_folder) in files {
+        match import_file(file, options) {
+            Err(e) if *in_folder && e.is_not_engine() => {
+                skipped.push((file.clone(), one_line(&e.to_string(), file)));
+            }
+            r => read.push((file.clone(), r.map_err(anyhow::Error::from))),
+        }
+    }
+    let mut order: Vec<usize> = (0..read.len()).collect();
+    order.sort_by_key(|&i| read[i].1.as_ref().map_or(0, Vec::len));
+    let mut seen: Vec<crate::settings::Preset> = Vec::new();
+    let mut repeated = vec![0usize; read.len()];
+    let mut keep: Vec<Vec<bool>> = read
+        .iter()
+        .map(|(_, r)| vec![true; r.as_ref().map_or(0, Vec::len)])
+        .collect();
+    for i in order {
+        if let Ok(looks) = &read[i].1 {
+            for (k, l) in looks.iter().enumerate() {
+                if seen.contains(&l.preset) {
+                    keep[i][k] = false;
+                    repeated[i] += 1;
+                } else {
+                    seen.push(l.preset.clone());
+                }
+            }
+        }
+    }
+    Batch {
+        read,
+        skipped,
+        keep,
+        repeated,
+    }
+}
+
+/// The last line of a batch: files converted, failed and skipped (the
+/// first five skipped named).
+pub(super) fn counts_line(
+    verb: &str,
+    done: usize,
+    failed: usize,
+    skipped: &[(PathBuf, String)],
+) -> String {
+    format!(
+        "{done} file(s) {verb}, {failed} failed, {} skipped (not engine profiles{})",
+        skipped.len(),
+        if skipped.is_empty() {
+            String::new()
+        } else {
+            let shown: Vec<String> = skipped
+                .iter()
+                .take(5)
+                .map(|(f, _)| f.display().to_string())
+                .collect();
+            let more = skipped.len().saturating_sub(shown.len());
+            format!(
+                ": {}{}",
+                shown.join(", "),
+                if more > 0 {
+                    format!(" and {more} more; --json lists each with why")
+                } else {
+                    String::new()
+                }
+            )
+        }
+    )
+}
+
 /// `convert --from`: every look of every file written in `--to`'s format
 /// into `--out`, a summary line per file; non-zero if any file failed.
 /// Found in folders, files that are no engine profile are skipped and
@@ -160,37 +247,12 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
                 .join(", ")
         );
     }
-    // Read everything first: a look met twice is written once.
-    let mut read: Vec<(PathBuf, Result<Vec<crate::export::ImportedLook>>)> = Vec::new();
-    let mut skipped: Vec<(PathBuf, String)> = Vec::new();
-    for (file, in_folder) in &files {
-        match import_file(file, &options) {
-            Err(e) if *in_folder && e.is_not_engine() => {
-                skipped.push((file.clone(), one_line(&e.to_string(), file)));
-            }
-            r => read.push((file.clone(), r.map_err(anyhow::Error::from))),
-        }
-    }
-    let mut order: Vec<usize> = (0..read.len()).collect();
-    order.sort_by_key(|&i| read[i].1.as_ref().map_or(0, Vec::len));
-    let mut seen: Vec<crate::settings::Preset> = Vec::new();
-    let mut repeated = vec![0usize; read.len()];
-    let mut keep: Vec<Vec<bool>> = read
-        .iter()
-        .map(|(_, r)| vec![true; r.as_ref().map_or(0, Vec::len)])
-        .collect();
-    for i in order {
-        if let Ok(looks) = &read[i].1 {
-            for (k, l) in looks.iter().enumerate() {
-                if seen.contains(&l.preset) {
-                    keep[i][k] = false;
-                    repeated[i] += 1;
-                } else {
-                    seen.push(l.preset.clone());
-                }
-            }
-        }
-    }
+    let Batch {
+        read,
+        skipped,
+        keep,
+        repeated,
+    } = read_all(&files, &options);
     let mut failed = 0;
     let mut summary = Vec::new();
     for (i, (file, looks)) in read.iter().enumerate() {
@@ -304,29 +366,7 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
             }))?
         );
     } else {
-        println!(
-            "{converted} file(s) converted, {failed} failed, {} skipped (not engine profiles{})",
-            skipped.len(),
-            if skipped.is_empty() {
-                String::new()
-            } else {
-                let shown: Vec<String> = skipped
-                    .iter()
-                    .take(5)
-                    .map(|(f, _)| f.display().to_string())
-                    .collect();
-                let more = skipped.len().saturating_sub(shown.len());
-                format!(
-                    ": {}{}",
-                    shown.join(", "),
-                    if more > 0 {
-                        format!(" and {more} more; --json lists each with why")
-                    } else {
-                        String::new()
-                    }
-                )
-            }
-        );
+        println!("{}", counts_line("converted", converted, failed, &skipped));
     }
     if failed > 0 {
         bail!(
@@ -338,7 +378,7 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
 }
 
 /// An error without the file name it starts with.
-fn one_line(message: &str, file: &std::path::Path) -> String {
+pub(super) fn one_line(message: &str, file: &std::path::Path) -> String {
     let prefix = format!("{}: ", file.display());
     message
         .strip_prefix(&prefix)

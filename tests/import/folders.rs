@@ -1,4 +1,4 @@
-//! `convert --from` over a folder laid out as a Unity project
+//! `convert --from` and `import` over a folder laid out as a Unity project
 //! (`tests/data/unity_project/`, its README lists what is there): it
 //! recurses into subfolders, converts every profile of every version,
 //! writes a look that a profile list names once, and skips what is not a
@@ -175,4 +175,42 @@ fn a_broken_profile_in_a_folder_still_fails() {
         stdout.contains("README.txt: FAILED: not a file scatterlab imports"),
         "{stdout}"
     );
+}
+
+/// `import DIR` reads a folder as `convert --from` does: 19 looks from the
+/// project's six profile files, each written as a preset into `--out`, the
+/// same four files skipped; again without --force it replaces nothing.
+#[test]
+fn import_reads_a_unity_project_folder() {
+    let out = tmp("project_presets");
+    let _ = std::fs::remove_dir_all(&out);
+    let (code, stdout, stderr) = cli(&[
+        "import",
+        project().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let looks = v["looks"].as_array().unwrap();
+    assert_eq!(looks.len(), 19, "{stdout}");
+    assert_eq!(v["skipped"].as_array().unwrap().len(), 4, "{stdout}");
+    assert!(v["failed"].as_array().unwrap().is_empty(), "{stdout}");
+    let presets: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+    assert_eq!(presets.len(), 19, "{presets:?}");
+    // Each written preset loads as the look the JSON holds.
+    for l in looks {
+        let path = PathBuf::from(l["written"].as_str().unwrap());
+        let p = Preset::load(&path).unwrap();
+        assert_eq!(p.name, l["name"].as_str().unwrap(), "{}", path.display());
+    }
+    let (code, _, stderr) = cli(&[
+        "import",
+        project().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("exists; pass --force"), "{stderr}");
 }
