@@ -60,10 +60,13 @@ pub enum Command {
     /// settings overridden by the flags.
     #[command(mut_arg("albedo", |a| a.long("volume-albedo")))]
     Render(Box<render::RenderArgs>),
-    /// Write a preset for an engine or tool. Files are written atomically;
-    /// formats with comments or metadata record the scatterlab version and
-    /// the preset. Some formats write a companion file beside --out
-    /// (unreal: .py; lut-*: _shadow; profile-*: _transmittance).
+    /// Write a look for an engine or tool: a preset (--preset), or a
+    /// profile from --model and its flags as every command takes one (with
+    /// the default rendering settings; no flags: the default skin). Files
+    /// are written atomically; formats with comments or metadata record
+    /// the scatterlab version and the preset. Some formats write a
+    /// companion file beside --out (unreal: .py; lut-*: _shadow; profile-*:
+    /// _transmittance).
     Export(export::ExportArgs),
     /// Run-time against error of every SSS method and count on fixed
     /// scenes, against `reference`; writes results.csv, skip.csv, one chart

@@ -583,5 +583,46 @@ fn export_writes_files_and_refuses_bad_input() {
     assert_ne!(code, 0);
     assert!(err.contains("bad.ron") && err.contains("albedo.g"), "{err}");
     assert!(!dir.join("o.ron").exists());
+    // A profile from --model and its flags, as every other command takes
+    // it (issue 40, item 5): the written preset holds those numbers.
+    let out = dir.join("flags.ron");
+    let (code, _, err) = run(&[
+        "export",
+        "--model",
+        "burley",
+        "--distance",
+        "1.5,0.6,0.25",
+        "--albedo",
+        "0.8,0.5,0.3",
+        "--format",
+        "ron",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let p = scatterlab::settings::Preset::load(&out).unwrap();
+    match &p.profile {
+        scatterlab::settings::ProfileSpec::Burley(b) => {
+            let d = b.build().unwrap().scattering_distance_mm();
+            for (got, want) in d.iter().zip([1.5, 0.6, 0.25]) {
+                assert!((got - want).abs() < 1e-12, "{d:?}");
+            }
+        }
+        other => panic!("not Burley: {other:?}"),
+    }
+    // --preset with a model flag is refused, naming the flag.
+    let (code, _, err) = run(&[
+        "export",
+        "--preset",
+        preset,
+        "--distance",
+        "1,1,1",
+        "--format",
+        "ron",
+        "--out",
+        dir.join("o2.ron").to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--distance"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
