@@ -3,23 +3,27 @@
 //! triangle has its texels whether the camera sees it or not, so the light
 //! that reaches a visible pixel from the lid margin or the back of the ear
 //! is there to be gathered; the screen-space methods only see the pixels
-//! on screen. Three passes, all timed as SSS
-//! (`shaders/texture_space_scene.wgsl`, `shaders/sss_texture_space.wgsl`):
+//! on screen. Two passes, both drawing the mesh and both timed as SSS
+//! (`shaders/texture_space_scene.wgsl`, after scene.wgsl):
 //!
 //! 1. **irradiance**: the mesh drawn at its UVs into an `N × N` atlas
-//!    (`--atlas-size`), each texel shaded by the scene pass's own `shade`
-//!    (light, shadow map, environment, maps, transmission) and given its
-//!    surface position and its texel-to-surface Jacobian (d'Eon's stretch
-//!    map, from the rasteriser's derivatives);
-//! 2. **blur**: burley's importance-sampled disk (Golubev 2018; its
-//!    samples and profile table, `sss::burley`) on each texel's tangent
-//!    plane, carried into texel steps by its Jacobian and weighted by
-//!    R(ρ) at the 3D distance between the surface points (d'Eon sums six
-//!    separable Gaussians with a stretch map instead; one radial profile
-//!    keeps the method exact for any look, and the 3D distance makes a
-//!    sample that crosses a UV seam weigh next to nothing);
-//! 3. **lookup**: the mesh drawn again with the scene pass's vertex shader
-//!    and depth test Equal, reading the blurred atlas at each pixel's UV.
+//!    (`--atlas-size`, capped by the frame: [`atlas_side`]), each texel
+//!    shaded by the scene pass's own `shade` (light, shadow map,
+//!    environment, maps, transmission) and given its surface position;
+//! 2. **gather**: the mesh drawn again with the scene pass's vertex shader
+//!    at its depth (compare Equal) on the SSS pixels. Each pixel gathers
+//!    burley's importance-sampled disk (Golubev 2018; its samples and
+//!    profile table, `sss::burley`): samples under `--near-field-mm` on
+//!    screen as `burley` reads them, the rest on the surface's tangent
+//!    plane, carried into UV by the triangle's own surface-to-UV map (the
+//!    rasteriser's derivatives: d'Eon's stretch map, anisotropic and exact
+//!    per triangle) and weighted by R(ρ) at the 3D distance between the
+//!    surface points, so that a sample crossing a UV seam weighs next to
+//!    nothing. d'Eon sums six separable Gaussians blurred over the whole
+//!    atlas instead; one radial profile keeps the method exact for any
+//!    look, and gathering at the pixels on screen costs 35–47 ms on
+//!    lavapipe at 640 × 360 where blurring a 1024² atlas cost 78 ms
+//!    (docs/accuracy.md).
 //!
 //! What it needs of a mesh: UVs that do not overlap (the default head's
 //! and the Lee Perry-Smith scan's do not); overlapping islands take the
