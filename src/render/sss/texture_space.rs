@@ -44,7 +44,7 @@ use crate::render::targets::HdrTarget;
 /// `texture-space` in the registry (`sss::Method::sss`).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
     id: "texture-space",
-    label: "texture-space (d'Eon & Luebke 2007 atlas)",
+    label: "texture-space (d'Eon 2007)",
     quality: super::Quality::Samples,
     stochastic: |_| true,
     colour: [227, 119, 194],
