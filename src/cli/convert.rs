@@ -253,6 +253,12 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
         keep,
         repeated,
     } = read_all(&files, &options);
+    if read.is_empty() {
+        bail!(
+            "--from: no engine profile found; {}",
+            counts_line("converted", 0, 0, &skipped)
+        );
+    }
     let mut failed = 0;
     let mut summary = Vec::new();
     for (i, (file, looks)) in read.iter().enumerate() {

@@ -161,6 +161,22 @@ fn a_broken_profile_in_a_folder_still_fails() {
         stderr.contains("1 of 2 file(s) could not be converted"),
         "{stderr}"
     );
+    // A folder with nothing but non-profiles: an error that says so.
+    let (code, _, stderr) = cli(&[
+        "convert",
+        "--from",
+        project().join("ProjectSettings").to_str().unwrap(),
+        "--to",
+        "unity",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        stderr.contains("no engine profile found; 0 file(s) converted, 0 failed, 1 skipped")
+            && stderr.contains("ProjectVersion.txt"),
+        "{stderr}"
+    );
     let (code, stdout, _) = cli(&[
         "convert",
         "--from",
