@@ -246,24 +246,11 @@ fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
         sum = sum + w * seen.rgb;
         wsum = wsum + w;
     }
-    // The centre: the atlas at this pixel's UV, bilinear over covered
-    // skin texels (the pixel's own value where none is: a sliver thinner
-    // than a texel), carrying the profile's Dirac share, CDF(0).
-    let f = i.uv * size - vec2<f32>(0.5);
-    let base = vec2<i32>(floor(f));
-    let t = f - floor(f);
-    var centre = vec3<f32>(0.0);
-    var covered = 0.0;
-    for (var k = 0; k < 4; k = k + 1) {
-        let o = vec2<i32>(k & 1, k >> 1u);
-        let e = textureLoad(atlas_irradiance, clamp(base + o, vec2<i32>(0), vec2<i32>(size) - vec2<i32>(1)), 0);
-        let bw = select(1.0 - t.x, t.x, o.x == 1) * select(1.0 - t.y, t.y, o.y == 1);
-        if (e.a > 1.0 / 255.0) {
-            centre = centre + bw * e.rgb;
-            covered = covered + bw;
-        }
-    }
-    centre = select(pixel.rgb, centre / max(covered, 1e-6), covered > 0.0);
+    // The centre carries the profile's Dirac share, CDF(0): the pixel's
+    // own light, as fs_burley's centre (the atlas's texel there would
+    // hand an unscattering share back at texel resolution, not as the
+    // unscattered frame has it).
+    let centre = pixel.rgb;
     let ring = select(centre, sum / wsum, wsum > vec3<f32>(0.0));
     return vec4<f32>(mix(ring, centre, profile_lut[s.lut_entries].rgb), pixel.a);
 }

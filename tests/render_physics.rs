@@ -52,6 +52,18 @@ fn plane_renderer() -> Renderer {
     Renderer::new(ctx, &Mesh::plane(200.0, 0.001)).unwrap()
 }
 
+/// `profile`'s inputs with Golubev 2018's published pattern of 144 samples
+/// (golden-angle directions; without rotation every pixel uses the same).
+fn golubev_144(profile: &Burley) -> ProfileInputs {
+    let mut inputs = ProfileInputs::new(profile, 144, 17).unwrap();
+    inputs
+        .methods
+        .burley
+        .set_patterns(profile, 144, BurleySampling::GOLUBEV)
+        .unwrap();
+    inputs
+}
+
 /// Position of pixel column `px` on the plane (mm; the step is at 0).
 fn column_mm(px: usize) -> f64 {
     (px as f64 + 0.5 - WIDTH as f64 / 2.0) * SPAN_MM as f64 / WIDTH as f64
@@ -78,12 +90,7 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
     let mut r = plane_renderer();
     // Golubev 2018's pattern (no rotation here, so every pixel uses the
     // same 144 directions).
-    let mut inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
-    inputs
-        .methods
-        .burley
-        .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
-        .unwrap();
+    let inputs = golubev_144(&profile);
     let (_, diffuse, _) = r
         .render_with_diffuse(&inputs, &settings(Method::Burley))
         .unwrap();
@@ -129,12 +136,7 @@ fn burley_pass_follows_the_strip_cdf_across_an_edge() {
 fn texture_space_follows_the_strip_cdf_across_an_edge() {
     let profile = Burley::from_scattering_distance([1.0; 3], [1.0, 0.5, 0.25]).unwrap();
     let mut r = plane_renderer();
-    let mut inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
-    inputs
-        .methods
-        .burley
-        .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
-        .unwrap();
+    let mut inputs = golubev_144(&profile);
     // With the default near field (samples under 1 mm read on screen),
     // then with every sample in the atlas.
     for near_field_mm in [inputs.methods.texture_space.near_field_mm, 0.0] {
@@ -178,12 +180,7 @@ fn texture_space_sees_light_from_off_screen() {
     plane.focus = [-SHIFT_MM, 0.0, 0.0];
     let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
     let mut r = Renderer::new(ctx, &plane).unwrap();
-    let mut inputs = ProfileInputs::new(&profile, 144, 17).unwrap();
-    inputs
-        .methods
-        .burley
-        .set_patterns(&profile, 144, BurleySampling::GOLUBEV)
-        .unwrap();
+    let inputs = golubev_144(&profile);
     let worst = |d: &[[f32; 4]]| {
         let mut worst = [0.0f64; 3];
         for px in 0..WIDTH as usize {
@@ -558,6 +555,55 @@ fn thin_transmission_lights_a_back_lit_slab_by_t_of_t() {
                 expected[c]
             );
         }
+    }
+}
+
+/// The yardstick's limit for `texture-space`: a profile that scatters
+/// (almost) nothing gives back the unscattered frame (`none`) pixel by
+/// pixel on the default head. Burley at d = 1 µm (every sample in the
+/// 1 mm near field, read at the pixel itself), and a Jimenez 2012 look
+/// that is half a Dirac (strength 0.5, falloff 0: the rest 1 µm wide),
+/// whose Dirac share must be the pixel's own light, not the atlas's texel.
+/// Holds for the default near field; with every sample in the atlas the
+/// method reads light at the atlas's texels, about 1 mm apart here, by
+/// design.
+#[test]
+fn texture_space_gives_back_the_unscattered_frame_as_d_goes_to_0() {
+    use scatterlab::model::jimenez::Jimenez2012;
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &Mesh::default_head().unwrap()).unwrap();
+    let s = |method| RenderSettings {
+        width: 128,
+        height: 128,
+        method,
+        deterministic: true,
+        ..Default::default()
+    };
+    let burley = Burley::from_scattering_distance([0.8; 3], [0.001; 3]).unwrap();
+    let jimenez = Jimenez2012::new([0.5; 3], [0.0; 3]).unwrap();
+    let profiles: [(&str, &dyn RadialProfile); 2] = [("burley", &burley), ("jimenez", &jimenez)];
+    for (name, profile) in profiles {
+        let inputs = ProfileInputs::new(profile, 21, 17).unwrap();
+        let (_, flat, _) = r.render_with_diffuse(&inputs, &s(Method::None)).unwrap();
+        let (_, ts, _) = r
+            .render_with_diffuse(&inputs, &s(Method::TextureSpace))
+            .unwrap();
+        let mut worst = 0.0f64;
+        let mut pixels = 0;
+        for (a, b) in flat.iter().zip(&ts) {
+            if a[3] <= 1.0 / 255.0 {
+                continue;
+            }
+            pixels += 1;
+            for c in 0..3 {
+                let d = (b[c] as f64 - a[c] as f64).abs() / (a[c] as f64).max(0.05);
+                worst = worst.max(d);
+            }
+        }
+        eprintln!("{name}: {pixels} SSS pixels, worst |Δ|/L {worst:.2e}");
+        assert!(pixels > 3000, "{name}: {pixels} SSS pixels");
+        // Half floats keep 2⁻¹¹ ≈ 4.9e-4 relative.
+        assert!(worst < 2e-3, "{name}: worst |Δ|/L {worst:.2e}");
     }
 }
 
