@@ -34,11 +34,11 @@ export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \
 -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing \
 -Cllvm-args=-simplifycfg-branch-fold-threshold=0 -Cdebug-assertions -Coverflow-checks"
-targets=(preset mesh_obj mesh_gltf image unity_asset unreal_text materialx godot_tres blender_py)
+targets=(preset mesh_obj mesh_gltf image unity_asset unreal_text materialx godot_tres blender_py gltf_material)
 # Inputs per target at scale 1 (10–20 s each here; `fuzz/run.sh 10` searches ten
 # times longer).
 declare -A runs=([preset]=30000 [mesh_obj]=300000 [mesh_gltf]=60000 [image]=40000
-    [unity_asset]=60000 [unreal_text]=800000 [materialx]=500000 [godot_tres]=400000 [blender_py]=500000)
+    [unity_asset]=60000 [unreal_text]=800000 [materialx]=500000 [godot_tres]=400000 [blender_py]=500000 [gltf_material]=300000)
 echo "building the fuzz targets"
 if ! cargo build --release --target "$triple" --bins >build.log 2>&1; then
     tail -n 40 build.log >&2

@@ -5,9 +5,11 @@
 //! distance is measured back from a shadow edge; HDRP's conventions read
 //! the Unity asset through a YAML parser; a stand-in `unreal` module that
 //! accepts only Unreal's documented property names runs the Unreal script;
-//! the OpenEXR bindings open every EXR export. The Python side lives in
+//! the OpenEXR bindings open every EXR export; Khronos' glTF validator and
+//! Babylon.js's loader read the glTF export. The Python side lives in
 //! tests/clients/ (each script cites its sources); `tools/python-env.sh`
-//! (the README's test command runs it) installs the programs into `.venv/`.
+//! (the README's test command runs it) installs the programs into `.venv/`,
+//! and `tools/node-env.sh` the node ones into tests/clients/node/.
 
 use scatterlab::export::{burley_of, export, Format};
 use scatterlab::settings::Preset;
@@ -727,4 +729,172 @@ fn render_exr_layers_make_the_png_in_openexr() {
         err.contains("--out") && err.contains("compare.exr") && err.contains("--compare"),
         "{err}"
     );
+}
+
+/// Runs tests/clients/node/gltf_check.mjs (Khronos' validator and
+/// Babylon.js's loader, installed by tools/node-env.sh) on a `.gltf`.
+fn gltf_check(file: &Path) -> Value {
+    let dir = root().join("tests/clients/node");
+    assert!(
+        dir.join("node_modules/gltf-validator").exists(),
+        "{} is missing: run tools/node-env.sh (the README's test command does) to install gltf-validator and Babylon.js",
+        dir.join("node_modules").display()
+    );
+    let out = Command::new("node")
+        .arg(dir.join("gltf_check.mjs"))
+        .arg(file)
+        .current_dir(&dir)
+        .output()
+        .expect("run node (tools/setup-debian.sh installs it)");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "gltf_check.mjs {}:\n{stdout}\n{stderr}",
+        file.display()
+    );
+    let last = stdout.lines().rev().find(|l| l.starts_with('{'));
+    serde_json::from_str(last.unwrap_or_else(|| panic!("no JSON:\n{stdout}\n{stderr}"))).unwrap()
+}
+
+/// `got` within 1e-3 of `want`, relative to the larger magnitude (the
+/// fields run from 1e-4 m to 1), each number of an array alike.
+fn within_1e3(what: &str, got: &Value, want: &Value) {
+    let (g, w) = match (got.as_array(), want.as_array()) {
+        (Some(g), Some(w)) => (
+            floats(&Value::Array(g.clone())),
+            floats(&Value::Array(w.clone())),
+        ),
+        _ => match (got.as_f64(), want.as_f64()) {
+            (Some(g), Some(w)) => (vec![g], vec![w]),
+            _ => {
+                assert_eq!(got, want, "{what}");
+                return;
+            }
+        },
+    };
+    assert_eq!(g.len(), w.len(), "{what}: {got} vs {want}");
+    for (a, b) in g.iter().zip(&w) {
+        let scale = a.abs().max(b.abs()).max(1e-300);
+        assert!(
+            (a - b).abs() <= 1e-3 * scale,
+            "{what}: Babylon reads {got}, the notes say {want}"
+        );
+    }
+}
+
+/// Every shipped look exported to glTF (the sphere, with the draft
+/// volume_scatter; the head once, with and without it): Khronos' validator
+/// (gltf-validator 2.0.0-dev.3.10) finds 0 errors and 0 warnings, its only
+/// messages being information that it cannot check the Release Candidate
+/// and draft extensions; Babylon.js 9.37.1's loader under NullEngine
+/// gives the material the subsurface fields the file's `extras` state for
+/// Babylon, within 1e-3 — as PBRMaterial (translucency, tint,
+/// diffusionDistance, thickness, IOR) and as OpenPBRMaterial (the mean
+/// free path as radius × scale, the multi-scatter colour).
+#[test]
+fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
+    use scatterlab::export::{export_with, ExportOptions, GltfMesh};
+    let dir = tmp_dir("gltf");
+    let mut runs: Vec<(String, Preset, ExportOptions)> = scatterlab::settings::library::PRESETS
+        .iter()
+        .map(|(file, _)| {
+            (
+                file.to_string(),
+                preset(file),
+                ExportOptions {
+                    gltf_mesh: GltfMesh::Sphere,
+                    gltf_volume_scatter: true,
+                },
+            )
+        })
+        .collect();
+    for scatter in [true, false] {
+        runs.push((
+            format!("head_{scatter}"),
+            Preset::default_skin(),
+            ExportOptions {
+                gltf_mesh: GltfMesh::Head,
+                gltf_volume_scatter: scatter,
+            },
+        ));
+    }
+    for (tag, p, options) in runs {
+        let out = dir.join(format!("{tag}.gltf"));
+        export_with(&p, None, Format::Gltf, &out, &options).unwrap();
+        let file: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let r = gltf_check(&out);
+        let v = &r["validator"];
+        assert_eq!(
+            (v["numErrors"].as_u64(), v["numWarnings"].as_u64()),
+            (Some(0), Some(0)),
+            "{tag}: {v}"
+        );
+        for m in v["messages"].as_array().unwrap() {
+            let text = m["message"].as_str().unwrap();
+            assert!(
+                m["severity"] == 2
+                    && m["code"] == "UNSUPPORTED_EXTENSION"
+                    && (text.contains("KHR_materials_diffuse_transmission")
+                        || text.contains("KHR_materials_volume_scatter")),
+                "{tag}: {m}"
+            );
+        }
+        let readings = file["materials"][0]["extras"]["scatterlab"]["readings"]
+            .as_array()
+            .unwrap()
+            .clone();
+        let stated = |reader: &str| {
+            readings
+                .iter()
+                .find(|x| x["reader"].as_str().unwrap().starts_with(reader))
+                .map(|x| x["fields"].clone())
+        };
+        let pbr_notes = stated("Babylon.js PBRMaterial").expect("a PBRMaterial reading");
+        let pbr = &r["babylon"]["pbr"];
+        assert_eq!(pbr["className"], "PBRMaterial");
+        for (babylon, noted) in [
+            ("isTranslucencyEnabled", "subSurface.isTranslucencyEnabled"),
+            ("translucencyIntensity", "subSurface.translucencyIntensity"),
+            ("tintColor", "subSurface.tintColor"),
+            ("diffusionDistance", "subSurface.diffusionDistance"),
+            ("maximumThickness", "subSurface.maximumThickness"),
+            (
+                "volumeIndexOfRefraction",
+                "subSurface.volumeIndexOfRefraction",
+            ),
+            ("isScatteringEnabled", "subSurface.isScatteringEnabled"),
+        ] {
+            within_1e3(
+                &format!("{tag}: PBR {babylon}"),
+                &pbr[babylon],
+                &pbr_notes[noted],
+            );
+        }
+        let open = &r["babylon"]["openpbr"];
+        match stated("Babylon.js OpenPBRMaterial") {
+            Some(notes) => {
+                assert!(options.gltf_volume_scatter);
+                assert_eq!(open["className"], "OpenPBRMaterial");
+                for f in [
+                    "subsurfaceRadius",
+                    "subsurfaceRadiusScale",
+                    "subsurfaceColor",
+                ] {
+                    within_1e3(&format!("{tag}: OpenPBR {f}"), &open[f], &notes[f]);
+                }
+            }
+            // Without the draft nothing carries the albedo: Babylon keeps
+            // OpenPBR's default subsurface colour, 0.8 (the export notes
+            // say readers get no albedo for the volume).
+            None => {
+                assert!(!options.gltf_volume_scatter);
+                within_1e3(
+                    &format!("{tag}: OpenPBR default"),
+                    &open["subsurfaceColor"],
+                    &serde_json::json!([0.8, 0.8, 0.8]),
+                );
+            }
+        }
+    }
 }

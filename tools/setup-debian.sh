@@ -7,7 +7,10 @@
 # - Xvfb, xdotool and the X client libraries winit loads: the window tests run the
 #   real editor under Xvfb and type into it, and tools/soak.sh drives it;
 # - the libraries Blender's bpy links (libGL, X) and Python 3.11 with venv:
-#   tools/python-env.sh installs the real programs the export tests run.
+#   tools/python-env.sh installs the real programs the export tests run;
+# - Node.js and npm (Debian's nodejs and npm) where the machine has no
+#   node: tools/node-env.sh installs Khronos' glTF validator and Babylon.js,
+#   which the glTF export tests run.
 # As root it runs apt-get; otherwise it uses sudo if that needs no password,
 # and else prints the one command to run and fails. On a system without
 # dpkg it only says what it would need.
@@ -37,6 +40,8 @@ for pkg in libvulkan1 xvfb xdotool libx11-6 libx11-xcb1 libxcursor1 libxrandr2 l
     dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")
 done
 command -v cc >/dev/null 2>&1 || need+=(build-essential)
+command -v node >/dev/null 2>&1 || need+=(nodejs)
+command -v npm >/dev/null 2>&1 || need+=(npm)
 if ! { command -v python3.11 >/dev/null 2>&1 && python3.11 -c 'import venv, ensurepip' >/dev/null 2>&1; }; then
     need+=(python3.11 python3.11-venv)
 fi

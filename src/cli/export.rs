@@ -15,6 +15,14 @@ pub struct ExportArgs {
     pub format: crate::export::Format,
     #[arg(long, value_name = "PATH")]
     pub out: PathBuf,
+    /// glTF only: the mesh the material is put on.
+    #[arg(long, value_enum, default_value_t = crate::export::GltfMesh::Head)]
+    pub gltf_mesh: crate::export::GltfMesh,
+    /// glTF only: also write KHR_materials_volume_scatter, a draft
+    /// extension (KhronosGroup/glTF PR #2453) that carries the albedo of
+    /// the volume; readers that know it draw the look's scattering.
+    #[arg(long)]
+    pub gltf_volume_scatter: bool,
 }
 
 impl ExportArgs {
@@ -42,7 +50,19 @@ impl ExportArgs {
             },
         };
         let source = self.model.preset.as_deref();
-        for path in crate::export::export(&p, source, self.format, &self.out)? {
+        let gltf_flag =
+            self.gltf_volume_scatter || self.gltf_mesh != crate::export::GltfMesh::default();
+        if gltf_flag && self.format != crate::export::Format::Gltf {
+            anyhow::bail!(
+                "--gltf-mesh and --gltf-volume-scatter are for --format gltf, not {}",
+                self.format.id()
+            );
+        }
+        let options = crate::export::ExportOptions {
+            gltf_mesh: self.gltf_mesh,
+            gltf_volume_scatter: self.gltf_volume_scatter,
+        };
+        for path in crate::export::export_with(&p, source, self.format, &self.out, &options)? {
             println!("{}", path.display());
         }
         Ok(())

@@ -212,7 +212,7 @@ pub(super) const TARGET: super::Target = super::Target {
     extension: "py",
     companion: None,
     slow: false,
-    write: |preset, prov, out, _| super::write(out, blender_python(preset, prov)?.as_bytes()),
+    write: |preset, prov, out, _, _| super::write(out, blender_python(preset, prov)?.as_bytes()),
     notes: |preset| {
         Ok(vec![
             super::burley_note(preset)?,

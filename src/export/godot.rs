@@ -384,7 +384,7 @@ pub(super) const TARGET: super::Target = super::Target {
     extension: "tres",
     companion: None,
     slow: false,
-    write: |preset, prov, out, _| super::write(out, godot_material(preset, prov)?.as_bytes()),
+    write: |preset, prov, out, _, _| super::write(out, godot_material(preset, prov)?.as_bytes()),
     notes: godot_notes,
     fidelity: |preset| {
         godot_subsurface(preset)

@@ -275,7 +275,7 @@ macro_rules! image_target {
             extension: $ext,
             companion: Some(|out| super::companion(out, $suffix, $ext)),
             slow: $slow,
-            write: |preset, prov, out, second| $writer(preset, prov, $exr, out, second),
+            write: |preset, prov, out, second, _| $writer(preset, prov, $exr, out, second),
             notes: super::no_notes,
             fidelity: super::no_fidelity,
             params: None,

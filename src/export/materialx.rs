@@ -112,6 +112,7 @@ pub fn materialx_document(preset: &Preset, prov: &Provenance) -> Result<String, 
 
 mod read;
 pub use read::read;
+pub(super) use read::scattering_distance;
 
 /// MaterialX OpenPBR as an export target.
 pub(super) const TARGET: super::Target = super::Target {
@@ -121,7 +122,9 @@ pub(super) const TARGET: super::Target = super::Target {
     extension: "mtlx",
     companion: None,
     slow: false,
-    write: |preset, prov, out, _| super::write(out, materialx_document(preset, prov)?.as_bytes()),
+    write: |preset, prov, out, _, _| {
+        super::write(out, materialx_document(preset, prov)?.as_bytes())
+    },
     notes: |preset| {
         Ok(vec![
             super::burley_note(preset)?,

@@ -4,6 +4,7 @@
 //! scatterlab version and the source preset.
 
 mod blender;
+mod gltf;
 mod godot;
 mod images;
 pub mod import;
@@ -20,6 +21,9 @@ use crate::settings::{Preset, ProfileSpec};
 use std::path::{Path, PathBuf};
 
 pub use blender::blender_python;
+pub use gltf::{
+    gltf_document, gltf_notes, gltf_readings, gltf_volume, GltfMesh, GltfVolume, Reading,
+};
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
@@ -63,6 +67,10 @@ pub enum Format {
     Materialx,
     /// Godot 4 StandardMaterial3D `.tres` (width and transmittance fitted).
     Godot,
+    /// glTF 2.0 `.gltf` on the head or a sphere: KHR_materials_volume and
+    /// KHR_materials_diffuse_transmission (plus the draft
+    /// KHR_materials_volume_scatter with `--gltf-volume-scatter`).
+    Gltf,
 }
 
 /// One export target, declared once, in its engine's module: everything
@@ -83,8 +91,9 @@ pub struct Target {
     /// Whether the export needs the slow table bakes (off the UI thread).
     pub slow: bool,
     /// Writes the look to `out` and to the companion path (the second
-    /// argument; `out` again for a target without one).
-    pub write: fn(&Preset, &Provenance, &Path, &Path) -> Result<(), ExportError>,
+    /// argument; `out` again for a target without one), with the options
+    /// that only some targets take.
+    pub write: fn(&Preset, &Provenance, &Path, &Path, &ExportOptions) -> Result<(), ExportError>,
     /// What the target will not hold exactly, one sentence each.
     pub notes: fn(&Preset) -> Result<Vec<String>, ModelError>,
     /// How far what the engine draws is from the look: the relative L2
@@ -169,6 +178,7 @@ impl Format {
             Format::Blender => &blender::TARGET,
             Format::Materialx => &materialx::TARGET,
             Format::Godot => &godot::TARGET,
+            Format::Gltf => &gltf::TARGET,
         }
     }
 
@@ -338,20 +348,42 @@ pub fn planned_paths(format: Format, out: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Writes `preset` in `format` to `out` (and any companion files); returns
-/// every path written. `source` is the preset's file, for the header.
+/// Choices that only some targets take; each target reads its own and
+/// ignores the rest.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ExportOptions {
+    /// glTF: the mesh the material is put on.
+    pub gltf_mesh: GltfMesh,
+    /// glTF: also write the draft `KHR_materials_volume_scatter`.
+    pub gltf_volume_scatter: bool,
+}
+
+/// Writes `preset` in `format` to `out` (and any companion files) with the
+/// default options; returns every path written. `source` is the preset's
+/// file, for the header.
 pub fn export(
     preset: &Preset,
     source: Option<&Path>,
     format: Format,
     out: &Path,
 ) -> Result<Vec<PathBuf>, ExportError> {
+    export_with(preset, source, format, out, &ExportOptions::default())
+}
+
+/// [`export`] with the targets' options.
+pub fn export_with(
+    preset: &Preset,
+    source: Option<&Path>,
+    format: Format,
+    out: &Path,
+    options: &ExportOptions,
+) -> Result<Vec<PathBuf>, ExportError> {
     preset.validate()?;
     let prov = Provenance::new(preset, source);
     let written = planned_paths(format, out);
     // The companion file, where the format has one.
     let second = written.get(1).cloned().unwrap_or_else(|| out.to_owned());
-    (format.target().write)(preset, &prov, out, &second)?;
+    (format.target().write)(preset, &prov, out, &second, options)?;
     Ok(written)
 }
 

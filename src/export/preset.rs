@@ -26,7 +26,13 @@ pub(super) const RON: Target = Target {
     }),
 };
 
-fn write_ron(preset: &Preset, prov: &Provenance, out: &Path, _: &Path) -> Result<(), ExportError> {
+fn write_ron(
+    preset: &Preset,
+    prov: &Provenance,
+    out: &Path,
+    _: &Path,
+    _: &super::ExportOptions,
+) -> Result<(), ExportError> {
     let text = format!("// Exported: {}.\n{}", prov.line(), preset.to_ron());
     write(out, text.as_bytes())
 }

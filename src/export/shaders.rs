@@ -127,7 +127,7 @@ macro_rules! shader_target {
             extension: $ext,
             companion: None,
             slow: false,
-            write: |preset, prov, out, _| {
+            write: |preset, prov, out, _, _| {
                 super::write(out, kernel_source(preset, $lang, prov)?.as_bytes())
             },
             notes: super::no_notes,
@@ -165,7 +165,7 @@ pub(super) const SAMPLES_JSON: super::Target = super::Target {
     extension: "json",
     companion: None,
     slow: false,
-    write: |preset, prov, out, _| super::write(out, samples_json(preset, prov)?.as_bytes()),
+    write: |preset, prov, out, _, _| super::write(out, samples_json(preset, prov)?.as_bytes()),
     notes: super::no_notes,
     fidelity: super::no_fidelity,
     params: None,

@@ -198,7 +198,7 @@ pub(super) const TARGET: super::Target = super::Target {
     extension: "asset",
     companion: None,
     slow: false,
-    write: |preset, prov, out, _| {
+    write: |preset, prov, out, _, _| {
         let stem = out
             .file_stem()
             .map(|s| s.to_string_lossy())

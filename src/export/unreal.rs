@@ -201,7 +201,7 @@ pub(super) const TARGET: super::Target = super::Target {
         }
     }),
     slow: false,
-    write: |preset, prov, out, py| {
+    write: |preset, prov, out, py, _| {
         let (text, script) = (unreal_struct(preset)?, unreal_python(preset, prov)?);
         super::write(out, text.as_bytes())?;
         super::write(py, script.as_bytes())

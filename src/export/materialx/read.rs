@@ -334,7 +334,7 @@ fn mm_per_unit(
 /// Burley's scattering distance d = ℓ/s(A) per channel (Christensen &
 /// Burley 2015 eq. 5) from the mean free path in mm, within Burley's range:
 /// over it is an error (a wrong unit), under it is held at the shortest.
-fn scattering_distance(
+pub(in crate::export) fn scattering_distance(
     mfp_mm: Rgb,
     albedo: Rgb,
     at_radius: &str,

@@ -1,0 +1,838 @@
+//! glTF 2.0, both ways: a `.gltf` whose material carries the look through
+//! Khronos' volume extensions, on the default head or on a sphere, and the
+//! reader of those extensions. The definitions, from the KhronosGroup/glTF
+//! repository (`extensions/2.0/Khronos/`, at 77b44be7; the drafts at their
+//! pull requests' heads):
+//! - `KHR_materials_volume` (ratified), README lines 112–115:
+//!   `thicknessFactor` (mesh units; 0 is thin-walled), `attenuationDistance`
+//!   (world units, default +∞), `attenuationColor` (default 1); line 150:
+//!   the attenuation coefficient σt = −ln(c)/d per channel.
+//! - `KHR_materials_diffuse_transmission` (Release Candidate), README lines
+//!   77–80: `diffuseTransmissionFactor` and `diffuseTransmissionColorFactor`;
+//!   line 386: with a volume, it is the boundary's diffuse BTDF and the
+//!   light inside is the volume's to carry.
+//! - `KHR_materials_volume_scatter` (draft, PR #2453 at 134d0766), README
+//!   lines 72–74: `multiscatterColorFactor`, "the multi-scatter albedo";
+//!   line 85: σt now counts scattering as well; lines 102–115 split it by
+//!   the single-scatter albedo, line 126 the Kulla–Conty inversion from the
+//!   multi-scatter albedo; lines 175–179 point dense media at a diffusion
+//!   approximation (Christensen & Burley 2015). Its schema (line 8) still
+//!   names the colour `multiscatterColor`, so both names are written.
+//!
+//! The mapping: the multi-scatter albedo is Burley's A (the surface's
+//! total diffuse reflectance, also `baseColorFactor`), and the mean free
+//! path is ℓ = 1/σt = d·s(A), with Christensen & Burley 2015's eq. 5 for
+//! s(A), as the MaterialX export maps OpenPBR's mean free path (one rule
+//! for every mean-free-path format here). `attenuationDistance` is the
+//! widest channel's ℓ, in metres, and each channel's colour is then
+//! c = exp(−attenuationDistance/ℓ), so −ln(c)/attenuationDistance = 1/ℓ.
+//!
+//! Readers do not all read it so. What each known one draws from the file
+//! is computed here ([`gltf_readings`]) and stated with its shape error
+//! against the look (`model::fit::shape_error`, the measure `convert`
+//! reports) in the file's `extras` and in the export notes:
+//! - Khronos' glTF-Sample-Renderer (`punctual.glsl`, `getSubsurfaceScattering`
+//!   and `burley_setup`): radius = attenuationDistance × multiscatterColor,
+//!   d = radius/(4π·s(A)) with Christensen & Burley's eq. 6,
+//!   s = 1.9 − A + 3.5(A − 0.8)², A the base colour.
+//! - Babylon.js's glTF loader (`@babylonjs/loaders` 9.28,
+//!   `KHR_materials_volume_scatter.pure.ts` lines 118–145 and
+//!   `openpbrMaterialLoadingAdapter.ts`): with `useOpenPBR`,
+//!   `subsurfaceRadius` = max ℓ, `subsurfaceRadiusScale` = ℓ/max ℓ and
+//!   `subsurfaceColor` = multiscatter colour, OpenPBR's own meaning. Its
+//!   default `PBRMaterial` (`pbrMaterialLoadingAdapter.ts` lines 946–998,
+//!   758–781) turns diffuse transmission into translucency with
+//!   `diffusionDistance` = attenuationColor × attenuationDistance and
+//!   leaves screen-space scattering off: nothing spreads.
+
+use super::import::{ImportError, ImportOptions, ImportedLook};
+use super::{burley_of, fit_note, ExportError, Provenance};
+use crate::model::burley::{Burley, ScalingFit};
+use crate::model::fit::shape_error;
+use crate::model::{ModelError, Rgb};
+use crate::render::gpu_types::SurfaceKind;
+use crate::settings::profile::{BurleyShape, BurleySpec};
+use crate::settings::rendering::RenderingSpec;
+use crate::settings::{Preset, ProfileSpec};
+use serde_json::{json, Value};
+use std::f64::consts::PI;
+use std::path::Path;
+
+/// The extensions' names.
+pub const VOLUME: &str = "KHR_materials_volume";
+pub const DIFFUSE_TRANSMISSION: &str = "KHR_materials_diffuse_transmission";
+pub const VOLUME_SCATTER: &str = "KHR_materials_volume_scatter";
+pub const IOR: &str = "KHR_materials_ior";
+
+/// The mesh the exported material is put on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum GltfMesh {
+    /// The default head (its eyes and teeth get plain materials).
+    #[default]
+    Head,
+    /// A sphere 10 cm across.
+    Sphere,
+}
+
+/// The sphere's radius (m): a head-sized shape, wide against any look's
+/// scattering.
+const SPHERE_RADIUS_M: f64 = 0.05;
+
+/// The volume extensions' values for a look.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GltfVolume {
+    /// `baseColorFactor` and the multi-scatter colour: Burley's A.
+    pub albedo: Rgb,
+    /// The mean free path ℓ = d·s(A) per channel (mm).
+    pub mean_free_path_mm: Rgb,
+    /// `attenuationDistance` (m): the widest channel's ℓ.
+    pub attenuation_distance_m: f64,
+    /// `attenuationColor`: exp(−attenuationDistance/ℓ) per channel.
+    pub attenuation_color: Rgb,
+}
+
+/// The look's volume (KHR_materials_volume with the volume_scatter draft)
+/// and the Burley fit's error when the look is not a Burley profile.
+pub fn gltf_volume(preset: &Preset) -> Result<(GltfVolume, f64), ModelError> {
+    let (burley, fit_error) = burley_of(&preset.profile)?;
+    Ok((volume_of(&burley), fit_error))
+}
+
+fn volume_of(burley: &Burley) -> GltfVolume {
+    let albedo = burley.albedo();
+    // ℓ = d·s(A), Christensen & Burley 2015 eq. 5.
+    let mfp = burley.mean_free_path_mm(ScalingFit::Perpendicular);
+    let widest = mfp.into_iter().fold(0.0, f64::max);
+    // KHR_materials_volume README line 150: σt = −ln(c)/D; with
+    // c = exp(−D/ℓ), σt = 1/ℓ exactly.
+    let attenuation_color = mfp.map(|l| (-widest / l).exp());
+    GltfVolume {
+        albedo,
+        mean_free_path_mm: mfp,
+        attenuation_distance_m: widest * 1e-3,
+        attenuation_color,
+    }
+}
+
+/// What one known reader draws from the exported file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reading {
+    /// The reader, as its users know it.
+    pub reader: &'static str,
+    /// Its fields as it sets them from the file (name, value).
+    pub fields: Vec<(&'static str, Value)>,
+    /// Shape error of the profile it draws against the look (the largest
+    /// channel's; 1 where nothing spreads).
+    pub error: f64,
+    /// One sentence: how it reads the file.
+    pub how: String,
+}
+
+/// What each known reader draws from the exported file, the extensions'
+/// own reading first. `thickness_m` is the file's `thicknessFactor`.
+pub fn gltf_readings(
+    preset: &Preset,
+    thickness_m: f64,
+    with_scatter: bool,
+) -> Result<Vec<Reading>, ModelError> {
+    let look = preset.profile.build()?;
+    let (burley, fit_error) = burley_of(&preset.profile)?;
+    let v = volume_of(&burley);
+    let worst = |e: Rgb| e.into_iter().fold(0.0, f64::max);
+    let mut out = Vec::new();
+    // The extensions' definition, as this module and its reader hold it.
+    let spec =
+        Burley::from_mean_free_path(v.albedo, v.mean_free_path_mm, ScalingFit::Perpendicular)?;
+    out.push(Reading {
+        reader: "the extensions' definition (scatterlab's reader)",
+        fields: vec![
+            ("mean_free_path_mm", json!(v.mean_free_path_mm)),
+            ("albedo", json!(v.albedo)),
+        ],
+        error: worst(shape_error(look.as_ref(), &spec)),
+        how: format!(
+            "σt = −ln(attenuationColor)/attenuationDistance = 1/ℓ, A = the multi-scatter colour, d = ℓ/s(A) (Christensen & Burley 2015 eq. 5): the look's Burley profile ({})",
+            fit_note(fit_error)
+        ),
+    });
+    // Khronos glTF-Sample-Renderer: radius = D·A, d = radius/(4π s₆(A)).
+    if with_scatter {
+        let d_mm: Rgb = std::array::from_fn(|c| {
+            let a = v.albedo[c];
+            v.attenuation_distance_m * a / (4.0 * PI * ScalingFit::DiffuseSurface.scale(a)) * 1e3
+        });
+        let (lo, hi) = crate::model::burley::DISTANCE_RANGE_MM;
+        let drawn = Burley::from_scattering_distance(v.albedo, d_mm.map(|d| d.clamp(lo, hi)))?;
+        out.push(Reading {
+            reader: "Khronos glTF-Sample-Renderer",
+            fields: vec![("scattering_distance_mm", json!(d_mm))],
+            error: worst(shape_error(look.as_ref(), &drawn)),
+            how: format!(
+                "Burley's d = attenuationDistance × multiscatterColor / (4π·s(A)), s = 1.9 − A + 3.5(A − 0.8)² (punctual.glsl, burley_setup): the widest channel's d is {:.3} of the look's",
+                d_mm[burley.widest_channel()] / burley.scattering_distance_mm()[burley.widest_channel()]
+            ),
+        });
+    }
+    let tint = preset
+        .rendering
+        .transmission_tint
+        .map(|t| t.clamp(0.0, 1.0));
+    // KHR_materials_volume's loader multiplies diffusionDistance (white)
+    // by attenuationColor and attenuationDistance when only diffuse
+    // transmission is on (pbrMaterialLoadingAdapter.ts, the
+    // transmissionColor and transmissionDepth setters). With the draft,
+    // its subsurfaceColor setter then takes that product as a colour at a
+    // depth of 0.001: σ = −ln(c·D)/0.001, and diffusionDistance =
+    // exp(−σ/max σ).
+    let product = v.attenuation_color.map(|c| c * v.attenuation_distance_m);
+    let diffusion_distance = if with_scatter {
+        let sigma = product.map(|p| -p.ln() / 0.001);
+        let max = sigma.into_iter().fold(0.0, f64::max);
+        if max > 0.0 {
+            sigma.map(|s| (-s / max).exp())
+        } else {
+            [1.0; 3]
+        }
+    } else {
+        product
+    };
+    out.push(Reading {
+        reader: "Babylon.js PBRMaterial (glTF loader's default)",
+        fields: vec![
+            ("subSurface.isTranslucencyEnabled", json!(true)),
+            ("subSurface.translucencyIntensity", json!(1.0)),
+            ("subSurface.tintColor", json!(tint)),
+            (
+                "subSurface.diffusionDistance",
+                json!(diffusion_distance),
+            ),
+            ("subSurface.maximumThickness", json!(thickness_m)),
+            ("subSurface.volumeIndexOfRefraction", json!(preset.rendering.ior)),
+            ("subSurface.isScatteringEnabled", json!(false)),
+        ],
+        // A profile that does not spread: r·R(r) is 0 for r > 0, a
+        // relative L2 error of exactly 1.
+        error: 1.0,
+        how: "diffuse transmission becomes translucency (light through thin parts); screen-space scattering stays off unless the application turns on its pre-pass, so reflected light does not spread".into(),
+    });
+    if with_scatter {
+        let widest = v.mean_free_path_mm.into_iter().fold(0.0, f64::max);
+        let drawn = spec;
+        out.push(Reading {
+            reader: "Babylon.js OpenPBRMaterial (glTF loader with useOpenPBR)",
+            fields: vec![
+                ("subsurfaceRadius", json!(widest * 1e-3)),
+                (
+                    "subsurfaceRadiusScale",
+                    json!(v.mean_free_path_mm.map(|l| l / widest)),
+                ),
+                ("subsurfaceColor", json!(v.albedo)),
+            ],
+            error: worst(shape_error(look.as_ref(), &drawn)),
+            how: "subsurfaceRadius × subsurfaceRadiusScale = 1/σt, subsurfaceColor = the multi-scatter colour: OpenPBR's mean free path and albedo, the extensions' own reading".into(),
+        });
+    }
+    Ok(out)
+}
+
+/// One sentence per reading, for the export notes.
+fn reading_line(r: &Reading) -> String {
+    format!("{}: shape error {:.4}; {}.", r.reader, r.error, r.how)
+}
+
+/// What the glTF export cannot hold exactly, one sentence each: the fit,
+/// and what each known reader draws (with the draft extension, as
+/// `--gltf-volume-scatter` writes it).
+pub fn gltf_notes(preset: &Preset) -> Result<Vec<String>, ModelError> {
+    let (_, fit_error) = burley_of(&preset.profile)?;
+    let mut notes = vec![fit_note(fit_error)];
+    notes.push(format!(
+        "{VOLUME_SCATTER} is a draft (KhronosGroup/glTF PR #2453): written only with --gltf-volume-scatter; without it readers get no albedo for the volume"
+    ));
+    for r in gltf_readings(preset, SPHERE_RADIUS_M * 2.0, true)? {
+        notes.push(reading_line(&r));
+    }
+    Ok(notes)
+}
+
+/// The mesh as glTF wants it: positions (m), unit normals, and one index
+/// list per surface kind with its material.
+struct MeshData {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    /// (surface, triangle indices).
+    parts: Vec<(SurfaceKind, Vec<u32>)>,
+    /// `thicknessFactor` (m): the sphere's diameter, or the median of the
+    /// head's baked skin thickness.
+    thickness_m: f64,
+}
+
+fn unit(n: [f32; 3]) -> [f32; 3] {
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if l > 0.0 && l.is_finite() {
+        n.map(|v| v / l)
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+fn sphere() -> MeshData {
+    let (nu, nv) = (64usize, 32usize);
+    let r = SPHERE_RADIUS_M as f32;
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for j in 0..=nv {
+        let theta = std::f32::consts::PI * j as f32 / nv as f32;
+        for i in 0..=nu {
+            let phi = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
+            let n = unit([
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            ]);
+            positions.push(n.map(|x| x * r));
+            normals.push(n);
+        }
+    }
+    let row = (nu + 1) as u32;
+    let mut idx = Vec::new();
+    for j in 0..nv as u32 {
+        for i in 0..nu as u32 {
+            let (a, b) = (j * row + i, (j + 1) * row + i);
+            // Counter-clockwise seen from outside; the poles' collapsed
+            // triangles are left out.
+            if j != 0 {
+                idx.extend_from_slice(&[a, b, a + 1]);
+            }
+            if j != nv as u32 - 1 {
+                idx.extend_from_slice(&[a + 1, b, b + 1]);
+            }
+        }
+    }
+    MeshData {
+        positions,
+        normals,
+        parts: vec![(SurfaceKind::Skin, idx)],
+        thickness_m: 2.0 * SPHERE_RADIUS_M,
+    }
+}
+
+fn head() -> Result<MeshData, ExportError> {
+    use crate::render::mesh::{Mesh, DEFAULT_HEAD_METRES_PER_UNIT, DEFAULT_HEAD_OBJ};
+    let mesh = Mesh::from_obj_text(
+        DEFAULT_HEAD_OBJ,
+        "<embedded default head>",
+        DEFAULT_HEAD_METRES_PER_UNIT,
+    )
+    .map_err(|e| ExportError::Encode {
+        path: "<embedded default head>".into(),
+        message: e.to_string(),
+    })?;
+    let m = mesh.metres_per_unit;
+    let positions = mesh
+        .vertices
+        .iter()
+        .map(|v| v.position.map(|x| x * m))
+        .collect();
+    let normals = mesh.vertices.iter().map(|v| unit(v.normal)).collect();
+    let mut parts: Vec<(SurfaceKind, Vec<u32>)> = Vec::new();
+    for t in mesh.indices.chunks_exact(3) {
+        let kind = SurfaceKind::of(mesh.vertices[t[0] as usize].material);
+        match parts.iter_mut().find(|(k, _)| *k == kind) {
+            Some((_, v)) => v.extend_from_slice(t),
+            None => parts.push((kind, t.to_vec())),
+        }
+    }
+    parts.sort_by_key(|(k, _)| k.code() as u32);
+    let mut skin: Vec<f64> = mesh
+        .vertices
+        .iter()
+        .filter(|v| SurfaceKind::of(v.material) == SurfaceKind::Skin)
+        .map(|v| v.thickness_mm as f64)
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .collect();
+    skin.sort_by(f64::total_cmp);
+    let median_mm = skin.get(skin.len() / 2).copied().unwrap_or(10.0);
+    Ok(MeshData {
+        positions,
+        normals,
+        parts,
+        thickness_m: median_mm * 1e-3,
+    })
+}
+
+/// The `.gltf` document of a look on `mesh`, with the buffer inline.
+pub fn gltf_document(
+    preset: &Preset,
+    prov: &Provenance,
+    mesh: GltfMesh,
+    with_scatter: bool,
+) -> Result<String, ExportError> {
+    use base64::Engine as _;
+    let (v, fit_error) = gltf_volume(preset)?;
+    let data = match mesh {
+        GltfMesh::Head => head()?,
+        GltfMesh::Sphere => sphere(),
+    };
+    let readings = gltf_readings(preset, data.thickness_m, with_scatter)?;
+    // The buffer: positions, normals, then each part's indices; every view
+    // starts on a 4-byte boundary (glTF 2.0 §3.6.2.4; all are 4-byte types).
+    let mut bytes: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut push_view = |bytes: &mut Vec<u8>, chunk: Vec<u8>, target: u32| -> usize {
+        let offset = bytes.len();
+        let len = chunk.len();
+        bytes.extend(chunk);
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": len, "target": target}));
+        views.len() - 1
+    };
+    let f32s = |v: &[[f32; 3]]| -> Vec<u8> {
+        v.iter()
+            .flat_map(|p| p.iter().flat_map(|x| x.to_le_bytes()))
+            .collect()
+    };
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in &data.positions {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let count = data.positions.len();
+    // 34962: ARRAY_BUFFER, 34963: ELEMENT_ARRAY_BUFFER; 5126 FLOAT, 5125
+    // UNSIGNED_INT (glTF 2.0 §5.11, §5.1).
+    let pv = push_view(&mut bytes, f32s(&data.positions), 34962);
+    accessors.push(json!({"bufferView": pv, "componentType": 5126, "count": count, "type": "VEC3", "min": lo, "max": hi}));
+    let nv = push_view(&mut bytes, f32s(&data.normals), 34962);
+    accessors
+        .push(json!({"bufferView": nv, "componentType": 5126, "count": count, "type": "VEC3"}));
+    let name = if preset.name.trim().is_empty() {
+        "look".to_owned()
+    } else {
+        preset.name.clone()
+    };
+    let a = v.albedo;
+    let rendering = &preset.rendering;
+    let tint = rendering.transmission_tint.map(|t| t.clamp(0.0, 1.0));
+    let mut extensions = serde_json::Map::new();
+    extensions.insert(
+        VOLUME.into(),
+        json!({
+            "thicknessFactor": data.thickness_m,
+            "attenuationDistance": v.attenuation_distance_m,
+            "attenuationColor": v.attenuation_color,
+        }),
+    );
+    extensions.insert(
+        DIFFUSE_TRANSMISSION.into(),
+        json!({"diffuseTransmissionFactor": 1.0, "diffuseTransmissionColorFactor": tint}),
+    );
+    extensions.insert(IOR.into(), json!({"ior": rendering.ior}));
+    if with_scatter {
+        // README line 72 names it multiscatterColorFactor, the schema
+        // (line 8) and older readers multiscatterColor: both, the same.
+        extensions.insert(
+            VOLUME_SCATTER.into(),
+            json!({"multiscatterColorFactor": a, "multiscatterColor": a, "scatterAnisotropy": 0.0}),
+        );
+    }
+    let extras = json!({
+        "scatterlab": {
+            "written_by": prov.line(),
+            "look": name,
+            "burley": {
+                "albedo": a,
+                "mean_free_path_mm": v.mean_free_path_mm,
+                "fit": fit_note(fit_error),
+            },
+            "mapping": "multi-scatter colour = Burley's A; 1/σt = ℓ = d·s(A), Christensen & Burley 2015 eq. 5; attenuationDistance = max ℓ (m); attenuationColor = exp(−attenuationDistance/ℓ)",
+            "readings": readings.iter().map(|r| json!({
+                "reader": r.reader,
+                "fields": r.fields.iter().map(|(k, v)| (k.to_string(), v.clone())).collect::<serde_json::Map<_, _>>(),
+                "shape_error": r.error,
+                "how": r.how,
+            })).collect::<Vec<_>>(),
+        }
+    });
+    let mut materials = vec![json!({
+        "name": name,
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [a[0], a[1], a[2], 1.0],
+            "metallicFactor": 0.0,
+            "roughnessFactor": rendering.specular.roughness,
+        },
+        "extensions": extensions,
+        "extras": extras,
+    })];
+    let mut primitives = Vec::new();
+    for (kind, idx) in &data.parts {
+        let material = match kind {
+            SurfaceKind::Skin => 0,
+            SurfaceKind::Eye => {
+                materials.push(json!({"name": "eye", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.05}}));
+                materials.len() - 1
+            }
+            SurfaceKind::Teeth => {
+                materials.push(json!({"name": "teeth", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.72, 0.65, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.3}}));
+                materials.len() - 1
+            }
+        };
+        let iv = push_view(
+            &mut bytes,
+            idx.iter().flat_map(|i| i.to_le_bytes()).collect(),
+            34963,
+        );
+        accessors.push(
+            json!({"bufferView": iv, "componentType": 5125, "count": idx.len(), "type": "SCALAR"}),
+        );
+        primitives.push(json!({
+            "attributes": {"POSITION": 0, "NORMAL": 1},
+            "indices": accessors.len() - 1,
+            "material": material,
+        }));
+    }
+    let mut used = vec![VOLUME, DIFFUSE_TRANSMISSION, IOR];
+    if with_scatter {
+        used.push(VOLUME_SCATTER);
+    }
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let doc = json!({
+        "asset": {
+            "version": "2.0",
+            "generator": format!("scatterlab {}", env!("CARGO_PKG_VERSION")),
+            "extras": {"source": prov.line()},
+        },
+        "extensionsUsed": used,
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": match mesh { GltfMesh::Head => "head", GltfMesh::Sphere => "sphere" }, "mesh": 0}],
+        "meshes": [{"name": match mesh { GltfMesh::Head => "head", GltfMesh::Sphere => "sphere" }, "primitives": primitives}],
+        "materials": materials,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": bytes.len(), "uri": uri}],
+    });
+    serde_json::to_string_pretty(&doc).map_err(|e| ExportError::Encode {
+        path: "glTF".into(),
+        message: e.to_string(),
+    })
+}
+
+/// The glTF parameters of a Burley profile for `convert --to gltf`.
+fn params(burley: &Burley, _world_scale: Option<f64>) -> Result<Value, ModelError> {
+    let v = volume_of(burley);
+    Ok(json!({
+        VOLUME: {
+            "attenuationDistance_m": v.attenuation_distance_m,
+            "attenuationColor": v.attenuation_color,
+        },
+        VOLUME_SCATTER: {"multiscatterColorFactor": v.albedo},
+        "baseColorFactor": v.albedo,
+    }))
+}
+
+// ---------------------------------------------------------------- reader
+
+/// A number array of `n` finite values at `field`.
+fn numbers(v: &Value, n: usize, path: &Path, field: &str) -> Result<Vec<f64>, ImportError> {
+    let a = v.as_array().filter(|a| a.len() == n).ok_or_else(|| {
+        ImportError::field(path, field, format!("{v} is not an array of {n} numbers"))
+    })?;
+    a.iter()
+        .map(|x| {
+            x.as_f64().filter(|x| x.is_finite()).ok_or_else(|| {
+                ImportError::field(path, field, format!("{x} is not a finite number"))
+            })
+        })
+        .collect()
+}
+
+fn number(v: &Value, path: &Path, field: &str) -> Result<f64, ImportError> {
+    v.as_f64()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| ImportError::field(path, field, format!("{v} is not a finite number")))
+}
+
+fn rgb_in_unit(v: &Value, path: &Path, field: &str) -> Result<Rgb, ImportError> {
+    let n = numbers(v, 3, path, field)?;
+    let c = [n[0], n[1], n[2]];
+    if let Some(x) = c.iter().find(|x| !(0.0..=1.0).contains(*x)) {
+        return Err(ImportError::field(
+            path,
+            field,
+            format!("{x} is outside 0–1"),
+        ));
+    }
+    Ok(c)
+}
+
+/// Reads every material with `KHR_materials_volume` of a `.gltf` as a look.
+pub fn read(
+    text: &str,
+    path: &Path,
+    options: &ImportOptions,
+) -> Result<Vec<ImportedLook>, ImportError> {
+    let doc: Value = serde_json::from_str(text)
+        .map_err(|e| ImportError::file(path, format!("malformed glTF JSON: {e}")))?;
+    if doc
+        .pointer("/asset/version")
+        .and_then(Value::as_str)
+        .is_none()
+    {
+        return Err(ImportError::not_engine(
+            path,
+            "no asset.version: not a glTF 2.0 file",
+        ));
+    }
+    let materials = doc
+        .get("materials")
+        .and_then(Value::as_array)
+        .cloned()
+        .unwrap_or_default();
+    let mut looks = Vec::new();
+    for (i, m) in materials.iter().enumerate() {
+        let Some(vol) = m.pointer(&format!("/extensions/{VOLUME}")) else {
+            continue;
+        };
+        looks.push(read_material(m, vol, i, path, options)?);
+    }
+    if looks.is_empty() {
+        return Err(ImportError::not_engine(
+            path,
+            format!("no material has {VOLUME}: a glTF without a subsurface volume (a mesh is opened with File → Open mesh)"),
+        ));
+    }
+    Ok(looks)
+}
+
+fn read_material(
+    m: &Value,
+    vol: &Value,
+    index: usize,
+    path: &Path,
+    options: &ImportOptions,
+) -> Result<ImportedLook, ImportError> {
+    let at = |f: &str| format!("materials[{index}].extensions.{f}");
+    let name = m
+        .get("name")
+        .and_then(Value::as_str)
+        .unwrap_or("glTF material")
+        .to_owned();
+    let mut fields = Vec::new();
+    let mut notes = Vec::new();
+    let dist_field = at(&format!("{VOLUME}.attenuationDistance"));
+    let distance = match vol.get("attenuationDistance") {
+        Some(v) => number(v, path, &dist_field)?,
+        None => {
+            return Err(ImportError::field(
+                path,
+                dist_field,
+                "missing: its default, +∞, is a volume that neither absorbs nor scatters",
+            ))
+        }
+    };
+    if !(distance > 0.0) {
+        return Err(ImportError::field(
+            path,
+            dist_field,
+            format!("{distance} must be over 0 (the schema's exclusive minimum)"),
+        ));
+    }
+    let colour_field = at(&format!("{VOLUME}.attenuationColor"));
+    let colour = match vol.get("attenuationColor") {
+        Some(v) => rgb_in_unit(v, path, &colour_field)?,
+        None => [1.0; 3],
+    };
+    fields.push(("attenuationDistance".to_owned(), distance.to_string()));
+    fields.push(("attenuationColor".to_owned(), format!("{colour:?}")));
+    if let Some(c) = (0..3).find(|&c| !(colour[c] > 0.0 && colour[c] < 1.0)) {
+        return Err(ImportError::field(
+            path,
+            colour_field,
+            format!(
+                "{} in {}: σt = −ln(c)/d is {} there, no finite mean free path",
+                colour[c],
+                ["red", "green", "blue"][c],
+                if colour[c] >= 1.0 { "0" } else { "∞" }
+            ),
+        ));
+    }
+    // glTF is in metres (glTF 2.0 §3.4); a file written in other units
+    // is read with --metres-per-unit.
+    let mm_per_unit = 1e3 * options.metres_per_unit.unwrap_or(1.0);
+    if let Some(m) = options.metres_per_unit {
+        notes.push(format!(
+            "distances read in units of {m} m (--metres-per-unit), not glTF's metre"
+        ));
+    }
+    let mfp_mm: Rgb = std::array::from_fn(|c| distance / -colour[c].ln() * mm_per_unit);
+    let albedo = match m.pointer(&format!("/extensions/{VOLUME_SCATTER}")) {
+        Some(s) => {
+            let (key, v) = ["multiscatterColorFactor", "multiscatterColor"]
+                .iter()
+                .find_map(|k| s.get(*k).map(|v| (*k, v)))
+                .unwrap_or(("multiscatterColorFactor", &Value::Null));
+            let field = at(&format!("{VOLUME_SCATTER}.{key}"));
+            let a = if v.is_null() {
+                // The draft's default (README line 72).
+                [0.0; 3]
+            } else {
+                rgb_in_unit(v, path, &field)?
+            };
+            fields.push((key.to_owned(), format!("{a:?}")));
+            a
+        }
+        None => {
+            let field = format!("materials[{index}].pbrMetallicRoughness.baseColorFactor");
+            let a = match m.pointer("/pbrMetallicRoughness/baseColorFactor") {
+                Some(v) => {
+                    let n = numbers(v, 4, path, &field)?;
+                    rgb_in_unit(&json!([n[0], n[1], n[2]]), path, &field)?
+                }
+                None => [1.0; 3],
+            };
+            notes.push(format!(
+                "no {VOLUME_SCATTER} (a draft): the albedo is the base colour"
+            ));
+            fields.push(("baseColorFactor".to_owned(), format!("{a:?}")));
+            a
+        }
+    };
+    let d = super::materialx::scattering_distance(mfp_mm, albedo, &colour_field, path, &mut notes)?;
+    let mut rendering = RenderingSpec::default();
+    if let Some(ior) = m.pointer(&format!("/extensions/{IOR}/ior")) {
+        let ior = number(ior, path, &at(&format!("{IOR}.ior")))?;
+        fields.push(("ior".to_owned(), ior.to_string()));
+        let (lo, hi) = crate::settings::rendering::limits::IOR;
+        rendering.ior = ior.clamp(lo, hi);
+        if rendering.ior != ior {
+            notes.push(format!(
+                "ior {ior} is held as {}, scatterlab's specular range",
+                rendering.ior
+            ));
+        }
+    } else {
+        // KHR_materials_ior's default when absent: glTF's 1.5.
+        rendering.ior = 1.5;
+    }
+    if let Some(t) = m.pointer(&format!(
+        "/extensions/{DIFFUSE_TRANSMISSION}/diffuseTransmissionColorFactor"
+    )) {
+        rendering.transmission_tint = rgb_in_unit(
+            t,
+            path,
+            &at(&format!(
+                "{DIFFUSE_TRANSMISSION}.diffuseTransmissionColorFactor"
+            )),
+        )?;
+        fields.push((
+            "diffuseTransmissionColorFactor".to_owned(),
+            format!("{:?}", rendering.transmission_tint),
+        ));
+    }
+    if let Some(r) = m.pointer("/pbrMetallicRoughness/roughnessFactor") {
+        let r = number(
+            r,
+            path,
+            &format!("materials[{index}].pbrMetallicRoughness.roughnessFactor"),
+        )?;
+        rendering.specular.roughness = r.clamp(0.0, 1.0);
+    }
+    let preset = Preset {
+        name,
+        description: "Read from a glTF material's volume extensions.".into(),
+        source: path.display().to_string(),
+        profile: ProfileSpec::Burley(BurleySpec {
+            albedo,
+            shape: BurleyShape::ScatteringDistance {
+                mm: d,
+                multiplier: 1.0,
+            },
+        }),
+        rendering,
+        ..Preset::default()
+    };
+    preset
+        .validate()
+        .map_err(|e| ImportError::file(path, e.to_string()))?;
+    Ok(ImportedLook {
+        preset,
+        kind: "glTF KHR_materials_volume",
+        fields,
+        notes,
+    })
+}
+
+/// glTF as an export target.
+pub(super) const TARGET: super::Target = super::Target {
+    id: "gltf",
+    name: "glTF 2.0 (volume extensions)",
+    description: "a .gltf on the head or a sphere; KHR_materials_volume and diffuse transmission, each reader's error stated",
+    extension: "gltf",
+    companion: None,
+    slow: false,
+    write: |preset, prov, out, _, options| {
+        let text = gltf_document(preset, prov, options.gltf_mesh, options.gltf_volume_scatter)?;
+        super::write(out, text.as_bytes())
+    },
+    notes: gltf_notes,
+    fidelity: super::burley_fidelity,
+    params: Some(params),
+    reader: Some(super::Reader {
+        extensions: &["gltf"],
+        claims: |ext, _| ext == "gltf",
+        read,
+    }),
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// σt = −ln(c)/D gives back 1/ℓ per channel (KHR_materials_volume
+    /// README line 150), and the widest channel's colour is e⁻¹.
+    #[test]
+    fn attenuation_gives_back_the_mean_free_path() {
+        let (v, _) = gltf_volume(&Preset::default_skin()).unwrap();
+        for c in 0..3 {
+            let sigma_t = -v.attenuation_color[c].ln() / (v.attenuation_distance_m * 1e3);
+            assert!((sigma_t * v.mean_free_path_mm[c] - 1.0).abs() < 1e-12);
+        }
+        assert!(v
+            .attenuation_color
+            .iter()
+            .any(|c| (c - (-1.0f64).exp()).abs() < 1e-15));
+    }
+
+    /// The draft's Kulla–Conty inversion (PR #2453 README line 126) maps a
+    /// multi-scatter albedo of 0 to 0 and 1 to 1 (its published end points
+    /// checked numerically, the typo check this module's docs promise): the
+    /// multi-scatter colour is an albedo in 0–1, as Burley's A is.
+    #[test]
+    fn the_drafts_inversion_spans_0_to_1() {
+        let ss = |a: f64| {
+            let s = 4.09712 + 4.20863 * a - (9.59217 + 41.6808 * a + 17.7126 * a * a).sqrt();
+            1.0 - s * s
+        };
+        assert!(ss(0.0).abs() < 1e-3, "{}", ss(0.0));
+        assert!((ss(1.0) - 1.0).abs() < 1e-3, "{}", ss(1.0));
+        assert!(ss(0.5) > 0.5 && ss(0.5) < 1.0);
+    }
+
+    /// The sphere is closed and its normals are unit length (the
+    /// validator's ACCESSOR_VECTOR3_NON_UNIT is an error).
+    #[test]
+    fn the_sphere_is_sound() {
+        let s = sphere();
+        for n in &s.normals {
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            assert!((l - 1.0).abs() < 1e-6);
+        }
+        let tris = s.parts[0].1.len() / 3;
+        assert_eq!(tris, 2 * 64 * 32 - 2 * 64);
+    }
+}
