@@ -24,7 +24,13 @@ impl EditorApp {
             let meshes = crate::render::mesh::Mesh::EXTENSIONS;
             match ext.as_str() {
                 e if e == Format::Ron.extension() => self.guarded(Pending::Open(path)),
-                e if engines.contains(&e) => self.import_now(&path),
+                // A .gltf is a look when a material has the volume
+                // extension (the glTF export), and otherwise a mesh.
+                e if engines.contains(&e)
+                    && !(meshes.contains(&e) && !crate::export::gltf_has_volume(&path)) =>
+                {
+                    self.import_now(&path)
+                }
                 e if meshes.contains(&e) => self.load_mesh(Some(path)),
                 "hdr" => self.load_environment(path),
                 _ => {

@@ -570,6 +570,20 @@ fn rgb_in_unit(v: &Value, path: &Path, field: &str) -> Result<Rgb, ImportError> 
     Ok(c)
 }
 
+/// Whether the file at `path` is a `.gltf` that a look can be read from
+/// (some material has `KHR_materials_volume`), rather than a mesh alone:
+/// what a file dropped on the editor is taken as.
+pub fn gltf_has_volume(path: &Path) -> bool {
+    super::import::read_text(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .and_then(|d| d.get("materials").and_then(Value::as_array).cloned())
+        .is_some_and(|ms| {
+            ms.iter()
+                .any(|m| m.pointer(&format!("/extensions/{VOLUME}")).is_some())
+        })
+}
+
 /// Reads every material with `KHR_materials_volume` of a `.gltf` as a look.
 pub fn read(
     text: &str,

@@ -22,7 +22,8 @@ use std::path::{Path, PathBuf};
 
 pub use blender::blender_python;
 pub use gltf::{
-    gltf_document, gltf_notes, gltf_readings, gltf_volume, GltfMesh, GltfVolume, Reading,
+    gltf_document, gltf_has_volume, gltf_notes, gltf_readings, gltf_volume, GltfMesh, GltfVolume,
+    Reading,
 };
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,

@@ -563,6 +563,45 @@ fn export_writes_files_and_refuses_bad_input() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(stdout.lines().count(), 2, "{stdout}");
     assert!(dir.join("skin.py").exists());
+    // glTF on the sphere with the draft extension; its flags are refused
+    // beside another format.
+    let out = dir.join("skin.gltf");
+    let (code, _, err) = run(&[
+        "export",
+        "--preset",
+        preset,
+        "--format",
+        "gltf",
+        "--gltf-mesh",
+        "sphere",
+        "--gltf-volume-scatter",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["nodes"][0]["name"], "sphere");
+    assert!(doc["extensionsUsed"]
+        .as_array()
+        .unwrap()
+        .contains(&serde_json::json!("KHR_materials_volume_scatter")));
+    let (code, _, err) = run(&[
+        "export",
+        "--preset",
+        preset,
+        "--format",
+        "unity",
+        "--gltf-mesh",
+        "sphere",
+        "--out",
+        dir.join("x.asset").to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("--gltf-mesh") && err.contains("unity"),
+        "{err}"
+    );
     // An unknown format and a broken preset: one line, non-zero.
     let (code, _, err) = run(&[
         "export", "--preset", preset, "--format", "fbx", "--out", "x",

@@ -507,6 +507,7 @@ fn import_writes_presets_and_asks_before_replacing() {
 }
 
 mod folders;
+mod gltf;
 mod godot_blender;
 mod unreal_materialx;
 
