@@ -304,8 +304,12 @@ fn unity_asset_reads_as_hdrp_reads_it() {
 /// only the documented SubsurfaceProfileStruct properties of UE 5.1+ and
 /// their clamps; what it sets, converted back with UE's own formulas
 /// (tests/clients/unreal_check.py), is the look's d, and the struct text
-/// agrees. Under UE 5.0's API (no enable_mean_free_path) it stops with a
-/// message instead of setting a different look.
+/// agrees. The Substrate material it builds (UE 5.7's Python API, typed
+/// into the stub) holds one Slab of type Diffusion with the profile on the
+/// Slab and the material, or with `--substrate-diffusion` an SSS MFP that
+/// reads back as the look's d. Under UE 5.0's API (no
+/// enable_mean_free_path) it stops with a message instead of setting a
+/// different look.
 #[test]
 fn unreal_script_runs_against_the_documented_api() {
     let dir = tmp_dir("unreal");
@@ -344,7 +348,51 @@ fn unreal_script_runs_against_the_documented_api() {
             (mix - p.rendering.specular.lobe_mix.clamp(0.1, 0.9)).abs() < 1e-9,
             "{v}"
         );
+        // The Substrate material: one Slab of type Diffusion on the Front
+        // Material, the profile on the Slab and on the material, the
+        // look's albedo as Diffuse Albedo.
+        let sub = &v["substrate"];
+        assert_eq!(sub["uses_profile"], true, "{file}: {sub}");
+        let a = floats(&sub["albedo"]);
+        for c in 0..3 {
+            assert!((a[c] - burley.albedo()[c]).abs() < 1e-12, "{file}: {sub}");
+        }
+        // --substrate-diffusion: the Slab's own SSS MFP (cm), read back to
+        // d by Christensen & Burley's eq. 5 in the check script.
+        let out = dir.join(format!("{file}_diffusion.txt"));
+        let options = scatterlab::export::ExportOptions {
+            unreal_substrate_diffusion: true,
+            ..Default::default()
+        };
+        let written =
+            scatterlab::export::export_with(&p, None, Format::Unreal, &out, &options).unwrap();
+        let v = run_client(
+            "unreal_check.py",
+            &[written[1].to_str().unwrap(), out.to_str().unwrap()],
+            &[],
+        );
+        let sub = &v["substrate"];
+        assert_eq!(sub["uses_profile"], false, "{file}: {sub}");
+        let got = floats(&sub["d_mm"]);
+        for c in 0..3 {
+            assert!(
+                (got[c] / want[c] - 1.0).abs() < 1e-9,
+                "{file} channel {c}: the Slab's SSS MFP reads as d = {} mm, the look has {} mm",
+                got[c],
+                want[c]
+            );
+        }
     }
+    // An engine without Substrate: the profile is set, the script warns
+    // and makes no material.
+    let out = dir.join("no_substrate.txt");
+    let written = export(&Preset::default_skin(), None, Format::Unreal, &out).unwrap();
+    let v = run_client(
+        "unreal_check.py",
+        &[written[1].to_str().unwrap(), out.to_str().unwrap()],
+        &[("SCATTERLAB_UNREAL_STUB_SUBSTRATE", "0")],
+    );
+    assert!(v["substrate"].is_null(), "{v}");
     // UE 5.0: a clear stop, naming the version.
     let p = Preset::default_skin();
     let out = dir.join("ue50.txt");
@@ -805,6 +853,7 @@ fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
                 ExportOptions {
                     gltf_mesh: GltfMesh::Sphere,
                     gltf_volume_scatter: true,
+                    ..Default::default()
                 },
             )
         })
@@ -816,6 +865,7 @@ fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
             ExportOptions {
                 gltf_mesh: GltfMesh::Head,
                 gltf_volume_scatter: scatter,
+                ..Default::default()
             },
         ));
     }

@@ -23,6 +23,11 @@ pub struct ExportArgs {
     /// the volume; readers that know it draw the look's scattering.
     #[arg(long)]
     pub gltf_volume_scatter: bool,
+    /// Unreal only: the script's Substrate Slab uses its own mean free path
+    /// (type Diffusion, `SSS MFP` in cm, `SSS MFP Scale` 1) instead of the
+    /// SubsurfaceProfile it sets.
+    #[arg(long)]
+    pub substrate_diffusion: bool,
 }
 
 impl ExportArgs {
@@ -58,9 +63,16 @@ impl ExportArgs {
                 self.format.id()
             );
         }
+        if self.substrate_diffusion && self.format != crate::export::Format::Unreal {
+            anyhow::bail!(
+                "--substrate-diffusion is for --format unreal, not {}",
+                self.format.id()
+            );
+        }
         let options = crate::export::ExportOptions {
             gltf_mesh: self.gltf_mesh,
             gltf_volume_scatter: self.gltf_volume_scatter,
+            unreal_substrate_diffusion: self.substrate_diffusion,
         };
         for path in crate::export::export_with(&p, source, self.format, &self.out, &options)? {
             println!("{}", path.display());

@@ -34,7 +34,8 @@ pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
 pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 pub use unreal::{
-    unreal_material_fields, unreal_notes, unreal_python, unreal_struct, UnrealMaterialFields,
+    substrate_mfp_cm, unreal_material_fields, unreal_notes, unreal_python, unreal_struct,
+    UnrealMaterialFields,
 };
 
 /// Every export target.
@@ -357,6 +358,9 @@ pub struct ExportOptions {
     pub gltf_mesh: GltfMesh,
     /// glTF: also write the draft `KHR_materials_volume_scatter`.
     pub gltf_volume_scatter: bool,
+    /// Unreal: the Substrate Slab of type Diffusion with its own mean free
+    /// path (`SSS MFP`, cm) instead of the SubsurfaceProfile.
+    pub unreal_substrate_diffusion: bool,
 }
 
 /// Writes `preset` in `format` to `out` (and any companion files) with the

@@ -112,14 +112,33 @@ pub fn unreal_struct(preset: &Preset) -> Result<String, ModelError> {
     ))
 }
 
+/// The Substrate Slab's `SSS MFP` (world centimetres, its tooltip in
+/// MaterialExpressionSubstrate.h: "unit = centimeters") for a look: the
+/// mean free path ℓ = d·s(A) of Christensen & Burley 2015 eq. 5, the
+/// conversion UE applies to a SubsurfaceProfile's mean free path
+/// (`GetDiffuseMeanFreePathFromMeanFreePath`, BurleyNormalizedSSS.cpp).
+pub fn substrate_mfp_cm(burley: &crate::model::burley::Burley) -> Rgb {
+    burley
+        .mean_free_path_mm(crate::model::burley::ScalingFit::Perpendicular)
+        .map(|l| l / 10.0)
+}
+
 /// A Python snippet for Unreal's editor scripting that sets the struct on
-/// the selected (or a new) SubsurfaceProfile asset. Property names are those
+/// the selected (or a new) SubsurfaceProfile asset, and builds (or
+/// rebuilds, if scatterlab made it) a Substrate material whose Slab uses
+/// it, or with `substrate_diffusion` the Slab's own mean free path. Property names are those
 /// of `unreal.SubsurfaceProfileStruct` in UE 5.1+ (its Python API pages);
 /// UE 5.0 has no `enable_mean_free_path` and reads the two mean-free-path
 /// fields as a diffuse mean free path, so there the script stops with a
 /// message instead of setting a different look.
-pub fn unreal_python(preset: &Preset, prov: &Provenance) -> Result<String, ModelError> {
+pub fn unreal_python(
+    preset: &Preset,
+    prov: &Provenance,
+    substrate_diffusion: bool,
+) -> Result<String, ModelError> {
     let (u, fit_error) = unreal_profile(preset)?;
+    let (burley, _) = burley_of(&preset.profile)?;
+    let mfp_cm = substrate_mfp_cm(&burley);
     let m = unreal_material_fields(preset);
     let notes: String = unreal_notes_of(preset, &u, fit_error)
         .iter()
@@ -165,6 +184,64 @@ else:
     profile = tools.create_asset("{asset}", "/Game", unreal.SubsurfaceProfile, None)
 profile.set_editor_property("settings", settings)
 unreal.EditorAssetLibrary.save_loaded_asset(profile)
+
+# Substrate (UE 5.7 Python API; Project Settings > Rendering > Substrate on):
+# the material /Game/M_{asset} with one Slab BSDF on the Front Material.
+# {substrate_mode}
+# The Python enum has no DiffusionProfile member (it is hidden): a Slab of
+# type Diffusion with a profile plugged is drawn as DiffusionProfile
+# (Substrate.ush, InternalGetSubstrateSlabBSDF); the profile is set on the
+# Slab and on the material, as the Slab's subsurface_profile docs ask.
+# A material of that name that scatterlab did not make is left alone.
+SUBSTRATE_DIFFUSION = {substrate_diffusion}
+SSS_MFP_CM = unreal.LinearColor({mfp_cm_r}, {mfp_cm_g}, {mfp_cm_b}, 1.0)
+if not hasattr(unreal, "MaterialExpressionSubstrateSlabBSDF"):
+    unreal.log_warning("No Substrate in this engine: only the SubsurfaceProfile was set.")
+else:
+    lib = unreal.MaterialEditingLibrary
+    assets = unreal.EditorAssetLibrary
+    path = "/Game/M_{asset}"
+    material = None
+    if assets.does_asset_exist(path):
+        material = assets.load_asset(path)
+        if assets.get_metadata_tag(material, "scatterlab") != "substrate":
+            raise RuntimeError(path + " exists and scatterlab did not make it: rename it, or move it, and run again.")
+        lib.delete_all_material_expressions(material)
+    else:
+        tools = unreal.AssetToolsHelpers.get_asset_tools()
+        material = tools.create_asset("M_{asset}", "/Game", unreal.Material, unreal.MaterialFactoryNew())
+    assets.set_metadata_tag(material, "scatterlab", "substrate")
+    slab = lib.create_material_expression(material, unreal.MaterialExpressionSubstrateSlabBSDF, -400, 0)
+    slab.set_editor_property("sub_surface_type", unreal.MaterialSubSurfaceType.MSS_DIFFUSION)
+
+    def constant3(value, x, y):
+        node = lib.create_material_expression(material, unreal.MaterialExpressionConstant3Vector, x, y)
+        node.set_editor_property("constant", value)
+        return node
+
+    def constant(value, x, y):
+        node = lib.create_material_expression(material, unreal.MaterialExpressionConstant, x, y)
+        node.set_editor_property("r", value)
+        return node
+
+    def connect(node, pin):
+        if not lib.connect_material_expressions(node, "", slab, pin):
+            raise RuntimeError("could not connect the Slab's " + pin + " input")
+
+    connect(constant3({slab_albedo}, -800, -200), "Diffuse Albedo")
+    connect(constant({roughness}, -800, -50), "Roughness")
+    connect(constant({f0}, -800, 50), "F0")
+    if SUBSTRATE_DIFFUSION:
+        connect(constant3(SSS_MFP_CM, -800, 150), "SSS MFP")
+        connect(constant(1.0, -800, 250), "SSS MFP Scale")
+        material.set_editor_property("subsurface_profile", None)
+    else:
+        slab.set_editor_property("subsurface_profile", profile)
+        material.set_editor_property("subsurface_profile", profile)
+    if not lib.connect_material_property(slab, "", unreal.MaterialProperty.MP_FRONT_MATERIAL):
+        raise RuntimeError("could not connect the Slab to the Front Material")
+    lib.recompile_material(material)
+    assets.save_loaded_asset(material)
 "#,
         name = preset.name.replace(['\n', '\r'], " "),
         line = prov.line(),
@@ -178,6 +255,18 @@ unreal.EditorAssetLibrary.save_loaded_asset(profile)
         r0 = m.roughness0,
         r1 = m.roughness1,
         mix = m.lobe_mix,
+        substrate_mode = if substrate_diffusion {
+            "Type Diffusion with SSS MFP in world centimetres (--substrate-diffusion): the profile asset is not used."
+        } else {
+            "Type Diffusion with the SubsurfaceProfile above plugged: Substrate draws it as DiffusionProfile."
+        },
+        substrate_diffusion = if substrate_diffusion { "True" } else { "False" },
+        mfp_cm_r = mfp_cm[0],
+        mfp_cm_g = mfp_cm[1],
+        mfp_cm_b = mfp_cm[2],
+        slab_albedo = col(burley.albedo()),
+        roughness = preset.rendering.specular.roughness,
+        f0 = ((m.ior - 1.0) / (m.ior + 1.0)).powi(2),
     ))
 }
 
@@ -201,8 +290,9 @@ pub(super) const TARGET: super::Target = super::Target {
         }
     }),
     slow: false,
-    write: |preset, prov, out, py, _| {
-        let (text, script) = (unreal_struct(preset)?, unreal_python(preset, prov)?);
+    write: |preset, prov, out, py, options| {
+        let script = unreal_python(preset, prov, options.unreal_substrate_diffusion)?;
+        let text = unreal_struct(preset)?;
         super::write(out, text.as_bytes())?;
         super::write(py, script.as_bytes())
     },

@@ -10,8 +10,14 @@ typed here from UE 5.1.1's source:
   profile mm, and a world centimetre is 10 * WorldUnitScale / 0.1 profile mm
   (BurleyNormalizedSSS.cpp), so the physical d is d * 0.1 / WorldUnitScale.
 
+The Substrate material the script builds is read back too: one Slab on the
+Front Material, type MSS_DIFFUSION, its Diffuse Albedo, and either the
+created SubsurfaceProfile on the Slab and on the material or, with
+--substrate-diffusion, SSS MFP (cm) and SSS MFP Scale, turned back into d
+with Christensen & Burley 2015 eq. 5: d = MFP * 10 / S_perp(A) mm.
+
 Usage: python unreal_check.py SCRIPT.py STRUCT.txt
-Prints JSON {"d_mm": [...], "albedo": [...], "lobe_mix": ..., ...}.
+Prints JSON {"d_mm": [...], "albedo": [...], "lobe_mix": ..., "substrate": {...}}.
 """
 
 import json
@@ -48,10 +54,12 @@ def main():
     script, struct = sys.argv[1], sys.argv[2]
     code = open(script, encoding="utf-8").read()
     exec(compile(code, script, "exec"), {"__name__": "__main__"})
-    if len(unreal.CREATED) != 1 or unreal.EditorAssetLibrary.saved != unreal.CREATED:
+    profiles = [a for a in unreal.CREATED if isinstance(a, unreal.SubsurfaceProfile)]
+    if len(profiles) != 1 or profiles[0] not in unreal.EditorAssetLibrary.saved:
         print("FAIL: the script did not create and save one SubsurfaceProfile")
         sys.exit(1)
-    v = unreal.CREATED[0].settings.values
+    v = profiles[0].settings.values
+    substrate = read_substrate(profiles[0])
     for flag in ("enable_burley", "enable_mean_free_path"):
         if v.get(flag) is not True:
             print("FAIL: %s is not set" % flag)
@@ -85,7 +93,55 @@ def main():
         "lobe_mix": v["lobe_mix"],
         "roughness0": v["roughness0"],
         "roughness1": v["roughness1"],
+        "substrate": substrate,
     }))
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def read_substrate(profile):
+    materials = [a for a in unreal.CREATED if isinstance(a, unreal.Material)]
+    if not hasattr(unreal, "MaterialExpressionSubstrateSlabBSDF"):
+        if materials or not unreal.WARNINGS:
+            fail("without Substrate the script must only warn")
+        return None
+    if len(materials) != 1 or materials[0] not in unreal.EditorAssetLibrary.saved:
+        fail("the script did not create and save one material")
+    m = materials[0]
+    slabs = [e for e in m.expressions if isinstance(e, unreal.MaterialExpressionSubstrateSlabBSDF)]
+    if len(slabs) != 1 or m.front_material is not slabs[0] or not m.compiled:
+        fail("the material is not one compiled Slab on the Front Material")
+    slab = slabs[0]
+    if slab.values.get("sub_surface_type") != unreal.MaterialSubSurfaceType.MSS_DIFFUSION:
+        fail("the Slab is not of type Diffusion")
+
+    def constant_of(pin):
+        node = slab.inputs.get(pin, (None,))[0]
+        if node is None:
+            return None
+        if isinstance(node, unreal.MaterialExpressionConstant3Vector):
+            return rgb(node.values["constant"])
+        return node.values["r"]
+
+    albedo = constant_of("Diffuse Albedo")
+    out = {"albedo": albedo, "roughness": constant_of("Roughness"), "f0": constant_of("F0")}
+    mfp = constant_of("SSS MFP")
+    if mfp is None:
+        if slab.values.get("subsurface_profile") is not profile or \
+                m.values.get("subsurface_profile") is not profile:
+            fail("the profile is not set on both the Slab and the material")
+        out["uses_profile"] = True
+    else:
+        if slab.values.get("subsurface_profile") is not None:
+            fail("a Slab with its own MFP must not carry a profile")
+        scale = constant_of("SSS MFP Scale")
+        out["uses_profile"] = False
+        out["mfp_cm"] = mfp
+        out["d_mm"] = [mfp[c] * scale * 10 / s_perp(albedo[c]) for c in range(3)]
+    return out
 
 
 if __name__ == "__main__":

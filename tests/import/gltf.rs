@@ -7,6 +7,7 @@ fn sphere(scatter: bool) -> ExportOptions {
     ExportOptions {
         gltf_mesh: GltfMesh::Sphere,
         gltf_volume_scatter: scatter,
+        ..Default::default()
     }
 }
 
