@@ -112,15 +112,23 @@ pub fn unreal_struct(preset: &Preset) -> Result<String, ModelError> {
     ))
 }
 
-/// The Substrate Slab's `SSS MFP` (world centimetres, its tooltip in
-/// MaterialExpressionSubstrate.h: "unit = centimeters") for a look: the
-/// mean free path ℓ = d·s(A) of Christensen & Burley 2015 eq. 5, the
-/// conversion UE applies to a SubsurfaceProfile's mean free path
-/// (`GetDiffuseMeanFreePathFromMeanFreePath`, BurleyNormalizedSSS.cpp).
+/// The Substrate Slab's `SSS MFP` (world centimetres: its tooltip in
+/// MaterialExpressionSubstrate.h says "unit = centimeters") for a look:
+/// the value UE's own SubsurfaceProfile holds for it at WorldUnitScale
+/// 0.1, 0.6·ℓ with ℓ = d·s(A) (Christensen & Burley 2015 eq. 5), since UE
+/// turns a mean free path into Burley's shape through
+/// `GetDiffuseMeanFreePathFromMeanFreePath`, whose `Dmfp2MfpMagicNumber`
+/// is 0.6 (SubsurfaceProfile.cpp `CreateTexture`,
+/// SubsurfaceScatteringMath.h). From the Slab to the SSS pass, UE 5.8's
+/// Substrate.ush (`InternalGetSubstrateSlabBSDF`, `SLAB_SSSMFP` = SSSMFP ×
+/// SSSMFPScale) and SubstrateExport.ush (`PackSubstrateOut`) pass the value
+/// on unscaled; the per-pixel `GetBurleyParameters` was not readable, so
+/// that it applies the same conversion is an assumption the export notes
+/// state.
 pub fn substrate_mfp_cm(burley: &crate::model::burley::Burley) -> Rgb {
     burley
         .mean_free_path_mm(crate::model::burley::ScalingFit::Perpendicular)
-        .map(|l| l / 10.0)
+        .map(|l| crate::model::units::UNREAL_DMFP_TO_MFP * l / 10.0)
 }
 
 /// A Python snippet for Unreal's editor scripting that sets the struct on
@@ -271,6 +279,7 @@ else:
 }
 
 mod read;
+mod substrate;
 pub use read::read;
 
 /// Unreal's SubsurfaceProfile as an export target: the struct text, and
@@ -308,6 +317,7 @@ pub(super) const TARGET: super::Target = super::Target {
             })
             .collect();
         notes.push("Needs Unreal Engine 5.1 or later.".into());
+        notes.push("The script also builds a Substrate material (UE 5.7): a Slab of type Diffusion with the profile; with --substrate-diffusion its own SSS MFP, written as the value a SubsurfaceProfile holds (0.6 × the mean free path, in cm), which assumes Substrate's per-pixel path converts it as the profile path does.".into());
         Ok(notes)
     },
     fidelity: super::burley_fidelity,
@@ -323,10 +333,18 @@ pub(super) const TARGET: super::Target = super::Target {
         }))
     }),
     reader: Some(super::Reader {
-        extensions: &["txt", "py"],
+        extensions: &["txt", "py", "t3d"],
         claims: |ext, text| {
-            (ext == "py" && text.contains("import unreal")) || text.trim_start().starts_with('(')
+            (ext == "py" && text.contains("import unreal"))
+                || text.trim_start().starts_with('(')
+                || substrate::claims(text)
         },
-        read: |text, path, _| read(text, path),
+        read: |text, path, _| {
+            if substrate::claims(text) {
+                substrate::read(text, path)
+            } else {
+                read(text, path)
+            }
+        },
     }),
 };

@@ -14,7 +14,10 @@ The Substrate material the script builds is read back too: one Slab on the
 Front Material, type MSS_DIFFUSION, its Diffuse Albedo, and either the
 created SubsurfaceProfile on the Slab and on the material or, with
 --substrate-diffusion, SSS MFP (cm) and SSS MFP Scale, turned back into d
-with Christensen & Burley 2015 eq. 5: d = MFP * 10 / S_perp(A) mm.
+by the SubsurfaceProfile formulas above (d_from_ue at WorldUnitScale 0.1:
+d = MFP * 10 / (0.6 S_perp(A)) mm), the conversion Substrate's per-pixel
+path is assumed to share (UE 5.8's Substrate.ush passes SSS MFP x SSS MFP
+Scale on unscaled; its GetBurleyParameters could not be read).
 
 Usage: python unreal_check.py SCRIPT.py STRUCT.txt
 Prints JSON {"d_mm": [...], "albedo": [...], "lobe_mix": ..., "substrate": {...}}.
@@ -140,7 +143,7 @@ def read_substrate(profile):
         scale = constant_of("SSS MFP Scale")
         out["uses_profile"] = False
         out["mfp_cm"] = mfp
-        out["d_mm"] = [mfp[c] * scale * 10 / s_perp(albedo[c]) for c in range(3)]
+        out["d_mm"] = d_from_ue(albedo, [m * scale for m in mfp], 1.0, 0.1)
     return out
 
 

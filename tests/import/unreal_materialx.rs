@@ -256,3 +256,64 @@ fn bad_materialx_is_refused_by_field() {
         assert_refused(name, &text, expect);
     }
 }
+
+/// A Substrate Slab's nodes as the material editor copies them
+/// (tests/data/unreal/substrate_slab.t3d): Diffuse Albedo (0.8, 0.45,
+/// 0.35), SSS MFP (0.12, 0.06, 0.03) cm at SSS MFP Scale 0.5. Burley's d
+/// by UE's SubsurfaceProfile conversion (SubsurfaceProfile.cpp
+/// `CreateTexture` with `Dmfp2MfpMagicNumber` 0.6, BurleyNormalizedSSS's
+/// S_perp): d = 10 · MFP · scale / (0.6 · S_perp(A)) mm, typed here.
+#[test]
+fn a_substrate_slabs_copied_nodes_import() {
+    let l = &import(&data("unreal/substrate_slab.t3d"))[0];
+    assert_eq!(l.preset.name, "M_Skin");
+    let a = [0.8, 0.45, 0.35];
+    let mfp_cm = [0.12, 0.06, 0.03];
+    let d = burley_of(&l.preset).scattering_distance_mm();
+    for c in 0..3 {
+        let want = 10.0 * mfp_cm[c] * 0.5 / (0.6 * s_perp(a[c]));
+        assert!(
+            (d[c] / want - 1.0).abs() < 1e-6,
+            "channel {c}: {} vs {want}",
+            d[c]
+        );
+    }
+    assert_eq!(burley_of(&l.preset).albedo(), a);
+    assert_eq!(l.preset.rendering.specular.roughness, 0.5);
+    // What the Slab draws from something else is refused by field.
+    let text = std::fs::read_to_string(data("unreal/substrate_slab.t3d")).unwrap();
+    assert_refused(
+        "slab_profile.t3d",
+        &text.replace(
+            "      MaterialExpressionEditorX=-400\n",
+            "      SubsurfaceProfile=\"/Script/Engine.SubsurfaceProfile'/Game/SP_Skin.SP_Skin'\"\n      MaterialExpressionEditorX=-400\n",
+        ),
+        "MaterialExpressionSubstrateSlabBSDF_0.SubsurfaceProfile: the Slab draws",
+    );
+    assert_refused(
+        "slab_wrap.t3d",
+        &text.replace(
+            "      MaterialExpressionEditorX=-400\n",
+            "      SubSurfaceType=MSS_Wrap\n      MaterialExpressionEditorX=-400\n",
+        ),
+        "SubSurfaceType: MSS_Wrap is not a diffusion profile",
+    );
+    assert_refused(
+        "slab_no_mfp.t3d",
+        &text.replace("      SSSMFP=(Expression=\"/Script/Engine.MaterialExpressionConstant3Vector'MaterialGraphNode_3.MaterialExpressionConstant3Vector_1'\")\n", ""),
+        "SSSMFP: not plugged and no SubsurfaceProfile",
+    );
+    assert_refused(
+        "slab_texture.t3d",
+        &text.replace(
+            "Class=/Script/Engine.MaterialExpressionConstant3Vector Name=\"MaterialExpressionConstant3Vector_1\"",
+            "Class=/Script/Engine.MaterialExpressionTextureSample Name=\"MaterialExpressionConstant3Vector_1\"",
+        ),
+        "SSSMFP: driven by a MaterialExpressionTextureSample node",
+    );
+    assert_refused(
+        "slab_open.t3d",
+        &text.replacen("End Object\n", "", 1),
+        "no End Object",
+    );
+}

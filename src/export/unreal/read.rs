@@ -14,10 +14,10 @@ use std::path::Path;
 
 /// A struct's fields in the order written.
 #[derive(Debug, Clone, PartialEq, Default)]
-struct Fields(Vec<(String, Value)>);
+pub(super) struct Fields(pub(super) Vec<(String, Value)>);
 
 impl Fields {
-    fn get(&self, key: &str) -> Option<&Value> {
+    pub(super) fn get(&self, key: &str) -> Option<&Value> {
         self.0.iter().find(|(k, _)| k == key).map(|(_, v)| v)
     }
     fn insert(&mut self, key: String, value: Value) {
@@ -38,7 +38,7 @@ impl Fields {
 /// A value of UE's struct text: a number, a word (True, an enum), a
 /// quoted string or a nested struct.
 #[derive(Debug, Clone, PartialEq)]
-enum Value {
+pub(super) enum Value {
     Number(f64),
     Word(String),
     Struct(Fields),
@@ -93,12 +93,16 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
     Ok(vec![look_from_fields(&fields, &name, kind, path)?])
 }
 
-fn clip(s: &str) -> String {
+pub(super) fn clip(s: &str) -> String {
     s.chars().take(40).collect()
 }
 
 /// `(Key=Value,…)`, recursively; returns the value and the rest.
-fn parse_value<'a>(s: &'a str, path: &Path, depth: usize) -> Result<(Value, &'a str), ImportError> {
+pub(super) fn parse_value<'a>(
+    s: &'a str,
+    path: &Path,
+    depth: usize,
+) -> Result<(Value, &'a str), ImportError> {
     if depth > 8 {
         return Err(ImportError::file(
             path,
