@@ -32,6 +32,7 @@ pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS
 pub use import::{import_file, import_text, ImportError, ImportOptions, ImportedLook};
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
+pub use unity::budget as unity_budget;
 pub use unity::project as unity_project;
 pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 pub use unreal::{

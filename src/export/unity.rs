@@ -186,6 +186,7 @@ fn yaml_name(name: &str) -> String {
     }
 }
 
+pub mod budget;
 pub mod project;
 mod read;
 pub use read::read;

@@ -506,6 +506,7 @@ fn import_writes_presets_and_asks_before_replacing() {
     Preset::load(&dir.join("profile_15.ron")).unwrap();
 }
 
+mod budget;
 mod folders;
 mod gltf;
 mod godot_blender;
