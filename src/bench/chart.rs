@@ -15,7 +15,7 @@ const FONT: &str = "sans-serif";
 
 /// Registers egui's embedded Ubuntu Light as plotters' sans-serif (no
 /// system fonts are needed).
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *DONE.get_or_init(|| {
         plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)

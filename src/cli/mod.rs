@@ -4,6 +4,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod budget;
 pub mod convert;
 pub mod edit;
 pub mod export;
@@ -82,6 +83,12 @@ pub enum Command {
     /// Blender) back into looks: the look the engine renders from it, the
     /// file's own fields and what had to be assumed; --out writes presets.
     Import(import::ImportArgs),
+    /// Fit a Unity project's HDRP diffusion profiles into the list's slots
+    /// (15): which to merge, what each merge costs the materials that use
+    /// it (shape error, tint ΔE, head renders with ΔL*), the merged
+    /// profiles, a Diffusion Profile List, a remap table and a report;
+    /// with --apply, into the project (with a backup).
+    Budget(budget::BudgetArgs),
 }
 
 /// Runs a parsed command; no subcommand opens the editor.
@@ -101,6 +108,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Some(Command::Stress(a)) => a.run(),
         Some(Command::Convert(a)) => a.run(),
         Some(Command::Import(a)) => a.run(),
+        Some(Command::Budget(a)) => a.run(),
     }
 }
 

@@ -19,7 +19,11 @@ impl Rng {
 fn candidate(rng: &mut Rng, i: usize) -> Candidate {
     // Skin-like to foliage-like: a base distance 0.2–8 mm, red widest.
     let base = 0.2 * 40f64.powf(rng.next());
-    let d = [base, base * (0.3 + 0.6 * rng.next()), base * (0.1 + 0.5 * rng.next())];
+    let d = [
+        base,
+        base * (0.3 + 0.6 * rng.next()),
+        base * (0.1 + 0.5 * rng.next()),
+    ];
     let mut p = Preset::default_skin();
     p.name = format!("P{i}");
     p.profile = ProfileSpec::Burley(BurleySpec {
@@ -104,4 +108,197 @@ fn the_merge_search_matches_an_exhaustive_one() {
     let mut costs = Costs::new(&cands).unwrap();
     assert_eq!(exhaustive(&mut costs, 6, 6).1, 203);
     eprintln!("greedy against exhaustive, worst gap {worst_gap:e}");
+}
+
+/// Copies a folder, recursively.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            copy_dir(&p, &to.join(e.file_name()));
+        } else {
+            std::fs::copy(&p, to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+/// tests/clients/unity_budget_check.py on a folder: the materials' profile
+/// references, the profiles' hashes and the lists, read by HDRP's rules in
+/// Python (not by scatterlab's code).
+fn hdrp_view(dir: &Path) -> serde_json::Value {
+    let out = Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/unity_budget_check.py"))
+        .arg(dir)
+        .output()
+        .expect("python3");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn files_of(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((p.clone(), std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The fixture project (tests/data/unity_budget: 24 profiles over 40
+/// materials, a LayeredLit and a Shader Graph material among them, two
+/// profiles used by none, written by its make_fixture.py with HDRP's
+/// encodings) budgeted into 15 slots:
+/// - the report states each merge's cost per profile and renders the
+///   head old beside merged; budget.json has 15 profiles after;
+/// - the list names 15 profiles, each an original or a merged one, and
+///   each merged asset's `hash` is the one HDRP gives its GUID (checked in
+///   Python by HDRP's MonoStringHash);
+/// - the project is unchanged until `--apply`; then every material's
+///   references (decoded in Python by HDRP's ConvertVector4ToGUID) name
+///   a profile of the list with its hash, 15 profiles at most are in use,
+///   and `backup/` holds each rewritten material as it was;
+/// - a second run asks for --force, a second --apply refuses to overwrite
+///   the backup.
+#[test]
+fn budget_fits_24_profiles_into_15_slots() {
+    let project = tmp("budget_project");
+    let _ = std::fs::remove_dir_all(&project);
+    copy_dir(&data("unity_budget/project"), &project);
+    let before = files_of(&project);
+    let out = tmp("budget_out");
+    let _ = std::fs::remove_dir_all(&out);
+    let (code, stdout, stderr) = cli(&[
+        "budget",
+        project.to_str().unwrap(),
+        "--slots",
+        "15",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("24 profiles used by 40 of 40 materials"),
+        "{stdout}"
+    );
+    assert_eq!(
+        files_of(&project),
+        before,
+        "the project changed without --apply"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("budget.json")).unwrap()).unwrap();
+    assert_eq!(report["profiles_before"], 24);
+    assert_eq!(report["profiles_after"], 15);
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for m in report["merges"].as_array().unwrap() {
+        for mem in m["members"].as_array().unwrap() {
+            let shape = mem["shape_error"].as_f64().unwrap();
+            assert!(shape.is_finite() && shape < 0.5, "{mem}");
+            assert!(
+                md.contains(&format!(
+                    "| {} | {} | {shape:.4} |",
+                    mem["name"].as_str().unwrap(),
+                    mem["materials"]
+                )),
+                "{mem}"
+            );
+            let dl = mem["delta_l_mean"].as_f64().unwrap();
+            assert!(dl.is_finite() && dl >= 0.0);
+            for f in mem["pair"].as_array().unwrap() {
+                assert!(out.join(f.as_str().unwrap()).is_file(), "{f}");
+            }
+        }
+    }
+    let view = hdrp_view(&out);
+    let list = view["lists"]
+        .as_object()
+        .unwrap()
+        .values()
+        .next()
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone();
+    assert_eq!(list.len(), 15);
+    let originals = hdrp_view(&project);
+    let known: Vec<&str> = originals["profiles"]
+        .as_object()
+        .unwrap()
+        .values()
+        .chain(view["profiles"].as_object().unwrap().values())
+        .map(|v| v[0].as_str().unwrap())
+        .collect();
+    for g in &list {
+        assert!(known.contains(&g.as_str().unwrap()), "{g} is no profile");
+    }
+    for (p, v) in view["profiles"].as_object().unwrap() {
+        assert_eq!(v[1], true, "{p}: its hash is not HDRP's for its GUID");
+    }
+    // Again without --force: refused, nothing lost.
+    let (code, _, stderr) = cli(&[
+        "budget",
+        project.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--no-renders",
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("--force"), "{stderr}");
+    // --apply.
+    let (code, stdout, stderr) = cli(&[
+        "budget",
+        project.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+        "--no-renders",
+        "--apply",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let after = hdrp_view(&project);
+    let mut in_use = std::collections::BTreeSet::new();
+    let mut changed = 0;
+    for (mat, refs) in after["materials"].as_object().unwrap() {
+        let old = &originals["materials"][mat];
+        for r in refs.as_array().unwrap() {
+            assert_eq!(r[2], true, "{mat}: hash float is not HDRP's for {}", r[1]);
+            assert!(list.contains(&r[1]), "{mat}: {} is not in the list", r[1]);
+            in_use.insert(r[1].as_str().unwrap().to_owned());
+        }
+        if refs != old {
+            changed += 1;
+            let backed = std::fs::read(out.join("backup").join(mat)).unwrap();
+            let original = std::fs::read(data("unity_budget/project").join(mat)).unwrap();
+            assert_eq!(backed, original, "{mat}: the backup is not the original");
+        }
+    }
+    assert!(in_use.len() <= 15, "{in_use:?}");
+    assert_eq!(after["materials"].as_object().unwrap().len(), 40);
+    assert!(changed > 0);
+    assert!(project.join("Assets/scatterlab_budget").is_dir());
+    // A second --apply would overwrite the backup: refused.
+    let (code, _, stderr) = cli(&[
+        "budget",
+        project.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+        "--no-renders",
+        "--apply",
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("backup"), "{stderr}");
 }
