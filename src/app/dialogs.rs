@@ -27,6 +27,7 @@ impl EditorApp {
         self.turntable_window_ui(ctx);
         self.browser_window_ui(ctx);
         self.help_windows_ui(ctx);
+        self.budget_window_ui(ctx);
     }
 
     /// Help → Shortcuts (F1) and Help → About: windows that stay until

@@ -138,6 +138,15 @@ impl EditorApp {
             ));
             ui.close();
         }
+        if self.dialogs.budget.is_some()
+            && ui
+                .button("Budget merges…")
+                .on_hover_text("The merges of the budget report opened with --budget: compare each profile with its merge")
+                .clicked()
+        {
+            self.dialogs.budget_open = true;
+            ui.close();
+        }
         ui.menu_button("New from preset", |ui| {
             for (file, _) in library::PRESETS {
                 if let Ok(p) = library::load(file) {

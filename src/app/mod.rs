@@ -5,6 +5,7 @@
 pub mod analysis;
 mod autosave;
 pub mod browser;
+pub mod budget;
 mod dialogs;
 mod files;
 mod maps;
@@ -269,6 +270,8 @@ impl EditorApp {
                 thumbnail_dir: Self::default_thumbnail_dir(),
                 help_open: false,
                 about_open: false,
+                budget: None,
+                budget_open: false,
             },
             jobs: Jobs {
                 exports: Vec::new(),
@@ -569,6 +572,7 @@ pub fn run(
     compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
     import: Option<PathBuf>,
     mesh: Option<MeshArg>,
+    budget: Option<PathBuf>,
 ) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let initial = match &preset {
@@ -580,6 +584,11 @@ pub fn run(
     if let Some(f) = &import {
         crate::export::import_file(f, &crate::export::ImportOptions::default())?;
     }
+    // A budget report to compare: refused here too.
+    let budget = match &budget {
+        Some(dir) => Some(budget::BudgetPairs::load(dir).map_err(anyhow::Error::msg)?),
+        None => None,
+    };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("scatterlab")
@@ -619,6 +628,9 @@ pub fn run(
             }
             if let Some(m) = mesh {
                 app.open_mesh(m);
+            }
+            if let Some(b) = budget {
+                app.open_budget(b);
             }
             Ok(Box::new(EframeApp {
                 app,

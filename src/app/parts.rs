@@ -95,6 +95,9 @@ pub(super) struct Dialogs {
     /// Help → Shortcuts (F1) and Help → About, open.
     pub(super) help_open: bool,
     pub(super) about_open: bool,
+    /// `edit --budget DIR`: a budget report's merges, and their window.
+    pub(super) budget: Option<budget::BudgetPairs>,
+    pub(super) budget_open: bool,
 }
 
 /// Work on other threads: exports, an environment map loading, a turntable.

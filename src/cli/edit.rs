@@ -34,6 +34,10 @@ pub struct EditArgs {
     /// (default: what B was last time).
     #[arg(long, value_enum, requires = "compare")]
     pub compare_b: Option<MethodId>,
+    /// A `scatterlab budget` report's folder: its merges in a window, each
+    /// profile comparable with its merge side by side.
+    #[arg(long, value_name = "DIR")]
+    pub budget: Option<PathBuf>,
 }
 
 /// The editor's compare views (`edit --compare`).
@@ -65,6 +69,7 @@ impl EditArgs {
             compare,
             self.import,
             mesh,
+            self.budget,
         )
     }
 }

@@ -14,6 +14,7 @@ use scatterlab::settings::{Preset, ProfileSpec};
 use std::time::{Duration, Instant};
 
 mod artist;
+mod budget;
 #[path = "../common/mod.rs"]
 mod common;
 mod layout_and_prompts;

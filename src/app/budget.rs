@@ -1,0 +1,167 @@
+//! The merges of a `scatterlab budget` report as compare pairs (`edit
+//! --budget DIR`): a window lists each merge's profiles with what the
+//! merge costs them, and Compare opens the profile as A beside its merge
+//! as B.
+
+use super::*;
+
+/// One profile of a merge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetMember {
+    pub name: String,
+    pub materials: u64,
+    pub shape_error: f64,
+    pub tint_delta_e: f64,
+    pub delta_l_mean: Option<f64>,
+    /// The profile's preset and the merge's.
+    pub pair: [PathBuf; 2],
+}
+
+/// One merge of the report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetMerge {
+    pub name: String,
+    pub members: Vec<BudgetMember>,
+}
+
+/// A budget report's merges, read from its `budget.json`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BudgetPairs {
+    pub dir: PathBuf,
+    pub merges: Vec<BudgetMerge>,
+}
+
+impl BudgetPairs {
+    /// Reads `DIR/budget.json`; an error names the file and the field.
+    pub fn load(dir: &Path) -> Result<Self, String> {
+        let file = dir.join("budget.json");
+        let text = std::fs::read_to_string(&file).map_err(|e| {
+            format!(
+                "{}: {e} (is {} a `scatterlab budget` folder?)",
+                file.display(),
+                dir.display()
+            )
+        })?;
+        let v: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| format!("{}: malformed JSON: {e}", file.display()))?;
+        let field = |what: &str| format!("{}: {what} is missing or malformed", file.display());
+        let mut merges = Vec::new();
+        for (i, m) in v["merges"]
+            .as_array()
+            .ok_or_else(|| field("merges"))?
+            .iter()
+            .enumerate()
+        {
+            let name = m["merged"]["name"]
+                .as_str()
+                .ok_or_else(|| field(&format!("merges[{i}].merged.name")))?
+                .to_owned();
+            let mut members = Vec::new();
+            for (j, mem) in m["members"]
+                .as_array()
+                .ok_or_else(|| field(&format!("merges[{i}].members")))?
+                .iter()
+                .enumerate()
+            {
+                let at = |f: &str| field(&format!("merges[{i}].members[{j}].{f}"));
+                let pair = mem["pair"]
+                    .as_array()
+                    .filter(|p| p.len() == 2)
+                    .ok_or_else(|| at("pair"))?;
+                let path = |k: usize| -> Result<PathBuf, String> {
+                    let p = dir.join(pair[k].as_str().ok_or_else(|| at("pair"))?);
+                    if p.is_file() {
+                        Ok(p)
+                    } else {
+                        Err(format!("{}: {} is missing", file.display(), p.display()))
+                    }
+                };
+                members.push(BudgetMember {
+                    name: mem["name"].as_str().ok_or_else(|| at("name"))?.to_owned(),
+                    materials: mem["materials"].as_u64().unwrap_or(0),
+                    shape_error: mem["shape_error"]
+                        .as_f64()
+                        .ok_or_else(|| at("shape_error"))?,
+                    tint_delta_e: mem["tint_delta_e"].as_f64().unwrap_or(0.0),
+                    delta_l_mean: mem["delta_l_mean"].as_f64(),
+                    pair: [path(0)?, path(1)?],
+                });
+            }
+            merges.push(BudgetMerge { name, members });
+        }
+        Ok(Self {
+            dir: dir.to_owned(),
+            merges,
+        })
+    }
+}
+
+impl EditorApp {
+    /// Opens a budget report's merges in their window.
+    pub fn open_budget(&mut self, pairs: BudgetPairs) {
+        self.say(format!(
+            "Budget {}: {} merges; 'Compare with merge' opens a profile beside it",
+            pairs.dir.display(),
+            pairs.merges.len()
+        ));
+        self.dialogs.budget = Some(pairs);
+        self.dialogs.budget_open = true;
+    }
+
+    /// Compares a profile (A, opened as the look) with its merge (B, side
+    /// by side).
+    pub fn compare_budget_pair(&mut self, member: &BudgetMember) {
+        self.guarded(Pending::Open(member.pair[0].clone()));
+        self.ui_state.compare_b = state::CompareB::Preset(member.pair[1].clone());
+        self.ui_state.compare = state::CompareMode::SideBySide;
+    }
+
+    /// The "Budget merges" window.
+    pub(super) fn budget_window_ui(&mut self, ctx: &egui::Context) {
+        let Some(pairs) = self.dialogs.budget.clone() else {
+            return;
+        };
+        let mut open = self.dialogs.budget_open;
+        let mut chosen = None;
+        egui::Window::new("Budget merges")
+            .open(&mut open)
+            .default_width(460.0)
+            .show(ctx, |ui| {
+                ui.label(pairs.dir.display().to_string());
+                egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
+                    for (i, m) in pairs.merges.iter().enumerate() {
+                        ui.strong(format!("{}. {}", i + 1, m.name));
+                        egui::Grid::new(("budget", i)).striped(true).show(ui, |ui| {
+                            ui.label("profile");
+                            ui.label("materials");
+                            ui.label("shape error").on_hover_text("worst channel's relative L2 error of r·R(r), energy-normalised; 1 = no scattering at all");
+                            ui.label("tint ΔE*ab");
+                            ui.label("ΔL* mean").on_hover_text("CIE lightness difference on the rendered head, old against merged");
+                            ui.label("");
+                            ui.end_row();
+                            for mem in &m.members {
+                                ui.label(&mem.name);
+                                ui.label(mem.materials.to_string());
+                                ui.label(format!("{:.4}", mem.shape_error));
+                                ui.label(format!("{:.2}", mem.tint_delta_e));
+                                ui.label(mem.delta_l_mean.map_or("—".into(), |d| format!("{d:.2}")));
+                                if ui
+                                    .button("Compare with merge")
+                                    .on_hover_text(format!("A: {}; B: the merge, side by side", mem.name))
+                                    .clicked()
+                                {
+                                    chosen = Some(mem.clone());
+                                }
+                                ui.end_row();
+                            }
+                        });
+                        ui.add_space(6.0);
+                    }
+                });
+            });
+        self.dialogs.budget_open = open;
+        if let Some(mem) = chosen {
+            self.compare_budget_pair(&mem);
+        }
+    }
+}
