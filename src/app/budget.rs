@@ -126,6 +126,8 @@ impl EditorApp {
         egui::Window::new("Budget merges")
             .open(&mut open)
             .default_width(460.0)
+            // Over the viewport's left, clear of the Look panel.
+            .default_pos([330.0, 96.0])
             .show(ctx, |ui| {
                 ui.label(pairs.dir.display().to_string());
                 egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {

@@ -276,7 +276,7 @@ impl BudgetArgs {
         for (k, m) in merges.iter_mut().enumerate() {
             let n = k + 1;
             let merged_file = format!("pairs/{n}_merged.ron");
-            m.merged.save(&self.out.join(&merged_file))?;
+            with_material_albedo(&m.merged).save(&self.out.join(&merged_file))?;
             m.curves = format!("images/merge_{n}_curves.png");
             let members: Vec<(&str, &Preset)> = m
                 .members
@@ -292,7 +292,7 @@ impl BudgetArgs {
             for mem in m.members.iter_mut() {
                 let c = &candidates[mem.index];
                 mem.preset_file = format!("pairs/{n}_{}.ron", file_stem(&c.name));
-                c.preset.save(&self.out.join(&mem.preset_file))?;
+                with_material_albedo(&c.preset).save(&self.out.join(&mem.preset_file))?;
                 if let Some(r) = renderer.as_mut() {
                     let image = format!("images/merge_{n}_{}.png", file_stem(&c.name));
                     let (dl_mean, dl_max) =
@@ -519,6 +519,31 @@ impl BudgetArgs {
     }
 }
 
+/// The default skin's albedo, which HDRP keeps in the material (a profile
+/// read from HDRP has albedo 1, a white head).
+fn skin_albedo() -> crate::model::Rgb {
+    match &Preset::default_skin().profile {
+        crate::settings::ProfileSpec::Burley(b) => b.albedo,
+        _ => [0.8, 0.5, 0.4],
+    }
+}
+
+/// A profile as the report draws it: with the default skin's albedo, as a
+/// material would give it, said in its description.
+fn with_material_albedo(p: &Preset) -> Preset {
+    let mut p = p.clone();
+    if let crate::settings::ProfileSpec::Burley(b) = &mut p.profile {
+        b.albedo = skin_albedo();
+    }
+    p.description = format!(
+        "{} Drawn with the default skin's albedo: HDRP keeps the albedo in the material.",
+        p.description
+    )
+    .trim()
+    .to_owned();
+    p
+}
+
 /// `text` (a profile asset) with its `hash:` line set to `hash`.
 fn with_hash(text: &str, hash: u32) -> String {
     text.lines()
@@ -647,7 +672,6 @@ fn curves_chart(path: &Path, members: &[(&str, &Preset)], merged: &Preset) -> Re
 struct HeadRenderer {
     renderer: crate::render::renderer::Renderer,
     settings: crate::render::settings::RenderSettings,
-    albedo: crate::model::Rgb,
 }
 
 impl HeadRenderer {
@@ -668,25 +692,17 @@ impl HeadRenderer {
             deterministic: true,
             ..RenderSettings::for_look(&skin.rendering, view, [[0.0; 3]; 9], (size, size))
         };
-        let albedo = crate::export::burley_of(&skin.profile)?.0.albedo();
         let renderer = crate::render::renderer::Renderer::new(
             crate::render::context::GpuContext::new_headless()?,
             &mesh,
         )?;
-        Ok(Self {
-            renderer,
-            settings,
-            albedo,
-        })
+        Ok(Self { renderer, settings })
     }
 
     fn image(&mut self, look: &Preset) -> Result<image::RgbaImage> {
         use crate::render::sss::ProfileInputs;
         // HDRP keeps the albedo in the material: the default skin's.
-        let mut p = look.clone();
-        if let crate::settings::ProfileSpec::Burley(b) = &mut p.profile {
-            b.albedo = self.albedo;
-        }
+        let p = with_material_albedo(look);
         let profile = p.build_profile()?;
         let settings = crate::render::settings::RenderSettings {
             transmission: p.rendering.transmission.into(),
