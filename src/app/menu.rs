@@ -27,7 +27,7 @@ impl EditorApp {
                 // A .gltf is a look when a material has the volume
                 // extension (the glTF export), and otherwise a mesh.
                 e if engines.contains(&e)
-                    && !(meshes.contains(&e) && !crate::export::gltf_has_volume(&path)) =>
+                    && (!meshes.contains(&e) || crate::export::gltf_has_volume(&path)) =>
                 {
                     self.import_now(&path)
                 }

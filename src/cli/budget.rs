@@ -705,9 +705,9 @@ impl HeadRenderer {
         let p = with_material_albedo(look);
         let profile = p.build_profile()?;
         let settings = crate::render::settings::RenderSettings {
-            transmission: p.rendering.transmission.into(),
+            transmission: p.rendering.transmission,
             transmission_tint: p.rendering.transmission_tint.map(|v| v as f32),
-            texturing: p.rendering.texturing.into(),
+            texturing: p.rendering.texturing,
             ..self.settings.clone()
         };
         let inputs = ProfileInputs::for_look(

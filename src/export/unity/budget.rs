@@ -229,17 +229,17 @@ pub fn merged_of(table: &ShapeTable, members: &[&Candidate]) -> Result<Preset, M
         best.0
     };
     let mut p = heaviest.preset.clone();
-    let texturing = vote(&|m| m.preset.rendering.texturing.clone() as u8);
-    let transmission = vote(&|m| m.preset.rendering.transmission.clone() as u8);
+    let texturing = vote(&|m| m.preset.rendering.texturing as u8);
+    let transmission = vote(&|m| m.preset.rendering.transmission as u8);
     if let Some(m) = members
         .iter()
-        .find(|m| m.preset.rendering.texturing.clone() as u8 == texturing)
+        .find(|m| m.preset.rendering.texturing as u8 == texturing)
     {
         p.rendering.texturing = m.preset.rendering.texturing;
     }
     if let Some(m) = members
         .iter()
-        .find(|m| m.preset.rendering.transmission.clone() as u8 == transmission)
+        .find(|m| m.preset.rendering.transmission as u8 == transmission)
     {
         p.rendering.transmission = m.preset.rendering.transmission;
     }
