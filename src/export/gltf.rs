@@ -51,9 +51,8 @@ use crate::model::burley::{Burley, ScalingFit};
 use crate::model::fit::shape_error;
 use crate::model::{ModelError, Rgb};
 use crate::render::gpu_types::SurfaceKind;
-use crate::settings::profile::{BurleyShape, BurleySpec};
 use crate::settings::rendering::RenderingSpec;
-use crate::settings::{Preset, ProfileSpec};
+use crate::settings::Preset;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -756,20 +755,14 @@ fn read_material(
         )?;
         rendering.specular.roughness = r.clamp(0.0, 1.0);
     }
-    let preset = Preset {
+    let preset = super::import::burley_preset(
+        path,
         name,
-        description: "Read from a glTF material's volume extensions.".into(),
-        source: path.display().to_string(),
-        profile: ProfileSpec::Burley(BurleySpec {
-            albedo,
-            shape: BurleyShape::ScatteringDistance {
-                mm: d,
-                multiplier: 1.0,
-            },
-        }),
+        "Read from a glTF material's volume extensions.",
+        albedo,
+        d,
         rendering,
-        ..Preset::default()
-    };
+    );
     preset
         .validate()
         .map_err(|e| ImportError::file(path, e.to_string()))?;

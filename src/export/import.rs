@@ -96,6 +96,34 @@ fn one_line(s: String) -> String {
     }
 }
 
+/// The look of a file that holds a Burley profile: albedo A and
+/// scattering distance d (mm), the file as its source (not yet
+/// validated: each reader names its own field on an error).
+pub(crate) fn burley_preset(
+    path: &Path,
+    name: String,
+    description: &str,
+    albedo: crate::model::Rgb,
+    d_mm: crate::model::Rgb,
+    rendering: crate::settings::rendering::RenderingSpec,
+) -> Preset {
+    use crate::settings::profile::{BurleyShape, BurleySpec};
+    Preset {
+        name,
+        description: description.to_owned(),
+        source: path.display().to_string(),
+        profile: crate::settings::ProfileSpec::Burley(BurleySpec {
+            albedo,
+            shape: BurleyShape::ScatteringDistance {
+                mm: d_mm,
+                multiplier: 1.0,
+            },
+        }),
+        rendering,
+        ..Preset::default()
+    }
+}
+
 /// Engine files are small: anything larger is refused before parsing.
 const MAX_BYTES: u64 = 16 << 20;
 

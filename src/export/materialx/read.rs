@@ -17,9 +17,7 @@
 use super::super::import::{srgb_decode, ImportError, ImportOptions, ImportedLook};
 use crate::model::burley::ScalingFit;
 use crate::model::Rgb;
-use crate::settings::profile::{BurleyShape, BurleySpec};
 use crate::settings::rendering::{DualLobeSpec, RenderingSpec};
-use crate::settings::{Preset, ProfileSpec};
 use std::path::Path;
 
 /// MaterialX's standard distance units (stdlib `UD_stdlib_distance`), in mm.
@@ -448,18 +446,13 @@ fn read_shader(
     let ShaderInputs {
         fields, mut notes, ..
     } = r;
-    let preset = Preset {
-        name: name.clone(),
-        description: format!("Read from a MaterialX {}.", node.tag_name().name()),
-        source: path.display().to_string(),
-        profile: ProfileSpec::Burley(BurleySpec {
-            albedo,
-            shape: BurleyShape::ScatteringDistance {
-                mm: d,
-                multiplier: 1.0,
-            },
-        }),
-        rendering: RenderingSpec {
+    let preset = super::super::import::burley_preset(
+        path,
+        name.clone(),
+        &format!("Read from a MaterialX {}.", node.tag_name().name()),
+        albedo,
+        d,
+        RenderingSpec {
             ior: ior_v,
             specular: DualLobeSpec {
                 roughness: roughness.clamp(0.0, 1.0),
@@ -469,8 +462,7 @@ fn read_shader(
             },
             ..RenderingSpec::default()
         },
-        ..Preset::default()
-    };
+    );
     notes.push("MaterialX has one specular lobe: the look's two lobes are the same".into());
     preset
         .validate()

@@ -19,9 +19,7 @@ use crate::export::import::{ImportError, ImportedLook};
 use crate::model::burley::ScalingFit;
 use crate::model::units::UNREAL_DMFP_TO_MFP;
 use crate::model::Rgb;
-use crate::settings::profile::{BurleyShape, BurleySpec};
 use crate::settings::rendering::RenderingSpec;
-use crate::settings::{Preset, ProfileSpec};
 use std::path::Path;
 
 /// The Slab's `Compile` default for an unplugged Diffuse Albedo.
@@ -306,20 +304,14 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
                 .to_owned(),
             _ => name.clone(),
         };
-        let preset = Preset {
-            name: look_name,
-            description: "Read from a Substrate Slab copied from Unreal's material editor.".into(),
-            source: path.display().to_string(),
-            profile: ProfileSpec::Burley(BurleySpec {
-                albedo,
-                shape: BurleyShape::ScatteringDistance {
-                    mm: d,
-                    multiplier: 1.0,
-                },
-            }),
+        let preset = crate::export::import::burley_preset(
+            path,
+            look_name,
+            "Read from a Substrate Slab copied from Unreal's material editor.",
+            albedo,
+            d,
             rendering,
-            ..Preset::default()
-        };
+        );
         preset
             .validate()
             .map_err(|e| ImportError::field(path, format!("{name}.SSSMFP"), e.to_string()))?;
