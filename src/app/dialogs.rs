@@ -18,7 +18,33 @@ impl EditorApp {
             || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
+    /// The titles of the open windows Escape can close.
+    fn open_windows(&self) -> Vec<&'static str> {
+        [
+            ("Shortcuts", self.dialogs.help_open),
+            ("About scatterlab", self.dialogs.about_open),
+            ("Presets", self.dialogs.browser.is_some()),
+            ("Mesh maps", self.meshes.maps_window.is_some()),
+            ("Save turntable", self.dialogs.turntable_open),
+            ("Budget merges", self.dialogs.budget_open),
+        ]
+        .into_iter()
+        .filter(|(_, o)| *o)
+        .map(|(t, _)| t)
+        .collect()
+    }
+
     pub(super) fn dialogs_ui(&mut self, ctx: &egui::Context) {
+        // A window opened (again) since the last frame comes to the front
+        // (egui keeps a reopened window where it was in the stack), so
+        // that Escape closes what the artist opened last.
+        let open = self.open_windows();
+        for t in &open {
+            if !self.dialogs.open_last_frame.contains(t) {
+                ctx.move_to_top(egui::LayerId::new(egui::Order::Middle, window_id(t)));
+            }
+        }
+        self.dialogs.open_last_frame = open;
         self.units_prompt_ui(ctx);
         self.maps_window_ui(ctx);
         self.overwrite_prompt_ui(ctx);
@@ -60,6 +86,32 @@ impl EditorApp {
                     ui.label(*line);
                 }
             });
+    }
+
+    /// Closes the open window that is drawn on top (Shortcuts, About, the
+    /// preset browser, Mesh maps, Save turntable, Budget merges); whether
+    /// one was open. egui keeps its windows' layers in
+    /// drawing order, each named by the window's title.
+    pub(super) fn close_topmost_window(&mut self, ctx: &egui::Context) -> bool {
+        let open = self.open_windows();
+        if open.is_empty() {
+            return false;
+        }
+        let order: Vec<egui::LayerId> = ctx.memory(|m| m.layer_ids().collect());
+        let top = order
+            .iter()
+            .rev()
+            .find_map(|l| open.iter().find(|t| l.id == window_id(t)).copied())
+            .unwrap_or(open[open.len() - 1]);
+        match top {
+            "Shortcuts" => self.dialogs.help_open = false,
+            "About scatterlab" => self.dialogs.about_open = false,
+            "Presets" => self.dialogs.browser = None,
+            "Mesh maps" => self.meshes.maps_window = None,
+            "Save turntable" => self.dialogs.turntable_open = false,
+            _ => self.dialogs.budget_open = false,
+        }
+        true
     }
 
     /// The unsaved-changes prompt for a pending open, new or quit: Save
@@ -321,6 +373,12 @@ impl EditorApp {
     }
 }
 
+/// The id egui gives a window of this title (`Window::new`:
+/// `Id::unique(title.text())`, the title's text as an `Option<Cow<str>>`).
+fn window_id(title: &str) -> egui::Id {
+    egui::Id::unique(Some(std::borrow::Cow::Borrowed(title)))
+}
+
 /// Every shortcut, as Help → Shortcuts (F1) lists them. The keys are
 /// handled in `EditorApp::shortcuts` and `viewport_input`.
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -331,7 +389,15 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("F12", "save the viewport image (PNG)"),
     ("Ctrl+Z", "undo"),
     ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
-    ("F", "flicker: the look before the last edit, and back"),
+    (
+        "F",
+        "frame the mesh (distance and pan; the direction is kept)",
+    ),
+    ("\\", "flicker: the look before the last edit, and back"),
+    (
+        "Esc",
+        "close the topmost window; while comparing, back to the mode's view",
+    ),
     ("Space", "while comparing: A alone / B alone"),
     ("Escape", "while comparing: both sides again"),
     ("left drag", "orbit the camera"),

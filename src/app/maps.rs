@@ -223,7 +223,7 @@ impl EditorApp {
                 .on_hover_text("Metres per unit of the file (Unity's worldScale convention).");
                 let height_cm = h * mpu * 100.0;
                 let (lo, hi) = PLAUSIBLE_HEIGHT_M;
-                let mut text = format!("Head height = {height_cm:.1} cm");
+                let mut text = format!("Mesh height = {height_cm:.1} cm");
                 let mut plausible = (100.0 * lo..=100.0 * hi).contains(&height_cm);
                 if let Some(c) = size.cranium_units {
                     let across_cm = c * mpu * 100.0;

@@ -272,6 +272,7 @@ impl EditorApp {
                 about_open: false,
                 budget: None,
                 budget_open: false,
+                open_last_frame: Vec::new(),
             },
             jobs: Jobs {
                 exports: Vec::new(),

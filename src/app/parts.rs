@@ -98,6 +98,9 @@ pub(super) struct Dialogs {
     /// `edit --budget DIR`: a budget report's merges, and their window.
     pub(super) budget: Option<budget::BudgetPairs>,
     pub(super) budget_open: bool,
+    /// The windows open at the last frame (`dialogs_ui` brings a newly
+    /// opened one to the front).
+    pub(super) open_last_frame: Vec<&'static str>,
 }
 
 /// Work on other threads: exports, an environment map loading, a turntable.

@@ -548,17 +548,35 @@ impl EditorApp {
         }
     }
 
-    /// The viewport's keys (not while typing in a field): F flickers to the
-    /// look before the last edit; while comparing, Space (`toggle`) flips
-    /// between B alone and A alone (from the mode's own view it shows B
-    /// first) and Escape goes back to the mode's view.
+    /// The viewport's keys (not while typing in a field): F frames the
+    /// mesh (as Blender, Maya and Substance do: the camera's distance and
+    /// pan reset, its direction kept); Backslash flickers to the look
+    /// before the last edit (Lightroom's before/after key); Escape closes
+    /// the topmost window, else while comparing goes back to the mode's
+    /// view; while comparing, Space (`toggle`) flips between B alone and A
+    /// alone (from the mode's own view it shows B first).
     pub(super) fn viewport_keys(&mut self, ctx: &egui::Context, toggle: bool) {
         use egui::{Key, Modifiers};
-        if ctx.memory(|m| m.focused().is_none())
-            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F))
+        let free = ctx.memory(|m| m.focused().is_none());
+        if free && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
+            let framing = self.meshes.mesh_info.map_or(
+                crate::settings::OrbitView::default().camera_distance_m,
+                |i| i.framing_distance_m,
+            );
+            let o = &mut self.ui_state.view.orbit;
+            o.camera_distance_m = framing;
+            o.camera_pan_m = crate::settings::OrbitView::default().camera_pan_m;
+            self.say("Framed the mesh (F)");
+        }
+        if free
+            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Backslash))
             && self.doc.before_last_edit().is_some()
         {
             self.view.show_before = !self.view.show_before;
+        }
+        if ctx.input(|i| i.key_pressed(Key::Escape)) && self.close_topmost_window(ctx) {
+            ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape));
+            return;
         }
         let escape = ctx.input(|i| i.key_pressed(Key::Escape));
         if ctx.memory(|m| m.focused().is_none()) && self.ui_state.compare != CompareMode::Off {

@@ -346,6 +346,13 @@ fn f1_lists_the_shortcuts_and_about_names_the_licences() {
     h.key_press(Key::F1);
     h.run_steps(2);
     assert!(h.query_by_label("save the viewport image (PNG)").is_none());
+    // Escape closes it too (the topmost window).
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    assert!(h.query_by_label("save the viewport image (PNG)").is_some());
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert!(h.query_by_label("save the viewport image (PNG)").is_none());
     h.get_by_label("Help").click_accesskit();
     h.run_steps(2);
     h.get_by_label("About scatterlab").click_accesskit();
@@ -355,6 +362,47 @@ fn f1_lists_the_shortcuts_and_about_names_the_licences() {
         .is_some());
     assert!(h.query_by_label_contains("CC0 1.0").is_some());
     assert!(h.query_by_label_contains("CC BY 3.0").is_some());
+    // With Shortcuts opened over About, Escape closes Shortcuts, then
+    // About.
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert!(h.query_by_label("save the viewport image (PNG)").is_none());
+    assert!(h.query_by_label_contains("CC0 1.0").is_some());
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("CC0 1.0").is_none());
+}
+
+/// F frames the mesh as Blender, Maya and Substance do: the camera's
+/// distance and pan go back to what frames it, its direction stays; the
+/// shortcut list says so, and that Backslash is the before/after flicker.
+#[test]
+fn f_frames_the_mesh_and_keeps_the_direction() {
+    let mut h = harness(false);
+    h.step();
+    let framing = h.state().ui_state.view.orbit.camera_distance_m;
+    {
+        let o = &mut h.state_mut().ui_state.view.orbit;
+        o.camera_distance_m = framing * 3.0;
+        o.camera_pan_m = [0.05, -0.02];
+        o.camera_yaw_rad = 0.7;
+    }
+    h.run_steps(2);
+    h.key_press(Key::F);
+    h.run_steps(2);
+    let o = h.state().ui_state.view.orbit;
+    assert_eq!(o.camera_distance_m, framing);
+    assert_eq!(
+        o.camera_pan_m,
+        scatterlab::settings::OrbitView::default().camera_pan_m
+    );
+    assert_eq!(o.camera_yaw_rad, 0.7);
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("frame the mesh").is_some());
+    assert!(h.query_by_label_contains("flicker").is_some());
 }
 
 /// An error is a notification that stays until dismissed, not only red
@@ -586,7 +634,8 @@ fn side_by_side_frames_the_whole_head_in_each_half() {
     }
 }
 
-/// "before" (and F) flickers the viewport to the look before the last
+/// "before" (and Backslash, Lightroom's before/after key; F frames the
+/// mesh) flickers the viewport to the look before the last
 /// edit and back: the frame rendered is the old look's (within the
 /// refinement's noise of the frame before the edit, far from the edited
 /// one); with no edit yet it is off.
@@ -596,7 +645,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     h.step();
     settle(&mut h);
     let original = h.state().viewport_frame().unwrap().0.clone();
-    h.key_press(Key::F);
+    h.key_press(Key::Backslash);
     h.run_steps(2);
     assert!(
         !h.state().show_before(),
@@ -608,7 +657,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     settle(&mut h);
     let edited = h.state().viewport_frame().unwrap().0.clone();
     assert!(edited != original, "the edit changed nothing on screen");
-    h.key_press(Key::F);
+    h.key_press(Key::Backslash);
     h.run_steps(2);
     assert!(h.state().show_before());
     settle(&mut h);
