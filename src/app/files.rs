@@ -103,8 +103,12 @@ impl EditorApp {
     /// The folder a dialog of `kind` starts in: the folder of the current
     /// file of that kind (the look for presets, the mesh, the environment
     /// map, the slot's map, B), else where this kind was last used, else
-    /// the look's folder, else the working directory.
+    /// the look's folder, else the artist's documents folder, never the
+    /// process's working directory. A dialog that writes never starts in
+    /// the shipped presets' folder (a look opened from there is saved
+    /// elsewhere).
     pub(super) fn dialog_folder(&self, kind: &DialogKind) -> PathBuf {
+        let writes = kind.writes();
         let current: Option<PathBuf> = match kind {
             DialogKind::Open | DialogKind::SaveAs => self.doc.path.clone(),
             DialogKind::CompareB => match &self.ui_state.compare_b {
@@ -125,9 +129,10 @@ impl EditorApp {
             | DialogKind::SaveImage
             | DialogKind::SaveTurntable => None,
         };
+        let usable = |d: &Path| !(writes && is_shipped_presets(d));
         let folder_of = |p: &Path| {
             p.parent()
-                .filter(|d| !d.as_os_str().is_empty() && d.is_dir())
+                .filter(|d| !d.as_os_str().is_empty() && d.is_dir() && usable(d))
                 .map(Path::to_path_buf)
         };
         current
@@ -137,10 +142,11 @@ impl EditorApp {
                 self.ui_state
                     .folders
                     .get(kind.folder_key())
-                    .filter(|d| d.is_dir())
+                    .filter(|d| d.is_dir() && usable(d))
                     .cloned()
             })
             .or_else(|| self.doc.path.as_deref().and_then(folder_of))
+            .or_else(documents_folder)
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default()
     }
@@ -148,9 +154,17 @@ impl EditorApp {
     pub(super) fn open_dialog(&mut self, kind: DialogKind) {
         let dir = self.dialog_folder(&kind);
         let name = match &kind {
-            DialogKind::SaveAs => format!("{}.ron", file_stem(&self.doc.preset.name)),
+            // The look's own file name where it has one (a look opened
+            // from Skin1's file saves as that name, not a second spelling).
+            DialogKind::SaveAs => self
+                .doc
+                .path
+                .as_deref()
+                .and_then(Path::file_name)
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| format!("{}.ron", file_stem(&self.doc.preset.name))),
             DialogKind::Export(f) => {
-                format!("{}.{}", file_stem(&self.doc.preset.name), f.extension())
+                crate::export::export_file_name(&file_stem(&self.doc.preset.name), *f)
             }
             DialogKind::SaveImage => format!(
                 "{}_{}.png",
@@ -347,4 +361,47 @@ impl EditorApp {
             });
         }
     }
+}
+
+/// Whether `dir` is the shipped presets' folder (it holds every shipped
+/// preset file).
+pub(super) fn is_shipped_presets(dir: &Path) -> bool {
+    library::PRESETS
+        .iter()
+        .all(|(file, _)| dir.join(file).is_file())
+}
+
+/// The artist's documents folder: `XDG_DOCUMENTS_DIR` (the environment,
+/// else `user-dirs.dirs` in the XDG config folder, as xdg-user-dirs writes
+/// it), else `~/Documents`, else the home folder; `None` without a home.
+pub(super) fn documents_folder() -> Option<PathBuf> {
+    let home = std::env::var_os("HOME")
+        .or_else(|| std::env::var_os("USERPROFILE"))
+        .map(PathBuf::from)?;
+    let expand = |v: &str| -> PathBuf {
+        let v = v.trim().trim_matches('"');
+        match v.strip_prefix("$HOME") {
+            Some(rest) => home.join(rest.trim_start_matches('/')),
+            None => PathBuf::from(v),
+        }
+    };
+    let from_env = std::env::var("XDG_DOCUMENTS_DIR").ok().map(|v| expand(&v));
+    let from_file = || {
+        let config = std::env::var_os("XDG_CONFIG_HOME")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| home.join(".config"));
+        std::fs::read_to_string(config.join("user-dirs.dirs"))
+            .ok()?
+            .lines()
+            .find_map(|l| {
+                l.trim()
+                    .strip_prefix("XDG_DOCUMENTS_DIR=")
+                    .map(|v| expand(v))
+            })
+    };
+    from_env
+        .or_else(from_file)
+        .filter(|d| d.is_dir())
+        .or_else(|| Some(home.join("Documents")).filter(|d| d.is_dir()))
+        .or(Some(home))
 }

@@ -365,6 +365,29 @@ pub struct ExportOptions {
     pub unreal_substrate_diffusion: bool,
 }
 
+/// The file name an export of the look named `stem` proposes: `stem.ext`,
+/// or `stem_<format id>.ext` where another format writes a file of the
+/// same extension (Unreal's `.py` beside Blender's, the two PNG and the
+/// two EXR targets), so no two formats' files of one look collide.
+pub fn export_file_name(stem: &str, format: Format) -> String {
+    let exts = |f: Format| -> Vec<String> {
+        planned_paths(f, Path::new(&format!("x.{}", f.extension())))
+            .iter()
+            .filter_map(|p| p.extension().map(|e| e.to_string_lossy().into_owned()))
+            .collect()
+    };
+    let mine = exts(format);
+    let shared = Format::all()
+        .iter()
+        .filter(|&&f| f != format)
+        .any(|&f| exts(f).iter().any(|e| mine.contains(e)));
+    if shared {
+        format!("{stem}_{}.{}", format.id(), format.extension())
+    } else {
+        format!("{stem}.{}", format.extension())
+    }
+}
+
 /// Writes `preset` in `format` to `out` (and any companion files) with the
 /// default options; returns every path written. `source` is the preset's
 /// file, for the header.
@@ -434,6 +457,27 @@ mod target_tests {
             kinds.contains("Unreal subsurface profile .txt/.py"),
             "{kinds}"
         );
+    }
+
+    /// Every format's proposed files for one look are distinct from every
+    /// other format's (issue 41: the Blender export proposed the `.py` the
+    /// Unreal export had just written): Unreal's `look_unreal.txt` and
+    /// `look_unreal.py`, Blender's `look_blender.py`.
+    #[test]
+    fn export_names_never_collide_across_formats() {
+        let mut seen: Vec<(PathBuf, Format)> = Vec::new();
+        for &f in Format::all() {
+            let out = PathBuf::from(export_file_name("look", f));
+            for p in planned_paths(f, &out) {
+                if let Some((_, g)) = seen.iter().find(|(q, _)| *q == p) {
+                    panic!("{} and {} both write {}", f.id(), g.id(), p.display());
+                }
+                seen.push((p, f));
+            }
+        }
+        assert_eq!(export_file_name("look", Format::Blender), "look_blender.py");
+        assert_eq!(export_file_name("look", Format::Unreal), "look_unreal.txt");
+        assert_eq!(export_file_name("look", Format::Unity), "look.asset");
     }
 
     #[test]

@@ -493,3 +493,47 @@ fn refine_to_the_truth_fills_tiles_over_the_converged_frame_and_keeps_it() {
     });
     assert_eq!(h.state().viewport_frame().unwrap().0, &truth);
 }
+
+/// File names and folders (issue 41):
+/// - each export proposes a name no other format's files take: Blender
+///   `<look>_blender.py`, Unreal `<look>_unreal.txt` (its script beside it
+///   `<look>_unreal.py`), Unity `<look>.asset` as before;
+/// - Save As on a look opened from the shipped presets' folder starts
+///   elsewhere and proposes the file's own name;
+/// - with nothing remembered and no file, a dialog starts in the
+///   documents or home folder, not the process's working directory.
+#[test]
+fn export_names_and_dialog_folders_do_not_misplace_files() {
+    let mut h = harness(false);
+    h.step();
+    let cwd = std::env::current_dir().unwrap();
+    for (entry, name) in [
+        ("Blender", "skin_default_blender.py"),
+        ("Unreal subsurface profile", "skin_default_unreal.txt"),
+        ("Unity HDRP diffusion profile", "skin_default.asset"),
+    ] {
+        h.get_by_label("Export").click_accesskit();
+        h.run_steps(3);
+        h.get_by_label_contains(entry).click_accesskit();
+        h.run_steps(5);
+        wait_for_file_dialog(&mut h);
+        assert_eq!(name_field(&h).value().unwrap(), name, "{entry}");
+        assert_ne!(h.state().dialog_folder_shown().unwrap(), cwd, "{entry}");
+        h.get_by_label("Cancel").click_accesskit();
+        h.run_steps(2);
+    }
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("presets");
+    let file = shipped.join("skin1_jensen2001.ron");
+    let preset = Preset::load(&file).unwrap();
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), Some((preset, Some(file))), false),
+        [1500.0, 900.0],
+    );
+    h.step();
+    file_menu(&mut h, "Save as…  (Ctrl+Shift+S)");
+    wait_for_file_dialog(&mut h);
+    let folder = h.state().dialog_folder_shown().unwrap();
+    assert_ne!(folder, shipped, "Save As opened the shipped presets");
+    assert_ne!(folder, cwd);
+    assert_eq!(name_field(&h).value().unwrap(), "skin1_jensen2001.ron");
+}
