@@ -393,11 +393,7 @@ pub(super) fn documents_folder() -> Option<PathBuf> {
         std::fs::read_to_string(config.join("user-dirs.dirs"))
             .ok()?
             .lines()
-            .find_map(|l| {
-                l.trim()
-                    .strip_prefix("XDG_DOCUMENTS_DIR=")
-                    .map(|v| expand(v))
-            })
+            .find_map(|l| l.trim().strip_prefix("XDG_DOCUMENTS_DIR=").map(&expand))
     };
     from_env
         .or_else(from_file)
