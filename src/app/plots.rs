@@ -183,8 +183,23 @@ fn legend_entry_ui(ui: &mut egui::Ui, color: Color32, stroke: Stroke, name: &str
     ui.add(egui::Label::new(name).wrap_mode(egui::TextWrapMode::Extend));
 }
 
+/// Whether an overlay fit's numbers are worth drawing: a shape error and a
+/// colour change each under 100 % on every channel. A fit past that (a
+/// Jimenez kernel, which takes the default skin's colour, of Ketchup:
+/// +456 % red) is named, not drawn.
+pub fn overlay_is_sane(o: &super::analysis::Overlay) -> bool {
+    (0..3).all(|c| o.error[c] < 1.0 && o.energy_change[c].abs() < 1.0)
+}
+
 pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
-    let auto = matches!(&app.profile.curves, Some(Ok(c)) if auto_log_radius(c));
+    let chosen = app.ui_state.overlay;
+    let overlay = app
+        .profile
+        .latest
+        .as_ref()
+        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == chosen)
+        .and_then(|a| a.overlay.clone());
+    let auto = app.plot_auto_log_radius();
     controls_ui(ui, &mut app.ui_state, auto);
     let s = &app.ui_state;
     let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
@@ -193,13 +208,9 @@ pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
         PlotQuantity::R => "1/mm²",
         PlotQuantity::RTimesR => "1/mm",
     };
-    let overlay = app
-        .profile
-        .latest
-        .as_ref()
-        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == s.overlay)
-        .and_then(|a| a.overlay.clone());
     let apply = overlay_status_ui(ui, &overlay, s.overlay);
+    // An overlay whose numbers are not sane is named above, not drawn.
+    let overlay = overlay.filter(|o| o.as_ref().map_or(true, overlay_is_sane));
     let b_series = compared_preset_series(ui, app, q, log);
     let plot_rect = match &app.profile.curves {
         Some(Ok(curves)) => Some(profile_plot_ui(
@@ -223,8 +234,16 @@ pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
         }
     };
     app.layout.plot_rect = plot_rect;
-    if let Some(spec) = apply {
+    if let Some((spec, what)) = apply {
         let mut p = app.doc.preset.clone();
+        // The description follows the model: what the look is now, and
+        // what it was fitted to.
+        p.description = format!(
+            "{what} of \"{}\". Before the fit: {}",
+            p.name, p.description
+        )
+        .trim()
+        .to_owned();
         p.profile = spec;
         app.doc.replace(p);
     }
@@ -281,16 +300,23 @@ fn controls_ui(ui: &mut egui::Ui, s: &mut super::state::UiState, auto_log_r: boo
 }
 
 /// The overlay fit's error and its "Use fit" button (returns the fit's
-/// look when pressed), or why there is none, or a spinner while fitting.
+/// look when pressed, and a sentence on what it is), or why there is none,
+/// or a spinner while fitting.
 fn overlay_status_ui(
     ui: &mut egui::Ui,
     overlay: &FitOverlay,
     chosen: OverlayModel,
-) -> Option<crate::settings::ProfileSpec> {
+) -> Option<(crate::settings::ProfileSpec, String)> {
     let mut apply = None;
     match overlay {
         Some(Ok(o)) => {
             ui.horizontal_wrapped(|ui| {
+                if !overlay_is_sane(o) {
+                    ui.colored_label(
+                        ui.visuals().warn_fg_color,
+                        format!("{} cannot hold this look: not drawn (choose another overlay).", o.label),
+                    );
+                }
                 ui.label(format!(
                     "{}: shape error (relative L2 of r·R(r)/total) R {:.2} %, G {:.2} %, B {:.2} %",
                     o.label,
@@ -323,7 +349,16 @@ fn overlay_status_ui(
                     .on_hover_text("Replace the look's model with the fitted one (undoable).")
                     .clicked()
                 {
-                    apply = Some(o.spec.clone());
+                    apply = Some((
+                        o.spec.clone(),
+                        format!(
+                            "A {} (shape error R {:.1} %, G {:.1} %, B {:.1} %)",
+                            o.label,
+                            100.0 * o.error[0],
+                            100.0 * o.error[1],
+                            100.0 * o.error[2]
+                        ),
+                    ));
                 }
             });
         }
@@ -618,7 +653,31 @@ impl EditorApp {
     pub fn plot_log_radius(&self) -> bool {
         self.ui_state
             .log_radius
-            .unwrap_or_else(|| matches!(&self.profile.curves, Some(Ok(c)) if auto_log_radius(c)))
+            .unwrap_or_else(|| self.plot_auto_log_radius())
+    }
+
+    /// The automatic radius axis: logarithmic where any curve drawn needs
+    /// it ([`auto_log_radius`]): the look's, the overlay fit's (when its
+    /// numbers are sane enough to draw) and B's (a narrow B or fit is a
+    /// spike at 0 on a linear axis too).
+    fn plot_auto_log_radius(&self) -> bool {
+        let overlay = self
+            .profile
+            .latest
+            .as_ref()
+            .filter(|a| {
+                a.key.profile == self.doc.preset.profile && a.key.overlay == self.ui_state.overlay
+            })
+            .and_then(|a| a.overlay.as_ref());
+        let b_shown = self.ui_state.compare != CompareMode::Off
+            && matches!(self.ui_state.compare_b, CompareB::Preset(_));
+        matches!(&self.profile.curves, Some(Ok(c)) if auto_log_radius(c))
+            || matches!(overlay, Some(Ok(o)) if overlay_is_sane(o) && auto_log_radius(&o.curves))
+            || (b_shown
+                && matches!(
+                    self.profile.b_curves.as_ref().map(|b| &b.1),
+                    Some(Ok((_, c, _))) if auto_log_radius(c)
+                ))
     }
 
     /// What the main plot draws now, per channel (for tests).

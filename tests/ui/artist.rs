@@ -502,6 +502,8 @@ fn the_radius_axis_goes_log_where_linear_would_be_a_spike() {
     assert_eq!(h.state().ui_state.log_radius, Some(false));
     assert!(h.query_by_label("log r").is_some());
     h.state_mut().ui_state.log_radius = None;
+    // The look's own curves decide here (an overlay's would too).
+    h.state_mut().ui_state.overlay = scatterlab::app::state::OverlayModel::None;
     h.state_mut().doc.preset.profile = ProfileSpec::Gaussians(GaussiansSpec {
         gaussians: vec![GaussianTerm {
             variance_mm2: 4.0,
@@ -512,6 +514,79 @@ fn the_radius_axis_goes_log_where_linear_would_be_a_spike() {
     h.run_steps(3);
     assert!(!h.state().plot_log_radius());
     assert!(h.query_by_label("log r (auto)").is_some());
+}
+
+/// The automatic radius axis looks at every curve drawn (issue 41): one
+/// wide Gaussian alone stays linear, but beside B, the default skin (a
+/// spike at 0 on a linear axis), it goes logarithmic, and back when the
+/// comparison is off.
+#[test]
+fn the_radius_axis_decides_on_every_curve_shown() {
+    use scatterlab::app::state::{CompareB, CompareMode, OverlayModel};
+    use scatterlab::settings::profile::{GaussianTerm, GaussiansSpec};
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-logaxis-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let b = dir.join("skin.ron");
+    Preset::default_skin().save(&b).unwrap();
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().ui_state.overlay = OverlayModel::None;
+    h.state_mut().doc.preset.profile = ProfileSpec::Gaussians(GaussiansSpec {
+        gaussians: vec![GaussianTerm {
+            variance_mm2: 4.0,
+            weights: [0.8, 0.5, 0.3],
+        }],
+        dirac: [0.0; 3],
+    });
+    step_until(&mut h, "the Gaussian's analysis", EditorApp::analysis_done);
+    assert!(!h.state().plot_log_radius());
+    h.state_mut().ui_state.compare = CompareMode::SideBySide;
+    h.state_mut().ui_state.compare_b = CompareB::Preset(b);
+    h.run_steps(3);
+    assert!(
+        h.state().plot_log_radius(),
+        "B's spike at 0 did not turn the axis log"
+    );
+    h.state_mut().ui_state.compare = CompareMode::Off;
+    h.run_steps(2);
+    assert!(!h.state().plot_log_radius());
+}
+
+/// An overlay fit whose numbers are not sane is named and not drawn
+/// (issue 41: Ketchup opened on a Jimenez fit, "colour changes R +455.8 %");
+/// a Burley fit of it is drawn, and "Use fit" gives the look a description
+/// of what it now is and what it was fitted to.
+#[test]
+fn overlays_are_drawn_where_sane_and_a_used_fit_says_what_it_is() {
+    use scatterlab::app::state::OverlayModel;
+    let ketchup = scatterlab::settings::library::load("ketchup_jensen2001.ron").unwrap();
+    let old_description = ketchup.description.clone();
+    let mut state = UiState::default();
+    state.overlay = OverlayModel::Jimenez;
+    let mut h = harness_of(
+        EditorApp::new(None, state, Some((ketchup, None)), false),
+        [1500.0, 900.0],
+    );
+    step_until(&mut h, "Ketchup's Jimenez fit", EditorApp::analysis_done);
+    assert!(h
+        .query_by_label_contains("cannot hold this look: not drawn")
+        .is_some());
+    h.state_mut().ui_state.overlay = OverlayModel::Burley;
+    h.step();
+    step_until(&mut h, "Ketchup's Burley fit", EditorApp::analysis_done);
+    assert!(h.query_by_label_contains("cannot hold this look").is_none());
+    h.get_by_label("Use fit").click_accesskit();
+    h.run_steps(2);
+    let d = &h.state().doc.preset.description;
+    assert!(d.starts_with("A Burley fit"), "{d}");
+    assert!(
+        d.contains("Before the fit:") && d.contains(old_description.trim()),
+        "{d}"
+    );
+    assert!(matches!(
+        h.state().doc.preset.profile,
+        ProfileSpec::Burley(_)
+    ));
 }
 
 /// At 1280×720 each viewport toolbar is one row: the compare modes with
