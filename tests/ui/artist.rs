@@ -561,8 +561,10 @@ fn overlays_are_drawn_where_sane_and_a_used_fit_says_what_it_is() {
     use scatterlab::app::state::OverlayModel;
     let ketchup = scatterlab::settings::library::load("ketchup_jensen2001.ron").unwrap();
     let old_description = ketchup.description.clone();
-    let mut state = UiState::default();
-    state.overlay = OverlayModel::Jimenez;
+    let state = UiState {
+        overlay: OverlayModel::Jimenez,
+        ..Default::default()
+    };
     let mut h = harness_of(
         EditorApp::new(None, state, Some((ketchup, None)), false),
         [1500.0, 900.0],
