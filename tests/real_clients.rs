@@ -948,3 +948,55 @@ fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
         }
     }
 }
+
+/// Blender 5.0.1's own glTF importer on the sphere export (the default
+/// skin, with the draft): it makes the volume a Volume Absorption node
+/// whose colour and density are what the file's extras state for it
+/// (attenuationColor, 1/attenuationDistance), within 1e-3, and a Principled
+/// BSDF with the look's albedo and no subsurface, as the extras say.
+#[test]
+fn blender_imports_the_gltf_as_the_extras_state() {
+    use scatterlab::export::{export_with, ExportOptions, GltfMesh};
+    let dir = tmp_dir("gltf-blender");
+    let out = dir.join("skin.gltf");
+    let p = Preset::default_skin();
+    let options = ExportOptions {
+        gltf_mesh: GltfMesh::Sphere,
+        gltf_volume_scatter: true,
+        ..Default::default()
+    };
+    export_with(&p, None, Format::Gltf, &out, &options).unwrap();
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let stated = file["materials"][0]["extras"]["scatterlab"]["readings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["reader"].as_str().unwrap().starts_with("Blender"))
+        .expect("a Blender reading")["fields"]
+        .clone();
+    let v = run_client(
+        "blender_gltf_volume.py",
+        &[out.to_str().unwrap(), &p.name],
+        &[],
+    );
+    within_1e3(
+        "Volume Absorption colour",
+        &v["absorption_color"],
+        &stated["Volume Absorption.Color"],
+    );
+    within_1e3(
+        "Volume Absorption density",
+        &v["absorption_density"],
+        &stated["Volume Absorption.Density"],
+    );
+    assert_eq!(
+        v["subsurface_weight"].as_f64(),
+        stated["Principled BSDF.Subsurface Weight"].as_f64()
+    );
+    let (burley, _) = burley_of(&p.profile).unwrap();
+    within_1e3(
+        "base colour",
+        &v["base_color"],
+        &serde_json::json!(burley.albedo()),
+    );
+}

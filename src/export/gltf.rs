@@ -214,6 +214,25 @@ pub fn gltf_readings(
         error: 1.0,
         how: "diffuse transmission becomes translucency (light through thin parts); screen-space scattering stays off unless the application turns on its pre-pass, so reflected light does not spread".into(),
     });
+    // Blender 5.0's glTF importer (io_import_scene_gltf2, checked by
+    // tests/clients/blender_gltf_volume.py): the volume as a Volume
+    // Absorption node (Color = attenuationColor, Density =
+    // 1/attenuationDistance) under a Principled BSDF without subsurface;
+    // neither diffuse transmission nor the draft becomes scattering.
+    out.push(Reading {
+        reader: "Blender 5.0 glTF importer",
+        fields: vec![
+            ("Volume Absorption.Color", json!(v.attenuation_color)),
+            (
+                "Volume Absorption.Density",
+                json!(1.0 / v.attenuation_distance_m),
+            ),
+            ("Principled BSDF.Subsurface Weight", json!(0.0)),
+        ],
+        // Light is absorbed in the volume, not spread at the surface.
+        error: 1.0,
+        how: "the volume becomes absorption only (Volume Absorption, density 1/attenuationDistance) and the Principled BSDF gets no subsurface, so reflected light does not spread".into(),
+    });
     if with_scatter {
         let widest = v.mean_free_path_mm.into_iter().fold(0.0, f64::max);
         let drawn = spec;
