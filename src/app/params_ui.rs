@@ -47,28 +47,247 @@ fn rgb_ui(
     swatch: bool,
 ) -> bool {
     // Wraps in a narrow panel rather than widening it.
+    let changed = ui
+        .horizontal_wrapped(|ui| {
+            ui.label(label).on_hover_text(tip);
+            let mut changed = false;
+            for (c, x) in v.iter_mut().enumerate() {
+                changed |= ui
+                    .add(
+                        DragValue::new(x)
+                            .range(range.clone())
+                            .speed(speed)
+                            .max_decimals(5)
+                            .prefix(format!("{}: ", CHANNEL_NAMES[c].to_uppercase()))
+                            .suffix(unit),
+                    )
+                    .on_hover_text(tip)
+                    .changed();
+            }
+            if swatch {
+                changed |= colour_picker_ui(ui, label, v, &range);
+                let id = colour_entry_id(label);
+                let open = ui.data(|d| d.get_temp::<bool>(id).unwrap_or(false));
+                if ui
+                    .selectable_label(open, "#")
+                    .on_hover_text(format!(
+                        "{label}: type the colour as hex, sRGB 0–255 or HSV, or pick a recent one"
+                    ))
+                    .clicked()
+                {
+                    ui.data_mut(|d| d.insert_temp(id, !open));
+                }
+            }
+            changed
+        })
+        .inner;
+    if swatch {
+        changed | colour_entry_ui(ui, label, v, &range)
+    } else {
+        changed
+    }
+}
+
+/// A colour field's colour (linear, 0–1) and multiplier: the field itself
+/// where its range ends at 1, else v / max(v) and max(v) (see
+/// [`colour_picker_ui`]).
+fn colour_parts(v: &Rgb, range: &std::ops::RangeInclusive<f64>) -> ([f64; 3], f64) {
+    let m = v.iter().cloned().fold(0.0, f64::max);
+    let multiplier = if *range.end() > 1.0 && m > 0.0 {
+        m
+    } else {
+        1.0
+    };
+    (v.map(|x| (x / multiplier).clamp(0.0, 1.0)), multiplier)
+}
+
+/// sRGB (0–1, encoded) to HSV: hue in degrees, saturation and value 0–1
+/// (Smith 1978, "Color gamut transform pairs", the hexcone model).
+pub fn hsv_of(c: [f64; 3]) -> [f64; 3] {
+    let max = c.iter().cloned().fold(f64::MIN, f64::max);
+    let min = c.iter().cloned().fold(f64::MAX, f64::min);
+    let d = max - min;
+    let h = if d <= 0.0 {
+        0.0
+    } else if max == c[0] {
+        60.0 * ((c[1] - c[2]) / d).rem_euclid(6.0)
+    } else if max == c[1] {
+        60.0 * ((c[2] - c[0]) / d + 2.0)
+    } else {
+        60.0 * ((c[0] - c[1]) / d + 4.0)
+    };
+    [h, if max > 0.0 { d / max } else { 0.0 }, max]
+}
+
+/// HSV (hue in degrees, S and V 0–1) to sRGB 0–1 (the inverse of
+/// [`hsv_of`]).
+pub fn rgb_of_hsv([h, s, v]: [f64; 3]) -> [f64; 3] {
+    let h = h.rem_euclid(360.0) / 60.0;
+    let c = v * s;
+    let x = c * (1.0 - (h % 2.0 - 1.0).abs());
+    let (r, g, b) = match h as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = v - c;
+    [r + m, g + m, b + m]
+}
+
+/// `#rrggbb` or `rrggbb` (or `#rgb`) as sRGB bytes.
+pub fn parse_hex(text: &str) -> Option<[u8; 3]> {
+    let t = text.trim().trim_start_matches('#');
+    let t: String = if t.len() == 3 {
+        t.chars().flat_map(|c| [c, c]).collect()
+    } else {
+        t.to_owned()
+    };
+    if t.len() != 6 || !t.is_ascii() {
+        return None;
+    }
+    let b = |i: usize| u8::from_str_radix(&t[2 * i..2 * i + 2], 16).ok();
+    Some([b(0)?, b(1)?, b(2)?])
+}
+
+/// Whether a colour field's entry row is open (its "#" toggle).
+fn colour_entry_id(label: &str) -> egui::Id {
+    egui::Id::unique(("colour_entry_open", label))
+}
+
+/// The colour entry under a colour field, behind its "#" toggle: hex,
+/// sRGB 0–255, HSV (on the displayed sRGB, as paint programs give it) and
+/// the session's recent colours. A field past 1 keeps its multiplier.
+/// Returns whether it changed `v`.
+fn colour_entry_ui(
+    ui: &mut Ui,
+    label: &str,
+    v: &mut Rgb,
+    range: &std::ops::RangeInclusive<f64>,
+) -> bool {
+    use crate::export::import::srgb_decode;
+    let recent_id = egui::Id::unique("colour_entry_recent");
+    if !ui.data(|d| d.get_temp::<bool>(colour_entry_id(label)).unwrap_or(false)) {
+        return false;
+    }
+    let (colour, multiplier) = colour_parts(v, range);
+    let srgb = colour.map(super::analysis::linear_to_srgb8);
+    let mut picked: Option<[f64; 3]> = None;
     ui.horizontal_wrapped(|ui| {
-        ui.label(label).on_hover_text(tip);
-        let mut changed = false;
-        for (c, x) in v.iter_mut().enumerate() {
-            changed |= ui
+        ui.add_space(12.0);
+        let hex_id = egui::Id::unique(("colour_entry_hex", label));
+        let mut hex = ui
+            .data(|d| d.get_temp::<String>(hex_id))
+            .unwrap_or_else(|| format!("#{:02x}{:02x}{:02x}", srgb[0], srgb[1], srgb[2]));
+        let r = ui
+            .add(egui::TextEdit::singleline(&mut hex).desired_width(64.0))
+            .on_hover_text("sRGB hex, #rrggbb; Enter applies");
+        if r.lost_focus() {
+            if let Some(b) = parse_hex(&hex) {
+                picked = Some(b.map(|x| srgb_decode(x as f64 / 255.0)));
+            }
+            ui.data_mut(|d| d.remove::<String>(hex_id));
+        } else if r.has_focus() {
+            ui.data_mut(|d| d.insert_temp(hex_id, hex));
+        }
+        let mut bytes = srgb.map(f64::from);
+        let mut moved = [false; 3];
+        for (c, x) in bytes.iter_mut().enumerate() {
+            moved[c] = ui
                 .add(
                     DragValue::new(x)
-                        .range(range.clone())
-                        .speed(speed)
-                        .max_decimals(5)
-                        .prefix(format!("{}: ", CHANNEL_NAMES[c].to_uppercase()))
-                        .suffix(unit),
+                        .range(0.0..=255.0)
+                        .speed(1.0)
+                        .max_decimals(0)
+                        .prefix(format!("{} ", CHANNEL_NAMES[c].to_uppercase()))
+                        .suffix("/255"),
                 )
-                .on_hover_text(tip)
                 .changed();
         }
-        if swatch {
-            changed |= colour_picker_ui(ui, label, v, &range);
+        if moved.iter().any(|m| *m) {
+            // Only the channel moved changes: the others keep their exact
+            // value, not its nearest byte.
+            picked = Some(std::array::from_fn(|c| {
+                if moved[c] {
+                    srgb_decode(bytes[c].round() / 255.0)
+                } else {
+                    colour[c]
+                }
+            }));
         }
-        changed
-    })
-    .inner
+        let enc = colour.map(|x| super::analysis::linear_to_srgb8(x) as f64 / 255.0);
+        let [h, s, val] = hsv_of(enc);
+        let (mut h, mut s100, mut v100) = (h, s * 100.0, val * 100.0);
+        let mut hsv_changed = ui
+            .add(
+                DragValue::new(&mut h)
+                    .range(0.0..=360.0)
+                    .speed(1.0)
+                    .max_decimals(1)
+                    .prefix("H ")
+                    .suffix("°"),
+            )
+            .changed();
+        hsv_changed |= ui
+            .add(
+                DragValue::new(&mut s100)
+                    .range(0.0..=100.0)
+                    .speed(0.5)
+                    .max_decimals(1)
+                    .prefix("S ")
+                    .suffix(" %"),
+            )
+            .changed();
+        hsv_changed |= ui
+            .add(
+                DragValue::new(&mut v100)
+                    .range(0.0..=100.0)
+                    .speed(0.5)
+                    .max_decimals(1)
+                    .prefix("V ")
+                    .suffix(" %"),
+            )
+            .changed();
+        if hsv_changed {
+            picked = Some(rgb_of_hsv([h, s100 / 100.0, v100 / 100.0]).map(srgb_decode));
+        }
+        let recent: Vec<[f64; 3]> = ui.data(|d| d.get_temp(recent_id).unwrap_or_default());
+        for (i, r) in recent.iter().enumerate() {
+            let c = r.map(super::analysis::linear_to_srgb8);
+            let (rect, resp) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), egui::Sense::click());
+            ui.painter()
+                .rect_filled(rect, 2.0, egui::Color32::from_rgb(c[0], c[1], c[2]));
+            let name = format!("recent colour {}", i + 1);
+            resp.widget_info(|| {
+                egui::WidgetInfo::labeled(egui::accesskit::Role::Button, true, &name)
+            });
+            if resp
+                .on_hover_text(format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))
+                .clicked()
+            {
+                picked = Some(*r);
+            }
+        }
+    });
+    let Some(p) = picked else {
+        return false;
+    };
+    let (lo, hi) = (*range.start(), *range.end());
+    let new: Rgb = std::array::from_fn(|c| (p[c] * multiplier).clamp(lo, hi));
+    if new == *v {
+        return false;
+    }
+    // The colour left behind joins the recent ones (at most 8, newest first).
+    ui.data_mut(|d| {
+        let list: &mut Vec<[f64; 3]> = d.get_temp_mut_or_default(recent_id);
+        list.retain(|c| *c != colour);
+        list.insert(0, colour);
+        list.truncate(8);
+    });
+    *v = new;
+    true
 }
 
 /// The swatch of an RGB field, a button that opens egui's colour picker
@@ -768,5 +987,41 @@ fn specular_ui(ui: &mut Ui, ior: &mut f64, world_scale: &mut f64, s: &mut DualLo
     ];
     for (label, tip, v, range) in rows {
         scalar_ui(ui, label, "", tip, v, span(range), 0.005);
+    }
+}
+
+#[cfg(test)]
+mod colour_entry_tests {
+    use super::*;
+
+    /// The hexcone HSV (Smith 1978) of the primaries and a mid grey, and
+    /// back: red 0°, green 120°, blue 240°, each S = V = 1; grey S = 0.
+    #[test]
+    fn hsv_of_known_colours_and_back() {
+        for (rgb, hsv) in [
+            ([1.0, 0.0, 0.0], [0.0, 1.0, 1.0]),
+            ([0.0, 1.0, 0.0], [120.0, 1.0, 1.0]),
+            ([0.0, 0.0, 1.0], [240.0, 1.0, 1.0]),
+            ([1.0, 1.0, 0.0], [60.0, 1.0, 1.0]),
+            ([0.5, 0.5, 0.5], [0.0, 0.0, 0.5]),
+        ] {
+            let got = hsv_of(rgb);
+            for c in 0..3 {
+                assert!((got[c] - hsv[c]).abs() < 1e-12, "{rgb:?}: {got:?}");
+            }
+            let back = rgb_of_hsv(got);
+            for c in 0..3 {
+                assert!((back[c] - rgb[c]).abs() < 1e-12, "{rgb:?}: {back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn hex_parses_as_artists_type_it() {
+        assert_eq!(parse_hex("#f59d8e"), Some([0xf5, 0x9d, 0x8e]));
+        assert_eq!(parse_hex("F59D8E"), Some([0xf5, 0x9d, 0x8e]));
+        assert_eq!(parse_hex("#fa0"), Some([0xff, 0xaa, 0x00]));
+        assert_eq!(parse_hex("#f59d8"), None);
+        assert_eq!(parse_hex("#zz9d8e"), None);
     }
 }

@@ -822,3 +822,40 @@ fn preset_browser_renders_thumbnails_once_and_opens_a_preset() {
     assert!(h2.state().preset_browser().is_none());
     std::fs::remove_dir_all(&cache).unwrap();
 }
+
+/// The colour entry behind a colour field's "#" (issue 41): sRGB 0–255
+/// and HSV numbers edit the field (linear, as the field holds it: 255 red
+/// is 1.0), and the colour left behind is offered among the recent ones,
+/// one click bringing it back.
+#[test]
+fn colours_take_srgb_bytes_hsv_and_recent_colours() {
+    let mut h = harness(false);
+    h.step();
+    let before = match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => b.albedo,
+        _ => unreachable!(),
+    };
+    h.get_all_by_label("#").next().unwrap().click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("R /255").set_value_accesskit(255.0);
+    h.run_steps(2);
+    let albedo = |h: &egui_kittest::Harness<'_, EditorApp>| match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => b.albedo,
+        _ => unreachable!(),
+    };
+    assert!((albedo(&h)[0] - 1.0).abs() < 1e-9, "{:?}", albedo(&h));
+    assert_eq!(albedo(&h)[1], before[1]);
+    // V 50 %: the brightest sRGB channel at half (linear 0.214).
+    h.get_by_label("V %").set_value_accesskit(50.0);
+    h.run_steps(2);
+    let a = albedo(&h);
+    let max = a.iter().cloned().fold(0.0, f64::max);
+    assert!((max - 0.214).abs() < 0.002, "{a:?}");
+    // The first colour (the look's own) is among the recent ones.
+    h.get_by_label("recent colour 2").click_accesskit();
+    h.run_steps(2);
+    let back = albedo(&h);
+    for c in 0..3 {
+        assert!((back[c] - before[c]).abs() < 1e-9, "{back:?} vs {before:?}");
+    }
+}
