@@ -100,7 +100,7 @@ impl EditorApp {
     /// Opens a budget report's merges in their window.
     pub fn open_budget(&mut self, pairs: BudgetPairs) {
         self.say(format!(
-            "Budget {}: {} merges; 'Compare with merge' opens a profile beside it",
+            "Budget {}: {} merges; 'A | B' opens a profile beside its merge",
             pairs.dir.display(),
             pairs.merges.len()
         ));
@@ -123,11 +123,19 @@ impl EditorApp {
         };
         let mut open = self.dialogs.budget_open;
         let mut chosen = None;
+        // Inside the viewport, clear of both panels (at 1280×720 the
+        // viewport is under 500 points wide).
+        let (pos, width) = match self.layout.viewport_rect {
+            Some(r) => (
+                r.left_top() + egui::vec2(8.0, 8.0),
+                (r.width() - 16.0).clamp(280.0, 460.0),
+            ),
+            None => (egui::pos2(330.0, 96.0), 460.0),
+        };
         egui::Window::new("Budget merges")
             .open(&mut open)
-            .default_width(460.0)
-            // Over the viewport's left, clear of the Look panel.
-            .default_pos([330.0, 96.0])
+            .default_width(width)
+            .default_pos(pos)
             .show(ctx, |ui| {
                 ui.label(pairs.dir.display().to_string());
                 egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
@@ -135,10 +143,10 @@ impl EditorApp {
                         ui.strong(format!("{}. {}", i + 1, m.name));
                         egui::Grid::new(("budget", i)).striped(true).show(ui, |ui| {
                             ui.label("profile");
-                            ui.label("materials");
-                            ui.label("shape error").on_hover_text("worst channel's relative L2 error of r·R(r), energy-normalised; 1 = no scattering at all");
-                            ui.label("tint ΔE*ab");
-                            ui.label("ΔL* mean").on_hover_text("CIE lightness difference on the rendered head, old against merged");
+                            ui.label("mat.").on_hover_text("materials that use the profile");
+                            ui.label("shape").on_hover_text("shape error: the worst channel's relative L2 error of r·R(r), energy-normalised; 1 = no scattering at all");
+                            ui.label("tint ΔE").on_hover_text("CIE 1976 ΔE*ab of the transmission tint");
+                            ui.label("ΔL*").on_hover_text("mean CIE lightness difference on the rendered head, old against merged (— where not rendered)");
                             ui.label("");
                             ui.end_row();
                             for mem in &m.members {
@@ -148,8 +156,8 @@ impl EditorApp {
                                 ui.label(format!("{:.2}", mem.tint_delta_e));
                                 ui.label(mem.delta_l_mean.map_or("—".into(), |d| format!("{d:.2}")));
                                 if ui
-                                    .button("Compare with merge")
-                                    .on_hover_text(format!("A: {}; B: the merge, side by side", mem.name))
+                                    .button("A | B")
+                                    .on_hover_text(format!("Compare: A {}, B the merge, side by side", mem.name))
                                     .clicked()
                                 {
                                     chosen = Some(mem.clone());

@@ -219,39 +219,27 @@ fn colour_entry_ui(
         }
         let enc = colour.map(|x| super::analysis::linear_to_srgb8(x) as f64 / 255.0);
         let [h, s, val] = hsv_of(enc);
-        let (mut h, mut s100, mut v100) = (h, s * 100.0, val * 100.0);
-        let mut hsv_changed = ui
-            .add(
-                DragValue::new(&mut h)
-                    .range(0.0..=360.0)
-                    .speed(1.0)
-                    .max_decimals(1)
-                    .prefix("H ")
-                    .suffix("°"),
-            )
-            .changed();
-        hsv_changed |= ui
-            .add(
-                DragValue::new(&mut s100)
-                    .range(0.0..=100.0)
-                    .speed(0.5)
-                    .max_decimals(1)
-                    .prefix("S ")
-                    .suffix(" %"),
-            )
-            .changed();
-        hsv_changed |= ui
-            .add(
-                DragValue::new(&mut v100)
-                    .range(0.0..=100.0)
-                    .speed(0.5)
-                    .max_decimals(1)
-                    .prefix("V ")
-                    .suffix(" %"),
-            )
-            .changed();
+        // Hue in degrees, saturation and value in %.
+        let mut hsv = [h, s * 100.0, val * 100.0];
+        let mut hsv_changed = false;
+        for (x, (prefix, suffix, max, speed)) in hsv.iter_mut().zip([
+            ("H ", "°", 360.0, 1.0),
+            ("S ", " %", 100.0, 0.5),
+            ("V ", " %", 100.0, 0.5),
+        ]) {
+            hsv_changed |= ui
+                .add(
+                    DragValue::new(x)
+                        .range(0.0..=max)
+                        .speed(speed)
+                        .max_decimals(1)
+                        .prefix(prefix)
+                        .suffix(suffix),
+                )
+                .changed();
+        }
         if hsv_changed {
-            picked = Some(rgb_of_hsv([h, s100 / 100.0, v100 / 100.0]).map(srgb_decode));
+            picked = Some(rgb_of_hsv([hsv[0], hsv[1] / 100.0, hsv[2] / 100.0]).map(srgb_decode));
         }
         let recent: Vec<[f64; 3]> = ui.data(|d| d.get_temp(recent_id).unwrap_or_default());
         for (i, r) in recent.iter().enumerate() {

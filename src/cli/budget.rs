@@ -331,7 +331,12 @@ impl BudgetArgs {
             "# Diffusion profile budget: {}\n\n{summary}.\n\n",
             self.project.display()
         ));
-        md.push_str("Each material's cost is the worst channel's shape error of r·R(r) (energy-normalised, the measure `scatterlab fit` and `convert` report: 1 is as far as drawing no scattering at all), plus the transmission tint's CIE 1976 ΔE*ab / 100, plus 1 for each of the texturing and transmission modes that changes; the merges minimise its sum over the materials. HDRP keeps the albedo in the material, so the heads are rendered with the default skin's albedo, old profile on the left, merged on the right, the difference's |ΔL*| (CIE lightness) on the far right.\n\n");
+        md.push_str("Each material's cost is the worst channel's shape error of r·R(r) (energy-normalised, the measure `scatterlab fit` and `convert` report: 1 is as far as drawing no scattering at all), plus the transmission tint's CIE 1976 ΔE*ab / 100, plus 1 for each of the texturing and transmission modes that changes; the merges minimise its sum over the materials.");
+        md.push_str(if self.no_renders {
+            " The heads were not rendered (`--no-renders`).\n\n"
+        } else {
+            " HDRP keeps the albedo in the material, so the heads are rendered with the default skin's albedo, old profile on the left, merged on the right, the difference's |ΔL*| (CIE lightness) on the far right.\n\n"
+        });
         if !scan.unresolved.is_empty() {
             md.push_str(&format!(
                 "{} material references name no profile in the project (a deleted or package profile); they are left as they are:\n\n",

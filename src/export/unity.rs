@@ -97,7 +97,12 @@ pub fn unity_asset(
     let r = &preset.rendering;
     let u = UnityProfile::from_burley(&burley, r.world_scale_m_per_unit)?;
     let lobes = unity_dual_lobe(preset);
-    let name = yaml_name(file_stem);
+    let header = mono_behaviour(
+        11400000,
+        0,
+        project::PROFILE_SCRIPT_GUID,
+        &yaml_name(file_stem),
+    );
     Ok(format!(
         "%YAML 1.1
 %TAG !u! tag:unity3d.com,2011:
@@ -112,19 +117,7 @@ pub fn unity_asset(
 # colour/multiplier split) was checked against HDRP 15-17, not older ones. The smoothness multipliers reproduce scatterlab's roughness
 # multipliers exactly at a base roughness of {} (HDRP scales smoothness,
 # scatterlab and Unreal scale roughness); lobeMix weights the smoother lobe.
---- !u!114 &11400000
-MonoBehaviour:
-  m_ObjectHideFlags: 0
-  m_CorrespondingSourceObject: {{fileID: 0}}
-  m_PrefabInstance: {{fileID: 0}}
-  m_PrefabAsset: {{fileID: 0}}
-  m_GameObject: {{fileID: 0}}
-  m_Enabled: 1
-  m_EditorHideFlags: 0
-  m_Script: {{fileID: 11500000, guid: b2686e09ec7aef44bad2843e4416f057, type: 3}}
-  m_Name: {name}
-  m_EditorClassIdentifier: 
-  profile:
+{header}  profile:
     scatteringDistance: {}
     scatteringDistanceMultiplier: {}
     transmissionTint: {}
@@ -165,6 +158,32 @@ MonoBehaviour:
         r.ior,
         profile_hash(file_stem),
     ))
+}
+
+/// The head of a ScriptableObject's YAML document as Unity writes it
+/// (`--- !u!114 &ID` and the MonoBehaviour's fixed fields, up to
+/// `m_EditorClassIdentifier`): a profile asset, a volume profile and its
+/// components all start so.
+pub(super) fn mono_behaviour(
+    file_id: u64,
+    hide_flags: u8,
+    script_guid: &str,
+    name: &str,
+) -> String {
+    format!(
+        "--- !u!114 &{file_id}
+MonoBehaviour:
+  m_ObjectHideFlags: {hide_flags}
+  m_CorrespondingSourceObject: {{fileID: 0}}
+  m_PrefabInstance: {{fileID: 0}}
+  m_PrefabAsset: {{fileID: 0}}
+  m_GameObject: {{fileID: 0}}
+  m_Enabled: 1
+  m_EditorHideFlags: 0
+  m_Script: {{fileID: 11500000, guid: {script_guid}, type: 3}}
+  m_Name: {name}
+  m_EditorClassIdentifier: \n"
+    )
 }
 
 /// A name safe as a plain YAML scalar.

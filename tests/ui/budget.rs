@@ -43,7 +43,7 @@ fn budget_merges_open_as_compare_pairs() {
     h.run_steps(4);
     h.get_by_label_contains("Merged Skin_Villager_A + Skin_Villager_B");
     h.get_by_label("0.0123");
-    h.get_by_label("Compare with merge").click();
+    h.get_by_label("A | B").click();
     h.run_steps(4);
     let app = h.state();
     assert_eq!(app.doc.preset.name, "Skin_Villager_A");

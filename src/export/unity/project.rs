@@ -333,40 +333,11 @@ pub fn profile_list_asset(name: &str, guids: &[String]) -> String {
         .iter()
         .map(|g| format!("    - {{fileID: 11400000, guid: {g}, type: 2}}\n"))
         .collect();
+    let component: u64 = 8160297439640018483;
     format!(
-        "%YAML 1.1
-%TAG !u! tag:unity3d.com,2011:
---- !u!114 &11400000
-MonoBehaviour:
-  m_ObjectHideFlags: 0
-  m_CorrespondingSourceObject: {{fileID: 0}}
-  m_PrefabInstance: {{fileID: 0}}
-  m_PrefabAsset: {{fileID: 0}}
-  m_GameObject: {{fileID: 0}}
-  m_Enabled: 1
-  m_EditorHideFlags: 0
-  m_Script: {{fileID: 11500000, guid: {VOLUME_PROFILE_SCRIPT_GUID}, type: 3}}
-  m_Name: {name}
-  m_EditorClassIdentifier: 
-  components:
-  - {{fileID: 8160297439640018483}}
---- !u!114 &8160297439640018483
-MonoBehaviour:
-  m_ObjectHideFlags: 3
-  m_CorrespondingSourceObject: {{fileID: 0}}
-  m_PrefabInstance: {{fileID: 0}}
-  m_PrefabAsset: {{fileID: 0}}
-  m_GameObject: {{fileID: 0}}
-  m_Enabled: 1
-  m_EditorHideFlags: 0
-  m_Script: {{fileID: 11500000, guid: {PROFILE_LIST_SCRIPT_GUID}, type: 3}}
-  m_Name: DiffusionProfileList
-  m_EditorClassIdentifier: 
-  active: 1
-  diffusionProfiles:
-    m_OverrideState: 1
-    m_Value:
-{items}"
+        "%YAML 1.1\n%TAG !u! tag:unity3d.com,2011:\n{}  components:\n  - {{fileID: {component}}}\n{}  active: 1\n  diffusionProfiles:\n    m_OverrideState: 1\n    m_Value:\n{items}",
+        super::mono_behaviour(11400000, 0, VOLUME_PROFILE_SCRIPT_GUID, name),
+        super::mono_behaviour(component, 3, PROFILE_LIST_SCRIPT_GUID, "DiffusionProfileList"),
     )
 }
 
