@@ -19,6 +19,7 @@ const SPECULAR_DUAL_GGX: u32 = 0u;
 const SPECULAR_KELEMEN: u32 = 1u;
 const MAP_MODULATES: u32 = 0u;
 const MAP_ABSOLUTE: u32 = 1u;
+const MAP_LOOK: u32 = 2u;
 // The diffuse target's alpha where there is no skin (the SSS passes' edge
 // convention, sss_common.wgsl), beside its Rust twin.
 const DIFFUSE_ALPHA_NOT_SKIN: f32 = -1.0;
@@ -392,6 +393,9 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     let l = light.xyz;
     let light_radiance = u.light_radiance.rgb * light.w;
     var albedo = select(u.surface_albedo.rgb * 2.0 * albedo_tex, albedo_tex, u.albedo_map_mode == MAP_ABSOLUTE);
+    if (u.albedo_map_mode == MAP_LOOK) {
+        albedo = u.surface_albedo.rgb;
+    }
     var mask = clamp(mask_tex, 0.0, 1.0);
     var cornea = 0.0;
     if (i.material > 0.5 && i.material < 1.5) {

@@ -709,3 +709,62 @@ fn a_methods_own_tables_render_like_the_full_inputs() {
         );
     }
 }
+
+/// A mesh's own colour map and the look's colour (`MapColour`). With a
+/// uniform map of colour c, "tinted" draws A · c / c = A: the frame must
+/// be the "look's albedo" frame (the same pixels up to rounding), and
+/// "the map's colour" must draw c, whatever A is. The default head's
+/// modulating map ignores the choice.
+#[test]
+fn a_colour_map_draws_its_own_colour_or_the_looks() {
+    use scatterlab::render::textures::{AlbedoMode, MapColour, TextureImage};
+    let inp = inputs();
+    let mut head = Mesh::default_head_without_maps().unwrap();
+    let maps = std::sync::Arc::make_mut(&mut head.textures);
+    // A green-grey map, far from the default skin's red.
+    maps.albedo = TextureImage::solid(&[90, 140, 100, 255]);
+    maps.albedo_mode = AlbedoMode::Absolute;
+    let mut r = Renderer::new(GpuContext::new_headless().unwrap(), &head).unwrap();
+    let frame = |r: &mut Renderer, map_colour| {
+        let s = RenderSettings {
+            map_colour,
+            ..small_frame(Method::Burley)
+        };
+        r.render(&inp, &s).unwrap().0
+    };
+    let tinted = frame(&mut r, MapColour::Tinted);
+    let look = frame(&mut r, MapColour::Look);
+    let map = frame(&mut r, MapColour::Map);
+    let worst = tinted
+        .pixels()
+        .zip(look.pixels())
+        .flat_map(|(a, b)| (0..3).map(move |c| a[c].abs_diff(b[c])))
+        .max()
+        .unwrap();
+    assert!(
+        worst <= 2,
+        "tinted by a uniform map differs from the look's albedo by {worst}"
+    );
+    // The face's middle: the look's colour is red (skin), the map's green.
+    let mid = |img: &RgbaImage| *img.get_pixel(48, 48);
+    let (l, m) = (mid(&look), mid(&map));
+    assert!(
+        l[0] as i32 - l[1] as i32 > 20,
+        "the look's albedo draws {l:?}"
+    );
+    assert!(m[1] > m[0], "the map's colour draws {m:?}");
+    // The default head's map modulates A whatever the choice says.
+    let mut d = renderer();
+    let a = d
+        .render(
+            &inp,
+            &RenderSettings {
+                map_colour: MapColour::Look,
+                ..small_frame(Method::Burley)
+            },
+        )
+        .unwrap()
+        .0;
+    let b = d.render(&inp, &small_frame(Method::Burley)).unwrap().0;
+    assert_eq!(a.as_raw(), b.as_raw());
+}

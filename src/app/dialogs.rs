@@ -15,6 +15,7 @@ impl EditorApp {
     pub fn modal_prompt_open(&self) -> bool {
         self.dialogs.pending.is_some()
             || self.dialogs.overwrite.is_some()
+            || self.dialogs.albedo_prompt.is_some()
             || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
@@ -49,6 +50,7 @@ impl EditorApp {
         self.maps_window_ui(ctx);
         self.overwrite_prompt_ui(ctx);
         self.unsaved_prompt_ui(ctx);
+        self.albedo_prompt_ui(ctx);
         self.file_dialog_ui(ctx);
         self.turntable_window_ui(ctx);
         self.browser_window_ui(ctx);
@@ -353,7 +355,10 @@ impl EditorApp {
                 DialogKind::SaveAs => self.save_as(&path),
                 DialogKind::Export(f) => self.export(f, path),
                 DialogKind::CompareB => match super::viewport::load_look(&path) {
-                    Ok(_) => self.ui_state.compare_b = CompareB::Preset(path),
+                    Ok(b) => {
+                        self.ui_state.compare_b = CompareB::Preset(path);
+                        self.ask_b_albedo(&b);
+                    }
                     Err(e) => {
                         self.say(format!("Error: {e}"));
                         *close = false;

@@ -40,9 +40,11 @@ impl EditorApp {
     pub fn open_now(&mut self, path: &Path) {
         match Preset::load(path) {
             Ok(p) => {
+                let before = super::albedo::look_albedo(&self.doc.preset);
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
                 self.say(format!("Opened {}", path.display()));
+                self.ask_document_albedo(before);
             }
             Err(e) => self.say(format!("Error: {e}")),
         }
@@ -94,7 +96,9 @@ impl EditorApp {
             Pending::Open(p) => self.open_now(&p),
             Pending::New(p) => {
                 self.say(format!("New look from \"{}\"", p.name));
+                let before = super::albedo::look_albedo(&self.doc.preset);
                 self.doc = Document::new(*p, None);
+                self.ask_document_albedo(before);
             }
             Pending::Quit => self.allow_close = true,
         }

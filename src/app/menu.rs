@@ -276,6 +276,8 @@ impl EditorApp {
         ui.separator();
         params_ui::model_picker_ui(ui, &mut p.profile);
         params_ui::model_params_ui(ui, &mut p.profile);
+        self.map_colour_ui(ui);
+        let p = &mut self.doc.preset;
         // The model's error, from the last build (never rebuilt per frame:
         // layered stacks take seconds).
         if let Some(Err(e)) = &self.profile.curves {

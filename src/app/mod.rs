@@ -2,6 +2,7 @@
 //! the middle (render thread, `viewport.rs`), plots on the right; presets,
 //! undo, compare and export from the menu bar.
 
+mod albedo;
 pub mod analysis;
 mod autosave;
 pub mod browser;
@@ -264,6 +265,7 @@ impl EditorApp {
                 pending: None,
                 after_save: None,
                 overwrite: None,
+                albedo_prompt: None,
                 export_notes: None,
                 turntable_open: false,
                 browser: None,

@@ -803,7 +803,12 @@ pub fn rendering_ui(ui: &mut Ui, r: &mut RenderingSpec) {
         ior,
         world_scale_m_per_unit,
         specular,
+        albedo_in_material,
     } = r;
+    if *albedo_in_material {
+        ui.label("Albedo: the material's")
+            .on_hover_text("This look's engine keeps the albedo in the material (HDRP), so its file has none: the Albedo above is the material albedo it is drawn with, chosen when it was opened.");
+    }
     method_ui(ui, method, (samples, taps), lod);
     texturing_ui(ui, texturing);
     transmission_ui(ui, transmission, thickness_remap_mm, transmission_tint);

@@ -393,9 +393,23 @@ fn compared_preset_series(
         (_, CompareB::Preset(path), Some(Ok(curves))) => {
             let r_max = curves.radius_mm.last().copied();
             let a_spec = &app.doc.preset.profile;
-            let key = (path.clone(), r_max.map(f64::to_bits), format!("{a_spec:?}"));
+            // B's material albedo (`albedo.rs`) is part of what it draws.
+            let key = (
+                path.clone(),
+                r_max.map(f64::to_bits),
+                format!(
+                    "{a_spec:?} {:?} {:?}",
+                    app.ui_state.b_material_albedo,
+                    app.colour_map_mean()
+                ),
+            );
             if app.profile.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
                 let loaded = super::viewport::load_look(path).and_then(|p| {
+                    let (p, _, albedo) = app.b_drawn(p);
+                    let name = match albedo {
+                        Some(a) => format!("{} ({a} albedo)", p.name),
+                        None => p.name.clone(),
+                    };
                     if super::analysis::is_slow(&p.profile) || super::analysis::is_slow(a_spec) {
                         return Err("layered stacks are not overlaid".into());
                     }
@@ -404,7 +418,7 @@ fn compared_preset_series(
                     // How far B's r·R(r) is from A's, to A's 99.7 % radius.
                     let reach = a.radius_for_energy(0.997);
                     let d = crate::model::relative_l2_rr(a.as_ref(), m.as_ref(), reach);
-                    Ok((p.name, Curves::of(m.as_ref(), r_max), d))
+                    Ok((name, Curves::of(m.as_ref(), r_max), d))
                 });
                 app.profile.b_curves = Some((key, loaded));
             }

@@ -333,6 +333,33 @@ impl Default for CompareB {
     }
 }
 
+/// The albedo a look is drawn and compared with when its engine keeps the
+/// albedo in the material (`RenderingSpec::albedo_in_material`: an HDRP
+/// profile, whose file has none).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum MaterialAlbedo {
+    /// Look A's albedo: the question "how far is my look from this
+    /// engine's profile?" with the colour held equal.
+    #[default]
+    LookA,
+    /// The head's colour map as the engine's material would use it (the
+    /// map's mean colour stands for it in the plots).
+    Map,
+    /// A colour the artist typed (linear RGB).
+    Typed([f64; 3]),
+}
+
+impl MaterialAlbedo {
+    /// Short, for the compare row ("B's albedo: …").
+    pub fn label(self) -> String {
+        match self {
+            MaterialAlbedo::LookA => "A's".into(),
+            MaterialAlbedo::Map => "the head's map".into(),
+            MaterialAlbedo::Typed(c) => format!("typed {:.3}/{:.3}/{:.3}", c[0], c[1], c[2]),
+        }
+    }
+}
+
 /// Camera and light, as the viewport's mouse controls change them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(from = "StoredViewState")]
@@ -556,6 +583,13 @@ pub struct UiState {
     pub refine_to_truth: bool,
     /// File → Save turntable's settings.
     pub turntable: TurntableSettings,
+    /// The material albedo a B whose engine keeps the albedo in the
+    /// material is drawn with, and whether the artist has been asked.
+    pub b_material_albedo: MaterialAlbedo,
+    pub b_material_albedo_asked: bool,
+    /// On a mesh with a colour map: the map's colour, tinted by the
+    /// look's albedo, or the look's albedo alone.
+    pub map_colour: crate::render::textures::MapColour,
 }
 
 impl Default for UiState {
@@ -579,6 +613,9 @@ impl Default for UiState {
             folders: Default::default(),
             refine_to_truth: false,
             turntable: Default::default(),
+            b_material_albedo: MaterialAlbedo::LookA,
+            b_material_albedo_asked: false,
+            map_colour: Default::default(),
         }
     }
 }

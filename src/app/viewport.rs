@@ -38,14 +38,23 @@ use thread::*;
 pub struct Look {
     pub profile: ProfileSpec,
     pub rendering: RenderingSpec,
+    /// Where the surface colour comes from on a mesh with a colour map.
+    pub map_colour: crate::render::textures::MapColour,
 }
 
 impl Look {
+    /// `p`, on a colour map drawn in the map's colour.
     pub fn of(p: &Preset) -> Self {
         Self {
             profile: p.profile.clone(),
             rendering: p.rendering.clone(),
+            map_colour: Default::default(),
         }
+    }
+
+    /// With the surface colour from `map_colour`.
+    pub fn with_map_colour(self, map_colour: crate::render::textures::MapColour) -> Self {
+        Self { map_colour, ..self }
     }
 }
 
@@ -206,6 +215,10 @@ pub struct MeshInfo {
     pub metres_per_unit: f32,
     /// Camera distance (m) at which the mesh fills the view.
     pub framing_distance_m: f32,
+    /// The mean linear colour of the mesh's own colour map
+    /// ([`crate::render::textures::albedo_map_mean`]); `None` without one
+    /// (the default head's map only modulates the look's colour).
+    pub colour_map_mean: Option<[f32; 3]>,
 }
 
 /// What the thread sends back.
@@ -475,7 +488,10 @@ pub fn render_settings(look: &Look, view: &ViewState, size: (u32, u32)) -> Rende
         EnvironmentChoice::Map => view.environment_map_sh.unwrap_or(studio),
     }
     .map(|c| c.map(|v| v * view.environment_intensity));
-    RenderSettings::for_look(&look.rendering, view.orbit, env, size)
+    RenderSettings {
+        map_colour: look.map_colour,
+        ..RenderSettings::for_look(&look.rendering, view.orbit, env, size)
+    }
 }
 
 /// The renderer and what it was last given, on the render thread.
@@ -611,6 +627,10 @@ impl Worker {
             metres_per_unit: mesh_data.metres_per_unit,
             framing_distance_m: mesh_data
                 .framing_distance_m(crate::settings::OrbitView::default().fov_y_rad),
+            colour_map_mean: (mesh_data.textures.albedo_mode
+                == crate::render::textures::AlbedoMode::Absolute)
+                .then(|| crate::render::textures::albedo_map_mean(&mesh_data.textures.albedo))
+                .flatten(),
         });
         self.pending_maps = bake_later.then_some(mesh_data);
         if timings_on() {

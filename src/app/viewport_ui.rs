@@ -121,17 +121,35 @@ impl EditorApp {
                         ui.close();
                     }
                 });
+                if matches!(self.ui_state.compare_b, CompareB::Preset(_)) {
+                    self.b_albedo_ui(ui);
+                }
                 // How far a file's look is from A: what the round trip costs.
                 if let (CompareB::Preset(_), Some((_, Ok((_, _, d))))) =
                     (&self.ui_state.compare_b, self.profile.b_curves.as_ref())
                 {
+                    let albedo = self.b_albedo_note();
+                    let others = match &self.profile.b_look_cache {
+                        Some((_, _, Ok(b))) => super::albedo::differing_fields(&self.doc.preset, b),
+                        _ => Vec::new(),
+                    };
                     ui.label(format!(
-                        "B − A: {:.1} / {:.1} / {:.1} %",
+                        "B − A: {:.1} / {:.1} / {:.1} %{}",
                         100.0 * d[0],
                         100.0 * d[1],
-                        100.0 * d[2]
+                        100.0 * d[2],
+                        albedo.as_ref().map_or(String::new(), |a| format!(" ({a})"))
                     ))
-                    .on_hover_text("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.");
+                    .on_hover_text(format!("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.{}", match albedo {
+                        Some(a) => format!(" B's engine keeps the albedo in the material, so B is {a}: what differs is the profile's shape and B's other fields (its world scale and transmission mode in the Engines panel)."),
+                        None => String::new(),
+                    }));
+                    if !others.is_empty() {
+                        let names: Vec<&str> = others.iter().map(|(n, _)| *n).collect();
+                        let details: Vec<&str> = others.iter().map(|(_, d)| d.as_str()).collect();
+                        ui.label(format!("also differs: {}", names.join(", ")))
+                            .on_hover_text(format!("B's engine-side fields that differ from A's, which the r·R(r) difference does not show:\n{}", details.join("\n")));
+                    }
                 }
                 if self.ui_state.compare == CompareMode::Difference {
                     ui.add_enabled(
@@ -333,11 +351,15 @@ impl EditorApp {
                         Some(e) if e.0 == *path && e.1 == modified => e,
                         _ => (path.clone(), modified, viewport::load_look(path)),
                     };
-                    let look = entry.2.clone().map(|p| viewport::Look::of(&p));
+                    let look = entry.2.clone().map(|p| {
+                        let (p, map_colour, _) = self.b_drawn(p);
+                        viewport::Look::of(&p).with_map_colour(map_colour)
+                    });
                     self.profile.b_look_cache = Some(entry);
                     look
                 }
-                b => viewport::b_look(&self.doc.preset, b),
+                b => viewport::b_look(&self.doc.preset, b)
+                    .map(|l| l.with_map_colour(self.ui_state.map_colour)),
             };
             match b_look {
                 Ok(l) => Some((l, self.ui_state.compare, self.ui_state.split)),
@@ -372,7 +394,8 @@ impl EditorApp {
                     .then(|| self.doc.before_last_edit())
                     .flatten()
                     .unwrap_or(&self.doc.preset),
-            ),
+            )
+            .with_map_colour(self.ui_state.map_colour),
             b,
             show_b: self.view.ab == AbView::B && self.ui_state.compare != CompareMode::Off,
             view: self.ui_state.view,

@@ -540,6 +540,7 @@ fn with_material_albedo(p: &Preset) -> Preset {
     if let crate::settings::ProfileSpec::Burley(b) = &mut p.profile {
         b.albedo = skin_albedo();
     }
+    p.rendering.albedo_in_material = false;
     p.description = format!(
         "{} Drawn with the default skin's albedo: HDRP keeps the albedo in the material.",
         p.description

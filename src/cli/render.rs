@@ -66,6 +66,7 @@ impl RenderArgs {
         let settings = RenderSettings {
             deterministic: self.deterministic,
             mesh_lod: !self.look.no_lod,
+            map_colour: self.view.map_colour,
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
         let exr = self.writes_exr()?;
@@ -112,7 +113,16 @@ impl RenderArgs {
     /// The look's rendering settings (the preset's, with the flags applied).
     fn rendering(&self) -> Result<RenderingSpec> {
         let base = match &self.model.preset {
-            Some(path) => Preset::load(path)?.rendering,
+            Some(path) => {
+                let r = Preset::load(path)?.rendering;
+                if r.albedo_in_material && self.model.albedo.is_none() {
+                    eprintln!(
+                        "warning: {}: the look's engine keeps the albedo in the material (HDRP), so its albedo is 1 and the head draws white; give the material's with --volume-albedo R,G,B",
+                        path.display()
+                    );
+                }
+                r
+            }
             None => RenderingSpec::default(),
         };
         self.look.apply(base)

@@ -48,6 +48,13 @@ pub struct ViewArgs {
     /// Albedo (colour) map, sRGB PNG/JPEG; replaces the mesh's.
     #[arg(long = "albedo", id = "albedo_map", value_name = "IMG")]
     pub albedo: Option<PathBuf>,
+    /// Where the surface colour comes from on a mesh with a colour map
+    /// (--albedo, or a glTF's base colour texture): the map as the engines
+    /// draw it, the map tinted so that its mean is the look's albedo, or
+    /// the look's albedo alone. The default head's map modulates the
+    /// look's colour whatever this says.
+    #[arg(long, value_enum, default_value_t = crate::render::textures::MapColour::Map)]
+    pub map_colour: crate::render::textures::MapColour,
     /// Tangent-space normal map (OpenGL convention: green up).
     #[arg(long, value_name = "IMG")]
     pub normal: Option<PathBuf>,
@@ -284,6 +291,7 @@ impl LookArgs {
             ior,
             world_scale_m_per_unit,
             specular,
+            albedo_in_material,
         } = base;
         let r = RenderingSpec {
             method: self.method.unwrap_or(method),
@@ -307,6 +315,7 @@ impl LookArgs {
                     .unwrap_or(specular.lobe1_roughness_multiplier),
                 lobe_mix: self.lobe_mix.unwrap_or(specular.lobe_mix),
             },
+            albedo_in_material,
         };
         r.validate()?;
         Ok(r)

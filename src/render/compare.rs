@@ -19,7 +19,8 @@ pub fn split_view(a: &RgbaImage, b: &RgbaImage, split: f32) -> RgbaImage {
     })
 }
 
-fn srgb_to_linear(v: u8) -> f32 {
+/// An sRGB-encoded byte as linear (IEC 61966-2-1).
+pub fn srgb_to_linear(v: u8) -> f32 {
     let c = v as f32 / 255.0;
     if c <= 0.04045 {
         c / 12.92

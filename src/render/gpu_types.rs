@@ -42,6 +42,8 @@ pub const SPECULAR_KELEMEN: u32 = 1;
 /// (`MAP_*` in `shaders/scene.wgsl`).
 pub const MAP_MODULATES: u32 = 0;
 pub const MAP_ABSOLUTE: u32 = 1;
+/// The albedo is `surface_albedo`; the map is not read (albedo only).
+pub const MAP_LOOK: u32 = 2;
 /// `BurleyUniforms::flags` bits (`SAMPLING_*` in `shaders/sss_burley.wgsl`;
 /// [`crate::render::BurleySampling::shader_flags`]).
 pub const SAMPLING_R2_ROTATION: u32 = 1;

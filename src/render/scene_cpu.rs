@@ -21,7 +21,7 @@
 //! and the d → 0 limit in tests/render_physics.rs.
 
 use super::gpu_types::{
-    SceneUniforms, SurfaceKind, MAP_ABSOLUTE, PATTERN_CHECKERBOARD, PATTERN_STEP,
+    SceneUniforms, SurfaceKind, MAP_ABSOLUTE, MAP_LOOK, PATTERN_CHECKERBOARD, PATTERN_STEP,
 };
 use super::ground_truth::{Footprint, SurfaceIrradiance};
 use super::mesh::Mesh;
@@ -174,16 +174,8 @@ impl UvJacobian {
 /// sRGB-encoded byte → linear (IEC 61966-2-1), tabulated once.
 fn srgb_to_linear(byte: u8) -> f32 {
     static TABLE: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
-    TABLE.get_or_init(|| {
-        std::array::from_fn(|i| {
-            let v = i as f32 / 255.0;
-            if v <= 0.04045 {
-                v / 12.92
-            } else {
-                ((v + 0.055) / 1.055).powf(2.4)
-            }
-        })
-    })[byte as usize]
+    TABLE.get_or_init(|| std::array::from_fn(|i| super::compare::srgb_to_linear(i as u8)))
+        [byte as usize]
 }
 
 /// The scene's lighting and surface, for [`SurfaceIrradiance`].
@@ -428,15 +420,16 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
                 .albedo
                 .sample(uv, lod(&self.mips.albedo), true)
                 .truncate();
-            let albedo = if u.albedo_map_mode == MAP_ABSOLUTE {
-                tex
-            } else {
-                Vec3::new(
-                    u.surface_albedo[0],
-                    u.surface_albedo[1],
-                    u.surface_albedo[2],
-                ) * 2.0
-                    * tex
+            let look = Vec3::new(
+                u.surface_albedo[0],
+                u.surface_albedo[1],
+                u.surface_albedo[2],
+            );
+            // `shade` in shaders/scene.wgsl.
+            let albedo = match u.albedo_map_mode {
+                MAP_ABSOLUTE => tex,
+                MAP_LOOK => look,
+                _ => look * 2.0 * tex,
             };
             // Pre-and-post texturing is √albedo (pre = ½): sqrt, not powf.
             let a = albedo.max(Vec3::ZERO);

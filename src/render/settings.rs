@@ -44,6 +44,9 @@ pub struct RenderSettings {
     /// tiles of the view for about a budget and the next frame of the same
     /// view goes on from there; `None` gathers the whole view.
     pub truth_tiles: Option<TruthTiles>,
+    /// Where the surface colour comes from on a mesh with a colour map of
+    /// its own (the default head's modulating map ignores it).
+    pub map_colour: super::textures::MapColour,
 }
 
 /// How the editor asks for the ground truth: in square tiles of
@@ -145,6 +148,9 @@ impl RenderSettings {
             // own units come with the mesh.
             world_scale_m_per_unit: _,
             specular,
+            // The editor resolves it into the profile's albedo before a
+            // frame (`app::viewport::Look`).
+            albedo_in_material: _,
         } = rendering;
         Self {
             width,
@@ -229,6 +235,7 @@ impl Default for RenderSettings {
             environment_sh: default_environment_sh(),
             progressive: None,
             truth_tiles: None,
+            map_colour: Default::default(),
         }
     }
 }

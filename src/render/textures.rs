@@ -15,6 +15,71 @@ pub enum AlbedoMode {
     Absolute,
 }
 
+/// Where the surface colour comes from when a mesh has a colour map of
+/// its own ([`AlbedoMode::Absolute`]); a modulating map (the default
+/// head's) always multiplies the look's colour. An engine's material
+/// takes its base colour from the map, and the profile spreads light
+/// without changing its colour (HDRP, Unreal, Cycles), so the map alone
+/// draws every look in the scan's colour: `Tinted` and `Look` are how a
+/// look's own albedo A is seen on a scan.
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+pub enum MapColour {
+    /// The map is the albedo, as the engines draw it.
+    #[default]
+    Map,
+    /// The map's detail scaled so that its mean is the look's albedo:
+    /// albedo(uv) = A · map(uv) / mean(map), per channel.
+    Tinted,
+    /// The look's albedo everywhere; the map's colour is not used.
+    Look,
+}
+
+impl MapColour {
+    pub const ALL: [MapColour; 3] = [MapColour::Map, MapColour::Tinted, MapColour::Look];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            MapColour::Map => "the map's colour",
+            MapColour::Tinted => "the map tinted by the look's albedo",
+            MapColour::Look => "the look's albedo",
+        }
+    }
+}
+
+/// The mean linear colour of a colour map over its used texels (alpha
+/// over ½ and not black: a scan's unused atlas space is black or
+/// transparent), per channel; `None` when no texel is used.
+pub fn albedo_map_mean(map: &TextureImage) -> Option<[f32; 3]> {
+    if map.channels != 4 {
+        return None;
+    }
+    let lut: Vec<f64> = (0..=255u8)
+        .map(|v| super::compare::srgb_to_linear(v) as f64)
+        .collect();
+    let mut sum = [0.0f64; 3];
+    let mut n = 0u64;
+    for t in map.texels.chunks_exact(4) {
+        if t[3] < 128 || (t[0] | t[1] | t[2]) < 3 {
+            continue;
+        }
+        for c in 0..3 {
+            sum[c] += lut[t[c] as usize];
+        }
+        n += 1;
+    }
+    (n > 0).then(|| sum.map(|s| (s / n as f64) as f32))
+}
+
 /// How the shader reads the roughness texture.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RoughnessMode {
@@ -560,5 +625,35 @@ mod slot_tests {
         // 188 read as linear 0.737 is sRGB 0.874 → 223.
         assert_eq!(maps.albedo.texels[0], 223);
         assert_eq!(maps.mask.texels, before_mask.texels);
+    }
+}
+
+#[cfg(test)]
+mod map_mean_tests {
+    use super::*;
+
+    /// The mean is over used texels only: transparent and black texels
+    /// (a scan's unused atlas space) are left out; sRGB bytes are decoded
+    /// (188 → 0.5029, IEC 61966-2-1).
+    #[test]
+    fn the_mean_leaves_out_unused_texels_and_is_linear() {
+        let map = TextureImage {
+            width: 4,
+            height: 1,
+            channels: 4,
+            texels: vec![
+                255, 0, 188, 255, // used
+                188, 188, 188, 255, // used
+                0, 0, 0, 255, // black: unused
+                255, 255, 255, 0, // transparent: unused
+            ],
+        };
+        let m = albedo_map_mean(&map).unwrap();
+        let g = ((188.0f64 / 255.0 + 0.055) / 1.055).powf(2.4) as f32;
+        assert!((m[0] - (1.0 + g) / 2.0).abs() < 1e-6, "{m:?}");
+        assert!((m[1] - g / 2.0).abs() < 1e-6, "{m:?}");
+        assert!((m[2] - g).abs() < 1e-6, "{m:?}");
+        let empty = TextureImage::solid(&[0, 0, 0, 255]);
+        assert_eq!(albedo_map_mean(&empty), None);
     }
 }

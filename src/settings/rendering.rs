@@ -136,6 +136,12 @@ pub struct RenderingSpec {
     /// Metres per scene unit of the meshes this look is used on.
     pub world_scale_m_per_unit: f64,
     pub specular: DualLobeSpec,
+    /// The look came from an engine that keeps the albedo in the material
+    /// (HDRP: the profile's filter is normalised, its albedo 1), so the
+    /// profile's albedo is not the surface's colour: the editor draws and
+    /// compares it with a material albedo the artist chooses (look A's,
+    /// the head's map, or a typed one) and says which.
+    pub albedo_in_material: bool,
 }
 
 impl Default for RenderingSpec {
@@ -153,6 +159,7 @@ impl Default for RenderingSpec {
             ior: 1.4,
             world_scale_m_per_unit: 1.0,
             specular: DualLobeSpec::default(),
+            albedo_in_material: false,
         }
     }
 }

@@ -728,6 +728,29 @@ fn engine_files_import_and_compare() {
         "{}",
         h.state().status()
     );
+    // HDRP keeps the albedo in the material: the import asks which albedo
+    // to draw it with, A's (the look open before) by default, not 1.
+    let before = match &Preset::default_skin().profile {
+        ProfileSpec::Burley(b) => b.albedo,
+        _ => unreachable!(),
+    };
+    assert!(
+        h.query_by_label("Material albedo").is_some(),
+        "no albedo prompt"
+    );
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(2);
+    match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => assert_eq!(b.albedo, before),
+        p => panic!("{p:?}"),
+    }
+    assert!(!h.state().doc.preset.rendering.albedo_in_material);
+    assert!(h
+        .state()
+        .doc
+        .preset
+        .description
+        .contains("from the material"));
     assert!(
         h.state().doc.path.is_none(),
         "an import is a new, unsaved look"
@@ -767,4 +790,194 @@ fn engine_files_import_and_compare() {
         h.query_by_label_contains("B − A:").is_some(),
         "no r·R(r) difference shown"
     );
+}
+
+/// Steps until a combo box shows `value`.
+fn wait_for_combo(h: &mut Harness<'_, EditorApp>, value: &str) {
+    for _ in 0..60 {
+        if h.get_all_by_role(egui::accesskit::Role::ComboBox)
+            .any(|n| n.value().as_deref() == Some(value))
+        {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    panic!("no combo box showing {value:?}");
+}
+
+/// HDRP's own Skin Diffusion Profile.asset as B beside the default skin:
+/// HDRP keeps the albedo in the material, so B is asked for and drawn
+/// with A's albedo (not a white head), the compare row says so, and it
+/// names the engine fields that still differ (HDRP's skin is a thick
+/// object). Typing another albedo changes B's colour.
+#[test]
+fn an_hdrp_profile_as_b_is_drawn_with_a_material_albedo() {
+    use scatterlab::app::state::{CompareMode, MaterialAlbedo};
+    let asset = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/hdrp/Skin Diffusion Profile.asset");
+    let mut h = viewport_harness([1500.0, 900.0]);
+    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    h.state_mut().ui_state.compare = CompareMode::SideBySide;
+    h.run_steps(2);
+    h.get_all_by_role(egui::accesskit::Role::Button)
+        .find(|n| {
+            use egui_kittest::kittest::NodeT;
+            n.accesskit_node()
+                .label()
+                .is_some_and(|l| l.starts_with("B: "))
+        })
+        .expect("no B button")
+        .click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("a preset or engine file…").click_accesskit();
+    h.run_steps(3);
+    choose(&mut h, &asset);
+    h.run_steps(2);
+    assert!(
+        h.query_by_label("Material albedo").is_some(),
+        "B was not asked about"
+    );
+    h.get_by_label("OK").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().ui_state.b_material_albedo, MaterialAlbedo::LookA);
+    wait_for_combo(&mut h, "B's albedo: A's");
+    let readout = h
+        .query_all_by_label_contains("B − A:")
+        .next()
+        .map(|n| {
+            use egui_kittest::kittest::NodeT;
+            let a = n.accesskit_node();
+            a.label().or(a.value()).unwrap_or_default()
+        })
+        .expect("no B − A readout");
+    assert!(readout.contains("drawn with A's albedo"), "{readout}");
+    let differs = h
+        .query_all_by_label_contains("also differs:")
+        .next()
+        .map(|n| {
+            use egui_kittest::kittest::NodeT;
+            let a = n.accesskit_node();
+            a.label().or(a.value()).unwrap_or_default()
+        })
+        .expect("no list of the fields that differ");
+    assert!(differs.contains("transmission"), "{differs}");
+    // The frame: both halves' faces are skin coloured, B not white.
+    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "the side-by-side frame", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+    });
+    let half_mean = |img: &image::RgbaImage, right: bool| {
+        let (w, hh) = (img.width() / 2, img.height());
+        let x0 = if right { w } else { 0 };
+        let mut s = [0.0f64; 3];
+        let mut n = 0.0;
+        for y in hh / 3..2 * hh / 3 {
+            for x in x0 + w / 3..x0 + 2 * w / 3 {
+                let p = img.get_pixel(x, y);
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+                n += 1.0;
+            }
+        }
+        s.map(|v| v / n)
+    };
+    let img = h.state().viewport_frame().unwrap().0.clone();
+    let (a, b) = (half_mean(&img, false), half_mean(&img, true));
+    assert!(
+        b[0] - b[2] > 25.0,
+        "B's face is not skin coloured: {b:?} (A {a:?})"
+    );
+    assert!(
+        (a[0] - b[0]).abs() < 25.0,
+        "A {a:?} and B {b:?} differ in red by more than the profiles do"
+    );
+    // A typed albedo (green) turns B green.
+    h.state_mut().ui_state.b_material_albedo = MaterialAlbedo::Typed([0.1, 0.5, 0.1]);
+    let n1 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "B with the typed albedo", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n1)
+    });
+    let img = h.state().viewport_frame().unwrap().0.clone();
+    let g = half_mean(&img, true);
+    assert!(g[1] > g[0], "B with a green albedo is {g:?}");
+    wait_for_combo(&mut h, "B's albedo: typed 0.100/0.500/0.100");
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+        let dir = std::env::temp_dir().join("scatterlab-ui-hdrp-b");
+        std::fs::create_dir_all(&dir).unwrap();
+        h.render().unwrap().save(dir.join("editor.png")).unwrap();
+    }
+}
+
+/// On the scan with its colour map, a look's albedo does not reach the
+/// head as the engines draw it (the map is the base colour); the Look
+/// panel says so, and "tinted" scales the map's mean to the look's albedo:
+/// Ketchup (Jensen et al. 2001) turns the face red.
+#[test]
+fn the_scan_tinted_by_ketchup_is_red() {
+    use scatterlab::render::textures::MapColour;
+    let scan = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scan"));
+    let mesh = scan.join("LeePerrySmith.glb");
+    let mut ui_state = UiState::default();
+    let settings = ui_state.meshes.entry(mesh.clone()).or_default();
+    settings.metres_per_unit = 0.0462;
+    settings.maps[0].path = Some(scan.join("Map-COL.jpg"));
+    settings.maps[0].flip_v = true;
+    let ketchup = Preset::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/presets/ketchup_jensen2001.ron"
+    )))
+    .unwrap();
+    let mut h = harness_of(
+        EditorApp::new(None, ui_state, Some((ketchup, None)), true),
+        [1500.0, 900.0],
+    );
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: mesh,
+        metres_per_unit: Some(0.0462),
+    });
+    step_until(&mut h, "the scan with its map", |a| {
+        a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some()) && a.viewport_idle()
+    });
+    wait_for_combo(&mut h, "the map's colour");
+    assert!(h
+        .query_by_label_contains("The mesh's colour map sets the surface colour")
+        .is_some());
+    let face = |h: &Harness<'_, EditorApp>| {
+        let img = &h.state().viewport_frame().unwrap().0;
+        let (w, hh) = (img.width(), img.height());
+        let mut s = [0.0f64; 3];
+        for y in hh * 2 / 5..hh * 3 / 5 {
+            for x in w * 2 / 5..w * 3 / 5 {
+                let p = img.get_pixel(x, y);
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+            }
+        }
+        s
+    };
+    let as_map = face(&h);
+    h.state_mut().ui_state.map_colour = MapColour::Tinted;
+    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "the tinted frame", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+    });
+    let tinted = face(&h);
+    let ratio = |s: [f64; 3]| s[0] / s[1].max(1.0);
+    assert!(
+        ratio(tinted) > 2.0 * ratio(as_map),
+        "tinted R/G {:.2} against the map's {:.2}",
+        ratio(tinted),
+        ratio(as_map)
+    );
+    assert!(h
+        .query_by_label_contains("The mesh's colour map sets the surface colour")
+        .is_none());
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+        let dir = std::env::temp_dir().join("scatterlab-ui-ketchup-scan");
+        std::fs::create_dir_all(&dir).unwrap();
+        h.render().unwrap().save(dir.join("editor.png")).unwrap();
+    }
 }

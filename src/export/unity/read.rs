@@ -570,6 +570,7 @@ fn profile_look(
             ior: ior_v,
             world_scale_m_per_unit: world_scale_v,
             specular,
+            albedo_in_material: true,
             ..RenderingSpec::default()
         },
         ..Preset::default()

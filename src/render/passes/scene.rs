@@ -8,9 +8,9 @@ use super::super::context::{GpuContext, GpuError};
 use super::super::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
 use super::super::framing::{CameraLight, Framing};
 use super::super::gpu_types::{
-    SceneUniforms, DIFFUSE_ALPHA_BACKGROUND, MAP_ABSOLUTE, MAP_MODULATES, PATTERN_CHECKERBOARD,
-    PATTERN_LIT, PATTERN_STEP, SPECULAR_DUAL_GGX, SPECULAR_KELEMEN, TRANSMISSION_OFF,
-    TRANSMISSION_THICK, TRANSMISSION_THIN,
+    SceneUniforms, DIFFUSE_ALPHA_BACKGROUND, MAP_ABSOLUTE, MAP_LOOK, MAP_MODULATES,
+    PATTERN_CHECKERBOARD, PATTERN_LIT, PATTERN_STEP, SPECULAR_DUAL_GGX, SPECULAR_KELEMEN,
+    TRANSMISSION_OFF, TRANSMISSION_THICK, TRANSMISSION_THIN,
 };
 use super::super::inputs::Shared;
 use super::super::pipelines::{buffer_entry, scene_pipeline, uniform_entry};
@@ -19,7 +19,9 @@ use super::super::settings::{
     IrradiancePattern, RenderSettings, Specular, TexturingMode, Transmission,
 };
 use super::super::targets::{HdrTarget, Targets};
-use super::super::textures::{self, AlbedoMode, MeshTextures, RoughnessMode, TextureImage};
+use super::super::textures::{
+    self, AlbedoMode, MapColour, MeshTextures, RoughnessMode, TextureImage,
+};
 use super::shadow::{ShadowPass, SHADOW_SIZE};
 use super::{depth_attachment, MeshLod};
 
@@ -33,6 +35,30 @@ pub(in crate::render) struct SurfaceMaps {
     roughness_mode: u32,
     /// The thickness map's range (mm); 0: none (the per-vertex bake).
     thickness_range_mm: f32,
+    /// A colour map's mean linear colour ([`textures::albedo_map_mean`]),
+    /// which [`MapColour::Tinted`] scales to the look's albedo.
+    albedo_mean: Option<[f32; 3]>,
+}
+
+impl SurfaceMaps {
+    /// The scene's `albedo_map_mode` and `surface_albedo` for a look of
+    /// colour `look` (linear A) shown as `colour` says.
+    fn albedo_terms(&self, look: [f32; 3], colour: MapColour) -> (u32, [f32; 3]) {
+        if self.albedo_mode != MAP_ABSOLUTE {
+            // A modulating map always multiplies the look's colour.
+            return (self.albedo_mode, look);
+        }
+        match (colour, self.albedo_mean) {
+            (MapColour::Map, _) => (MAP_ABSOLUTE, look),
+            (MapColour::Look, _) | (MapColour::Tinted, None) => (MAP_LOOK, look),
+            // The modulating formula A'·2·map with A' = A / (2·mean):
+            // albedo = A · map / mean, whose mean over the map is A.
+            (MapColour::Tinted, Some(mean)) => (
+                MAP_MODULATES,
+                std::array::from_fn(|c| look[c] / (2.0 * mean[c].max(1e-3))),
+            ),
+        }
+    }
 }
 
 impl SurfaceMaps {
@@ -87,6 +113,7 @@ impl SurfaceMaps {
             albedo_mode: mode(maps.albedo_mode == AlbedoMode::Absolute),
             roughness_mode: mode(maps.roughness_mode == RoughnessMode::Absolute),
             thickness_range_mm: maps.thickness.as_ref().map_or(0.0, |t| t.1),
+            albedo_mean: textures::albedo_map_mean(&maps.albedo),
         })
     }
 }
@@ -296,6 +323,8 @@ impl ScenePass {
             }
         };
         let maps = &self.maps;
+        let (albedo_map_mode, surface_albedo) =
+            maps.albedo_terms(shared.surface_albedo, s.map_colour);
         SceneUniforms {
             clip_from_world: (cl.projection * cl.view).to_cols_array_2d(),
             view_from_world: cl.view.to_cols_array_2d(),
@@ -306,7 +335,7 @@ impl ScenePass {
                 None => cl.light.extend(0.0).into(),
             },
             light_radiance: [s.view.light_intensity; 4],
-            surface_albedo: rgb0(shared.surface_albedo),
+            surface_albedo: rgb0(surface_albedo),
             transmission_tint: rgb0(s.transmission_tint),
             blur_sigma_mm: [0.0; 4],
             environment_sh: s.environment_sh.map(rgb0),
@@ -344,7 +373,7 @@ impl ScenePass {
             lut_curvature_first: 0.0,
             lut_curvature_last: 0.0,
             penumbra_on: 0,
-            albedo_map_mode: maps.albedo_mode,
+            albedo_map_mode,
             roughness_map_mode: maps.roughness_mode,
             thickness_map_range_mm: maps.thickness_range_mm,
             detail_normal_strength: s.detail_normal_strength,

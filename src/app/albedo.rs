@@ -1,0 +1,491 @@
+//! Engine files drawn as the engine draws them, and a mesh's colour map
+//! against the look's colour.
+//!
+//! HDRP keeps the albedo in the material: a diffusion profile's filter is
+//! normalised and its file has no colour, so its import has albedo 1 and
+//! draws a white head (`export/unity/read.rs` sets
+//! `RenderingSpec::albedo_in_material`). Such a look is drawn and compared
+//! with a *material albedo*: look A's (the default), the head's colour map
+//! or a typed one. Opening one as the look asks once and writes the choice
+//! into its albedo; as B the choice is the compare row's "B's albedo",
+//! asked the first time.
+//!
+//! A mesh's own colour map is the surface colour as the engines draw it,
+//! whatever the look's albedo; the Look panel says so and offers the map
+//! tinted by the look's albedo, or the look's albedo alone
+//! ([`MapColour`]).
+
+use super::state::MaterialAlbedo;
+use super::EditorApp;
+use crate::model::Rgb;
+use crate::render::textures::MapColour;
+use crate::settings::{Preset, ProfileSpec};
+
+/// What the material-albedo prompt is for.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum PromptFor {
+    /// The look just opened or imported (its albedo is set).
+    Document,
+    /// B, a file of such an engine (`UiState::b_material_albedo`).
+    CompareB,
+}
+
+/// The open material-albedo prompt.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct AlbedoPrompt {
+    pub(super) target: PromptFor,
+    /// The look's name and the engine's file kind, for the text.
+    pub(super) name: String,
+    pub(super) choice: MaterialAlbedo,
+    /// The colour the "typed" choice edits (linear).
+    pub(super) typed: [f32; 3],
+    /// Look A's albedo when the prompt opened (for a document: the look
+    /// open before it).
+    pub(super) a_albedo: Rgb,
+}
+
+/// The colour `p` gives the surface: Burley's A, else the profile's total
+/// reflectance, clamped to [0, 1] (`render::inputs::look_colour`, which
+/// also gives kernels without a colour the default skin's).
+pub fn look_albedo(p: &Preset) -> Rgb {
+    if let ProfileSpec::Burley(b) = &p.profile {
+        return b.albedo;
+    }
+    match p.profile.build() {
+        Ok(profile) => {
+            crate::render::inputs::look_colour(&p.profile, profile.as_ref()).map(|c| c as f64)
+        }
+        Err(_) => crate::render::inputs::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
+    }
+}
+
+/// `p` with its albedo set to `rgb` (clamped to Burley's range), where its
+/// model has one (HDRP's profiles are Burley's). Returns whether it did.
+pub fn set_albedo(p: &mut Preset, rgb: Rgb) -> bool {
+    let (lo, hi) = crate::model::burley::ALBEDO_RANGE;
+    match &mut p.profile {
+        ProfileSpec::Burley(b) => {
+            b.albedo = rgb.map(|c| c.clamp(lo, hi));
+            true
+        }
+        _ => false,
+    }
+}
+
+/// The colour a material-albedo choice stands for: A's, the map's mean
+/// (A's without a colour map), or the typed one.
+pub fn resolve(choice: MaterialAlbedo, a_albedo: Rgb, map_mean: Option<[f32; 3]>) -> Rgb {
+    match choice {
+        MaterialAlbedo::LookA => a_albedo,
+        MaterialAlbedo::Map => map_mean.map_or(a_albedo, |m| m.map(|c| c as f64)),
+        MaterialAlbedo::Typed(c) => c,
+    }
+}
+
+/// B as the editor draws and compares it: a look whose engine keeps the
+/// albedo in the material gets `choice`'s colour, and on a colour map it
+/// is drawn in the map's colour when the choice is the map. Returns the
+/// look, its surface colour on a colour map, and the choice's label where
+/// one was applied.
+pub fn b_as_drawn(
+    mut b: Preset,
+    a: &Preset,
+    choice: MaterialAlbedo,
+    map_colour: MapColour,
+    map_mean: Option<[f32; 3]>,
+) -> (Preset, MapColour, Option<String>) {
+    if !b.rendering.albedo_in_material {
+        return (b, map_colour, None);
+    }
+    let rgb = resolve(choice, look_albedo(a), map_mean);
+    if !set_albedo(&mut b, rgb) {
+        return (b, map_colour, None);
+    }
+    let (colour, label) = match (choice, map_mean) {
+        (MaterialAlbedo::Map, Some(_)) => (MapColour::Map, choice.label()),
+        (MaterialAlbedo::Map, None) => (map_colour, "A's (no colour map)".into()),
+        _ => (map_colour, choice.label()),
+    };
+    (b, colour, Some(label))
+}
+
+/// The engine-side fields in which B's look differs from A's, named with
+/// both values (the compare row lists them beside B − A: what a profile's
+/// shape error does not show).
+pub fn differing_fields(a: &Preset, b: &Preset) -> Vec<(&'static str, String)> {
+    let (ra, rb) = (&a.rendering, &b.rendering);
+    let mut out = Vec::new();
+    let mut diff = |name: &'static str, x: String, y: String| {
+        if x != y {
+            out.push((name, format!("{name}: B {y}, A {x}")));
+        }
+    };
+    diff(
+        "texturing",
+        format!("{:?}", ra.texturing),
+        format!("{:?}", rb.texturing),
+    );
+    diff(
+        "transmission",
+        format!("{:?}", ra.transmission),
+        format!("{:?}", rb.transmission),
+    );
+    diff(
+        "world scale",
+        format!("{} m/unit", ra.world_scale_m_per_unit),
+        format!("{} m/unit", rb.world_scale_m_per_unit),
+    );
+    diff(
+        "thickness remap",
+        format!("{:?} mm", ra.thickness_remap_mm),
+        format!("{:?} mm", rb.thickness_remap_mm),
+    );
+    diff(
+        "transmission tint",
+        format!("{:.3?}", ra.transmission_tint),
+        format!("{:.3?}", rb.transmission_tint),
+    );
+    diff("IOR", format!("{:.3}", ra.ior), format!("{:.3}", rb.ior));
+    diff(
+        "specular",
+        format!("{:.3?}", ra.specular),
+        format!("{:.3?}", rb.specular),
+    );
+    out
+}
+
+impl EditorApp {
+    /// The loaded mesh's colour map's mean colour, if it has one.
+    pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
+        self.meshes.mesh_info.and_then(|i| i.colour_map_mean)
+    }
+
+    /// B as drawn ([`b_as_drawn`]) with the editor's choices.
+    pub(super) fn b_drawn(&self, b: Preset) -> (Preset, MapColour, Option<String>) {
+        b_as_drawn(
+            b,
+            &self.doc.preset,
+            self.ui_state.b_material_albedo,
+            self.ui_state.map_colour,
+            self.colour_map_mean(),
+        )
+    }
+
+    /// "drawn with A's albedo" when B's engine keeps the albedo in the
+    /// material (the compare row and the difference readout say it).
+    pub(super) fn b_albedo_note(&self) -> Option<String> {
+        match &self.profile.b_look_cache {
+            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => Some(format!(
+                "drawn with {} albedo",
+                self.ui_state.b_material_albedo.label()
+            )),
+            _ => None,
+        }
+    }
+
+    /// Asks for the document's material albedo if its engine keeps it in
+    /// the material; `a_albedo` is the look open before it.
+    pub(super) fn ask_document_albedo(&mut self, a_albedo: Rgb) {
+        if !self.doc.preset.rendering.albedo_in_material {
+            return;
+        }
+        self.dialogs.albedo_prompt = Some(AlbedoPrompt {
+            target: PromptFor::Document,
+            name: self.doc.preset.name.clone(),
+            choice: MaterialAlbedo::LookA,
+            typed: a_albedo.map(|c| c as f32),
+            a_albedo,
+        });
+    }
+
+    /// Asks, the first time, which material albedo B is drawn with when
+    /// B's engine keeps it in the material.
+    pub(super) fn ask_b_albedo(&mut self, b: &Preset) {
+        if !b.rendering.albedo_in_material || self.ui_state.b_material_albedo_asked {
+            return;
+        }
+        let a_albedo = look_albedo(&self.doc.preset);
+        self.dialogs.albedo_prompt = Some(AlbedoPrompt {
+            target: PromptFor::CompareB,
+            name: b.name.clone(),
+            choice: self.ui_state.b_material_albedo,
+            typed: match self.ui_state.b_material_albedo {
+                MaterialAlbedo::Typed(c) => c.map(|v| v as f32),
+                _ => a_albedo.map(|c| c as f32),
+            },
+            a_albedo,
+        });
+    }
+
+    /// Applies the prompt's answer.
+    fn answer_albedo_prompt(&mut self, p: AlbedoPrompt) {
+        let map_mean = self.colour_map_mean();
+        match p.target {
+            PromptFor::CompareB => {
+                self.ui_state.b_material_albedo = p.choice;
+                self.ui_state.b_material_albedo_asked = true;
+                self.say(format!(
+                    "B \"{}\" is drawn with {} albedo (its engine keeps the albedo in the material); change it beside B",
+                    p.name,
+                    p.choice.label()
+                ));
+            }
+            PromptFor::Document => {
+                let rgb = resolve(p.choice, p.a_albedo, map_mean);
+                let as_read = self.doc.preset.clone();
+                let preset = &mut self.doc.preset;
+                if !set_albedo(preset, rgb) {
+                    return;
+                }
+                preset.rendering.albedo_in_material = false;
+                let what = match (p.choice, map_mean) {
+                    (MaterialAlbedo::LookA, _) => "the look open before it".to_string(),
+                    (MaterialAlbedo::Map, Some(_)) => "the head's colour map's mean".to_string(),
+                    (MaterialAlbedo::Map, None) => {
+                        "the look open before it (no colour map)".to_string()
+                    }
+                    (MaterialAlbedo::Typed(_), _) => "typed at import".to_string(),
+                };
+                preset.description = format!(
+                    "{} Albedo {:.4}/{:.4}/{:.4} from the material ({what}): its engine keeps the albedo in the material, and the file has none.",
+                    preset.description, rgb[0], rgb[1], rgb[2]
+                )
+                .trim()
+                .to_owned();
+                if p.choice == MaterialAlbedo::Map && map_mean.is_some() {
+                    self.ui_state.map_colour = MapColour::Map;
+                }
+                // An import (no file yet) starts as what was chosen; a
+                // preset file that says "albedo in the material" keeps its
+                // own as the undo step and shows as changed.
+                let undo = if self.doc.path.is_none() {
+                    self.doc = super::state::Document::new(self.doc.preset.clone(), None);
+                    "Keep albedo 1 in the prompt draws the file's white"
+                } else {
+                    self.doc.commit();
+                    "undo gives back the file's albedo 1"
+                };
+                // The Engines panel's readout of the file stays: this is
+                // the look imported, with its material's albedo.
+                if let Some((_, look)) = &mut self.profile.imported {
+                    if look.preset == as_read {
+                        look.preset = self.doc.preset.clone();
+                    }
+                }
+                self.say(format!(
+                    "\"{}\" drawn with albedo {:.3}/{:.3}/{:.3} ({what}); {undo}",
+                    p.name, rgb[0], rgb[1], rgb[2]
+                ));
+            }
+        }
+    }
+
+    /// The material-albedo prompt (a modal: it decides what the next
+    /// frame draws).
+    pub(super) fn albedo_prompt_ui(&mut self, ctx: &egui::Context) {
+        let Some(mut p) = self.dialogs.albedo_prompt.clone() else {
+            return;
+        };
+        let has_map = self.colour_map_mean().is_some();
+        let mut answer = None;
+        egui::Modal::new(egui::Id::unique("scatterlab_albedo_prompt")).show(ctx, |ui| {
+            ui.set_max_width(460.0);
+            ui.heading("Material albedo");
+            ui.label(format!(
+                "\"{}\" comes from an engine that keeps the albedo in the material (HDRP): its file has no colour, so as it is it draws a white head. Draw {} with:",
+                p.name,
+                if p.target == PromptFor::Document { "it" } else { "B" }
+            ));
+            let a = p.a_albedo;
+            ui.radio_value(
+                &mut p.choice,
+                MaterialAlbedo::LookA,
+                format!(
+                    "A's albedo ({:.3} / {:.3} / {:.3}){}",
+                    a[0],
+                    a[1],
+                    a[2],
+                    if p.target == PromptFor::Document {
+                        ": the look open before it"
+                    } else {
+                        ""
+                    }
+                ),
+            )
+            .on_hover_text("The colour held equal, so that only the profile's shape differs: how far this engine's profile is from the look.");
+            ui.add_enabled_ui(has_map, |ui| {
+                ui.radio_value(&mut p.choice, MaterialAlbedo::Map, "the head's colour map")
+                    .on_hover_text("The loaded mesh's colour map as the engine's material uses it (its mean colour in the plots).")
+                    .on_disabled_hover_text("The head has no colour map of its own (the default head's map only varies the look's colour): load a mesh with one.");
+            });
+            ui.horizontal(|ui| {
+                let typed = matches!(p.choice, MaterialAlbedo::Typed(_));
+                if ui.radio(typed, "this colour").clicked() || typed {
+                    p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
+                }
+                if egui::color_picker::color_edit_button_rgb(ui, &mut p.typed)
+                    .on_hover_text("Linear RGB, the material's base colour")
+                    .changed()
+                {
+                    p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
+                }
+                ui.label(format!(
+                    "{:.3} / {:.3} / {:.3}",
+                    p.typed[0], p.typed[1], p.typed[2]
+                ));
+            });
+            ui.separator();
+            ui.horizontal(|ui| {
+                if ui.button("OK").clicked() {
+                    answer = Some(true);
+                }
+                let cancel = if p.target == PromptFor::Document {
+                    "Keep albedo 1 (white)"
+                } else {
+                    "Use A's for now"
+                };
+                if ui.button(cancel).clicked() {
+                    answer = Some(false);
+                }
+            });
+        });
+        match answer {
+            Some(true) => {
+                self.dialogs.albedo_prompt = None;
+                self.answer_albedo_prompt(p);
+            }
+            Some(false) => {
+                self.dialogs.albedo_prompt = None;
+                if p.target == PromptFor::Document {
+                    self.say(format!(
+                        "\"{}\" keeps its file's albedo 1 (a white head): set Albedo to the material's",
+                        p.name
+                    ));
+                }
+            }
+            None => self.dialogs.albedo_prompt = Some(p),
+        }
+    }
+
+    /// B's material albedo, beside B in the compare row, for a B whose
+    /// engine keeps the albedo in the material.
+    pub(super) fn b_albedo_ui(&mut self, ui: &mut egui::Ui) {
+        let b = match &self.profile.b_look_cache {
+            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => b.clone(),
+            _ => return,
+        };
+        let has_map = self.colour_map_mean().is_some();
+        let current = self.ui_state.b_material_albedo;
+        let mut choice = current;
+        egui::ComboBox::from_id_salt("b_material_albedo")
+            .selected_text(format!("B's albedo: {}", current.label()))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut choice, MaterialAlbedo::LookA, "A's");
+                ui.add_enabled_ui(has_map, |ui| {
+                    ui.selectable_value(&mut choice, MaterialAlbedo::Map, "the head's map")
+                        .on_disabled_hover_text("The head has no colour map of its own.");
+                });
+                if ui.selectable_label(matches!(current, MaterialAlbedo::Typed(_)), "a colour…").clicked() {
+                    self.ui_state.b_material_albedo_asked = false;
+                    self.ask_b_albedo(&b);
+                    if let Some(p) = self.dialogs.albedo_prompt.as_mut() {
+                        p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
+                    }
+                }
+            })
+            .response
+            .on_hover_text("B's engine keeps the albedo in the material (HDRP), so its file has none: B is drawn and compared with this albedo.");
+        if choice != current {
+            self.ui_state.b_material_albedo = choice;
+            self.ui_state.b_material_albedo_asked = true;
+        }
+    }
+
+    /// Under the look's parameters, with a colour map on the mesh: that
+    /// the map sets the surface colour, and the choice of the map tinted
+    /// by the look's albedo or the look's albedo alone.
+    pub(super) fn map_colour_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(mean) = self.colour_map_mean() else {
+            return;
+        };
+        let mc = &mut self.ui_state.map_colour;
+        if *mc == MapColour::Map {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                "The mesh's colour map sets the surface colour: the Albedo above changes the profile's shape, not the head's colour.",
+            );
+        }
+        ui.horizontal(|ui| {
+            ui.label("Surface colour");
+            egui::ComboBox::from_id_salt("map_colour")
+                .selected_text(mc.label())
+                .show_ui(ui, |ui| {
+                    for m in MapColour::ALL {
+                        ui.selectable_value(mc, m, m.label());
+                    }
+                })
+                .response
+                .on_hover_text(format!(
+                    "The map's colour: as engines draw a material whose base colour is the map. Tinted: the map's detail with its mean (linear {:.3} / {:.3} / {:.3}) scaled to the look's albedo, albedo = A · map / mean, so that looks compared on a scan differ as their albedos do. The look's albedo: the map's colour not used.",
+                    mean[0], mean[1], mean[2]
+                ));
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An HDRP import (albedo 1, in the material) compared as B takes A's
+    /// albedo by default, the typed one when chosen, and the map's mean
+    /// drawn as the map when there is one; a look with its own albedo is
+    /// left alone.
+    #[test]
+    fn b_takes_the_chosen_material_albedo() {
+        let a = Preset::default_skin();
+        let mut hdrp = Preset::default();
+        hdrp.rendering.albedo_in_material = true;
+        let (b, mc, label) = b_as_drawn(
+            hdrp.clone(),
+            &a,
+            MaterialAlbedo::LookA,
+            MapColour::Tinted,
+            None,
+        );
+        assert_eq!(look_albedo(&b), look_albedo(&a));
+        assert_eq!((mc, label.as_deref()), (MapColour::Tinted, Some("A's")));
+        let typed = [0.2, 0.5, 0.1];
+        let (b, ..) = b_as_drawn(
+            hdrp.clone(),
+            &a,
+            MaterialAlbedo::Typed(typed),
+            MapColour::Map,
+            None,
+        );
+        assert_eq!(look_albedo(&b), typed);
+        let mean = [0.5f32, 0.25, 0.125];
+        let (b, mc, _) = b_as_drawn(
+            hdrp.clone(),
+            &a,
+            MaterialAlbedo::Map,
+            MapColour::Look,
+            Some(mean),
+        );
+        assert_eq!(look_albedo(&b), [0.5, 0.25, 0.125]);
+        assert_eq!(mc, MapColour::Map);
+        // Without a colour map the map choice falls back to A's, and says so.
+        let (b, _, label) = b_as_drawn(hdrp, &a, MaterialAlbedo::Map, MapColour::Map, None);
+        assert_eq!(look_albedo(&b), look_albedo(&a));
+        assert!(label.unwrap().contains("no colour map"));
+        let own = Preset::default_skin();
+        let (b, _, label) = b_as_drawn(
+            own.clone(),
+            &a,
+            MaterialAlbedo::Typed(typed),
+            MapColour::Map,
+            None,
+        );
+        assert_eq!((b, label), (own, None));
+    }
+}
