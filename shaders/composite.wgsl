@@ -1,9 +1,15 @@
 // Recombine: scattered diffuse × albedo^post + specular, then exposure and
-// the ACES filmic curve (Narkowicz 2015 fit); the sRGB target encodes.
+// a display transform (`tone_map`, TONE_*; CPU twins and sources in
+// src/render/tonemap.rs); the sRGB target encodes.
+
+const TONE_ACES_FIT: u32 = 0u;
+const TONE_ACES: u32 = 1u;
+const TONE_AGX: u32 = 2u;
+const TONE_PBR_NEUTRAL: u32 = 3u;
 
 struct CompositeUniforms {
     exposure: f32,   // multiplier
-    pad0: f32,
+    tone_map: u32,   // TONE_*
     pad1: f32,
     pad2: f32,
 };
@@ -17,13 +23,87 @@ struct CompositeUniforms {
 // The scene's diffuse irradiance, used where no SSS pass wrote.
 @group(0) @binding(4) var diffuse_tex: texture_2d<f32>;
 
-fn aces(x: vec3<f32>) -> vec3<f32> {
+// Narkowicz 2015's fit of ACES' filmic curve.
+fn aces_fit(x: vec3<f32>) -> vec3<f32> {
     let a = 2.51;
     let b = 0.03;
     let cc = 2.43;
     let d = 0.59;
     let e = 0.14;
-    return clamp((x * (a * x + b)) / (x * (cc * x + d) + e), vec3<f32>(0.0), vec3<f32>(1.0));
+    return (x * (a * x + b)) / (x * (cc * x + d) + e);
+}
+
+// Hill's ACES RRT+ODT fit (BakingLab ACES.hlsl). WGSL's mat3x3 takes
+// columns: each vec3 here is a column of the row-major matrices in
+// tonemap.rs.
+fn aces_hill(c: vec3<f32>) -> vec3<f32> {
+    let input = mat3x3<f32>(
+        vec3<f32>(0.59719, 0.07600, 0.02840),
+        vec3<f32>(0.35458, 0.90834, 0.13383),
+        vec3<f32>(0.04823, 0.01566, 0.83777));
+    let output = mat3x3<f32>(
+        vec3<f32>(1.60475, -0.10208, -0.00327),
+        vec3<f32>(-0.53108, 1.10813, -0.07276),
+        vec3<f32>(-0.07367, -0.00605, 1.07602));
+    let v = input * c;
+    let a = v * (v + 0.0245786) - 0.000090537;
+    let b = v * (0.983729 * v + 0.4329510) + 0.238081;
+    return output * (a / b);
+}
+
+fn srgb_decode(v: vec3<f32>) -> vec3<f32> {
+    return select(pow((v + 0.055) / 1.055, vec3<f32>(2.4)), v / 12.92, v <= vec3<f32>(0.04045));
+}
+
+// Sobotka's AgX, Wrensch's 2024 minimal fit; decoded by sRGB's curve so
+// the sRGB target writes the curve's display value.
+fn agx(c: vec3<f32>) -> vec3<f32> {
+    let inset = mat3x3<f32>(
+        vec3<f32>(0.842479062253094, 0.0423282422610123, 0.0423756549057051),
+        vec3<f32>(0.0784335999999992, 0.878468636469772, 0.0784336),
+        vec3<f32>(0.0792237451477643, 0.0791661274605434, 0.879142973793104));
+    let outset = mat3x3<f32>(
+        vec3<f32>(1.19687900512017, -0.0528968517574562, -0.0529716355144438),
+        vec3<f32>(-0.0980208811401368, 1.15190312990417, -0.0980434501171241),
+        vec3<f32>(-0.0990297440797205, -0.0989611768448433, 1.15107367264116));
+    let min_ev = -12.47393;
+    let max_ev = 4.026069;
+    var v = inset * c;
+    v = clamp(log2(max(v, vec3<f32>(1e-10))), vec3<f32>(min_ev), vec3<f32>(max_ev));
+    let x = (v - min_ev) / (max_ev - min_ev);
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let y = 15.5 * x4 * x2 - 40.14 * x4 * x + 31.96 * x4 - 6.868 * x2 * x + 0.4298 * x2 + 0.1191 * x - 0.00232;
+    return srgb_decode(clamp(outset * y, vec3<f32>(0.0), vec3<f32>(1.0)));
+}
+
+// Khronos PBR Neutral, by the README's equations (tonemap.rs).
+fn pbr_neutral(c_in: vec3<f32>) -> vec3<f32> {
+    let f90 = 0.04;
+    let ks = 0.8 - f90;
+    let kd = 0.15;
+    let x = min(c_in.r, min(c_in.g, c_in.b));
+    let f = select(f90, x - x * x / (4.0 * f90), x <= 2.0 * f90);
+    let c = c_in - f;
+    let p = max(c.r, max(c.g, c.b));
+    if (p <= ks) {
+        return c;
+    }
+    let pn = 1.0 - (1.0 - ks) * (1.0 - ks) / (p + 1.0 - 2.0 * ks);
+    let g = 1.0 / (kd * (p - pn) + 1.0);
+    return c * (pn / p * g) + vec3<f32>(pn * (1.0 - g));
+}
+
+fn tone_map(x_in: vec3<f32>) -> vec3<f32> {
+    let x = max(x_in, vec3<f32>(0.0));
+    var y: vec3<f32>;
+    switch c.tone_map {
+        case TONE_ACES: { y = aces_hill(x); }
+        case TONE_AGX: { y = agx(x); }
+        case TONE_PBR_NEUTRAL: { y = pbr_neutral(x); }
+        default: { y = aces_fit(x); }
+    }
+    return clamp(y, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 @fragment
@@ -35,10 +115,10 @@ fn fs_composite(in: FullscreenOut) -> @location(0) vec4<f32> {
     let ad = textureLoad(albedo_tex, p, 0);
     if (ad.a <= 0.0) {
         // Background: a dim studio grey.
-        return vec4<f32>(aces(vec3<f32>(0.05, 0.055, 0.06) * c.exposure), 1.0);
+        return vec4<f32>(tone_map(vec3<f32>(0.05, 0.055, 0.06) * c.exposure), 1.0);
     }
     let hdr = d.rgb * ad.rgb + sp.rgb;
-    return vec4<f32>(aces(hdr * c.exposure), 1.0);
+    return vec4<f32>(tone_map(hdr * c.exposure), 1.0);
 }
 
 // Progressive refinement: the method's output joins the running mean of

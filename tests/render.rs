@@ -768,3 +768,56 @@ fn a_colour_map_draws_its_own_colour_or_the_looks() {
     let b = d.render(&inp, &small_frame(Method::Burley)).unwrap().0;
     assert_eq!(a.as_raw(), b.as_raw());
 }
+
+/// The composite shader's display transforms draw what their CPU twins
+/// compute (`render::tonemap`, each checked against its source there): the
+/// background (scene-linear 0.05/0.055/0.06 × exposure) at three
+/// exposures, from the toe to the shoulder, within one 8-bit step.
+#[test]
+fn every_tone_map_draws_its_cpu_twin() {
+    use scatterlab::render::tonemap::ToneMap;
+    let inp = inputs();
+    let mut r = renderer();
+    let encode = |v: f32| {
+        let s = if v <= 0.0031308 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0).round() as i32
+    };
+    let mut frames = Vec::new();
+    for tone_map in ToneMap::ALL {
+        for exposure in [1.0f32, 10.0, 40.0] {
+            let mut s = RenderSettings {
+                tone_map,
+                ..small_frame(Method::Burley)
+            };
+            s.view.exposure = exposure;
+            let (img, _) = r.render(&inp, &s).unwrap();
+            let px = img.get_pixel(0, 0);
+            let want = tone_map.apply([0.05, 0.055, 0.06].map(|c| c * exposure));
+            for c in 0..3 {
+                assert!(
+                    (px[c] as i32 - encode(want[c])).abs() <= 1,
+                    "{tone_map:?} at exposure {exposure}: channel {c} is {} on the GPU, {} by the CPU twin",
+                    px[c],
+                    encode(want[c])
+                );
+            }
+            if exposure == 1.0 {
+                frames.push(img);
+            }
+        }
+    }
+    // The choice reaches the head: every pair of transforms differs.
+    for i in 0..frames.len() {
+        for j in i + 1..frames.len() {
+            assert_ne!(
+                frames[i].as_raw(),
+                frames[j].as_raw(),
+                "{i} and {j} draw the same"
+            );
+        }
+    }
+}

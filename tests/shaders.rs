@@ -212,7 +212,8 @@ fn rust_spelling(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String 
 #[test]
 fn every_wgsl_mode_constant_matches_its_rust_twin() {
     use scatterlab::render::gpu_types as g;
-    let twins: [(&str, &[(&str, u32)]); 2] = [
+    use scatterlab::render::tonemap as t;
+    let twins: [(&str, &[(&str, u32)]); 3] = [
         (
             "scene",
             &[
@@ -226,6 +227,16 @@ fn every_wgsl_mode_constant_matches_its_rust_twin() {
                 ("SPECULAR_KELEMEN", g::SPECULAR_KELEMEN),
                 ("MAP_MODULATES", g::MAP_MODULATES),
                 ("MAP_ABSOLUTE", g::MAP_ABSOLUTE),
+                ("MAP_LOOK", g::MAP_LOOK),
+            ],
+        ),
+        (
+            "composite",
+            &[
+                ("TONE_ACES_FIT", t::TONE_ACES_FIT),
+                ("TONE_ACES", t::TONE_ACES),
+                ("TONE_AGX", t::TONE_AGX),
+                ("TONE_PBR_NEUTRAL", t::TONE_PBR_NEUTRAL),
             ],
         ),
         (

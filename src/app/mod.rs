@@ -308,6 +308,7 @@ impl EditorApp {
                 viewport_rect: None,
                 plot_rect: None,
                 compare_labels: Vec::new(),
+                probe: None,
                 panel_rects: [None, None],
             },
             autosave: None,

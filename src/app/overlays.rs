@@ -216,6 +216,7 @@ impl EditorApp {
             before_plate_ui(&painter, rect);
         }
         self.light_gizmo_ui(ui, rect);
+        self.probe_ui(ui, &painter, rect);
         self.layout.viewport_rect = Some(rect);
         if let Some(l) = label {
             painter.text(
@@ -419,6 +420,94 @@ impl EditorApp {
 
     /// Each side of a comparison labelled on its own half, on a dark plate
     /// that reads over skin (kept for the UI tests: `viewport_layout`).
+    /// The pixel probe: under the pointer, the frame's sRGB bytes, their
+    /// linear values and CIE L*; side by side, both sides' L* and their
+    /// difference; on a difference view, the |ΔL*| its colour stands for.
+    fn probe_ui(&mut self, ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect) {
+        use crate::render::compare;
+        self.layout.probe = None;
+        let Some(pos) = ui.ctx().pointer_hover_pos().filter(|p| rect.contains(*p)) else {
+            return;
+        };
+        if ui
+            .ctx()
+            .layer_id_at(pos)
+            .is_some_and(|l| l.order != egui::Order::Background)
+        {
+            // A window over the viewport.
+            return;
+        }
+        let Some((img, _)) = &self.view.last_frame else {
+            return;
+        };
+        let (w, h) = (img.width() as f32, img.height() as f32);
+        let x = (((pos.x - rect.left()) / rect.width()) * w).clamp(0.0, w - 1.0) as u32;
+        let y = (((pos.y - rect.top()) / rect.height()) * h).clamp(0.0, h - 1.0) as u32;
+        let Some(p) = compare::probe(img, x, y) else {
+            return;
+        };
+        let pixel = |name: &str, p: &compare::Probe| {
+            format!(
+                "{name}sRGB {} {} {} · linear {:.3} {:.3} {:.3} · L* {:.1}",
+                p.srgb[0], p.srgb[1], p.srgb[2], p.linear[0], p.linear[1], p.linear[2], p.lightness
+            )
+        };
+        let comparing = self.ui_state.compare != CompareMode::Off && self.view.ab == AbView::Both;
+        let text = match (comparing, self.ui_state.compare) {
+            (true, CompareMode::Difference) => match self.view.difference_shown {
+                Some(scale) => format!(
+                    "|ΔL*| {:.2} (white = {scale:.1})",
+                    compare::heat_value(p.srgb, scale)
+                ),
+                None => pixel("", &p),
+            },
+            (true, CompareMode::SideBySide) => {
+                let half = img.width() / 2;
+                let (ax, bx) = if x < half {
+                    (x, x + half)
+                } else {
+                    (x - half, x)
+                };
+                match (compare::probe(img, ax, y), compare::probe(img, bx, y)) {
+                    (Some(a), Some(b)) => format!(
+                        "{}\nA L* {:.1} · B L* {:.1} · ΔL* {:+.2}",
+                        pixel(if x < half { "A " } else { "B " }, &p),
+                        a.lightness,
+                        b.lightness,
+                        b.lightness - a.lightness
+                    ),
+                    _ => pixel("", &p),
+                }
+            }
+            (true, CompareMode::Split) => {
+                let side = if (x as f32) < self.ui_state.split * w {
+                    "A "
+                } else {
+                    "B "
+                };
+                pixel(side, &p)
+            }
+            _ => pixel("", &p),
+        };
+        let galley = painter.layout_no_wrap(
+            text.clone(),
+            egui::FontId::monospace(12.0),
+            egui::Color32::WHITE,
+        );
+        let r = egui::Align2::RIGHT_TOP
+            .anchor_size(rect.right_top() + egui::vec2(-24.0, 40.0), galley.size())
+            .expand(4.0);
+        let r = r.translate(egui::vec2((rect.left() + 2.0 - r.left()).max(0.0), 0.0));
+        painter.rect_filled(r, 4.0, egui::Color32::from_black_alpha(170));
+        painter.galley(r.min + egui::vec2(4.0, 4.0), galley, egui::Color32::WHITE);
+        self.layout.probe = Some(text);
+    }
+
+    /// The probe's text as last drawn (UI tests).
+    pub fn probe_text(&self) -> Option<&str> {
+        self.layout.probe.as_deref()
+    }
+
     pub(super) fn compare_labels_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
         self.layout.compare_labels.clear();
         if self.ui_state.compare != CompareMode::Off {
@@ -489,7 +578,7 @@ fn before_plate_ui(painter: &egui::Painter, rect: egui::Rect) {
     // Say so: the frame is not the look being edited.
     let at = rect.center_top() + egui::vec2(0.0, 36.0);
     let font = egui::FontId::proportional(15.0);
-    let text = "before the last edit (F: back)";
+    let text = "before the last edit (\\: back)";
     let galley = painter.layout_no_wrap(text.into(), font, egui::Color32::WHITE);
     let plate = egui::Rect::from_center_size(at, galley.size()).expand(4.0);
     painter.rect_filled(

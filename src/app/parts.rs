@@ -139,6 +139,8 @@ pub(super) struct Layout {
     /// Where the viewport was drawn, and the compare labels on it.
     pub(super) viewport_rect: Option<egui::Rect>,
     pub(super) compare_labels: Vec<(String, egui::Rect)>,
+    /// The pixel probe's text, while the pointer is over the viewport.
+    pub(super) probe: Option<String>,
     /// The side panels' rects (the viewport must stay between them).
     pub(super) panel_rects: [Option<egui::Rect>; 2],
     /// Where the profile plot was drawn (its legend goes under it).

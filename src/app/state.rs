@@ -372,6 +372,8 @@ pub struct ViewState {
     /// lights the head the same way without the file).
     pub environment_map_sh: Option<[[f32; 3]; 9]>,
     pub environment_intensity: f32,
+    /// The display transform after exposure.
+    pub tone_map: crate::render::tonemap::ToneMap,
 }
 
 impl Default for ViewState {
@@ -381,6 +383,7 @@ impl Default for ViewState {
             environment: EnvironmentChoice::Studio,
             environment_map_sh: None,
             environment_intensity: 1.0,
+            tone_map: Default::default(),
         }
     }
 }
@@ -396,6 +399,7 @@ struct StoredViewState {
     environment: EnvironmentChoice,
     environment_map_sh: Option<[[f32; 3]; 9]>,
     environment_intensity: f32,
+    tone_map: crate::render::tonemap::ToneMap,
     #[serde(deserialize_with = "present")]
     camera_yaw: Option<f32>,
     #[serde(deserialize_with = "present")]
@@ -430,6 +434,7 @@ impl Default for StoredViewState {
             environment: v.environment,
             environment_map_sh: v.environment_map_sh,
             environment_intensity: v.environment_intensity,
+            tone_map: v.tone_map,
             camera_yaw: None,
             camera_pitch: None,
             camera_distance_m: None,
@@ -477,6 +482,7 @@ impl From<StoredViewState> for ViewState {
             environment: s.environment,
             environment_map_sh: s.environment_map_sh,
             environment_intensity: s.environment_intensity,
+            tone_map: s.tone_map,
         }
     }
 }

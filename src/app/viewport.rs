@@ -490,6 +490,7 @@ pub fn render_settings(look: &Look, view: &ViewState, size: (u32, u32)) -> Rende
     .map(|c| c.map(|v| v * view.environment_intensity));
     RenderSettings {
         map_colour: look.map_colour,
+        tone_map: view.tone_map,
         ..RenderSettings::for_look(&look.rendering, view.orbit, env, size)
     }
 }
@@ -736,13 +737,16 @@ impl Worker {
             CompareMode::Difference => {
                 let (d, scale) =
                     compare::difference_view(&a.image, &bside.image, req.difference_scale);
+                let stats = compare::difference_stats(&a.image, &bside.image);
                 notes.push(format!(
-                    "|A − B| heat map: white = {scale:.1} ΔL*{}",
+                    "|A − B| heat map: white = {scale:.1} ΔL*{} · mean {:.2}, max {:.1} ΔL* over the head",
                     if req.difference_scale.is_none() {
                         " (auto)"
                     } else {
                         ""
-                    }
+                    },
+                    stats.mean,
+                    stats.max
                 ));
                 difference_scale = Some(scale);
                 d

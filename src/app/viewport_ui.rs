@@ -674,13 +674,31 @@ fn light_menu_ui(ui: &mut egui::Ui, v: &mut state::ViewState, hdr_rig_pending: &
                 .prefix("intensity "),
         )
         .on_hover_text("Irradiance of the key light (linear).");
-        ui.add(
-            egui::DragValue::new(&mut v.orbit.exposure)
-                .range(0.01..=20.0)
-                .speed(0.01)
-                .prefix("exposure "),
-        )
-        .on_hover_text("Multiplier before tonemapping.");
+        // Exposure in stops (EV): the multiplier is 2^EV.
+        let mut ev = v.orbit.exposure.max(1e-4).log2();
+        if ui
+            .add(
+                egui::DragValue::new(&mut ev)
+                    .range(-8.0..=8.0)
+                    .speed(0.02)
+                    .max_decimals(2)
+                    .prefix("exposure ")
+                    .suffix(" EV"),
+            )
+            .on_hover_text("Exposure in stops before the display transform: +1 EV doubles the light, 0 EV leaves it (the multiplier is 2^EV).")
+            .changed()
+        {
+            v.orbit.exposure = ev.exp2();
+        }
+        egui::ComboBox::from_label("display")
+            .selected_text(v.tone_map.label())
+            .show_ui(ui, |ui| {
+                for t in crate::render::tonemap::ToneMap::ALL {
+                    ui.selectable_value(&mut v.tone_map, t, t.label());
+                }
+            })
+            .response
+            .on_hover_text("The display transform from scene light to the screen: ACES fit (Narkowicz 2015, scatterlab's former curve), ACES (Hill's RRT+ODT fit: desaturated highlights), AgX (Blender's default view) or Khronos PBR Neutral (base colours as authored up to 0.76). Saved images and turntables use it too.");
     })
     .response
     .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. The key light's intensity and the exposure are in here too.");

@@ -67,6 +67,7 @@ impl RenderArgs {
             deterministic: self.deterministic,
             mesh_lod: !self.look.no_lod,
             map_colour: self.view.map_colour,
+            tone_map: self.view.tone_map,
             ..RenderSettings::for_look(&rendering, orbit, environment_sh, (self.width, self.height))
         };
         let exr = self.writes_exr()?;

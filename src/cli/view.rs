@@ -33,6 +33,9 @@ pub struct ViewArgs {
     /// Exposure multiplier before tonemapping (default 1).
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
+    /// The display transform after exposure (`render::tonemap`).
+    #[arg(long, value_enum, default_value_t = crate::render::tonemap::ToneMap::AcesFit)]
+    pub tone_map: crate::render::tonemap::ToneMap,
     /// Camera distance from the face (m); default: the distance at which
     /// the mesh's height fills the view (0.574 m for the default head).
     #[arg(long, value_name = "M")]

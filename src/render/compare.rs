@@ -99,9 +99,120 @@ pub fn difference_view(a: &RgbaImage, b: &RgbaImage, scale: Option<f32>) -> (Rgb
     (img, max)
 }
 
+/// What one pixel of a displayed frame holds: its sRGB bytes, their
+/// decoded (display-linear) values and CIE L* ([`lightness`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Probe {
+    pub srgb: [u8; 3],
+    pub linear: [f32; 3],
+    pub lightness: f32,
+}
+
+/// The pixel at (x, y) of `img`, if inside it.
+pub fn probe(img: &RgbaImage, x: u32, y: u32) -> Option<Probe> {
+    (x < img.width() && y < img.height()).then(|| {
+        let p = img.get_pixel(x, y);
+        Probe {
+            srgb: [p[0], p[1], p[2]],
+            linear: [0, 1, 2].map(|c| srgb_to_linear(p[c])),
+            lightness: lightness(p),
+        }
+    })
+}
+
+/// The |ΔL*| a pixel of a difference view stands for, at the view's
+/// white `scale`: [`heat`] inverted by the nearest of 1024 steps of its
+/// ramp (within half a step, 1/2048 of the scale, where the bytes are
+/// exact).
+pub fn heat_value(rgb: [u8; 3], scale: f32) -> f32 {
+    let d = |t: f32| {
+        let h = heat(t);
+        (0..3)
+            .map(|c| (h[c] as i32 - rgb[c] as i32).pow(2))
+            .sum::<i32>()
+    };
+    let best = (0..=1024)
+        .map(|i| i as f32 / 1024.0)
+        .min_by_key(|&t| d(t))
+        .unwrap_or(0.0);
+    best * scale
+}
+
+/// The mean and largest |ΔL*| between two frames over the pixels where
+/// either shows the head (a pixel that differs from the background colour,
+/// the top-left corner's), and how many those are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DifferenceStats {
+    pub mean: f32,
+    pub max: f32,
+    pub pixels: usize,
+}
+
+pub fn difference_stats(a: &RgbaImage, b: &RgbaImage) -> DifferenceStats {
+    let bg = *a.get_pixel(0, 0);
+    let (mut sum, mut max, mut n) = (0.0f64, 0.0f32, 0usize);
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        if *p == bg && *q == bg {
+            continue;
+        }
+        let d = (lightness(p) - lightness(q)).abs();
+        sum += d as f64;
+        max = max.max(d);
+        n += 1;
+    }
+    DifferenceStats {
+        mean: if n > 0 { (sum / n as f64) as f32 } else { 0.0 },
+        max,
+        pixels: n,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// sRGB 119 grey has L* 50.0 (Y = 0.1842: CIE 15:2004, the
+    /// lightness of middle grey; Poynton eq. 25.8); the probe reads the
+    /// bytes, their decoding and L*.
+    #[test]
+    fn the_probe_reads_bytes_linear_and_lightness() {
+        let img = RgbaImage::from_pixel(4, 4, Rgba([119, 119, 119, 255]));
+        let p = probe(&img, 1, 2).unwrap();
+        assert_eq!(p.srgb, [119; 3]);
+        assert!((p.linear[0] - 0.1845).abs() < 1e-3, "{p:?}");
+        assert!((p.lightness - 50.0).abs() < 0.1, "{p:?}");
+        assert_eq!(probe(&img, 4, 0), None);
+    }
+
+    /// A difference view's pixel reads back as the ΔL* it was drawn
+    /// from, to a fraction of the ramp's 8-bit step.
+    #[test]
+    fn heat_pixels_read_back_as_their_difference() {
+        for d in [0.0f32, 0.7, 2.5, 4.1, 5.0] {
+            let back = heat_value(heat(d / 5.0), 5.0);
+            assert!((back - d).abs() < 0.05, "{d} read back as {back}");
+        }
+    }
+
+    /// Mean and max over the head only: background pixels on both sides
+    /// are left out. Two grey levels of known L*: sRGB 119 (50.0) and
+    /// 255 (100).
+    #[test]
+    fn difference_statistics_leave_out_the_background() {
+        let bg = Rgba([20, 20, 20, 255]);
+        let mut a = RgbaImage::from_pixel(10, 10, bg);
+        let mut b = a.clone();
+        for x in 0..5 {
+            a.put_pixel(x, 5, Rgba([119, 119, 119, 255]));
+            b.put_pixel(x, 5, Rgba([119, 119, 119, 255]));
+        }
+        a.put_pixel(9, 9, Rgba([255, 255, 255, 255]));
+        b.put_pixel(9, 9, Rgba([119, 119, 119, 255]));
+        let s = difference_stats(&a, &b);
+        assert_eq!(s.pixels, 6);
+        assert!((s.max - 50.0).abs() < 0.1, "{s:?}");
+        assert!((s.mean - 50.0 / 6.0).abs() < 0.05, "{s:?}");
+    }
 
     #[test]
     fn split_takes_each_side_from_its_image() {

@@ -237,7 +237,8 @@ gpu_struct! {
     pub struct CompositeUniforms {
         /// Exposure multiplier.
         pub exposure: f32,
-        pub pad0: f32,
+        /// `TONE_*` ([`crate::render::tonemap::ToneMap::shader_id`]).
+        pub tone_map: u32,
         pub pad1: f32,
         pub pad2: f32,
     }

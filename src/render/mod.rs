@@ -37,6 +37,7 @@ mod targets;
 pub mod textures;
 #[cfg(feature = "gpu")]
 pub mod timing;
+pub mod tonemap;
 pub mod uv_layout;
 
 #[cfg(feature = "gpu")]

@@ -393,9 +393,9 @@ impl Renderer {
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
-        let shown = self
-            .composite
-            .finish(&mut f, t, s.progressive, exposure, target)?;
+        let shown =
+            self.composite
+                .finish(&mut f, t, s.progressive, exposure, s.tone_map, target)?;
         let FrameEncoder {
             mut encoder,
             mut timer,

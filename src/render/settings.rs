@@ -47,6 +47,8 @@ pub struct RenderSettings {
     /// Where the surface colour comes from on a mesh with a colour map of
     /// its own (the default head's modulating map ignores it).
     pub map_colour: super::textures::MapColour,
+    /// The display transform after exposure.
+    pub tone_map: super::tonemap::ToneMap,
 }
 
 /// How the editor asks for the ground truth: in square tiles of
@@ -236,6 +238,7 @@ impl Default for RenderSettings {
             progressive: None,
             truth_tiles: None,
             map_colour: Default::default(),
+            tone_map: Default::default(),
         }
     }
 }

@@ -859,3 +859,82 @@ fn colours_take_srgb_bytes_hsv_and_recent_colours() {
         assert!((back[c] - before[c]).abs() < 1e-9, "{back:?} vs {before:?}");
     }
 }
+
+/// CIE L* of an sRGB pixel, derived here from the standards (IEC 61966-2-1
+/// decoding, Rec. 709 luminance, CIE 15:2004 eq. 8.1), not the editor's.
+fn cie_lightness(p: &image::Rgba<u8>) -> f64 {
+    let lin = |v: u8| {
+        let c = v as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let y = 0.2126 * lin(p[0]) + 0.7152 * lin(p[1]) + 0.0722 * lin(p[2]);
+    if y > (6.0f64 / 29.0).powi(3) {
+        116.0 * y.cbrt() - 16.0
+    } else {
+        116.0 * (y / (3.0 * (6.0f64 / 29.0).powi(2)) + 4.0 / 29.0) - 16.0
+    }
+}
+
+/// The pixel probe reads the frame under the pointer (its L* as the CIE
+/// formula gives it), side by side it reads both sides and their ΔL*, and
+/// the difference view states the mean and largest ΔL* over the head.
+#[test]
+fn the_probe_reads_the_pixel_and_both_sides() {
+    use scatterlab::app::state::CompareMode;
+    let mut h = viewport_harness([1500.0, 900.0]);
+    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    settle(&mut h);
+    let rect = h.state().viewport_layout().viewport.unwrap();
+    let at = rect.center();
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.run_steps(2);
+    let text = h
+        .state()
+        .probe_text()
+        .expect("no probe over the head")
+        .to_owned();
+    let img = h.state().viewport_frame().unwrap().0.clone();
+    let x = ((at.x - rect.left()) / rect.width() * img.width() as f32) as u32;
+    let y = ((at.y - rect.top()) / rect.height() * img.height() as f32) as u32;
+    let p = img.get_pixel(x, y);
+    let want = format!("sRGB {} {} {}", p[0], p[1], p[2]);
+    assert!(text.contains(&want), "{text} (want {want})");
+    let l = cie_lightness(p);
+    assert!(
+        text.contains(&format!("L* {l:.1}")),
+        "{text} (want L* {l:.1})"
+    );
+    // Side by side: both sides' L* and ΔL*.
+    h.state_mut().ui_state.compare = CompareMode::SideBySide;
+    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "the side-by-side frame", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+    });
+    h.input_mut().events.push(egui::Event::PointerMoved(
+        rect.center() - egui::vec2(rect.width() / 4.0, 0.0),
+    ));
+    h.run_steps(2);
+    let text = h.state().probe_text().unwrap().to_owned();
+    assert!(
+        text.starts_with("A sRGB") && text.contains("B L*") && text.contains("ΔL*"),
+        "{text}"
+    );
+    // The difference view's note: mean and max ΔL* over the head.
+    h.state_mut().ui_state.compare = CompareMode::Difference;
+    let n1 = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "the difference frame", |a| {
+        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n1)
+    });
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("over the head").is_some(),
+        "no mean and max ΔL*: {}",
+        h.state().status()
+    );
+    let text = h.state().probe_text().unwrap_or_default().to_owned();
+    assert!(text.starts_with("|ΔL*|"), "{text}");
+}

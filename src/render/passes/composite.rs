@@ -69,6 +69,7 @@ impl CompositePass {
         t: &'t Targets,
         progressive: Option<Progressive>,
         exposure: f32,
+        tone_map: super::super::tonemap::ToneMap,
         scattered: HdrTarget,
     ) -> Result<&'t wgpu::Texture, GpuError> {
         let (texture, view) = match progressive {
@@ -77,6 +78,7 @@ impl CompositePass {
         };
         let uniforms = CompositeUniforms {
             exposure,
+            tone_map: tone_map.shader_id(),
             ..bytemuck::Zeroable::zeroed()
         };
         self.encode(f, t, view, uniforms);
