@@ -3,6 +3,8 @@
 //! `tone_map`). These are the CPU twins of the shader's functions: the
 //! pixel probe reads through them and `tests/render.rs` checks that the
 //! GPU draws what they compute.
+// The constants are kept digit for digit as their sources print them.
+#![allow(clippy::excessive_precision)]
 
 /// Which curve maps exposed scene light to the display.
 #[derive(
