@@ -540,6 +540,9 @@ pub struct TurntableSettings {
     pub light_follows: bool,
     /// Also write each frame as a PNG, in `<name>_frames/`.
     pub png_sequence: bool,
+    /// Also write the turn as an animated PNG (full colour, lossless),
+    /// `<name>.png` beside the GIF.
+    pub apng: bool,
 }
 
 impl Default for TurntableSettings {
@@ -549,6 +552,7 @@ impl Default for TurntableSettings {
             seconds: 4.0,
             light_follows: true,
             png_sequence: true,
+            apng: true,
         }
     }
 }

@@ -1,6 +1,7 @@
 //! File → Save turntable…: N converged frames around the head, written as
-//! an animated GIF and a PNG sequence, on a thread of its own with a
-//! progress bar and Cancel.
+//! an animated GIF, an animated PNG (APNG: full colour, where GIF has 256)
+//! and a PNG sequence, on a thread of its own with a progress bar and
+//! Cancel.
 //!
 //! Each frame is the viewport's own request (look, comparison, mesh, maps,
 //! light, environment, size) with the camera turned by 360°·k/N about the
@@ -21,14 +22,57 @@ use std::time::{Duration, Instant};
 /// The frame counts the window offers (a field would allow any).
 pub const FRAME_RANGE: std::ops::RangeInclusive<u32> = 2..=360;
 
-/// The files a turntable at `gif` writes: the GIF, then the frames.
+/// The files a turntable at `gif` writes: the GIF, the APNG, then the
+/// frames.
 pub fn planned_paths(gif: &Path, settings: &TurntableSettings) -> Vec<PathBuf> {
     let mut out = vec![gif.to_path_buf()];
+    if settings.apng {
+        out.push(apng_path(gif));
+    }
     if settings.png_sequence {
         let (dir, stem) = frames_dir(gif);
         out.extend((0..settings.frames).map(|k| dir.join(format!("{stem}_{k:03}.png"))));
     }
     out
+}
+
+/// `<stem>.png` beside the GIF: the APNG (a viewer without APNG shows its
+/// first frame).
+pub fn apng_path(gif: &Path) -> PathBuf {
+    gif.with_extension("png")
+}
+
+/// The frames as an APNG looping forever, each shown `delay_ms`: RGBA 8
+/// bits, every frame whole (no blending or offsets), so each decodes to
+/// exactly the frame given (APNG 1.0 specification, Mozilla: acTL with
+/// num_plays 0, an fcTL per frame, the first in IDAT).
+pub fn encode_apng(frames: &[image::RgbaImage], delay_ms: u32) -> Result<Vec<u8>, String> {
+    let first = frames.first().ok_or("no frames")?;
+    let (w, h) = first.dimensions();
+    let mut bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut bytes, w, h);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        enc.set_animated(frames.len() as u32, 0)
+            .map_err(|e| e.to_string())?;
+        let delay = delay_ms.clamp(1, u16::MAX as u32) as u16;
+        enc.set_frame_delay(delay, 1000).map_err(|e| e.to_string())?;
+        let mut writer = enc.write_header().map_err(|e| e.to_string())?;
+        for f in frames {
+            if f.dimensions() != (w, h) {
+                return Err(format!(
+                    "frame of {}×{} in a {w}×{h} animation",
+                    f.width(),
+                    f.height()
+                ));
+            }
+            writer.write_image_data(f.as_raw()).map_err(|e| e.to_string())?;
+        }
+        writer.finish().map_err(|e| e.to_string())?;
+    }
+    Ok(bytes)
 }
 
 /// `<folder>/<stem>_frames` and the stem, for the PNG sequence.
@@ -188,12 +232,18 @@ fn write(
         .map_err(|e| at(gif, &e))?;
     }
     let mut written = Vec::new();
+    if settings.apng {
+        let path = apng_path(gif);
+        let apng = encode_apng(frames, delay_ms).map_err(|e| at(&path, &e))?;
+        crate::fsutil::write_atomic(&path, &apng).map_err(|e| at(&path, &e))?;
+        written.push(path);
+    }
     if settings.png_sequence {
         let (dir, _) = frames_dir(gif);
         std::fs::create_dir_all(&dir).map_err(|e| at(&dir, &e))?;
         for (f, path) in frames
             .iter()
-            .zip(planned_paths(gif, settings).into_iter().skip(1))
+            .zip(planned_paths(gif, settings).into_iter().skip(1 + settings.apng as usize))
         {
             let mut png = Vec::new();
             f.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
@@ -216,16 +266,21 @@ impl EditorApp {
                 let out = job.out.clone();
                 self.jobs.turntable = None;
                 self.say(match r {
-                    Ok(files) => format!(
-                        "Saved turntable {} ({} frames{})",
-                        out.display(),
-                        self.ui_state.turntable.frames,
-                        if files.len() > 1 {
-                            format!(", and {} PNGs", files.len() - 1)
-                        } else {
-                            String::new()
-                        }
-                    ),
+                    Ok(files) => {
+                        let apng = files.contains(&apng_path(&out));
+                        let pngs = files.len() - 1 - apng as usize;
+                        format!(
+                            "Saved turntable {} ({} frames{}{})",
+                            out.display(),
+                            self.ui_state.turntable.frames,
+                            if apng { ", an APNG" } else { "" },
+                            if pngs > 0 {
+                                format!(", and {pngs} PNGs")
+                            } else {
+                                String::new()
+                            }
+                        )
+                    }
                     Err(e) if e == CANCELLED => format!("Turntable {CANCELLED}"),
                     Err(e) => format!("Error: turntable {}: {e}", out.display()),
                 });
@@ -259,6 +314,8 @@ impl EditorApp {
                     });
                     ui.checkbox(&mut s.light_follows, "Key light turns with the camera")
                         .on_hover_text("On: the head spins under a fixed studio light. Off: the camera walks round a head lit from one side. An HDR environment never turns.");
+                    ui.checkbox(&mut s.apng, "Also an animated PNG")
+                        .on_hover_text("<name>.png beside the GIF: an APNG in full colour (the GIF has 256 colours a frame). Browsers, Discord and most viewers play it; others show its first frame.");
                     ui.checkbox(&mut s.png_sequence, "Also a PNG per frame")
                         .on_hover_text("Written to <name>_frames/ beside the GIF.");
                 });

@@ -1,7 +1,7 @@
 //! Display transforms from exposed scene-linear Rec. 709 to display-linear
 //! values the sRGB output target encodes (`shaders/composite.wgsl`,
-//! `tone_map`). These are the CPU twins of the shader's functions: the
-//! pixel probe reads through them and `tests/render.rs` checks that the
+//! `tone_map`). These are the CPU twins of the shader's functions, each
+//! checked against its source below; `tests/render.rs` checks that the
 //! GPU draws what they compute.
 // The constants are kept digit for digit as their sources print them.
 #![allow(clippy::excessive_precision)]

@@ -311,6 +311,48 @@ fn turntable_writes_a_gif_and_pngs_and_cancel_writes_nothing() {
     let png0 = image::open(&pngs[0]).unwrap().to_rgba8();
     let dp = mean_difference(&png0, shown);
     assert!(dp < 0.5, "PNG frame 0 vs the viewport: {dp:.3}");
+    // The APNG beside it: its chunks by the APNG 1.0 specification
+    // (acTL: 4 frames, 0 = loop forever; an fcTL per frame, delay 1000 ms
+    // over 4 = 250/1000 s), read here byte by byte; decoded by the image
+    // crate's APNG reader, each frame is its PNG exactly (lossless, where
+    // the GIF is not).
+    let apng_path = dir.join("spin.png");
+    let bytes = std::fs::read(&apng_path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let mut at = 8;
+    let (mut actl, mut fctl) = (None, Vec::new());
+    while at + 8 <= bytes.len() {
+        let len = u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+        let kind = &bytes[at + 4..at + 8];
+        let data = &bytes[at + 8..at + 8 + len];
+        let be = |o: usize| u32::from_be_bytes(data[o..o + 4].try_into().unwrap());
+        match kind {
+            b"acTL" => actl = Some((be(0), be(4))),
+            // delay_num, delay_den at bytes 20..24 of the 26-byte fcTL.
+            b"fcTL" => fctl.push((
+                u16::from_be_bytes([data[20], data[21]]),
+                u16::from_be_bytes([data[22], data[23]]),
+            )),
+            _ => {}
+        }
+        at += 12 + len;
+    }
+    assert_eq!(actl, Some((4, 0)), "acTL (frames, plays)");
+    assert_eq!(fctl, vec![(1000, 1000); 4], "fcTL delays");
+    let apng = image::codecs::png::PngDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&apng_path).unwrap(),
+    ))
+    .unwrap()
+    .apng()
+    .unwrap()
+    .into_frames()
+    .collect_frames()
+    .unwrap();
+    assert_eq!(apng.len(), 4);
+    for (f, p) in apng.iter().zip(&pngs) {
+        let png = image::open(p).unwrap().to_rgba8();
+        assert_eq!(f.buffer().as_raw(), png.as_raw(), "APNG frame vs {}", p.display());
+    }
 
     // A long one, cancelled after its first frame: nothing written.
     h.state_mut().ui_state.turntable.frames = 72;
@@ -328,7 +370,7 @@ fn turntable_writes_a_gif_and_pngs_and_cancel_writes_nothing() {
         "{}",
         h.state().status()
     );
-    assert!(!long.exists() && !dir.join("long_frames").exists());
+    assert!(!long.exists() && !dir.join("long_frames").exists() && !dir.join("long.png").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
