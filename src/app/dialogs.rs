@@ -27,6 +27,7 @@ impl EditorApp {
             ("Presets", self.dialogs.browser.is_some()),
             ("Mesh maps", self.meshes.maps_window.is_some()),
             ("Save turntable", self.dialogs.turntable_open),
+            ("Save image at size", self.dialogs.still_open),
             ("Budget merges", self.dialogs.budget_open),
         ]
         .into_iter()
@@ -53,6 +54,7 @@ impl EditorApp {
         self.albedo_prompt_ui(ctx);
         self.file_dialog_ui(ctx);
         self.turntable_window_ui(ctx);
+        self.still_window_ui(ctx);
         self.browser_window_ui(ctx);
         self.help_windows_ui(ctx);
         self.budget_window_ui(ctx);
@@ -111,6 +113,7 @@ impl EditorApp {
             "Presets" => self.dialogs.browser = None,
             "Mesh maps" => self.meshes.maps_window = None,
             "Save turntable" => self.dialogs.turntable_open = false,
+            "Save image at size" => self.dialogs.still_open = false,
             _ => self.dialogs.budget_open = false,
         }
         true
@@ -268,7 +271,9 @@ impl EditorApp {
                 .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
         }
         let existing: Vec<PathBuf> = match &dialog.kind {
-            DialogKind::SaveAs | DialogKind::SaveImage => vec![path.clone()],
+            DialogKind::SaveAs | DialogKind::SaveImage | DialogKind::SaveStill => {
+                vec![path.clone()]
+            }
             DialogKind::SaveTurntable => {
                 super::turntable::planned_paths(&path, &self.ui_state.turntable)
             }
@@ -367,6 +372,7 @@ impl EditorApp {
                 DialogKind::Mesh => self.load_mesh(Some(path)),
                 DialogKind::SaveImage => self.save_image(&path),
                 DialogKind::SaveTurntable => self.start_turntable(path),
+                DialogKind::SaveStill => self.start_still(path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Map(k) => {
                     if let Some(mesh) = self.mesh_path().map(Path::to_path_buf) {

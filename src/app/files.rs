@@ -131,7 +131,8 @@ impl EditorApp {
             DialogKind::Import
             | DialogKind::Export(_)
             | DialogKind::SaveImage
-            | DialogKind::SaveTurntable => None,
+            | DialogKind::SaveTurntable
+            | DialogKind::SaveStill => None,
         };
         let usable = |d: &Path| !(writes && is_shipped_presets(d));
         let folder_of = |p: &Path| {
@@ -174,6 +175,13 @@ impl EditorApp {
                 "{}_{}.png",
                 file_stem(&self.doc.preset.name),
                 self.doc.preset.rendering.method.id()
+            ),
+            DialogKind::SaveStill => format!(
+                "{}_{}_{}x{}.png",
+                file_stem(&self.doc.preset.name),
+                self.doc.preset.rendering.method.id(),
+                self.ui_state.still.width,
+                self.ui_state.still.height
             ),
             DialogKind::SaveTurntable => format!(
                 "{}_{}_turntable.gif",

@@ -199,6 +199,14 @@ impl EditorApp {
             ui.close();
         }
         if ui
+            .button("Save image at size…")
+            .on_hover_text("The viewport's view rendered offscreen at up to 4096×4096, supersampled, until it converges, as a PNG, with progress and Cancel")
+            .clicked()
+        {
+            self.dialogs.still_open = true;
+            ui.close();
+        }
+        if ui
             .button("Save turntable…")
             .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
             .clicked()

@@ -17,6 +17,7 @@ mod parts;
 mod plots;
 mod report;
 pub mod state;
+pub mod still;
 pub mod turntable;
 pub mod viewport;
 mod viewport_ui;
@@ -49,6 +50,8 @@ pub enum DialogKind {
     SaveImage,
     /// A turntable GIF (and its PNG frames): File → Save turntable.
     SaveTurntable,
+    /// An offscreen render at a chosen size: File → Save image at size.
+    SaveStill,
 }
 
 impl DialogKind {
@@ -61,7 +64,7 @@ impl DialogKind {
             DialogKind::Mesh => "mesh",
             DialogKind::Environment => "environment",
             DialogKind::Map(_) => "map",
-            DialogKind::SaveImage | DialogKind::SaveTurntable => "image",
+            DialogKind::SaveImage | DialogKind::SaveTurntable | DialogKind::SaveStill => "image",
         }
     }
 
@@ -72,7 +75,7 @@ impl DialogKind {
             DialogKind::Mesh => &crate::render::mesh::Mesh::EXTENSIONS,
             DialogKind::Environment => &["hdr"],
             DialogKind::Map(_) => &["png", "jpg", "jpeg"],
-            DialogKind::SaveImage => &["png"],
+            DialogKind::SaveImage | DialogKind::SaveStill => &["png"],
             DialogKind::SaveTurntable => &["gif"],
             DialogKind::Export(f) => return vec![f.extension()],
             // What the export targets' readers read (`Target::reader`).
@@ -100,6 +103,7 @@ impl DialogKind {
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
+            DialogKind::SaveStill => "Save the image at size (.png)".into(),
             DialogKind::SaveTurntable => "Save turntable (.gif, and a PNG per frame)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",
@@ -116,6 +120,7 @@ impl DialogKind {
                 | DialogKind::Export(_)
                 | DialogKind::SaveImage
                 | DialogKind::SaveTurntable
+                | DialogKind::SaveStill
         )
     }
 }
@@ -268,6 +273,7 @@ impl EditorApp {
                 albedo_prompt: None,
                 export_notes: None,
                 turntable_open: false,
+                still_open: false,
                 browser: None,
                 thumbnail_dir: Self::default_thumbnail_dir(),
                 help_open: false,
@@ -280,6 +286,7 @@ impl EditorApp {
                 exports: Vec::new(),
                 environment_load: None,
                 turntable: None,
+                still: None,
             },
             report: Report {
                 status:

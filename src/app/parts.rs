@@ -90,6 +90,8 @@ pub(super) struct Dialogs {
     pub(super) export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// File → Save turntable: its window, and the turntable rendering.
     pub(super) turntable_open: bool,
+    /// File → Save image at size's window.
+    pub(super) still_open: bool,
     /// File → Browse presets: the window, and where its thumbnails are
     /// cached.
     pub(super) browser: Option<browser::PresetBrowser>,
@@ -111,6 +113,8 @@ pub(super) struct Jobs {
     /// An HDR environment map loading on its own thread.
     pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
     pub(super) turntable: Option<turntable::TurntableJob>,
+    /// File → Save image at size, rendering.
+    pub(super) still: Option<super::still::StillJob>,
 }
 
 /// The status line, notifications, the frame log and timings.

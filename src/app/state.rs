@@ -557,6 +557,26 @@ impl Default for TurntableSettings {
     }
 }
 
+/// File → Save image at size's settings (remembered in `UiState`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct StillSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Rendered pixels a side per saved pixel (a k×k box filter).
+    pub supersample: u32,
+}
+
+impl Default for StillSettings {
+    fn default() -> Self {
+        Self {
+            width: 2048,
+            height: 2048,
+            supersample: 2,
+        }
+    }
+}
+
 /// UI state remembered between runs (eframe storage, RON).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -600,6 +620,8 @@ pub struct UiState {
     /// On a mesh with a colour map: the map's colour, tinted by the
     /// look's albedo, or the look's albedo alone.
     pub map_colour: crate::render::textures::MapColour,
+    /// File → Save image at size's settings.
+    pub still: StillSettings,
 }
 
 impl Default for UiState {
@@ -626,6 +648,7 @@ impl Default for UiState {
             b_material_albedo: MaterialAlbedo::LookA,
             b_material_albedo_asked: false,
             map_colour: Default::default(),
+            still: Default::default(),
         }
     }
 }

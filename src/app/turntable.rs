@@ -58,7 +58,8 @@ pub fn encode_apng(frames: &[image::RgbaImage], delay_ms: u32) -> Result<Vec<u8>
         enc.set_animated(frames.len() as u32, 0)
             .map_err(|e| e.to_string())?;
         let delay = delay_ms.clamp(1, u16::MAX as u32) as u16;
-        enc.set_frame_delay(delay, 1000).map_err(|e| e.to_string())?;
+        enc.set_frame_delay(delay, 1000)
+            .map_err(|e| e.to_string())?;
         let mut writer = enc.write_header().map_err(|e| e.to_string())?;
         for f in frames {
             if f.dimensions() != (w, h) {
@@ -68,7 +69,9 @@ pub fn encode_apng(frames: &[image::RgbaImage], delay_ms: u32) -> Result<Vec<u8>
                     f.height()
                 ));
             }
-            writer.write_image_data(f.as_raw()).map_err(|e| e.to_string())?;
+            writer
+                .write_image_data(f.as_raw())
+                .map_err(|e| e.to_string())?;
         }
         writer.finish().map_err(|e| e.to_string())?;
     }
@@ -241,10 +244,11 @@ fn write(
     if settings.png_sequence {
         let (dir, _) = frames_dir(gif);
         std::fs::create_dir_all(&dir).map_err(|e| at(&dir, &e))?;
-        for (f, path) in frames
-            .iter()
-            .zip(planned_paths(gif, settings).into_iter().skip(1 + settings.apng as usize))
-        {
+        for (f, path) in frames.iter().zip(
+            planned_paths(gif, settings)
+                .into_iter()
+                .skip(1 + settings.apng as usize),
+        ) {
             let mut png = Vec::new();
             f.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
                 .map_err(|e| at(&path, &e))?;

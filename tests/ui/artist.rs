@@ -351,7 +351,12 @@ fn turntable_writes_a_gif_and_pngs_and_cancel_writes_nothing() {
     assert_eq!(apng.len(), 4);
     for (f, p) in apng.iter().zip(&pngs) {
         let png = image::open(p).unwrap().to_rgba8();
-        assert_eq!(f.buffer().as_raw(), png.as_raw(), "APNG frame vs {}", p.display());
+        assert_eq!(
+            f.buffer().as_raw(),
+            png.as_raw(),
+            "APNG frame vs {}",
+            p.display()
+        );
     }
 
     // A long one, cancelled after its first frame: nothing written.
@@ -979,4 +984,64 @@ fn the_probe_reads_the_pixel_and_both_sides() {
     );
     let text = h.state().probe_text().unwrap_or_default().to_owned();
     assert!(text.starts_with("|ΔL*|"), "{text}");
+}
+
+/// File → Save image at size renders offscreen at the size asked, not the
+/// window's: 320×200 at 1× and 2× supersampling are that size, show the
+/// head, agree but for edge pixels, and 2× smooths the edges (more
+/// in-between values). The file name proposed names the size.
+#[test]
+fn save_image_at_size_renders_offscreen_at_that_size() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-still-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = viewport_harness([900.0, 560.0]);
+    h.step();
+    settle(&mut h);
+    menu_item(&mut h, "File", "Save image at size…");
+    let mut saved = Vec::new();
+    for k in [1u32, 2] {
+        h.state_mut().ui_state.still = scatterlab::app::state::StillSettings {
+            width: 320,
+            height: 200,
+            supersample: k,
+        };
+        h.run_steps(2);
+        h.get_by_label("Save image as PNG…").click_accesskit();
+        wait_for_file_dialog(&mut h);
+        assert_eq!(
+            name_field(&h).value().unwrap(),
+            "skin_default_burley_320x200.png"
+        );
+        let out = dir.join(format!("still_{k}.png"));
+        choose(&mut h, &out);
+        step_until(&mut h, "the still", |a| !a.still_running());
+        assert!(
+            h.state().status().starts_with("Saved image"),
+            "{}",
+            h.state().status()
+        );
+        let img = image::open(&out).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (320, 200));
+        saved.push(img);
+    }
+    let bg = *saved[0].get_pixel(0, 0);
+    let centre = *saved[0].get_pixel(160, 100);
+    assert!(
+        (0..3).any(|c| centre[c].abs_diff(bg[c]) > 30),
+        "no head at the centre: {centre:?}"
+    );
+    let d = mean_difference(&saved[0], &saved[1]);
+    assert!(d < 3.0, "1× and 2× differ by {d:.2} on average");
+    // Edge pixels between head and background: 2× has more distinct values.
+    let distinct = |img: &image::RgbaImage| {
+        let mut v: Vec<[u8; 4]> = img.pixels().map(|p| p.0).collect();
+        v.sort_unstable();
+        v.dedup();
+        v.len()
+    };
+    assert!(
+        distinct(&saved[1]) > distinct(&saved[0]),
+        "2× did not smooth anything"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
