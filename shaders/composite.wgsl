@@ -10,8 +10,13 @@ const TONE_PBR_NEUTRAL: u32 = 3u;
 struct CompositeUniforms {
     exposure: f32,   // multiplier
     tone_map: u32,   // TONE_*
-    pad1: f32,
-    pad2: f32,
+    background_on: u32,
+    background_lod: f32,
+    background_turn: f32,
+    background_intensity: f32,
+    frame_width: f32,
+    frame_height: f32,
+    direction_from_clip: mat4x4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> c: CompositeUniforms;
@@ -22,6 +27,26 @@ struct CompositeUniforms {
 @group(0) @binding(3) var albedo_tex: texture_2d<f32>;
 // The scene's diffuse irradiance, used where no SSS pass wrote.
 @group(0) @binding(4) var diffuse_tex: texture_2d<f32>;
+// The environment map (equirectangular, linear, mipmapped) and its sampler
+// (u repeats, v clamps).
+@group(0) @binding(5) var background_tex: texture_2d<f32>;
+@group(0) @binding(6) var background_sampler: sampler;
+
+const TAU: f32 = 6.283185307;
+const PI: f32 = 3.141592654;
+
+// The environment seen through the pixel: the direction from the eye,
+// mapped as `environment::direction_to_equirect` does, turned by
+// background_turn.
+fn background(clip: vec4<f32>) -> vec3<f32> {
+    let dims = vec2<f32>(c.frame_width, c.frame_height);
+    let ndc = vec2<f32>(clip.x / dims.x * 2.0 - 1.0, 1.0 - clip.y / dims.y * 2.0);
+    let p = c.direction_from_clip * vec4<f32>(ndc, 0.5, 1.0);
+    let d = normalize(p.xyz / p.w);
+    let u = 0.5 + atan2(d.x, -d.z) / TAU - c.background_turn;
+    let v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    return textureSampleLevel(background_tex, background_sampler, vec2<f32>(u, v), c.background_lod).rgb * c.background_intensity;
+}
 
 // Narkowicz 2015's fit of ACES' filmic curve.
 fn aces_fit(x: vec3<f32>) -> vec3<f32> {
@@ -114,7 +139,10 @@ fn fs_composite(in: FullscreenOut) -> @location(0) vec4<f32> {
     let sp = textureLoad(specular_tex, p, 0);
     let ad = textureLoad(albedo_tex, p, 0);
     if (ad.a <= 0.0) {
-        // Background: a dim studio grey.
+        // Background: the environment map, else a dim studio grey.
+        if (c.background_on == 1u) {
+            return vec4<f32>(tone_map(background(in.clip) * c.exposure), 1.0);
+        }
         return vec4<f32>(tone_map(vec3<f32>(0.05, 0.055, 0.06) * c.exposure), 1.0);
     }
     let hdr = d.rgb * ad.rgb + sp.rgb;

@@ -821,3 +821,98 @@ fn every_tone_map_draws_its_cpu_twin() {
         }
     }
 }
+
+/// The HDR map behind the head: a uniform map of radiance L draws
+/// tonemap(L × exposure) in every background pixel (the CPU twin, within
+/// one 8-bit step); a map red for u < ½ and blue above shows red on the
+/// left of a camera looking straight down −z and blue on the right
+/// (`environment::direction_to_equirect`: u = ½ + atan2(x, −z)/2π), and
+/// a half turn swaps them; a blurred map is a mix at the seam.
+#[test]
+fn the_background_shows_the_map_in_its_directions() {
+    use scatterlab::render::environment::BackgroundMap;
+    use scatterlab::render::settings::Background;
+    use scatterlab::render::tonemap::ToneMap;
+    let inp = inputs();
+    let mut r = renderer();
+    // The camera straight down −z (the default view is turned 0.35 rad).
+    let shown = |turn_rad: f32, blur: f32| {
+        let mut s = RenderSettings {
+            background: Some(Background {
+                blur,
+                turn_rad,
+                intensity: 1.0,
+            }),
+            ..small_frame(Method::Burley)
+        };
+        s.view.camera_yaw_rad = 0.0;
+        s
+    };
+    let l = [0.3f32, 0.2, 0.1];
+    r.set_background(Some(&BackgroundMap {
+        width: 64,
+        height: 32,
+        texels: vec![l; 64 * 32],
+    }));
+    let (img, _) = r.render(&inp, &shown(0.7, 0.0)).unwrap();
+    let want = ToneMap::AcesFit.apply(l);
+    let enc = |v: f32| {
+        (255.0
+            * if v <= 0.0031308 {
+                12.92 * v
+            } else {
+                1.055 * v.powf(1.0 / 2.4) - 0.055
+            })
+        .round() as i32
+    };
+    for (x, y) in [(0, 0), (95, 0), (48, 0), (0, 30)] {
+        let p = img.get_pixel(x, y);
+        for c in 0..3 {
+            assert!(
+                (p[c] as i32 - enc(want[c])).abs() <= 1,
+                "({x},{y}) {p:?} against {want:?}"
+            );
+        }
+    }
+    let halves: Vec<[f32; 3]> = (0..32 * 64)
+        .map(|i| {
+            if i % 64 < 32 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 0.0, 1.0]
+            }
+        })
+        .collect();
+    r.set_background(Some(&BackgroundMap {
+        width: 64,
+        height: 32,
+        texels: halves,
+    }));
+    let side = |img: &RgbaImage, x: u32| {
+        let p = img.get_pixel(x, 4);
+        (p[0], p[2])
+    };
+    let (img, _) = r.render(&inp, &shown(0.0, 0.0)).unwrap();
+    let ((lr, lb), (rr, rb)) = (side(&img, 2), side(&img, 93));
+    assert!(lr > 100 && lb < 20, "left is not red: {lr} {lb}");
+    assert!(rb > 100 && rr < 20, "right is not blue: {rr} {rb}");
+    let (img, _) = r.render(&inp, &shown(std::f32::consts::PI, 0.0)).unwrap();
+    let ((lr, lb), (rr, rb)) = (side(&img, 2), side(&img, 93));
+    assert!(
+        lb > 100 && lr < 20 && rr > 100 && rb < 20,
+        "a half turn did not swap the sides"
+    );
+    let (img, _) = r.render(&inp, &shown(0.0, 1.0)).unwrap();
+    let (br, bb) = side(&img, 2);
+    assert!(
+        br > 20 && bb > 20,
+        "the blurred seam is not a mix: {br} {bb}"
+    );
+    // Without the setting the plain grey stays.
+    let (plain, _) = r.render(&inp, &small_frame(Method::Burley)).unwrap();
+    let p = plain.get_pixel(0, 0);
+    let grey = ToneMap::AcesFit.apply([0.05, 0.055, 0.06]);
+    for c in 0..3 {
+        assert!((p[c] as i32 - enc(grey[c])).abs() <= 1, "{p:?}");
+    }
+}

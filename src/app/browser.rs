@@ -75,6 +75,7 @@ fn thumbnail_request(preset: &Preset) -> Request {
         interactive: false,
         refine_to_truth: false,
         seq: 0,
+        background_map: None,
     }
 }
 

@@ -184,7 +184,15 @@ type BCurves = Result<(String, Curves, [f64; 3]), String>;
 type ExportResult = Result<Vec<PathBuf>, String>;
 
 /// A loaded HDR environment: its file and irradiance SH, or why not.
-type EnvironmentResult = Result<(PathBuf, [[f32; 3]; 9]), String>;
+/// A loaded HDR map: its file, irradiance SH and background image.
+type EnvironmentResult = Result<
+    (
+        PathBuf,
+        [[f32; 3]; 9],
+        Option<crate::render::environment::BackgroundMap>,
+    ),
+    String,
+>;
 
 pub struct EditorApp {
     pub doc: Document,
@@ -253,6 +261,8 @@ impl EditorApp {
                 show_before: false,
                 difference_shown: None,
                 last_frame: None,
+                background_map: None,
+                keep_environment: None,
                 quality: None,
                 history: Default::default(),
                 truth_phase: None,
@@ -322,6 +332,9 @@ impl EditorApp {
             waker,
         };
         app.refresh_curves();
+        if viewport {
+            app.reload_background();
+        }
         app
     }
 

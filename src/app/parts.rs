@@ -35,6 +35,11 @@ pub(super) struct ProfileState {
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
 pub(super) struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
+    /// The loaded HDR map, drawn behind the head when asked.
+    pub(super) background_map: Option<viewport::SharedMap>,
+    /// A start-up reload of the remembered map: the environment chosen
+    /// then, kept when it arrives.
+    pub(super) keep_environment: Option<state::EnvironmentChoice>,
     pub(super) texture: Option<egui::TextureHandle>,
     pub(super) frame_info: String,
     /// The HDR light rig was chosen with no map loaded: apply it once the

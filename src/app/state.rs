@@ -374,6 +374,32 @@ pub struct ViewState {
     pub environment_intensity: f32,
     /// The display transform after exposure.
     pub tone_map: crate::render::tonemap::ToneMap,
+    /// The HDR map drawn behind the head, and its turn (the lighting
+    /// turns with it).
+    pub background: BackgroundView,
+}
+
+/// How the loaded HDR map is shown behind the head.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct BackgroundView {
+    /// Draw the map behind the head (with the map as the environment).
+    pub show: bool,
+    /// 0 sharp … 1 its coarsest level.
+    pub blur: f32,
+    /// The map's turn about the up axis (degrees); the head's lighting
+    /// turns with it.
+    pub turn_deg: f32,
+}
+
+impl Default for BackgroundView {
+    fn default() -> Self {
+        Self {
+            show: true,
+            blur: 0.0,
+            turn_deg: 0.0,
+        }
+    }
 }
 
 impl Default for ViewState {
@@ -384,6 +410,7 @@ impl Default for ViewState {
             environment_map_sh: None,
             environment_intensity: 1.0,
             tone_map: Default::default(),
+            background: Default::default(),
         }
     }
 }
@@ -400,6 +427,7 @@ struct StoredViewState {
     environment_map_sh: Option<[[f32; 3]; 9]>,
     environment_intensity: f32,
     tone_map: crate::render::tonemap::ToneMap,
+    background: BackgroundView,
     #[serde(deserialize_with = "present")]
     camera_yaw: Option<f32>,
     #[serde(deserialize_with = "present")]
@@ -435,6 +463,7 @@ impl Default for StoredViewState {
             environment_map_sh: v.environment_map_sh,
             environment_intensity: v.environment_intensity,
             tone_map: v.tone_map,
+            background: v.background,
             camera_yaw: None,
             camera_pitch: None,
             camera_distance_m: None,
@@ -483,6 +512,7 @@ impl From<StoredViewState> for ViewState {
             environment_map_sh: s.environment_map_sh,
             environment_intensity: s.environment_intensity,
             tone_map: s.tone_map,
+            background: s.background,
         }
     }
 }

@@ -58,6 +58,24 @@ impl Look {
     }
 }
 
+/// A loaded HDR map for the background, shared without copying: two are
+/// the same when they are the same allocation (a request compares and
+/// keys on it every frame).
+#[derive(Clone)]
+pub struct SharedMap(pub std::sync::Arc<crate::render::environment::BackgroundMap>);
+
+impl PartialEq for SharedMap {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl std::fmt::Debug for SharedMap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SharedMap({}×{})", self.0.width, self.0.height)
+    }
+}
+
 /// Everything a viewport frame depends on.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Request {
@@ -83,6 +101,9 @@ pub struct Request {
     pub refine_to_truth: bool,
     /// Set by [`Viewport::request`]: which request a frame answers.
     pub seq: u64,
+    /// The HDR map to draw behind the head when `view.background.show`
+    /// and the environment is the map.
+    pub background_map: Option<SharedMap>,
 }
 
 impl Request {
@@ -488,9 +509,23 @@ pub fn render_settings(look: &Look, view: &ViewState, size: (u32, u32)) -> Rende
         EnvironmentChoice::Map => view.environment_map_sh.unwrap_or(studio),
     }
     .map(|c| c.map(|v| v * view.environment_intensity));
+    let on_map = view.environment == EnvironmentChoice::Map && view.environment_map_sh.is_some();
+    let turn_rad = view.background.turn_deg.to_radians();
+    let env = if on_map {
+        crate::render::environment::rotate_sh_about_up(&env, turn_rad)
+    } else {
+        env
+    };
     RenderSettings {
         map_colour: look.map_colour,
         tone_map: view.tone_map,
+        background: (on_map && view.background.show).then_some(
+            crate::render::settings::Background {
+                blur: view.background.blur,
+                turn_rad,
+                intensity: view.environment_intensity,
+            },
+        ),
         ..RenderSettings::for_look(&look.rendering, view.orbit, env, size)
     }
 }
@@ -509,6 +544,8 @@ struct Worker {
     /// The default head whose surface maps are still to bake (after its
     /// first frame).
     pending_maps: Option<Mesh>,
+    /// The background map the renderer holds (a new renderer holds none).
+    background: Option<SharedMap>,
     /// Sides (A, B) without random rotations, kept through refinement.
     kept: [Option<Side>; 2],
     /// The preview's resolution divisor, adapted frame by frame.
@@ -618,6 +655,7 @@ impl Worker {
         let t_setup = t.elapsed();
         let mut renderer = Renderer::new(ctx, &mesh_data).map_err(|e| e.to_string())?;
         renderer.cancel_with(self.cancel.clone());
+        self.background = None;
         self.renderer = Some(renderer);
         self.reframed = self.mesh_path != *mesh
             || self.mesh_settings.metres_per_unit != settings.metres_per_unit;
@@ -671,6 +709,12 @@ impl Worker {
     /// statistics, a note for the status bar, and whether any side is
     /// stochastic (more refinement frames would change it).
     fn frame(&mut self, req: &Request, pass: Pass) -> Result<Rendered, String> {
+        if self.background != req.background_map {
+            if let Some(r) = self.renderer.as_mut() {
+                r.set_background(req.background_map.as_ref().map(|m| &*m.0));
+                self.background = req.background_map.clone();
+            }
+        }
         let (full_w, full_h) = req.size;
         let (w, h) = match pass {
             Pass::Preview(d) | Pass::Coarse(d) => (

@@ -192,6 +192,7 @@ impl EditorApp {
     /// distance that frames the mesh (m).
     pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
         let mut open_environment = false;
+        let mut shipped: Option<PathBuf> = None;
         ui.horizontal_wrapped(|ui| {
             let v = &mut self.ui_state.view;
             let map_name = self
@@ -244,6 +245,38 @@ impl EditorApp {
                         open_environment = true;
                         ui.close();
                     }
+                    for path in shipped_hdr_maps() {
+                        let name = path
+                            .file_stem()
+                            .map(|n| n.to_string_lossy().replace('_', " "))
+                            .unwrap_or_default();
+                        if ui
+                            .button(format!("shipped: {name}"))
+                            .on_hover_text(format!(
+                                "{} (CC0, made by tools/make_hdri.py)",
+                                path.display()
+                            ))
+                            .clicked()
+                        {
+                            shipped = Some(path);
+                            ui.close();
+                        }
+                    }
+                    if v.environment == state::EnvironmentChoice::Map {
+                        ui.separator();
+                        ui.checkbox(&mut v.background.show, "show behind the head")
+                            .on_hover_text("Draw the HDR map as the viewport's background (exposed and tone mapped as the head is).");
+                        ui.add(
+                            egui::Slider::new(&mut v.background.turn_deg, -180.0..=180.0)
+                                .suffix("°")
+                                .text("turn"),
+                        )
+                        .on_hover_text("Turn the map about the vertical axis: the background and the head's lighting turn together.");
+                        ui.add(
+                            egui::Slider::new(&mut v.background.blur, 0.0..=1.0).text("blur"),
+                        )
+                        .on_hover_text("0: the map sharp; 1: its coarsest level, a soft wash of its colours.");
+                    }
                 })
                 .response;
             env.widget_info(|| {
@@ -291,6 +324,9 @@ impl EditorApp {
         });
         if open_environment {
             self.open_dialog(DialogKind::Environment);
+        }
+        if let Some(p) = shipped {
+            self.load_environment(p);
         }
     }
 
@@ -402,6 +438,7 @@ impl EditorApp {
             size,
             mesh: self.meshes.mesh.clone(),
             seq: 0,
+            background_map: self.view.background_map.clone(),
             mesh_settings: self
                 .meshes
                 .mesh
@@ -640,6 +677,21 @@ impl EditorApp {
             None => self.meshes.mesh = None,
         }
     }
+}
+
+/// The environment maps shipped in assets/hdri/ (CC0), by name.
+pub fn shipped_hdr_maps() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri");
+    let mut maps: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
+                .collect()
+        })
+        .unwrap_or_default();
+    maps.sort();
+    maps
 }
 
 /// The light rigs (one click each), the key light's intensity and the

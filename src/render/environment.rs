@@ -189,6 +189,117 @@ impl Environment {
     }
 }
 
+/// An environment map as the viewport's background: linear RGB at most
+/// `max_width` wide (2×2 box means down from the map), row-major, the
+/// equirectangular layout of [`Environment::Map`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BackgroundMap {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[f32; 3]>,
+}
+
+impl BackgroundMap {
+    /// `env`'s map (none for the procedural sky), halved until it is at
+    /// most `max_width` wide.
+    pub fn of(env: &Environment, max_width: usize) -> Option<Self> {
+        let Environment::Map {
+            width,
+            height,
+            texels,
+        } = env
+        else {
+            return None;
+        };
+        let mut m = Self {
+            width: *width as u32,
+            height: *height as u32,
+            texels: texels.clone(),
+        };
+        while m.width as usize > max_width.max(2) {
+            m = m.half();
+        }
+        Some(m)
+    }
+
+    /// The next level down: each output texel the mean of a 2×2 block
+    /// (odd edges clamp).
+    pub fn half(&self) -> Self {
+        let (w, h) = ((self.width / 2).max(1), (self.height / 2).max(1));
+        let at = |x: u32, y: u32| {
+            let (x, y) = (x.min(self.width - 1), y.min(self.height - 1));
+            self.texels[(y * self.width + x) as usize]
+        };
+        let texels = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let q = [
+                    at(2 * x, 2 * y),
+                    at(2 * x + 1, 2 * y),
+                    at(2 * x, 2 * y + 1),
+                    at(2 * x + 1, 2 * y + 1),
+                ];
+                std::array::from_fn(|c| q.iter().map(|t| t[c]).sum::<f32>() / 4.0)
+            })
+            .collect();
+        Self {
+            width: w,
+            height: h,
+            texels,
+        }
+    }
+}
+
+/// The irradiance SH `sh` ([`Environment::irradiance_sh`]) of an
+/// environment turned by `angle_rad` about the up axis (y), so that what
+/// was seen along u is seen along u + angle/2π: the coefficients of
+/// E(R⁻¹ n) projected back on the basis. The projection is exact (up to
+/// rounding): E∘R⁻¹ lies in bands 0–2, a product of two such functions is
+/// a polynomial of degree 4, and Gauss–Legendre in cos θ with 4 nodes
+/// (exact to degree 7) times 12 equal azimuths (exact for frequencies
+/// under 12) integrates it exactly.
+pub fn rotate_sh_about_up(sh: &[[f32; 3]; 9], angle_rad: f32) -> [[f32; 3]; 9] {
+    if angle_rad == 0.0 {
+        return *sh;
+    }
+    // Gauss–Legendre nodes and weights on [−1, 1], n = 4.
+    const NODES: [(f64, f64); 4] = [
+        (-0.861_136_311_594_053, 0.347_854_845_137_454),
+        (-0.339_981_043_584_856, 0.652_145_154_862_546),
+        (0.339_981_043_584_856, 0.652_145_154_862_546),
+        (0.861_136_311_594_053, 0.347_854_845_137_454),
+    ];
+    const AZIMUTHS: usize = 12;
+    let (s, c) = (angle_rad as f64).sin_cos();
+    let mut out = [[0.0f64; 3]; 9];
+    for (y, wy) in NODES {
+        let r = (1.0 - y * y).sqrt();
+        for k in 0..AZIMUTHS {
+            let phi = std::f64::consts::TAU * (k as f64 + 0.5) / AZIMUTHS as f64;
+            let d = Vec3::new((r * phi.sin()) as f32, y as f32, (-r * phi.cos()) as f32);
+            // R⁻¹ d: turned back by the angle about y (the azimuth of
+            // `equirect_to_direction`, atan2(x, −z), goes down by it).
+            let back = Vec3::new(
+                (d.x as f64 * c + d.z as f64 * s) as f32,
+                d.y,
+                (-(d.x as f64) * s + d.z as f64 * c) as f32,
+            );
+            let basis_back = sh9(back);
+            let basis = sh9(d);
+            let w = wy * std::f64::consts::TAU / AZIMUTHS as f64;
+            for ch in 0..3 {
+                let f: f64 = (0..9)
+                    .map(|j| sh[j][ch] as f64 * basis_back[j] as f64)
+                    .sum();
+                for (i, b) in basis.iter().enumerate() {
+                    out[i][ch] += w * f * *b as f64;
+                }
+            }
+        }
+    }
+    out.map(|c| c.map(|v| v as f32))
+}
+
 /// Real SH basis up to l = 2 (Ramamoorthi & Hanrahan's constants), in the
 /// order the scene shader uses.
 pub fn sh9(d: Vec3) -> [f32; 9] {
@@ -346,5 +457,64 @@ mod tests {
     fn bad_maps_are_refused_with_the_path() {
         let e = Environment::load(Path::new("/no/such/sky.hdr")).unwrap_err();
         assert!(e.to_string().contains("/no/such/sky.hdr"));
+    }
+}
+
+#[cfg(test)]
+mod rotation_tests {
+    use super::*;
+
+    /// Turning the SH by a quarter turn gives the SH of the map with its
+    /// columns moved a quarter along u (projected independently, texel by
+    /// texel); turning back gives the original.
+    #[test]
+    fn turned_sh_is_the_sh_of_the_turned_map() {
+        let (w, h) = (64, 32);
+        let texels: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let u = x as f32 / w as f32;
+                [
+                    1.0 + (6.28 * u).sin(),
+                    0.5 + 0.5 * (y as f32 / h as f32),
+                    (12.56 * u).cos().abs(),
+                ]
+            })
+            .collect();
+        let shifted: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                texels[y * w + (x + w - w / 4) % w]
+            })
+            .collect();
+        let sh = Environment::Map {
+            width: w,
+            height: h,
+            texels,
+        }
+        .irradiance_sh();
+        let want = Environment::Map {
+            width: w,
+            height: h,
+            texels: shifted,
+        }
+        .irradiance_sh();
+        let got = rotate_sh_about_up(&sh, std::f32::consts::FRAC_PI_2);
+        for k in 0..9 {
+            for c in 0..3 {
+                assert!(
+                    (got[k][c] - want[k][c]).abs() < 2e-3,
+                    "coefficient {k}: {} against {}",
+                    got[k][c],
+                    want[k][c]
+                );
+            }
+        }
+        let back = rotate_sh_about_up(&got, -std::f32::consts::FRAC_PI_2);
+        for k in 0..9 {
+            for c in 0..3 {
+                assert!((back[k][c] - sh[k][c]).abs() < 1e-4);
+            }
+        }
     }
 }

@@ -239,11 +239,23 @@ gpu_struct! {
         pub exposure: f32,
         /// `TONE_*` ([`crate::render::tonemap::ToneMap::shader_id`]).
         pub tone_map: u32,
-        pub pad1: f32,
-        pub pad2: f32,
+        /// 1: the environment map is drawn behind the head.
+        pub background_on: u32,
+        /// Its mip level (0 sharp; higher levels blur).
+        pub background_lod: f32,
+        /// Its turn about the up axis as a fraction of u (angle / 2π).
+        pub background_turn: f32,
+        /// Multiplier of its radiance (the environment's intensity).
+        pub background_intensity: f32,
+        /// The frame's size in pixels (the targets may be larger).
+        pub frame_width: f32,
+        pub frame_height: f32,
+        /// Clip space to a world direction from the eye (the inverse of
+        /// projection × the view's rotation).
+        pub direction_from_clip: [[f32; 4]; 4],
     }
 }
-const _: () = assert!(std::mem::size_of::<CompositeUniforms>() == 16);
+const _: () = assert!(std::mem::size_of::<CompositeUniforms>() == 96);
 
 /// What a surface is: skin scatters; eyes and teeth do not (the eye is
 /// drawn with an iris). On the GPU a float vertex attribute

@@ -54,6 +54,8 @@ pub struct Renderer {
     classify: ClassifyPass,
     sss: SssPipelines,
     composite: CompositePass,
+    /// An environment map is set to draw behind the head.
+    has_background: bool,
     targets: Option<Targets>,
     profile: Option<ProfileBinding>,
     /// What the scene, depth, stencil and classify targets were last drawn
@@ -90,7 +92,7 @@ impl Renderer {
                 scene,
                 ClassifyPass::new(device, &module("classify")),
                 SssPipelines::new(device, &module),
-                CompositePass::new(device, &module("composite")),
+                CompositePass::new(device, &ctx.queue, &module("composite")),
             )
         })?;
         let mut lods = vec![MeshLod::new(&ctx.device, mesh)];
@@ -111,6 +113,7 @@ impl Renderer {
             classify,
             sss,
             composite,
+            has_background: false,
             targets: None,
             profile: None,
             scene_key: None,
@@ -164,6 +167,14 @@ impl Renderer {
     /// Replaces the mesh's surface maps (the editor draws the default head
     /// with neutral maps first and swaps in its baked maps when they are
     /// ready). The next frame rebuilds the scene's bind group.
+    /// Draws `map` behind the head where a frame's settings ask for a
+    /// background (`None`: none to draw).
+    pub fn set_background(&mut self, map: Option<&super::environment::BackgroundMap>) {
+        self.composite
+            .set_background(&self.ctx.device, &self.ctx.queue, map);
+        self.has_background = map.is_some();
+    }
+
     pub fn set_surface_maps(&mut self, maps: &MeshTextures) -> Result<(), GpuError> {
         self.scene.maps = SurfaceMaps::upload(&self.ctx, maps)?;
         self.profile = None;
@@ -393,9 +404,27 @@ impl Renderer {
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
-        let shown =
-            self.composite
-                .finish(&mut f, t, s.progressive, exposure, s.tone_map, target)?;
+        let rotation_only = {
+            let mut v = camera.view;
+            v.w_axis = glam::Vec4::W;
+            v
+        };
+        let background = super::passes::composite::BackgroundTerms {
+            on: s.background.is_some() && self.has_background,
+            blur: s.background.map_or(0.0, |b| b.blur),
+            turn_rad: s.background.map_or(0.0, |b| b.turn_rad),
+            intensity: s.background.map_or(1.0, |b| b.intensity),
+            direction_from_clip: (camera.projection * rotation_only).inverse(),
+        };
+        let shown = self.composite.finish(
+            &mut f,
+            t,
+            s.progressive,
+            exposure,
+            s.tone_map,
+            background,
+            target,
+        )?;
         let FrameEncoder {
             mut encoder,
             mut timer,

@@ -49,6 +49,21 @@ pub struct RenderSettings {
     pub map_colour: super::textures::MapColour,
     /// The display transform after exposure.
     pub tone_map: super::tonemap::ToneMap,
+    /// Draw the environment map set with `Renderer::set_background`
+    /// behind the head (`None`: the plain grey).
+    pub background: Option<Background>,
+}
+
+/// How the environment map is drawn behind the head.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Background {
+    /// 0 sharp … 1 its coarsest mip level.
+    pub blur: f32,
+    /// The map's turn about the up axis (the lighting's SH turned alike:
+    /// `environment::rotate_sh_about_up`).
+    pub turn_rad: f32,
+    /// Multiplier of its radiance (the environment's intensity).
+    pub intensity: f32,
 }
 
 /// How the editor asks for the ground truth: in square tiles of
@@ -239,6 +254,7 @@ impl Default for RenderSettings {
             truth_tiles: None,
             map_colour: Default::default(),
             tone_map: Default::default(),
+            background: None,
         }
     }
 }

@@ -253,6 +253,7 @@ impl Worker {
             reframed: false,
             cache: Vec::new(),
             pending_maps: None,
+            background: None,
             kept: [None, None],
             divisor: None,
             full_frame_ms: None,

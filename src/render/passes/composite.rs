@@ -17,10 +17,72 @@ pub(in crate::render) struct CompositePass {
     pipeline: wgpu::RenderPipeline,
     accumulate_layout: wgpu::BindGroupLayout,
     accumulate_pipeline: wgpu::RenderPipeline,
+    /// The environment map drawn behind the head (a black texel until one
+    /// is set) and its mip levels.
+    background: (wgpu::TextureView, u32),
+    background_sampler: wgpu::Sampler,
+}
+
+/// How a frame shows its background ([`super::super::RenderSettings::background`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BackgroundTerms {
+    pub on: bool,
+    /// 0 sharp … 1 the coarsest level.
+    pub blur: f32,
+    pub turn_rad: f32,
+    pub intensity: f32,
+    pub direction_from_clip: glam::Mat4,
+}
+
+/// The background map's levels uploaded as RGBA half floats.
+fn upload_background(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    map: &crate::render::environment::BackgroundMap,
+) -> (wgpu::TextureView, u32) {
+    use crate::render::readback::f32_to_half;
+    let mut levels = vec![map.clone()];
+    while levels.last().is_some_and(|l| l.width > 8 && l.height > 4) {
+        let next = levels
+            .last()
+            .map(|l| l.half())
+            .unwrap_or_else(|| map.clone());
+        levels.push(next);
+    }
+    let data: Vec<u8> = levels
+        .iter()
+        .flat_map(|l| l.texels.iter())
+        .flat_map(|t| [t[0], t[1], t[2], 1.0].map(f32_to_half))
+        .flat_map(u16::to_le_bytes)
+        .collect();
+    let view = crate::render::textures::sampled_texture(
+        device,
+        queue,
+        "background",
+        (map.width, map.height, levels.len() as u32),
+        wgpu::TextureFormat::Rgba16Float,
+        &data,
+    );
+    (view, levels.len() as u32)
 }
 
 impl CompositePass {
-    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
+    /// Draws `map` behind the head from now on (`None`: a plain grey).
+    pub fn set_background(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        map: Option<&crate::render::environment::BackgroundMap>,
+    ) {
+        let black = crate::render::environment::BackgroundMap {
+            width: 1,
+            height: 1,
+            texels: vec![[0.0; 3]],
+        };
+        self.background = upload_background(device, queue, map.unwrap_or(&black));
+    }
+
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, module: &wgpu::ShaderModule) -> Self {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("composite"),
             entries: &[
@@ -29,6 +91,22 @@ impl CompositePass {
                 texture_entry(2),
                 texture_entry(3),
                 texture_entry(4),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         let accumulate_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -54,6 +132,24 @@ impl CompositePass {
             ),
             layout,
             accumulate_layout,
+            background: upload_background(
+                device,
+                queue,
+                &crate::render::environment::BackgroundMap {
+                    width: 1,
+                    height: 1,
+                    texels: vec![[0.0; 3]],
+                },
+            ),
+            background_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("background"),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                ..Default::default()
+            }),
         }
     }
 
@@ -70,6 +166,7 @@ impl CompositePass {
         progressive: Option<Progressive>,
         exposure: f32,
         tone_map: super::super::tonemap::ToneMap,
+        background: BackgroundTerms,
         scattered: HdrTarget,
     ) -> Result<&'t wgpu::Texture, GpuError> {
         let (texture, view) = match progressive {
@@ -79,6 +176,14 @@ impl CompositePass {
         let uniforms = CompositeUniforms {
             exposure,
             tone_map: tone_map.shader_id(),
+            background_on: background.on as u32,
+            background_lod: background.blur.clamp(0.0, 1.0)
+                * (self.background.1.saturating_sub(1)) as f32,
+            background_turn: background.turn_rad / std::f32::consts::TAU,
+            background_intensity: background.intensity,
+            direction_from_clip: background.direction_from_clip.to_cols_array_2d(),
+            frame_width: t.size.0 as f32,
+            frame_height: t.size.1 as f32,
             ..bytemuck::Zeroable::zeroed()
         };
         self.encode(f, t, view, uniforms);
@@ -140,6 +245,11 @@ impl CompositePass {
                 tex(2, &t.specular),
                 tex(3, &t.albedo),
                 tex(4, t.view(HdrTarget::Diffuse)),
+                tex(5, &self.background.0),
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Sampler(&self.background_sampler),
+                },
             ],
         });
         let (w, h) = t.size;
