@@ -35,7 +35,7 @@ pub fn box_downsample(img: &image::RgbaImage, k: u32) -> image::RgbaImage {
         return img.clone();
     }
     let (w, h) = (img.width() / k, img.height() / k);
-    let n = (k * k) as u32;
+    let n = k * k;
     image::RgbaImage::from_fn(w, h, |x, y| {
         let mut sum = [0u32; 4];
         for dy in 0..k {

@@ -475,9 +475,9 @@ mod rotation_tests {
                 let (x, y) = (i % w, i / w);
                 let u = x as f32 / w as f32;
                 [
-                    1.0 + (6.28 * u).sin(),
+                    1.0 + (std::f32::consts::TAU * u).sin(),
                     0.5 + 0.5 * (y as f32 / h as f32),
-                    (12.56 * u).cos().abs(),
+                    (2.0 * std::f32::consts::TAU * u).cos().abs(),
                 ]
             })
             .collect();

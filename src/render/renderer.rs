@@ -420,9 +420,7 @@ impl Renderer {
             &mut f,
             t,
             s.progressive,
-            exposure,
-            s.tone_map,
-            background,
+            (exposure, s.tone_map, background),
             target,
         )?;
         let FrameEncoder {

@@ -164,9 +164,7 @@ impl CompositePass {
         f: &mut FrameEncoder,
         t: &'t Targets,
         progressive: Option<Progressive>,
-        exposure: f32,
-        tone_map: super::super::tonemap::ToneMap,
-        background: BackgroundTerms,
+        (exposure, tone_map, background): (f32, super::super::tonemap::ToneMap, BackgroundTerms),
         scattered: HdrTarget,
     ) -> Result<&'t wgpu::Texture, GpuError> {
         let (texture, view) = match progressive {
@@ -184,7 +182,6 @@ impl CompositePass {
             direction_from_clip: background.direction_from_clip.to_cols_array_2d(),
             frame_width: t.size.0 as f32,
             frame_height: t.size.1 as f32,
-            ..bytemuck::Zeroable::zeroed()
         };
         self.encode(f, t, view, uniforms);
         Ok(texture)
