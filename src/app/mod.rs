@@ -90,21 +90,15 @@ impl DialogKind {
     fn title(&self) -> String {
         match self {
             DialogKind::Open => "Open preset (.ron)".to_string(),
-            DialogKind::Import => format!(
-                "Import an engine's file ({})",
-                crate::export::importable_kinds()
-            ),
+            DialogKind::Import => "Import an engine's file".into(),
             DialogKind::SaveAs => "Save preset as (.ron)".into(),
             DialogKind::Export(f) => format!("Export: {} (.{})", f.name(), f.extension()),
-            DialogKind::CompareB => {
-                "Compare against (B): a preset or an engine's file, drawn as that engine draws it"
-                    .into()
-            }
+            DialogKind::CompareB => "Compare with (B): a preset or engine file".into(),
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
             DialogKind::SaveStill => "Save the image at size (.png)".into(),
-            DialogKind::SaveTurntable => "Save turntable (.gif, and a PNG per frame)".into(),
+            DialogKind::SaveTurntable => "Save turntable (.gif)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",
                 crate::render::textures::SLOTS[*k].name()
@@ -263,6 +257,8 @@ impl EditorApp {
                 last_frame: None,
                 background_map: None,
                 keep_environment: None,
+                show_mouse_hint: false,
+                adapter: String::new(),
                 quality: None,
                 history: Default::default(),
                 truth_phase: None,
@@ -650,8 +646,12 @@ pub fn run(
             if let Some(f) = &import {
                 app.import_now(f);
             }
-            if let Some(m) = mesh {
-                app.open_mesh(m);
+            match mesh {
+                Some(m) => app.open_mesh(m),
+                None if app.ui_state.start_on_scan => {
+                    app.open_scanned_head();
+                }
+                None => {}
             }
             if let Some(b) = budget {
                 app.open_budget(b);

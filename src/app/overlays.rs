@@ -217,6 +217,15 @@ impl EditorApp {
         }
         self.light_gizmo_ui(ui, rect);
         self.probe_ui(ui, &painter, rect);
+        if self.view.show_mouse_hint && label.is_none() {
+            painter.text(
+                rect.left_bottom() + egui::vec2(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                "drag: orbit · right/Shift drag: light · middle: pan · wheel: zoom · Space: A/B",
+                egui::FontId::proportional(12.0),
+                egui::Color32::from_white_alpha(150),
+            );
+        }
         self.layout.viewport_rect = Some(rect);
         if let Some(l) = label {
             painter.text(

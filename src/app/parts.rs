@@ -35,6 +35,10 @@ pub(super) struct ProfileState {
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
 pub(super) struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
+    /// The pointer rests over the viewport: its mouse hint is shown.
+    pub(super) show_mouse_hint: bool,
+    /// The GPU adapter's whole name (the status bar shows its first words).
+    pub(super) adapter: String,
     /// The loaded HDR map, drawn behind the head when asked.
     pub(super) background_map: Option<viewport::SharedMap>,
     /// A start-up reload of the remembered map: the environment chosen

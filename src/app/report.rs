@@ -184,7 +184,7 @@ impl EditorApp {
                     egui::Label::new(format!("{} · UI {:.1} ms", self.frame_info(), self.report.ui_ms))
                         .wrap_mode(egui::TextWrapMode::Extend),
                 )
-                    .on_hover_text("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter. UI: this frame's time in the panels and plots.");
+                    .on_hover_text(format!("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter ({}). UI: this frame's time in the panels and plots.", self.view.adapter));
                 ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
                     ui.add(
                         egui::Label::new(egui::RichText::new(&self.report.status).color(color))

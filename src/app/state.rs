@@ -652,6 +652,9 @@ pub struct UiState {
     pub map_colour: crate::render::textures::MapColour,
     /// File → Save image at size's settings.
     pub still: StillSettings,
+    /// Open on the shipped head scan (with its maps, units and flip) when
+    /// no mesh is asked for; off: the procedural head.
+    pub start_on_scan: bool,
 }
 
 impl Default for UiState {
@@ -679,6 +682,7 @@ impl Default for UiState {
             b_material_albedo_asked: false,
             map_colour: Default::default(),
             still: Default::default(),
+            start_on_scan: true,
         }
     }
 }

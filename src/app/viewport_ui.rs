@@ -33,7 +33,9 @@ impl EditorApp {
             });
             vp.set_focus(at);
         }
-        response.on_hover_text("Left drag: orbit · right or Shift+drag: light · middle drag: pan · wheel: zoom · Space: A/B");
+        // The mouse's meaning, inside the viewport (a tooltip at the
+        // pointer covered the status bar).
+        self.view.show_mouse_hint = response.hovered() && !response.dragged();
         let req = self.frame_request(ui, rect);
         let valid = self.doc.preset.rendering.validate().is_ok()
             && !matches!(self.profile.curves, Some(Err(_)));
@@ -301,25 +303,32 @@ impl EditorApp {
                     ..Default::default()
                 };
             }
-            ui.checkbox(&mut self.ui_state.refine_to_truth, "refine to the truth")
+            ui.checkbox(&mut self.ui_state.refine_to_truth, "to truth")
                 .on_hover_text(
-                    "Once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
+                    "Refine to the truth: once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
                 );
             if let Some(p) = self.meshes.mesh.clone() {
-                if ui
-                    .button("Units…")
-                    .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
-                    .clicked()
-                {
-                    self.meshes.units_prompt = Some(p.clone());
-                }
-                if ui
-                    .button("Maps…")
-                    .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
-                    .clicked()
-                {
-                    self.meshes.maps_window = Some(p);
-                }
+                // One menu, so a loaded mesh keeps the row at 1280×720.
+                ui.menu_button("Mesh", |ui| {
+                    if ui
+                        .button("Units…")
+                        .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
+                        .clicked()
+                    {
+                        self.meshes.units_prompt = Some(p.clone());
+                        ui.close();
+                    }
+                    if ui
+                        .button("Maps…")
+                        .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
+                        .clicked()
+                    {
+                        self.meshes.maps_window = Some(p);
+                        ui.close();
+                    }
+                })
+                .response
+                .on_hover_text("The loaded mesh's units and maps.");
             }
         });
         if open_environment {
@@ -517,8 +526,10 @@ impl EditorApp {
                         .map(|m| format!(" (SSS {m:.1} ms)"))
                         .unwrap_or_default(),
                     note.map(|n| format!(" · {n}")).unwrap_or_default(),
-                    stats.adapter
+                    // The adapter's first words (its whole name on hover).
+                    stats.adapter.split(" (").next().unwrap_or(&stats.adapter)
                 );
+                self.view.adapter = stats.adapter.clone();
                 let size = (self.view.last_frame.as_ref()).map_or((0, 0), |f| f.0.dimensions());
                 self.view
                     .history
@@ -602,7 +613,7 @@ impl EditorApp {
                 self.meshes.mesh = None;
             }
             None if self.status().starts_with("Loading") => {
-                self.say("Default head");
+                self.say("Procedural head");
             }
             None => {}
         }

@@ -640,7 +640,7 @@ fn overlays_are_drawn_where_sane_and_a_used_fit_says_what_it_is() {
 
 /// At 1280×720 each viewport toolbar is one row: the compare modes with
 /// "SSS only", then environment, light (exposure inside), Reset view and
-/// "refine to the truth" (they wrapped onto 3–4 rows before).
+/// "to truth" (they wrapped onto 3–4 rows before).
 #[test]
 fn the_toolbars_are_one_row_each_at_1280x720() {
     let mut h = harness_of(
@@ -655,7 +655,7 @@ fn the_toolbars_are_one_row_each_at_1280x720() {
     let view = top("Light: custom");
     assert!(view > compare + 10.0, "{view} vs {compare}");
     assert!((top("Reset view") - view).abs() < 2.0, "Reset view wrapped");
-    assert!((top("refine to the truth") - view).abs() < 2.0);
+    assert!((top("to truth") - view).abs() < 2.0);
     let env = h
         .get_all_by_role(egui::accesskit::Role::ComboBox)
         .map(|n| n.rect().center().y)
@@ -670,6 +670,22 @@ fn the_toolbars_are_one_row_each_at_1280x720() {
         (env - view).abs() < 2.0,
         "the environment menu is not on the light's row"
     );
+    // A mesh loaded and compare on: its units and maps are one menu on
+    // the same row (Units… and Maps… had wrapped to a third row).
+    let scan = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scan/LeePerrySmith.glb"
+    ));
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: scan.to_path_buf(),
+        metres_per_unit: Some(0.0462),
+    });
+    h.state_mut().ui_state.compare = scatterlab::app::state::CompareMode::SideBySide;
+    h.run_steps(3);
+    let top = |label: &str| h.get_by_label(label).rect().center().y;
+    let view = top("Light: custom");
+    assert!((top("Mesh") - view).abs() < 2.0, "the Mesh menu wrapped");
+    assert!((top("to truth") - view).abs() < 2.0, "to truth wrapped");
 }
 
 /// "SSS only" is the difference view against the same look without

@@ -372,6 +372,8 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
         redness(&img, 0.3),
         redness(&img, 0.75)
     );
+    h.get_by_label("Mesh").click_accesskit();
+    h.run_steps(2);
     h.get_by_label("Maps…").click_accesskit();
     h.run_steps(2);
     h.get_by_label("Albedo: flip V").click_accesskit();
@@ -386,9 +388,11 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
     assert_eq!(h.state().ui_state.meshes[&mesh].metres_per_unit, 0.0156);
     // Back to the default head: the status bar says so (it kept naming
     // the mesh), and the head is framed again.
-    assert_ne!(h.state().status(), "Default head");
-    file_menu(&mut h, "Default head");
-    step_until(&mut h, "the default head", |a| a.status() == "Default head");
+    assert_ne!(h.state().status(), "Procedural head");
+    file_menu(&mut h, "Procedural head");
+    step_until(&mut h, "the procedural head", |a| {
+        a.status() == "Procedural head"
+    });
     let head = h.state().mesh_info().unwrap();
     assert!((head.metres_per_unit - 0.1).abs() < 1e-6, "{head:?}");
     if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_none() {
@@ -416,6 +420,8 @@ fn a_photogrammetry_scan_with_its_own_maps() {
         "Use 0.0462 m/unit (18.6 cm across, 36.7 cm tall)",
         0.0462,
     );
+    h.get_by_label("Mesh").click_accesskit();
+    h.run_steps(2);
     h.get_by_label("Maps…").click_accesskit();
     h.run_steps(2);
     for (label, file) in [
