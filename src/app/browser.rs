@@ -1,8 +1,9 @@
-//! File → Browse presets…: every shipped preset as a thumbnail of the
-//! default head rendered by our own renderer (its method, burley for the
-//! ground truth), cached on disk so the second look costs nothing. A click
-//! starts a new look from that preset, asking first if the open one has
-//! unsaved changes.
+//! File → Browse presets…: every shipped preset, then the presets in the
+//! artist's own folders, as a thumbnail of the default head rendered by our
+//! own renderer (its method, burley for the ground truth), cached on disk
+//! so the second look costs nothing. A click on a shipped preset starts a
+//! new look from it; on one of the artist's, opens that file; either asks
+//! first if the open look has unsaved changes.
 
 use super::viewport::{Look, Request, Viewport};
 use super::*;
@@ -18,6 +19,10 @@ const THUMBNAIL_VERSION: u32 = 1;
 
 /// One preset in the browser.
 struct Entry {
+    /// The artist's file, for a preset from their folders.
+    path: Option<PathBuf>,
+    /// The group it is listed under ("shipped", or the folder).
+    group: String,
     preset: Preset,
     image: Option<image::RgbaImage>,
     texture: Option<egui::TextureHandle>,
@@ -36,6 +41,8 @@ pub struct PresetBrowser {
     /// Thumbnails rendered (not read from the cache) this time.
     pub rendered: usize,
     error: Option<String>,
+    /// Files and folders of the artist's that could not be listed, and why.
+    pub skipped: Vec<String>,
 }
 
 /// FNV-1a, 64-bit: a hash that stays the same across runs and builds (the
@@ -83,16 +90,49 @@ impl PresetBrowser {
     /// Lists the shipped presets and starts filling in their thumbnails
     /// from `cache` (rendering and storing the missing ones).
     /// `wake` is called after each thumbnail, so it shows without input.
-    pub fn open(cache: Option<PathBuf>, wake: impl Fn() + Send + 'static) -> Self {
-        let entries: Vec<Entry> = library::PRESETS
+    pub fn open(
+        cache: Option<PathBuf>,
+        folders: &[PathBuf],
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let mut entries: Vec<Entry> = library::PRESETS
             .iter()
             .filter_map(|(file, _)| library::load(file).ok())
             .map(|preset| Entry {
+                path: None,
+                group: "shipped".into(),
                 preset,
                 image: None,
                 texture: None,
             })
             .collect();
+        let mut skipped = Vec::new();
+        for dir in folders {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+                .map(|d| {
+                    d.filter_map(Result::ok)
+                        .map(|e| e.path())
+                        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("ron")))
+                        .collect()
+                })
+                .unwrap_or_else(|e| {
+                    skipped.push(format!("{}: {e}", dir.display()));
+                    Vec::new()
+                });
+            files.sort();
+            for f in files {
+                match Preset::load(&f) {
+                    Ok(preset) => entries.push(Entry {
+                        path: Some(f),
+                        group: dir.display().to_string(),
+                        preset,
+                        image: None,
+                        texture: None,
+                    }),
+                    Err(e) => skipped.push(e.to_string()),
+                }
+            }
+        }
         let presets: Vec<Preset> = entries.iter().map(|e| e.preset.clone()).collect();
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
@@ -144,6 +184,7 @@ impl PresetBrowser {
             rx: Some(rx),
             rendered: 0,
             error: None,
+            skipped,
         }
     }
 
@@ -174,6 +215,14 @@ impl PresetBrowser {
             self.entries.iter().filter(|e| e.image.is_some()).count(),
             self.entries.len(),
         )
+    }
+
+    /// The presets listed from the artist's folders (UI tests).
+    pub fn own_presets(&self) -> Vec<&Path> {
+        self.entries
+            .iter()
+            .filter_map(|e| e.path.as_deref())
+            .collect()
     }
 
     /// Preset `name`'s thumbnail, once in (UI tests).
@@ -213,6 +262,7 @@ impl EditorApp {
         }
         let mut open = true;
         let mut chosen = None;
+        let mut folders_changed = false;
         egui::Window::new("Presets")
             .collapsible(false)
             .resizable(true)
@@ -228,11 +278,77 @@ impl EditorApp {
                             .text(format!("rendering thumbnails: {done} of {all} (cached for next time)")),
                     );
                 }
-                ui.label("Click a preset to start a new look from it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth).");
+                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth).");
+                ui.horizontal_wrapped(|ui| {
+                    ui.label("Your folders:");
+                    let mut remove = None;
+                    for (i, f) in self.ui_state.preset_folders.iter().enumerate() {
+                        if ui
+                            .button(format!("{} ×", f.display()))
+                            .on_hover_text("Stop listing this folder (its files stay).")
+                            .clicked()
+                        {
+                            remove = Some(i);
+                        }
+                    }
+                    if let Some(i) = remove {
+                        self.ui_state.preset_folders.remove(i);
+                        folders_changed = true;
+                    }
+                    let here = self
+                        .doc
+                        .path
+                        .as_deref()
+                        .and_then(Path::parent)
+                        .filter(|d| !super::files::is_shipped_presets(d))
+                        .map(Path::to_path_buf);
+                    if let Some(dir) = here.filter(|d| !self.ui_state.preset_folders.contains(d)) {
+                        if ui
+                            .button("+ this look's folder")
+                            .on_hover_text(format!("List the presets in {} here too.", dir.display()))
+                            .clicked()
+                        {
+                            self.ui_state.preset_folders.push(dir);
+                            folders_changed = true;
+                        }
+                    }
+                    let typed_id = egui::Id::unique("scatterlab_preset_folder_typed");
+                    let mut typed: String = ui.data(|d| d.get_temp(typed_id).unwrap_or_default());
+                    let field = ui.add(egui::TextEdit::singleline(&mut typed).hint_text("a folder of .ron presets").desired_width(180.0));
+                    let add = ui.button("+ add").on_hover_text("List the presets in the folder typed here.").clicked()
+                        || (field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
+                    if add && !typed.trim().is_empty() {
+                        let dir = PathBuf::from(typed.trim());
+                        if dir.is_dir() {
+                            if !self.ui_state.preset_folders.contains(&dir) {
+                                self.ui_state.preset_folders.push(dir);
+                                folders_changed = true;
+                            }
+                            typed.clear();
+                        } else {
+                            browser.skipped.insert(0, format!("{}: not a folder", dir.display()));
+                        }
+                    }
+                    ui.data_mut(|d| d.insert_temp(typed_id, typed));
+                });
+                for s in &browser.skipped {
+                    ui.colored_label(ui.visuals().warn_fg_color, format!("Not listed: {s}"));
+                }
                 egui::ScrollArea::vertical().auto_shrink(false).show(ui, |ui| {
                     let per_row = ((ui.available_width() / (THUMB.0 as f32 + 16.0)) as usize).max(1);
                     egui::Grid::new("preset_thumbnails").spacing([8.0, 8.0]).show(ui, |ui| {
+                        let mut group = String::new();
+                        let mut in_row = 0;
                         for (k, e) in browser.entries.iter_mut().enumerate() {
+                            if e.group != group {
+                                if in_row > 0 {
+                                    ui.end_row();
+                                }
+                                group = e.group.clone();
+                                ui.strong(&group);
+                                ui.end_row();
+                                in_row = 0;
+                            }
                             let size = egui::vec2(THUMB.0 as f32, THUMB.1 as f32);
                             ui.vertical(|ui| {
                                 ui.set_width(size.x);
@@ -265,21 +381,37 @@ impl EditorApp {
                                     .on_hover_text(&tip)
                                     .clicked();
                                 if clicked || name_clicked {
-                                    chosen = Some(e.preset.clone());
+                                    chosen = Some((e.preset.clone(), e.path.clone()));
                                 }
                             });
-                            if (k + 1) % per_row == 0 {
+                            in_row += 1;
+                            if in_row % per_row == 0 {
                                 ui.end_row();
                             }
                         }
                     });
                 });
             });
-        if let Some(p) = chosen {
-            self.guarded(Pending::New(Box::new(p)));
-            open = false;
+        match chosen {
+            Some((_, Some(path))) => {
+                self.guarded(Pending::Open(path));
+                open = false;
+            }
+            Some((p, None)) => {
+                self.guarded(Pending::New(Box::new(p)));
+                open = false;
+            }
+            None => {}
         }
-        if open {
+        if open && folders_changed {
+            // List again with the folders as they are now (cached
+            // thumbnails come back at once).
+            self.dialogs.browser = Some(PresetBrowser::open(
+                self.dialogs.thumbnail_dir.clone(),
+                &self.ui_state.preset_folders,
+                self.waker.as_fn(),
+            ));
+        } else if open {
             self.dialogs.browser = Some(browser);
         }
     }

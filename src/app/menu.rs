@@ -108,6 +108,24 @@ impl EditorApp {
                 }
             });
             ui.menu_button("Export", |ui| self.export_menu_ui(ui));
+            ui.menu_button("View", |ui| {
+                ui.add(
+                    egui::Slider::new(&mut self.ui_state.ui_scale, state::UI_SCALE_RANGE)
+                        .step_by(0.05)
+                        .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
+                        .text("interface scale"),
+                )
+                .on_hover_text(
+                    "The size of text and controls (Ctrl+plus and Ctrl+minus too); remembered.",
+                );
+                ui.horizontal(|ui| {
+                    ui.label("Theme");
+                    ui.selectable_value(&mut self.ui_state.light_theme, false, "dark");
+                    ui.selectable_value(&mut self.ui_state.light_theme, true, "light");
+                })
+                .response
+                .on_hover_text("The interface's colours; the viewport and plots keep theirs.");
+            });
             ui.menu_button("Help", |ui| {
                 if ui.button("Shortcuts  (F1)").clicked() {
                     self.dialogs.help_open = true;
@@ -129,11 +147,12 @@ impl EditorApp {
     fn file_menu_ui(&mut self, ui: &mut egui::Ui) {
         if ui
             .button("Browse presets…")
-            .on_hover_text("Every shipped preset as a thumbnail of the head, rendered here and cached; click one to start from it")
+            .on_hover_text("Every shipped preset, and those in your own folders, as a thumbnail of the head, rendered here and cached; click one to start from it")
             .clicked()
         {
             self.dialogs.browser = Some(browser::PresetBrowser::open(
                 self.dialogs.thumbnail_dir.clone(),
+                &self.ui_state.preset_folders,
                 self.waker.as_fn(),
             ));
             ui.close();

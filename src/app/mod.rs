@@ -258,6 +258,7 @@ impl EditorApp {
                 background_map: None,
                 keep_environment: None,
                 show_mouse_hint: false,
+                applied_scale: None,
                 adapter: String::new(),
                 quality: None,
                 history: Default::default(),
@@ -391,6 +392,29 @@ impl EditorApp {
             ctx.all_styles_mut(|s| {
                 s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
             });
+        }
+        // The interface's scale and theme (View menu), where changed; a
+        // zoom by keyboard (egui's Ctrl+plus/minus) is taken as the scale.
+        if let Some(applied) = self.view.applied_scale {
+            if (ctx.zoom_factor() - applied).abs() > 1e-4 {
+                self.ui_state.ui_scale = ctx.zoom_factor();
+            }
+        }
+        let scale = self
+            .ui_state
+            .ui_scale
+            .clamp(*state::UI_SCALE_RANGE.start(), *state::UI_SCALE_RANGE.end());
+        if (ctx.zoom_factor() - scale).abs() > 1e-4 {
+            ctx.set_zoom_factor(scale);
+        }
+        self.view.applied_scale = Some(scale);
+        let theme = if self.ui_state.light_theme {
+            egui::Theme::Light
+        } else {
+            egui::Theme::Dark
+        };
+        if ctx.theme() != theme {
+            ctx.set_theme(theme);
         }
         self.waker.attach(&ctx);
         self.handle_drops(&ctx);

@@ -655,7 +655,17 @@ pub struct UiState {
     /// Open on the shipped head scan (with its maps, units and flip) when
     /// no mesh is asked for; off: the procedural head.
     pub start_on_scan: bool,
+    /// The interface's scale (egui's zoom factor: 1 = 100 %).
+    pub ui_scale: f32,
+    /// A light interface instead of the dark one.
+    pub light_theme: bool,
+    /// The artist's own preset folders, listed in the preset browser
+    /// after the shipped presets.
+    pub preset_folders: Vec<PathBuf>,
 }
+
+/// The interface scales offered (View → Interface scale).
+pub const UI_SCALE_RANGE: std::ops::RangeInclusive<f32> = 0.75..=2.0;
 
 impl Default for UiState {
     fn default() -> Self {
@@ -683,6 +693,9 @@ impl Default for UiState {
             map_colour: Default::default(),
             still: Default::default(),
             start_on_scan: true,
+            ui_scale: 1.0,
+            light_theme: false,
+            preset_folders: Vec::new(),
         }
     }
 }

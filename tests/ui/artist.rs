@@ -1061,3 +1061,46 @@ fn save_image_at_size_renders_offscreen_at_that_size() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The artist's own preset folders in the browser: a folder's presets are
+/// listed after the shipped ones (a broken file is named, not listed), a
+/// click opens the file itself; the folder is remembered. View → the
+/// interface scale and theme reach egui (zoom factor, light visuals).
+#[test]
+fn own_preset_folders_and_the_interface_scale_and_theme() {
+    let dir =
+        std::env::temp_dir().join(format!("scatterlab-ui-own-presets-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut mine = scatterlab::settings::Preset::default_skin();
+    mine.name = "My pale skin".into();
+    let file = dir.join("my_pale_skin.ron");
+    mine.save(&file).unwrap();
+    std::fs::write(dir.join("broken.ron"), "(format_version: 2, name: ").unwrap();
+    let mut state = UiState::default();
+    state.preset_folders = vec![dir.clone()];
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1500.0, 900.0]);
+    h.state_mut().set_thumbnail_dir(dir.join("thumbs"));
+    menu_item(&mut h, "File", "Browse presets…");
+    h.run_steps(2);
+    let b = h.state().preset_browser().unwrap();
+    assert_eq!(b.own_presets(), vec![file.as_path()]);
+    assert!(
+        b.skipped.len() == 1 && b.skipped[0].contains("broken.ron"),
+        "{:?}",
+        b.skipped
+    );
+    assert!(h.query_by_label_contains("Not listed:").is_some());
+    h.get_by_label("My pale skin").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().doc.path.as_deref(), Some(file.as_path()));
+    assert_eq!(h.state().doc.preset.name, "My pale skin");
+
+    h.state_mut().ui_state.ui_scale = 1.5;
+    h.state_mut().ui_state.light_theme = true;
+    h.run_steps(3);
+    assert!((h.ctx.zoom_factor() - 1.5).abs() < 1e-4);
+    assert_eq!(h.ctx.theme(), egui::Theme::Light);
+    assert!(!h.ctx.global_style().visuals.dark_mode);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
