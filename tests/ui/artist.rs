@@ -1077,8 +1077,10 @@ fn own_preset_folders_and_the_interface_scale_and_theme() {
     let file = dir.join("my_pale_skin.ron");
     mine.save(&file).unwrap();
     std::fs::write(dir.join("broken.ron"), "(format_version: 2, name: ").unwrap();
-    let mut state = UiState::default();
-    state.preset_folders = vec![dir.clone()];
+    let state = UiState {
+        preset_folders: vec![dir.clone()],
+        ..Default::default()
+    };
     let mut h = harness_of(EditorApp::new(None, state, None, false), [1500.0, 900.0]);
     h.state_mut().set_thumbnail_dir(dir.join("thumbs"));
     menu_item(&mut h, "File", "Browse presets…");
