@@ -28,6 +28,7 @@ impl EditorApp {
             ("Mesh maps", self.meshes.maps_window.is_some()),
             ("Save turntable", self.dialogs.turntable_open),
             ("Save image at size", self.dialogs.still_open),
+            ("Reference", self.view.reference.is_some()),
             ("Budget merges", self.dialogs.budget_open),
         ]
         .into_iter()
@@ -55,6 +56,7 @@ impl EditorApp {
         self.file_dialog_ui(ctx);
         self.turntable_window_ui(ctx);
         self.still_window_ui(ctx);
+        self.reference_window_ui(ctx);
         self.browser_window_ui(ctx);
         self.help_windows_ui(ctx);
         self.budget_window_ui(ctx);
@@ -114,6 +116,7 @@ impl EditorApp {
             "Mesh maps" => self.meshes.maps_window = None,
             "Save turntable" => self.dialogs.turntable_open = false,
             "Save image at size" => self.dialogs.still_open = false,
+            "Reference" => self.view.reference = None,
             _ => self.dialogs.budget_open = false,
         }
         true
@@ -374,6 +377,7 @@ impl EditorApp {
                 DialogKind::SaveTurntable => self.start_turntable(path),
                 DialogKind::SaveStill => self.start_still(path),
                 DialogKind::Environment => self.load_environment(path),
+                DialogKind::Reference => self.load_reference(path),
                 DialogKind::Map(k) => {
                     if let Some(mesh) = self.mesh_path().map(Path::to_path_buf) {
                         self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);

@@ -126,6 +126,7 @@ impl EditorApp {
             },
             DialogKind::Mesh => self.mesh_path().map(Path::to_path_buf),
             DialogKind::Environment => self.ui_state.environment_file.clone(),
+            DialogKind::Reference => self.view.reference.as_ref().map(|r| r.path.clone()),
             DialogKind::Map(k) => self.mesh_path().map(|m| {
                 self.ui_state
                     .meshes

@@ -218,6 +218,14 @@ impl EditorApp {
             ui.close();
         }
         if ui
+            .button("Reference image…")
+            .on_hover_text("A photograph beside the render or over it, with an eyedropper that picks its colours into the look's albedo or tint")
+            .clicked()
+        {
+            self.open_dialog(DialogKind::Reference);
+            ui.close();
+        }
+        if ui
             .button("Save image at size…")
             .on_hover_text("The viewport's view rendered offscreen at up to 4096×4096, supersampled, until it converges, as a PNG, with progress and Cancel")
             .clicked()

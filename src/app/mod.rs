@@ -15,6 +15,7 @@ mod overlays;
 mod params_ui;
 mod parts;
 mod plots;
+mod reference;
 mod report;
 pub mod state;
 pub mod still;
@@ -52,6 +53,8 @@ pub enum DialogKind {
     SaveTurntable,
     /// An offscreen render at a chosen size: File → Save image at size.
     SaveStill,
+    /// A reference photograph (File → Reference image).
+    Reference,
 }
 
 impl DialogKind {
@@ -64,6 +67,7 @@ impl DialogKind {
             DialogKind::Mesh => "mesh",
             DialogKind::Environment => "environment",
             DialogKind::Map(_) => "map",
+            DialogKind::Reference => "reference",
             DialogKind::SaveImage | DialogKind::SaveTurntable | DialogKind::SaveStill => "image",
         }
     }
@@ -74,7 +78,7 @@ impl DialogKind {
         let exts: &[&'static str] = match self {
             DialogKind::Mesh => &crate::render::mesh::Mesh::EXTENSIONS,
             DialogKind::Environment => &["hdr"],
-            DialogKind::Map(_) => &["png", "jpg", "jpeg"],
+            DialogKind::Map(_) | DialogKind::Reference => &["png", "jpg", "jpeg"],
             DialogKind::SaveImage | DialogKind::SaveStill => &["png"],
             DialogKind::SaveTurntable => &["gif"],
             DialogKind::Export(f) => return vec![f.extension()],
@@ -98,6 +102,7 @@ impl DialogKind {
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
             DialogKind::SaveStill => "Save the image at size (.png)".into(),
+            DialogKind::Reference => "Reference image (.png, .jpg)".into(),
             DialogKind::SaveTurntable => "Save turntable (.gif)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",
@@ -257,6 +262,7 @@ impl EditorApp {
                 last_frame: None,
                 background_map: None,
                 keep_environment: None,
+                reference: None,
                 show_mouse_hint: false,
                 applied_scale: None,
                 adapter: String::new(),

@@ -210,6 +210,7 @@ impl EditorApp {
             }
             _ => None,
         };
+        self.reference_overlay_ui(&painter, rect);
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
         if self.view.show_before {

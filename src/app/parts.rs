@@ -35,6 +35,8 @@ pub(super) struct ProfileState {
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
 pub(super) struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
+    /// File → Reference image: the photo, beside or over the render.
+    pub(super) reference: Option<super::reference::Reference>,
     /// The interface scale set on the context last frame.
     pub(super) applied_scale: Option<f32>,
     /// The pointer rests over the viewport: its mouse hint is shown.

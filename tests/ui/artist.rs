@@ -1106,3 +1106,60 @@ fn own_preset_folders_and_the_interface_scale_and_theme() {
     assert!(!h.ctx.global_style().visuals.dark_mode);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// File → Reference image: the photo opens in its window, a click on it
+/// writes the 5×5 linear mean under the pointer into the look's albedo
+/// (sRGB (200, 120, 90) decoded by IEC 61966-2-1 in this test), undo gives
+/// the albedo back, and "over the render" draws it on the viewport.
+#[test]
+fn the_reference_image_eyedropper_picks_into_the_albedo() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-reference-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let photo = dir.join("photo.png");
+    image::RgbaImage::from_pixel(64, 48, image::Rgba([200, 120, 90, 255]))
+        .save(&photo)
+        .unwrap();
+    let mut h = harness(false);
+    h.step();
+    let before = match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => b.albedo,
+        _ => unreachable!(),
+    };
+    menu_item(&mut h, "File", "Reference image…");
+    wait_for_file_dialog(&mut h);
+    choose(&mut h, &photo);
+    h.run_steps(3);
+    assert_eq!(h.state().reference_path(), Some(photo.as_path()));
+    let image = h
+        .get_all_by_role(egui::accesskit::Role::Image)
+        .last()
+        .expect("no reference image shown");
+    image.click();
+    h.run_steps(3);
+    let lin = |v: f64| ((v / 255.0 + 0.055) / 1.055).powf(2.4);
+    let want = [lin(200.0), lin(120.0), lin(90.0)];
+    match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => {
+            for c in 0..3 {
+                assert!(
+                    (b.albedo[c] - want[c]).abs() < 1e-5,
+                    "{:?} against {want:?}",
+                    b.albedo
+                );
+            }
+        }
+        p => panic!("{p:?}"),
+    }
+    assert!(
+        h.state().status().starts_with("Albedo picked:"),
+        "{}",
+        h.state().status()
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    match &h.state().doc.preset.profile {
+        ProfileSpec::Burley(b) => assert_eq!(b.albedo, before),
+        p => panic!("{p:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,240 @@
+//! File → Reference image…: a photograph beside the render (its own
+//! window) or over it (on the viewport, at an opacity), and an eyedropper
+//! that samples it into one of the look's colour fields.
+//!
+//! The eyedropper averages the 5×5 texels under the click (a photo's
+//! noise and JPEG blocks would make one texel a poor sample), decodes
+//! them from sRGB to linear (IEC 61966-2-1), as every colour field here is
+//! linear, and writes the field as one undoable edit.
+
+use super::*;
+use crate::settings::ProfileSpec;
+
+/// The colour field the eyedropper writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PickInto {
+    /// Burley's albedo A (the look's colour).
+    #[default]
+    Albedo,
+    /// The transmission tint.
+    TransmissionTint,
+}
+
+impl PickInto {
+    fn label(self) -> &'static str {
+        match self {
+            PickInto::Albedo => "Albedo",
+            PickInto::TransmissionTint => "Transmission tint",
+        }
+    }
+}
+
+/// A loaded reference image.
+pub struct Reference {
+    pub path: PathBuf,
+    pub image: image::RgbaImage,
+    texture: Option<egui::TextureHandle>,
+    /// Drawn over the viewport (else in its own window).
+    pub over: bool,
+    pub opacity: f32,
+    pub pick_into: PickInto,
+    /// The last colour picked (linear), for the window's swatch.
+    pub picked: Option<[f64; 3]>,
+}
+
+/// The mean linear colour of the 5×5 texels around (x, y) (clamped to the
+/// image).
+pub fn sample(img: &image::RgbaImage, x: u32, y: u32) -> [f64; 3] {
+    let mut sum = [0.0f64; 3];
+    let mut n = 0.0;
+    for dy in -2i64..=2 {
+        for dx in -2i64..=2 {
+            let px = (x as i64 + dx).clamp(0, img.width() as i64 - 1) as u32;
+            let py = (y as i64 + dy).clamp(0, img.height() as i64 - 1) as u32;
+            let p = img.get_pixel(px, py);
+            for c in 0..3 {
+                sum[c] += crate::render::compare::srgb_to_linear(p[c]) as f64;
+            }
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
+}
+
+impl EditorApp {
+    /// Loads `path` as the reference image.
+    pub(super) fn load_reference(&mut self, path: PathBuf) {
+        match crate::render::textures::decode_bounded(&path) {
+            Ok(img) => {
+                self.say(format!(
+                    "Reference image {} ({}×{}): click it to pick a colour",
+                    path.display(),
+                    img.width(),
+                    img.height()
+                ));
+                self.view.reference = Some(Reference {
+                    path,
+                    image: img.to_rgba8(),
+                    texture: None,
+                    over: false,
+                    opacity: 0.5,
+                    pick_into: PickInto::Albedo,
+                    picked: None,
+                });
+            }
+            Err(e) => self.say(format!("Error: {}: {e}", path.display())),
+        }
+    }
+
+    /// The reference image's path (UI tests).
+    pub fn reference_path(&self) -> Option<&Path> {
+        self.view.reference.as_ref().map(|r| r.path.as_path())
+    }
+
+    /// Writes `rgb` (linear) into the field the eyedropper is set to, as an
+    /// undoable edit. Returns what it did, for the status bar.
+    pub fn pick_colour(&mut self, rgb: [f64; 3]) -> Result<String, String> {
+        let into = self
+            .view
+            .reference
+            .as_ref()
+            .map_or(PickInto::Albedo, |r| r.pick_into);
+        let p = &mut self.doc.preset;
+        match into {
+            PickInto::Albedo => match &mut p.profile {
+                ProfileSpec::Burley(b) => {
+                    let (lo, hi) = crate::model::burley::ALBEDO_RANGE;
+                    b.albedo = rgb.map(|c| c.clamp(lo, hi));
+                }
+                _ => {
+                    return Err(
+                        "this model has no albedo field (Burley's has): pick into the transmission tint, or switch the model".into(),
+                    )
+                }
+            },
+            PickInto::TransmissionTint => p.rendering.transmission_tint = rgb,
+        }
+        self.doc.commit();
+        if let Some(r) = self.view.reference.as_mut() {
+            r.picked = Some(rgb);
+        }
+        Ok(format!(
+            "{} picked: {:.4} / {:.4} / {:.4} (linear, the reference's 5×5 mean)",
+            into.label(),
+            rgb[0],
+            rgb[1],
+            rgb[2]
+        ))
+    }
+
+    /// The reference image: its window (beside), or over the viewport.
+    pub(super) fn reference_window_ui(&mut self, ctx: &egui::Context) {
+        let Some(mut r) = self.view.reference.take() else {
+            return;
+        };
+        let mut open = true;
+        let mut picked = None;
+        egui::Window::new("Reference")
+            .open(&mut open)
+            .default_width(360.0)
+            .show(ctx, |ui| {
+                ui.horizontal(|ui| {
+                    ui.checkbox(&mut r.over, "over the render")
+                        .on_hover_text("Draw the reference over the viewport (scaled to fit) at this opacity, to line up and compare; off: here only.");
+                    ui.add_enabled(r.over, egui::Slider::new(&mut r.opacity, 0.0..=1.0).text("opacity"));
+                });
+                ui.horizontal(|ui| {
+                    ui.label("Click the image to pick into");
+                    egui::ComboBox::from_id_salt("pick_into")
+                        .selected_text(r.pick_into.label())
+                        .show_ui(ui, |ui| {
+                            for p in [PickInto::Albedo, PickInto::TransmissionTint] {
+                                ui.selectable_value(&mut r.pick_into, p, p.label());
+                            }
+                        });
+                    if let Some(c) = r.picked {
+                        let s = c.map(|v| super::analysis::linear_to_srgb8(v));
+                        let (rect, _) = ui.allocate_exact_size(egui::vec2(18.0, 18.0), egui::Sense::hover());
+                        ui.painter().rect_filled(rect, 3.0, egui::Color32::from_rgb(s[0], s[1], s[2]));
+                    }
+                });
+                let tex = r.texture.get_or_insert_with(|| {
+                    ui.ctx().load_texture(
+                        "reference",
+                        egui::ColorImage::from_rgba_unmultiplied(
+                            [r.image.width() as usize, r.image.height() as usize],
+                            r.image.as_raw(),
+                        ),
+                        egui::TextureOptions::LINEAR,
+                    )
+                });
+                let w = ui.available_width().max(64.0);
+                let size = egui::vec2(w, w * r.image.height() as f32 / r.image.width().max(1) as f32);
+                let response = ui
+                    .add(egui::Image::new((tex.id(), size)).sense(egui::Sense::click()))
+                    .on_hover_cursor(egui::CursorIcon::Crosshair)
+                    .on_hover_text("Click: the colour under the pointer (a 5×5 mean) into the chosen field.");
+                if let Some(pos) = response.interact_pointer_pos().filter(|_| response.clicked()) {
+                    let f = (pos - response.rect.min) / response.rect.size();
+                    let x = (f.x * r.image.width() as f32).clamp(0.0, r.image.width() as f32 - 1.0) as u32;
+                    let y = (f.y * r.image.height() as f32).clamp(0.0, r.image.height() as f32 - 1.0) as u32;
+                    picked = Some(sample(&r.image, x, y));
+                }
+                ui.small(r.path.display().to_string());
+            });
+        if open {
+            self.view.reference = Some(r);
+        }
+        if let Some(c) = picked {
+            let said = match self.pick_colour(c) {
+                Ok(s) => s,
+                Err(e) => format!("Error: eyedropper: {e}"),
+            };
+            self.say(said);
+        }
+    }
+
+    /// The reference over the viewport, when asked.
+    pub(super) fn reference_overlay_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
+        let Some(r) = self.view.reference.as_ref().filter(|r| r.over) else {
+            return;
+        };
+        let Some(tex) = r.texture.as_ref() else {
+            return;
+        };
+        let aspect = r.image.width() as f32 / r.image.height().max(1) as f32;
+        let size = if rect.width() / rect.height() > aspect {
+            egui::vec2(rect.height() * aspect, rect.height())
+        } else {
+            egui::vec2(rect.width(), rect.width() / aspect)
+        };
+        let at = egui::Rect::from_center_size(rect.center(), size);
+        let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+        painter.image(
+            tex.id(),
+            at,
+            uv,
+            egui::Color32::from_white_alpha((r.opacity.clamp(0.0, 1.0) * 255.0) as u8),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The eyedropper's sample is the linear mean of the 5×5 block: a
+    /// block of sRGB 188 (0.5029 linear, IEC 61966-2-1) with one black
+    /// texel averages to 0.5029 × 24/25.
+    #[test]
+    fn samples_are_linear_means_of_five_by_five() {
+        let mut img = image::RgbaImage::from_pixel(9, 9, image::Rgba([188, 188, 188, 255]));
+        img.put_pixel(4, 4, image::Rgba([0, 0, 0, 255]));
+        let s = sample(&img, 4, 4);
+        let g = ((188.0f64 / 255.0 + 0.055) / 1.055).powf(2.4);
+        assert!((s[0] - g * 24.0 / 25.0).abs() < 1e-6, "{s:?}");
+        // At a corner the block is clamped to the image.
+        let c = sample(&img, 0, 0);
+        assert!((c[1] - g).abs() < 1e-6);
+    }
+}
