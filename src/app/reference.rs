@@ -153,7 +153,7 @@ impl EditorApp {
                             }
                         });
                     if let Some(c) = r.picked {
-                        let s = c.map(|v| super::analysis::linear_to_srgb8(v));
+                        let s = c.map(super::analysis::linear_to_srgb8);
                         let (rect, _) = ui.allocate_exact_size(egui::vec2(18.0, 18.0), egui::Sense::hover());
                         ui.painter().rect_filled(rect, 3.0, egui::Color32::from_rgb(s[0], s[1], s[2]));
                     }
