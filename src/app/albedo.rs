@@ -349,6 +349,21 @@ impl EditorApp {
                 }
             });
         });
+        // Enter answers OK, Escape the other button (as the prompt's keys
+        // elsewhere).
+        if answer.is_none() {
+            let (enter, escape) = ctx.input(|i| {
+                (
+                    i.key_pressed(egui::Key::Enter),
+                    i.key_pressed(egui::Key::Escape),
+                )
+            });
+            if enter {
+                answer = Some(true);
+            } else if escape {
+                answer = Some(false);
+            }
+        }
         match answer {
             Some(true) => {
                 self.dialogs.albedo_prompt = None;

@@ -87,6 +87,34 @@ impl EditorApp {
         self.viewport_keys(ctx, toggle);
     }
 
+    /// The View menu's interface scale and theme, set on `ctx` where
+    /// changed.
+    pub(super) fn apply_interface(&mut self, ctx: &egui::Context) {
+        // The interface's scale and theme (View menu), where changed; a
+        // zoom by keyboard (egui's Ctrl+plus/minus) is taken as the scale.
+        if let Some(applied) = self.view.applied_scale {
+            if (ctx.zoom_factor() - applied).abs() > 1e-4 {
+                self.ui_state.ui_scale = ctx.zoom_factor();
+            }
+        }
+        let scale = self
+            .ui_state
+            .ui_scale
+            .clamp(*state::UI_SCALE_RANGE.start(), *state::UI_SCALE_RANGE.end());
+        if (ctx.zoom_factor() - scale).abs() > 1e-4 {
+            ctx.set_zoom_factor(scale);
+        }
+        self.view.applied_scale = Some(scale);
+        let theme = if self.ui_state.light_theme {
+            egui::Theme::Light
+        } else {
+            egui::Theme::Dark
+        };
+        if ctx.theme() != theme {
+            ctx.set_theme(theme);
+        }
+    }
+
     pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| self.file_menu_ui(ui));

@@ -8,6 +8,7 @@ mod autosave;
 pub mod browser;
 pub mod budget;
 mod dialogs;
+mod environment;
 mod files;
 mod maps;
 mod menu;
@@ -399,29 +400,7 @@ impl EditorApp {
                 s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
             });
         }
-        // The interface's scale and theme (View menu), where changed; a
-        // zoom by keyboard (egui's Ctrl+plus/minus) is taken as the scale.
-        if let Some(applied) = self.view.applied_scale {
-            if (ctx.zoom_factor() - applied).abs() > 1e-4 {
-                self.ui_state.ui_scale = ctx.zoom_factor();
-            }
-        }
-        let scale = self
-            .ui_state
-            .ui_scale
-            .clamp(*state::UI_SCALE_RANGE.start(), *state::UI_SCALE_RANGE.end());
-        if (ctx.zoom_factor() - scale).abs() > 1e-4 {
-            ctx.set_zoom_factor(scale);
-        }
-        self.view.applied_scale = Some(scale);
-        let theme = if self.ui_state.light_theme {
-            egui::Theme::Light
-        } else {
-            egui::Theme::Dark
-        };
-        if ctx.theme() != theme {
-            ctx.set_theme(theme);
-        }
+        self.apply_interface(&ctx);
         self.waker.attach(&ctx);
         self.handle_drops(&ctx);
         self.shortcuts(&ctx);
@@ -616,14 +595,35 @@ impl MeshArg {
 /// embedded default skin).
 /// `compare`: open comparing in this mode, B the look with this method
 /// (`None`: B as last time).
-pub fn run(
-    preset: Option<PathBuf>,
-    exit_after_first_frame: bool,
-    compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
-    import: Option<PathBuf>,
-    mesh: Option<MeshArg>,
-    budget: Option<PathBuf>,
-) -> anyhow::Result<()> {
+/// What `scatterlab edit` asks of the editor at start.
+pub struct RunArgs {
+    pub preset: Option<PathBuf>,
+    pub exit_after_first_frame: bool,
+    pub compare: Option<(CompareMode, Option<crate::settings::rendering::MethodId>)>,
+    pub import: Option<PathBuf>,
+    pub mesh: Option<MeshArg>,
+    pub budget: Option<PathBuf>,
+    /// B: a preset or engine file.
+    pub compare_with: Option<PathBuf>,
+    /// An HDR map to light the head with (and show behind it).
+    pub environment: Option<PathBuf>,
+    pub map_colour: Option<crate::render::textures::MapColour>,
+    pub procedural_head: bool,
+}
+
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let RunArgs {
+        preset,
+        exit_after_first_frame,
+        compare,
+        import,
+        mesh,
+        budget,
+        compare_with,
+        environment,
+        map_colour,
+        procedural_head,
+    } = args;
     let started = std::time::Instant::now();
     let initial = match &preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
@@ -663,6 +663,12 @@ pub fn run(
                     ui_state.compare_b = CompareB::Method(m);
                 }
             }
+            if let Some(m) = map_colour {
+                ui_state.map_colour = m;
+            }
+            if procedural_head {
+                ui_state.start_on_scan = false;
+            }
             let initial = initial.or_else(|| {
                 let p = ui_state.last_preset.clone()?;
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))
@@ -685,6 +691,18 @@ pub fn run(
             }
             if let Some(b) = budget {
                 app.open_budget(b);
+            }
+            if let Some(p) = environment {
+                app.load_environment(p);
+            }
+            if let Some(p) = compare_with {
+                match viewport::load_look(&p) {
+                    Ok(b) => {
+                        app.ui_state.compare_b = CompareB::Preset(p);
+                        app.ask_b_albedo(&b);
+                    }
+                    Err(e) => app.say(format!("Error: --compare-with: {e}")),
+                }
             }
             Ok(Box::new(EframeApp {
                 app,

@@ -38,6 +38,25 @@ pub struct EditArgs {
     /// profile comparable with its merge side by side.
     #[arg(long, value_name = "DIR")]
     pub budget: Option<PathBuf>,
+    /// With --compare: B is the look in this preset or engine file (what
+    /// that engine draws from it).
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "compare",
+        conflicts_with = "compare_b"
+    )]
+    pub compare_with: Option<PathBuf>,
+    /// Light the head with this equirectangular HDR map, shown behind it.
+    #[arg(long, value_name = "FILE.hdr")]
+    pub environment: Option<PathBuf>,
+    /// On a mesh with a colour map: the map's colour, the map tinted by the
+    /// look's albedo, or the look's albedo alone.
+    #[arg(long, value_enum)]
+    pub map_colour: Option<crate::render::textures::MapColour>,
+    /// Open on the procedural head instead of the head scan (remembered).
+    #[arg(long, conflicts_with = "mesh")]
+    pub procedural_head: bool,
 }
 
 /// The editor's compare views (`edit --compare`).
@@ -63,13 +82,25 @@ impl EditArgs {
             Some(path) => Some(crate::app::MeshArg::check(path, self.metres_per_unit)?),
             None => None,
         };
-        crate::app::run(
-            self.preset,
-            self.exit_after_first_frame,
+        for (flag, p) in [
+            ("--compare-with", &self.compare_with),
+            ("--environment", &self.environment),
+        ] {
+            if let Some(p) = p.as_ref().filter(|p| !p.is_file()) {
+                anyhow::bail!("{flag} {}: no such file", p.display());
+            }
+        }
+        crate::app::run(crate::app::RunArgs {
+            preset: self.preset,
+            exit_after_first_frame: self.exit_after_first_frame,
             compare,
-            self.import,
+            import: self.import,
             mesh,
-            self.budget,
-        )
+            budget: self.budget,
+            compare_with: self.compare_with,
+            environment: self.environment,
+            map_colour: self.map_colour,
+            procedural_head: self.procedural_head,
+        })
     }
 }
