@@ -89,7 +89,7 @@ pub fn resolve(choice: MaterialAlbedo, a_albedo: Rgb, map_mean: Option<[f32; 3]>
 /// one was applied.
 pub fn b_as_drawn(
     mut b: Preset,
-    a: &Preset,
+    a_albedo: Rgb,
     choice: MaterialAlbedo,
     map_colour: MapColour,
     map_mean: Option<[f32; 3]>,
@@ -97,7 +97,7 @@ pub fn b_as_drawn(
     if !b.rendering.albedo_in_material {
         return (b, map_colour, None);
     }
-    let rgb = resolve(choice, look_albedo(a), map_mean);
+    let rgb = resolve(choice, a_albedo, map_mean);
     if !set_albedo(&mut b, rgb) {
         return (b, map_colour, None);
     }
@@ -155,6 +155,26 @@ pub fn differing_fields(a: &Preset, b: &Preset) -> Vec<(&'static str, String)> {
 }
 
 impl EditorApp {
+    /// Look A's albedo without building a slow model each frame: Burley's
+    /// A, else the total reflectance of the curves the analysis thread
+    /// computed for the look (clamped to [0, 1]; the kernels without a
+    /// colour draw the default skin's, as `look_albedo` says), else
+    /// [`look_albedo`] where the model is quick to build.
+    pub(super) fn a_albedo(&self) -> Rgb {
+        let p = &self.doc.preset;
+        if matches!(
+            p.profile,
+            ProfileSpec::Burley(_) | ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)
+        ) || !super::analysis::is_slow(&p.profile)
+        {
+            return look_albedo(p);
+        }
+        match (&self.profile.curves, &self.profile.curves_for) {
+            (Some(Ok(c)), Some(spec)) if *spec == p.profile => c.total.map(|t| t.clamp(0.0, 1.0)),
+            _ => crate::render::inputs::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
+        }
+    }
+
     /// The loaded mesh's colour map's mean colour, if it has one.
     pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
         self.meshes.mesh_info.and_then(|i| i.colour_map_mean)
@@ -164,7 +184,7 @@ impl EditorApp {
     pub(super) fn b_drawn(&self, b: Preset) -> (Preset, MapColour, Option<String>) {
         b_as_drawn(
             b,
-            &self.doc.preset,
+            self.a_albedo(),
             self.ui_state.b_material_albedo,
             self.ui_state.map_colour,
             self.colour_map_mean(),
@@ -204,7 +224,7 @@ impl EditorApp {
         if !b.rendering.albedo_in_material || self.ui_state.b_material_albedo_asked {
             return;
         }
-        let a_albedo = look_albedo(&self.doc.preset);
+        let a_albedo = self.a_albedo();
         self.dialogs.albedo_prompt = Some(AlbedoPrompt {
             target: PromptFor::CompareB,
             name: b.name.clone(),
@@ -463,7 +483,7 @@ mod tests {
         hdrp.rendering.albedo_in_material = true;
         let (b, mc, label) = b_as_drawn(
             hdrp.clone(),
-            &a,
+            look_albedo(&a),
             MaterialAlbedo::LookA,
             MapColour::Tinted,
             None,
@@ -473,7 +493,7 @@ mod tests {
         let typed = [0.2, 0.5, 0.1];
         let (b, ..) = b_as_drawn(
             hdrp.clone(),
-            &a,
+            look_albedo(&a),
             MaterialAlbedo::Typed(typed),
             MapColour::Map,
             None,
@@ -482,7 +502,7 @@ mod tests {
         let mean = [0.5f32, 0.25, 0.125];
         let (b, mc, _) = b_as_drawn(
             hdrp.clone(),
-            &a,
+            look_albedo(&a),
             MaterialAlbedo::Map,
             MapColour::Look,
             Some(mean),
@@ -490,13 +510,19 @@ mod tests {
         assert_eq!(look_albedo(&b), [0.5, 0.25, 0.125]);
         assert_eq!(mc, MapColour::Map);
         // Without a colour map the map choice falls back to A's, and says so.
-        let (b, _, label) = b_as_drawn(hdrp, &a, MaterialAlbedo::Map, MapColour::Map, None);
+        let (b, _, label) = b_as_drawn(
+            hdrp,
+            look_albedo(&a),
+            MaterialAlbedo::Map,
+            MapColour::Map,
+            None,
+        );
         assert_eq!(look_albedo(&b), look_albedo(&a));
         assert!(label.unwrap().contains("no colour map"));
         let own = Preset::default_skin();
         let (b, _, label) = b_as_drawn(
             own.clone(),
-            &a,
+            look_albedo(&a),
             MaterialAlbedo::Typed(typed),
             MapColour::Map,
             None,

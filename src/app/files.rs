@@ -40,7 +40,7 @@ impl EditorApp {
     pub fn open_now(&mut self, path: &Path) {
         match Preset::load(path) {
             Ok(p) => {
-                let before = super::albedo::look_albedo(&self.doc.preset);
+                let before = self.a_albedo();
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
                 self.say(format!("Opened {}", path.display()));
@@ -96,7 +96,7 @@ impl EditorApp {
             Pending::Open(p) => self.open_now(&p),
             Pending::New(p) => {
                 self.say(format!("New look from \"{}\"", p.name));
-                let before = super::albedo::look_albedo(&self.doc.preset);
+                let before = self.a_albedo();
                 self.doc = Document::new(*p, None);
                 self.ask_document_albedo(before);
             }
