@@ -15,7 +15,7 @@ pub const THUMB: (u32, u32) = (120, 150);
 
 /// Bumped when the renderer's look changes, so older cached thumbnails are
 /// not shown.
-const THUMBNAIL_VERSION: u32 = 1;
+const THUMBNAIL_VERSION: u32 = 2;
 
 /// One preset in the browser.
 struct Entry {
@@ -65,7 +65,18 @@ fn cache_path(dir: &Path, preset: &Preset) -> PathBuf {
 /// under the studio sky, its own method (burley stands in for the ground
 /// truth, which takes minutes).
 fn thumbnail_request(preset: &Preset) -> Request {
-    let mut look = Look::of(preset);
+    // A look whose albedo is the material's (HDRP's) is drawn with the
+    // default skin's, as the editor draws it as B by default; white
+    // otherwise.
+    let skin = super::albedo::look_albedo(&Preset::default_skin());
+    let (preset, _, _) = super::albedo::b_as_drawn(
+        preset.clone(),
+        skin,
+        state::MaterialAlbedo::LookA,
+        Default::default(),
+        None,
+    );
+    let mut look = Look::of(&preset);
     look.rendering.method = look.rendering.method.preview();
     let mut view = state::ViewState::default();
     // Closer than the framing of the whole head: the face fills it.
@@ -278,7 +289,7 @@ impl EditorApp {
                             .text(format!("rendering thumbnails: {done} of {all} (cached for next time)")),
                     );
                 }
-                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth).");
+                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
                 ui.horizontal_wrapped(|ui| {
                     ui.label("Your folders:");
                     let mut remove = None;
