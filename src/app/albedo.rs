@@ -195,10 +195,10 @@ impl EditorApp {
     /// material (the compare row and the difference readout say it).
     pub(super) fn b_albedo_note(&self) -> Option<String> {
         match &self.profile.b_look_cache {
-            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => Some(format!(
-                "drawn with {} albedo",
-                self.ui_state.b_material_albedo.label()
-            )),
+            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => self
+                .b_drawn(b.clone())
+                .2
+                .map(|label| format!("drawn with {label} albedo")),
             _ => None,
         }
     }
@@ -391,6 +391,11 @@ impl EditorApp {
             }
             Some(false) => {
                 self.dialogs.albedo_prompt = None;
+                if p.target == PromptFor::CompareB {
+                    // "Use A's for now": A's, asked.
+                    self.ui_state.b_material_albedo = MaterialAlbedo::LookA;
+                    self.ui_state.b_material_albedo_asked = true;
+                }
                 if p.target == PromptFor::Document {
                     self.say(format!(
                         "\"{}\" keeps its file's albedo 1 (a white head): set Albedo to the material's",

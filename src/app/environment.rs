@@ -29,6 +29,9 @@ impl EditorApp {
     }
 
     pub fn load_environment(&mut self, path: PathBuf) {
+        // A map asked for now becomes the lighting (`reload_background`
+        // sets this again after calling here).
+        self.view.keep_environment = None;
         let (tx, rx) = std::sync::mpsc::channel();
         self.say(format!("Loading environment {} …", path.display()));
         let waker = self.waker.clone();
@@ -70,6 +73,7 @@ impl EditorApp {
                     self.jobs.environment_load = None;
                 }
                 Ok(Err(e)) => {
+                    self.view.keep_environment = None;
                     self.say(format!("Error: {e}"));
                     self.jobs.environment_load = None;
                     // The HDR rig that asked for this map is off.

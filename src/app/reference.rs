@@ -159,11 +159,26 @@ impl EditorApp {
                     }
                 });
                 let tex = r.texture.get_or_insert_with(|| {
+                    // Shown within the GPU's largest texture (a 61 MP photo
+                    // is wider); the eyedropper reads the full image.
+                    let max = ui.ctx().input(|i| i.max_texture_side).max(64) as u32;
+                    let (w, h) = r.image.dimensions();
+                    let shown = if w > max || h > max {
+                        let k = max as f64 / w.max(h) as f64;
+                        image::imageops::resize(
+                            &r.image,
+                            ((w as f64 * k) as u32).max(1),
+                            ((h as f64 * k) as u32).max(1),
+                            image::imageops::FilterType::Triangle,
+                        )
+                    } else {
+                        r.image.clone()
+                    };
                     ui.ctx().load_texture(
                         "reference",
                         egui::ColorImage::from_rgba_unmultiplied(
-                            [r.image.width() as usize, r.image.height() as usize],
-                            r.image.as_raw(),
+                            [shown.width() as usize, shown.height() as usize],
+                            shown.as_raw(),
                         ),
                         egui::TextureOptions::LINEAR,
                     )

@@ -28,25 +28,29 @@ pub fn factors(settings: &StillSettings) -> Vec<u32> {
         .collect()
 }
 
-/// Each k×k block of `img` averaged into one pixel (per channel, rounded):
-/// `img` is k times the output a side.
+/// Each k×k block of `img` averaged into one pixel: the colour channels
+/// in linear light (sRGB decoded, averaged, encoded again, so an edge
+/// between light and dark is not darkened), alpha as it is; `img` is k
+/// times the output a side.
 pub fn box_downsample(img: &image::RgbaImage, k: u32) -> image::RgbaImage {
     if k <= 1 {
         return img.clone();
     }
     let (w, h) = (img.width() / k, img.height() / k);
-    let n = k * k;
+    let n = (k * k) as f64;
     image::RgbaImage::from_fn(w, h, |x, y| {
-        let mut sum = [0u32; 4];
+        let mut sum = [0.0f64; 4];
         for dy in 0..k {
             for dx in 0..k {
                 let p = img.get_pixel(x * k + dx, y * k + dy);
-                for c in 0..4 {
-                    sum[c] += p[c] as u32;
+                for c in 0..3 {
+                    sum[c] += crate::render::compare::srgb_to_linear(p[c]) as f64;
                 }
+                sum[3] += p[3] as f64;
             }
         }
-        image::Rgba(sum.map(|s| ((s + n / 2) / n) as u8))
+        let rgb = [0, 1, 2].map(|c| super::analysis::linear_to_srgb8(sum[c] / n));
+        image::Rgba([rgb[0], rgb[1], rgb[2], (sum[3] / n).round() as u8])
     })
 }
 
@@ -254,8 +258,10 @@ impl EditorApp {
 mod tests {
     use super::*;
 
-    /// A box filter keeps a flat colour exactly and averages a block:
-    /// a 2×2 block of 0, 255, 255, 255 becomes 191 (765/4 = 191.25).
+    /// A box filter keeps a flat colour exactly and averages a block in
+    /// linear light: a 2×2 block of black and three whites is 0.75 linear,
+    /// sRGB 1.055 · 0.75^(1/2.4) − 0.055 = 0.8808 → 225 (IEC 61966-2-1),
+    /// where averaging the bytes would give 191.
     #[test]
     fn box_downsampling_averages_each_block() {
         let flat = image::RgbaImage::from_pixel(8, 6, image::Rgba([10, 200, 33, 255]));
@@ -264,9 +270,11 @@ mod tests {
         assert!(d.pixels().all(|p| *p == image::Rgba([10, 200, 33, 255])));
         let mut block = image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 255, 255, 255]));
         block.put_pixel(0, 0, image::Rgba([0, 0, 0, 255]));
+        let want = ((1.055 * 0.75f64.powf(1.0 / 2.4) - 0.055) * 255.0).round() as u8;
+        assert_eq!(want, 225);
         assert_eq!(
             *box_downsample(&block, 2).get_pixel(0, 0),
-            image::Rgba([191, 191, 191, 255])
+            image::Rgba([want, want, want, 255])
         );
     }
 

@@ -781,16 +781,24 @@ impl Worker {
             CompareMode::Difference => {
                 let (d, scale) =
                     compare::difference_view(&a.image, &bside.image, req.difference_scale);
-                let stats = compare::difference_stats(&a.image, &bside.image);
+                let plain = !(req.view.background.show
+                    && req.view.environment == EnvironmentChoice::Map
+                    && req.background_map.is_some());
+                let stats = compare::difference_stats(&a.image, &bside.image, plain);
                 notes.push(format!(
-                    "|A − B| heat map: white = {scale:.1} ΔL*{} · mean {:.2}, max {:.1} ΔL* over the head",
+                    "|A − B| heat map: white = {scale:.1} ΔL*{} · mean {:.2}, max {:.1} ΔL* over {}",
                     if req.difference_scale.is_none() {
                         " (auto)"
                     } else {
                         ""
                     },
                     stats.mean,
-                    stats.max
+                    stats.max,
+                    if plain {
+                        "the head"
+                    } else {
+                        "the pixels that differ"
+                    }
                 ));
                 difference_scale = Some(scale);
                 d

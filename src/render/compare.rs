@@ -139,8 +139,11 @@ pub fn heat_value(rgb: [u8; 3], scale: f32) -> f32 {
 }
 
 /// The mean and largest |ΔL*| between two frames over the pixels where
-/// either shows the head (a pixel that differs from the background colour,
-/// the top-left corner's), and how many those are.
+/// either shows the head, and how many those are. On a plain background
+/// the head is every pixel that differs from the background colour (the
+/// top-left corner's); behind an HDR map (`plain_background` false) the
+/// background varies, and the pixels taken are those where the frames
+/// differ (the map is the same on both sides).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DifferenceStats {
     pub mean: f32,
@@ -148,11 +151,16 @@ pub struct DifferenceStats {
     pub pixels: usize,
 }
 
-pub fn difference_stats(a: &RgbaImage, b: &RgbaImage) -> DifferenceStats {
+pub fn difference_stats(a: &RgbaImage, b: &RgbaImage, plain_background: bool) -> DifferenceStats {
     let bg = *a.get_pixel(0, 0);
     let (mut sum, mut max, mut n) = (0.0f64, 0.0f32, 0usize);
     for (p, q) in a.pixels().zip(b.pixels()) {
-        if *p == bg && *q == bg {
+        let skip = if plain_background {
+            *p == bg && *q == bg
+        } else {
+            p == q
+        };
+        if skip {
             continue;
         }
         let d = (lightness(p) - lightness(q)).abs();
@@ -208,10 +216,14 @@ mod tests {
         }
         a.put_pixel(9, 9, Rgba([255, 255, 255, 255]));
         b.put_pixel(9, 9, Rgba([119, 119, 119, 255]));
-        let s = difference_stats(&a, &b);
+        let s = difference_stats(&a, &b, true);
         assert_eq!(s.pixels, 6);
         assert!((s.max - 50.0).abs() < 0.1, "{s:?}");
         assert!((s.mean - 50.0 / 6.0).abs() < 0.05, "{s:?}");
+        // Behind a map only the pixels that differ count.
+        let s = difference_stats(&a, &b, false);
+        assert_eq!(s.pixels, 1);
+        assert!((s.mean - 50.0).abs() < 0.1, "{s:?}");
     }
 
     #[test]

@@ -201,7 +201,7 @@ pub struct BackgroundMap {
 
 impl BackgroundMap {
     /// `env`'s map (none for the procedural sky), halved until it is at
-    /// most `max_width` wide.
+    /// most `max_width` wide and high.
     pub fn of(env: &Environment, max_width: usize) -> Option<Self> {
         let Environment::Map {
             width,
@@ -216,7 +216,7 @@ impl BackgroundMap {
             height: *height as u32,
             texels: texels.clone(),
         };
-        while m.width as usize > max_width.max(2) {
+        while m.width as usize > max_width.max(2) || m.height as usize > max_width.max(2) {
             m = m.half();
         }
         Some(m)

@@ -164,9 +164,6 @@ impl Renderer {
         self.cancel = flag;
     }
 
-    /// Replaces the mesh's surface maps (the editor draws the default head
-    /// with neutral maps first and swaps in its baked maps when they are
-    /// ready). The next frame rebuilds the scene's bind group.
     /// Draws `map` behind the head where a frame's settings ask for a
     /// background (`None`: none to draw).
     pub fn set_background(&mut self, map: Option<&super::environment::BackgroundMap>) {
@@ -175,6 +172,9 @@ impl Renderer {
         self.has_background = map.is_some();
     }
 
+    /// Replaces the mesh's surface maps (the editor draws the default head
+    /// with neutral maps first and swaps in its baked maps when they are
+    /// ready). The next frame rebuilds the scene's bind group.
     pub fn set_surface_maps(&mut self, maps: &MeshTextures) -> Result<(), GpuError> {
         self.scene.maps = SurfaceMaps::upload(&self.ctx, maps)?;
         self.profile = None;

@@ -168,9 +168,9 @@ fn srgb_decode(v: f32) -> f32 {
 /// f = x − x²/(4·F90) for x = min(R,G,B) ≤ 2·F90, else F90; p = max(c − f);
 /// above Ks the peak is compressed to pn = 1 − (1 − Ks)²/(p + 1 − 2Ks) and
 /// the colour mixed towards [pn, pn, pn] by 1 − g, g = 1/(Kd(p − pn) + 1).
-/// (The repository's `pbrNeutral.glsl` mixes towards white instead of
-/// [pn, pn, pn]; the README's equation is followed here, as three.js and
-/// Filament do.)
+/// (A copy of the repository's `pbrNeutral.glsl` found while writing
+/// this mixes towards white instead of [pn, pn, pn]; the README's
+/// equation is followed here, as three.js and Filament do.)
 fn pbr_neutral(c: [f32; 3]) -> [f32; 3] {
     const F90: f32 = 0.04;
     const KS: f32 = 0.8 - F90;

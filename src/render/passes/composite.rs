@@ -52,7 +52,9 @@ fn upload_background(
     let data: Vec<u8> = levels
         .iter()
         .flat_map(|l| l.texels.iter())
-        .flat_map(|t| [t[0], t[1], t[2], 1.0].map(f32_to_half))
+        // A sun (10⁵–10⁶) is past half floats' largest finite value,
+        // which would become ∞ and NaN in filtering: held at 65504.
+        .flat_map(|t| [t[0], t[1], t[2], 1.0].map(|v| f32_to_half(v.min(65504.0))))
         .flat_map(u16::to_le_bytes)
         .collect();
     let view = crate::render::textures::sampled_texture(
