@@ -349,12 +349,7 @@ impl EditorApp {
         let mut choose = None;
         // Inside the viewport, clear of the Look panel (at 1280×720 it had
         // covered it).
-        let at = self
-            .layout
-            .viewport_rect
-            .map_or(egui::pos2(330.0, 96.0), |r| {
-                r.left_top() + egui::vec2(8.0, 8.0)
-            });
+        let at = self.window_pos_in_viewport(8.0);
         egui::Window::new("Mesh maps")
             .collapsible(false)
             .resizable(false)

@@ -513,6 +513,17 @@ impl EditorApp {
         self.layout.probe = Some(text);
     }
 
+    /// Where a window opens so that it covers neither side panel: `down`
+    /// points below the viewport's top-left corner, 8 in (before the first
+    /// frame: where the viewport usually is).
+    pub(super) fn window_pos_in_viewport(&self, down: f32) -> egui::Pos2 {
+        self.layout
+            .viewport_rect
+            .map_or(egui::pos2(330.0, 96.0), |r| {
+                r.left_top() + egui::vec2(8.0, down)
+            })
+    }
+
     /// The probe's text as last drawn (UI tests).
     pub fn probe_text(&self) -> Option<&str> {
         self.layout.probe.as_deref()

@@ -144,12 +144,7 @@ impl EditorApp {
         let (mut save, mut cancel) = (false, false);
         let running = self.jobs.still.is_some();
         // Inside the viewport, clear of the Look panel.
-        let at = self
-            .layout
-            .viewport_rect
-            .map_or(egui::pos2(330.0, 96.0), |r| {
-                r.left_top() + egui::vec2(8.0, 8.0)
-            });
+        let at = self.window_pos_in_viewport(8.0);
         egui::Window::new("Save image at size")
             .collapsible(false)
             .resizable(false)

@@ -299,12 +299,7 @@ impl EditorApp {
         let mut save = false;
         let mut cancel = false;
         let running = self.jobs.turntable.is_some();
-        let at = self
-            .layout
-            .viewport_rect
-            .map_or(egui::pos2(330.0, 96.0), |r| {
-                r.left_top() + egui::vec2(8.0, 40.0)
-            });
+        let at = self.window_pos_in_viewport(40.0);
         egui::Window::new("Save turntable")
             .collapsible(false)
             .resizable(false)

@@ -143,7 +143,7 @@ fn agx(c: [f32; 3]) -> [f32; 3] {
         let e = v.max(1e-10).log2().clamp(AGX_MIN_EV, AGX_MAX_EV);
         agx_contrast((e - AGX_MIN_EV) / (AGX_MAX_EV - AGX_MIN_EV))
     });
-    mul(&OUTSET, v).map(|v| srgb_decode(v.clamp(0.0, 1.0)))
+    mul(&OUTSET, v).map(|v| super::environment::srgb_to_linear(v.clamp(0.0, 1.0)))
 }
 
 /// Wrensch's 6th-order polynomial of AgX's default contrast curve.
@@ -152,15 +152,6 @@ pub fn agx_contrast(x: f32) -> f32 {
     let x4 = x2 * x2;
     15.5 * x4 * x2 - 40.14 * x4 * x + 31.96 * x4 - 6.868 * x2 * x + 0.4298 * x2 + 0.1191 * x
         - 0.00232
-}
-
-/// IEC 61966-2-1 decoding of a display value in [0, 1].
-fn srgb_decode(v: f32) -> f32 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// Khronos PBR Neutral, by its specification (KhronosGroup/ToneMapping,
