@@ -1,89 +1,184 @@
 #!/usr/bin/env bash
 # Measures how live the editor's viewport is, as an artist uses it: the
-# release editor under Xvfb at its default window (1500×900), driven by
-# xdotool. It drags an orbit, then the red scattering distance (a drag
-# value in the Look panel), each for DRAG_S seconds, and reads the frame
-# log the editor writes (SCATTERLAB_FRAME_LOG: one line per viewport frame
-# with its kind — preview, refining, converged — and one per UI frame).
+# editor under Xvfb, driven by xdotool with a real pointer. For each window
+# size and head it drags an orbit in the viewport, then the red scattering
+# distance (a drag value in the Look panel), each for DRAG_S seconds, and
+# reads the frame log the editor writes (SCATTERLAB_FRAME_LOG: one line per
+# viewport frame with its kind — preview, refining, converged — and one per
+# UI frame).
+#
+# It finds what it drags by what it is, never by window coordinates: the
+# editor writes its AccessKit tree with each control's rectangle
+# (SCATTERLAB_WIDGET_MAP, src/app/widget_map.rs), and the tool takes the
+# control whose role and label it names (the viewport: Canvas "Viewport";
+# the distance: SpinButton "R: mm"). It fails, naming what is missing, when
+# it cannot find a control, when a drag changes nothing (no preview frame
+# while orbiting; the distance's value unchanged) or when no converged
+# frame follows a drag. It never judges a timing: the figures are a
+# benchmark.
 #
 # Reports, for each drag: viewport frames per second while dragging (the
-# previews), UI frames per second, the previews' resolution, and the time
-# from releasing the mouse to the "converged" frame.
+# previews), UI frames per second, the previews' sizes, and the time from
+# releasing the mouse to the "converged" frame. Then (unless --quick) the
+# ground truth: an editor on the default skin with the method `reference`;
+# after an orbit drag, the time from release to the first frame of
+# ground-truth tiles and to the full truth, and how far the time left the
+# status bar showed was from the time it then took.
 #
-# Then the ground truth: a second editor on the default skin with the
-# method `reference`; after an orbit drag, the time from release to the
-# first frame of ground-truth tiles (full resolution, over burley's frame)
-# and to the full truth, and how far the time left the status bar showed
-# was from the time it then took (each tiles frame with over 1 s left).
+#   tools/measure_live.sh [--out FILE.md] [--quick] [--sizes 1500x900,1280x720]
+#                         [--heads scan,procedural]
 #
-#   tools/measure_live.sh [--out FILE.md]
+# --quick: drags of 1 s and no ground truth (the CI check, tests/window.rs).
+# Environment: BIN (the editor; default: a release build made here),
+# DRAG_S (seconds a drag; 4, quick 1), METHOD (a preset variant such as
+# TextureSpace for the drags), CONTROL (the distance's label, "R: mm"),
+# TRUTH_SIZES (sizes the ground truth is measured at; default the first),
+# KEEP=DIR (keep each run's frame log, widget map and editor output).
+# VK_ICD_FILENAMES picks the Vulkan driver as usual; the report names the
+# driver the editor used.
 #
-# Needs Xvfb (tools/setup-debian.sh installs it), xdotool and ImageMagick
-# (apt-get install xdotool imagemagick). docs/rendering.md records its
-# figures.
+# Needs Xvfb, xdotool and python3 (tools/setup-debian.sh installs them).
+# docs/rendering.md records its figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=""
-if [[ "${1:-}" == "--out" ]]; then OUT="$2"; fi
-DRAG_S="${DRAG_S:-4}"
-for t in Xvfb xdotool import python3; do
-    command -v "$t" >/dev/null || { echo "error: $t is missing (apt-get install xvfb xdotool imagemagick python3)" >&2; exit 1; }
+QUICK=0
+SIZES="1500x900,1280x720"
+HEADS="scan,procedural"
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --out) OUT="$2"; shift 2 ;;
+        --quick) QUICK=1; shift ;;
+        --sizes) SIZES="$2"; shift 2 ;;
+        --heads) HEADS="$2"; shift 2 ;;
+        *) echo "error: unknown argument $1 (see the top of $0)" >&2; exit 2 ;;
+    esac
 done
-cargo build --release --quiet
-BIN="$PWD/target/release/scatterlab"
+DRAG_S="${DRAG_S:-$([[ $QUICK == 1 ]] && echo 1 || echo 4)}"
+CONTROL="${CONTROL:-R: mm}"
+TRUTH_SIZES="${TRUTH_SIZES:-${SIZES%%,*}}"
+for t in Xvfb xdotool python3; do
+    command -v "$t" >/dev/null || { echo "error: $t is missing (tools/setup-debian.sh installs it)" >&2; exit 1; }
+done
+if [[ -z "${BIN:-}" ]]; then
+    cargo build --release --quiet
+    BIN="$PWD/target/release/scatterlab"
+fi
 WORK="$(mktemp -d)"
-DISP=":$((90 + RANDOM % 100))"
+EDITOR_PID=""
 cleanup() {
-    [[ -n "${EDITOR_PID:-}" ]] && kill "$EDITOR_PID" 2>/dev/null || true
+    [[ -n "$EDITOR_PID" ]] && kill "$EDITOR_PID" 2>/dev/null || true
     [[ -n "${XVFB_PID:-}" ]] && kill "$XVFB_PID" 2>/dev/null || true
-    # KEEP_LOG=FILE keeps the frame log.
-    [[ -n "${KEEP_LOG:-}" && -f "${LOG:-}" ]] && cp "$LOG" "$KEEP_LOG"
+    if [[ -n "${KEEP:-}" ]]; then mkdir -p "$KEEP" && cp -r "$WORK"/runs "$KEEP"/ 2>/dev/null || true; fi
     rm -rf "$WORK"
 }
 trap cleanup EXIT
-Xvfb "$DISP" -screen 0 1600x1000x24 >/dev/null 2>&1 &
+trap "exit 130" INT TERM HUP PIPE
+# A display of its own: Xvfb picks a free number and writes it to fd 3.
+Xvfb -displayfd 3 -screen 0 1600x1000x24 -nolisten tcp 3>"$WORK/display" >/dev/null 2>&1 &
 XVFB_PID=$!
-sleep 1
-mkdir -p "$WORK/run" "$WORK/data" "$WORK/config"
-chmod 700 "$WORK/run"
-LOG="$WORK/frames.log"
-# METHOD=<preset variant> (e.g. TextureSpace) measures the drags with that
-# method instead of the default skin's.
-PRESET_ARGS=()
-if [[ -n "${METHOD:-}" ]]; then
-    sed "s|^    profile: |    rendering: (method: $METHOD),\n    profile: |" presets/skin_default.ron >"$WORK/method.ron"
-    grep -q "method: $METHOD" "$WORK/method.ron" || { echo "error: could not write the $METHOD preset" >&2; exit 1; }
-    PRESET_ARGS=(--preset "$WORK/method.ron")
-fi
-# A fresh state directory: the default window size and layout.
-DISPLAY="$DISP" XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$WORK/data" \
-    XDG_CONFIG_HOME="$WORK/config" SCATTERLAB_FRAME_LOG="$LOG" \
-    "$BIN" edit "${PRESET_ARGS[@]}" >"$WORK/editor.out" 2>&1 &
-EDITOR_PID=$!
+for ((i = 0; ; i++)); do
+    [[ -s "$WORK/display" ]] && DISP=":$(head -1 "$WORK/display")" && DISPLAY="$DISP" xdpyinfo >/dev/null 2>&1 && break
+    ((i < 100)) || { echo "error: Xvfb did not start within 10 s" >&2; exit 1; }
+    sleep 0.1
+done
 export DISPLAY="$DISP"
+mkdir -p "$WORK/run" "$WORK/runs"
+chmod 700 "$WORK/run"
 
-wait_for() { # wait_for <regex> <after-time> <timeout-s>
+preset_with_method() { # preset_with_method <Method> <out.ron>
+    sed "s|^    profile: |    rendering: (method: $1),\n    profile: |" presets/skin_default.ron >"$2"
+    grep -q "method: $1" "$2" || { echo "error: could not write the $1 preset" >&2; exit 1; }
+}
+now() { date +%s.%N; }
+die() { # die <message>: says what the editor said, then fails
+    echo "error: $1" >&2
+    if [[ -f "${RUN:-}/editor.out" ]]; then
+        echo "--- the editor said:" >&2
+        tail -20 "$RUN/editor.out" >&2
+    fi
+    exit 1
+}
+
+# wait_for <regex> <after-time> <timeout-s>: a frame-log line newer than
+# <after-time> that matches.
+wait_for() {
     local deadline=$((SECONDS + $3))
     while ((SECONDS < deadline)); do
         if [[ -f "$LOG" ]] && awk -v t="$2" -v re="$1" '$1 > t && $0 ~ re {f=1} END {exit !f}' "$LOG"; then
             return 0
         fi
+        kill -0 "$EDITOR_PID" 2>/dev/null || die "the editor exited while waiting for '$1'"
         sleep 0.1
     done
-    echo "error: no '$1' frame after $2 within $3 s; the editor said:" >&2
-    cat "$WORK/editor.out" >&2
-    exit 1
+    die "no '$1' frame after $2 within $3 s"
 }
-now() { date +%s.%N; }
 
-wait_for "converged" 0 180
-WID="$(xdotool search --sync --name scatterlab | head -1)"
-xdotool windowactivate --sync "$WID" 2>/dev/null || true
-# Let start-up work (skin maps, the analysis thread) finish.
-sleep 3
-wait_for "converged" 0 60
+# wait_settled <timeout-s>: the newest viewport frame is a converged one
+# and nothing was drawn for a second (start-up work, a new window size).
+wait_settled() {
+    local deadline=$((SECONDS + $1))
+    while ((SECONDS < deadline)); do
+        if [[ -f "$LOG" ]] && awk -v now="$(now)" '$2 == "frame" {k = $3; t = $1} END {exit !(k == "converged" && now - t > 1)}' "$LOG"; then
+            return 0
+        fi
+        kill -0 "$EDITOR_PID" 2>/dev/null || die "the editor exited before its view settled"
+        sleep 0.2
+    done
+    die "the view did not settle on a converged frame within $1 s"
+}
 
-# drag <x> <y> <dx per step>: press, move in 30 ms steps for DRAG_S, release.
+# locate <role> <label>: "x y value" of the control's centre (window pixels),
+# from a widget map written after this call began. Moves the pointer a
+# pixel back and forth over the window's corner meanwhile, so that the
+# editor draws frames (it writes the map on frames).
+locate() {
+    local since deadline out
+    since="$(now)"
+    deadline=$((SECONDS + 20))
+    while ((SECONDS < deadline)); do
+        if out="$(python3 - "$MAP" "$since" "$1" "$2" <<'EOF'
+import os, sys
+path, since, role, label = sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4]
+if not os.path.exists(path) or os.path.getmtime(path) <= since:
+    sys.exit(3)
+hits = []
+for line in open(path, encoding="utf-8"):
+    if line.startswith("#"):
+        continue
+    r, l, v, box = line.rstrip("\n").split("\t")
+    if r == role and l == label:
+        x0, y0, x1, y1 = map(float, box.split())
+        hits.append((x0, y0, x1, y1, v))
+if len(hits) != 1:
+    print(f"{len(hits)} controls are {role} '{label}'", file=sys.stderr)
+    sys.exit(4)
+x0, y0, x1, y1, v = hits[0]
+if x1 - x0 < 4 or y1 - y0 < 4:
+    print(f"{role} '{label}' is {x1-x0:.0f}×{y1-y0:.0f} px: not on screen", file=sys.stderr)
+    sys.exit(4)
+print(f"{(x0 + x1) / 2:.0f} {(y0 + y1) / 2:.0f} {v}")
+EOF
+        )"; then
+            echo "$out"
+            return 0
+        fi
+        xdotool mousemove --window "$WID" 2 2 mousemove --window "$WID" 3 3
+        sleep 0.2
+    done
+    python3 - "$MAP" "$1" "$2" <<'EOF' >&2 || true
+import sys
+path, role, label = sys.argv[1:4]
+print(f"--- the editor's controls like {role} '{label}':")
+for line in open(path, encoding="utf-8"):
+    if line.split("\t")[0] == role or label.split(":")[0] in line:
+        print(line.rstrip())
+EOF
+    die "cannot find the $1 '$2' in the editor's widget map ($W×$H, $HEAD)"
+}
+
+# drag <x> <y> <dx per step>: press, move in 30 ms steps for DRAG_S,
+# release; DOWN and UP are the times.
 drag() {
     xdotool mousemove --window "$WID" "$1" "$2"
     sleep 0.3
@@ -98,94 +193,161 @@ drag() {
     xdotool mouseup 1
 }
 
-# The orbit: the viewport's middle (window coordinates at 1500×900).
-drag 730 480 3
-ORBIT=("$DOWN" "$UP")
-wait_for "converged" "$UP" 30
-sleep 1
-# The red scattering distance: its drag value in the Look panel (1 px =
-# 0.01 mm; 1 px a step keeps it in 0.76–1.9 mm over the drag).
-drag 173 161 1
-SLIDER=("$DOWN" "$UP")
-wait_for "converged" "$UP" 30
-sleep 0.5
-import -window root "$WORK/after.png" 2>/dev/null || true
-[[ -n "${KEEP_AFTER:-}" ]] && cp "$WORK/after.png" "$KEEP_AFTER"
+# start_editor <name> [args...]: an editor with its own fresh state (the
+# default window and layout), its frame log and widget map, at $W×$H.
+start_editor() {
+    local name="$1"
+    shift
+    RUN="$WORK/runs/$name"
+    mkdir -p "$RUN/data" "$RUN/config"
+    LOG="$RUN/frames.log"
+    MAP="$RUN/widgets.tsv"
+    XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$RUN/data" XDG_CONFIG_HOME="$RUN/config" \
+        SCATTERLAB_FRAME_LOG="$LOG" SCATTERLAB_WIDGET_MAP="$MAP" \
+        "$BIN" edit "$@" >"$RUN/editor.out" 2>&1 &
+    EDITOR_PID=$!
+    local deadline=$((SECONDS + 120))
+    WID=""
+    while [[ -z "$WID" ]]; do
+        ((SECONDS < deadline)) || die "the editor's window did not open within 120 s"
+        kill -0 "$EDITOR_PID" 2>/dev/null || die "the editor exited before its window opened"
+        WID="$(xdotool search --name 'scatterlab' 2>/dev/null | head -1 || true)"
+        sleep 0.2
+    done
+    xdotool windowmove "$WID" 0 0
+    xdotool windowsize "$WID" "$W" "$H"
+    xdotool windowactivate --sync "$WID" 2>/dev/null || xdotool windowfocus "$WID" 2>/dev/null || true
+}
 
-# The ground truth as the viewport's method: the default skin with
-# method Reference, in a second editor with its own state.
-kill "$EDITOR_PID" 2>/dev/null || true
-wait "$EDITOR_PID" 2>/dev/null || true
-sed 's|^    profile: |    rendering: (method: Reference),\n    profile: |' presets/skin_default.ron >"$WORK/truth.ron"
-grep -q "method: Reference" "$WORK/truth.ron" || { echo "error: could not write the reference preset" >&2; exit 1; }
-TRUTH_LOG="$WORK/truth.log"
-mkdir -p "$WORK/data2" "$WORK/config2"
-DISPLAY="$DISP" XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$WORK/data2" \
-    XDG_CONFIG_HOME="$WORK/config2" SCATTERLAB_FRAME_LOG="$TRUTH_LOG" \
-    "$BIN" edit --preset "$WORK/truth.ron" >"$WORK/editor2.out" 2>&1 &
-EDITOR_PID=$!
-LOG="$TRUTH_LOG"
-wait_for "converged.*method=reference" 0 300
-WID="$(xdotool search --sync --name scatterlab | head -1)"
-xdotool windowactivate --sync "$WID" 2>/dev/null || true
-sleep 1
-drag 730 480 3
-TRUTH=("$DOWN" "$UP")
-wait_for "converged.*method=reference" "$UP" 300
-import -window root "$WORK/truth.png" 2>/dev/null || true
-[[ -n "${KEEP_SHOT:-}" ]] && cp "$WORK/truth.png" "$KEEP_SHOT"
+stop_editor() {
+    kill "$EDITOR_PID" 2>/dev/null || true
+    wait "$EDITOR_PID" 2>/dev/null || true
+    EDITOR_PID=""
+}
 
-python3 - "$WORK/frames.log" "${ORBIT[@]}" "${SLIDER[@]}" "$OUT" "$TRUTH_LOG" "${TRUTH[@]}" <<'EOF'
-import sys, statistics
-log, o0, o1, s0, s1, out = sys.argv[1], *map(float, sys.argv[2:6]), sys.argv[6]
-truth_log, t0, t1 = sys.argv[7], float(sys.argv[8]), float(sys.argv[9])
-rows = [l.split() for l in open(log)]
-def report(name, t0, t1):
+RESULTS="$WORK/results.tsv"
+: >"$RESULTS"
+IFS=, read -r -a size_list <<<"$SIZES"
+IFS=, read -r -a head_list <<<"$HEADS"
+for size in "${size_list[@]}"; do
+    W="${size%x*}"
+    H="${size#*x}"
+    for HEAD in "${head_list[@]}"; do
+        case "$HEAD" in
+            scan) head_args=() ;;
+            procedural) head_args=(--procedural-head) ;;
+            *) die "unknown head $HEAD (scan or procedural)" ;;
+        esac
+        args=("${head_args[@]}")
+        if [[ -n "${METHOD:-}" ]]; then
+            preset_with_method "$METHOD" "$WORK/method.ron"
+            args+=(--preset "$WORK/method.ron")
+        fi
+        start_editor "${W}x${H}-$HEAD" "${args[@]}"
+        wait_for "converged" 0 300
+        # Let start-up work (skin maps, the analysis thread) and the new
+        # window size settle.
+        wait_settled 120
+        pos="$(locate Canvas Viewport)"
+        read -r vx vy _ <<<"$pos"
+        drag "$vx" "$vy" 3
+        ORBIT=("$DOWN" "$UP")
+        wait_for "converged" "$UP" 60
+        sleep 1
+        pos="$(locate SpinButton "$CONTROL")"
+        read -r cx cy before <<<"$pos"
+        # 1 px a step: the distance moves by the drag value's speed a pixel.
+        drag "$cx" "$cy" 1
+        SLIDER=("$DOWN" "$UP")
+        wait_for "converged" "$UP" 60
+        pos="$(locate SpinButton "$CONTROL")"
+        read -r _ _ after <<<"$pos"
+        [[ "$before" != "$after" ]] || die "dragging the SpinButton '$CONTROL' left it at $before"
+        printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$W" "$H" "$HEAD" "$LOG" "${ORBIT[@]}" "${SLIDER[@]}" \
+            "$before → $after" >>"$RESULTS"
+        stop_editor
+
+        # The ground truth as the viewport's method, in an editor of its own.
+        if [[ $QUICK == 0 && ",$TRUTH_SIZES," == *",$size,"* ]]; then
+            preset_with_method Reference "$WORK/truth.ron"
+            start_editor "${W}x${H}-$HEAD-truth" "${head_args[@]}" --preset "$WORK/truth.ron"
+            wait_for "converged.*method=reference" 0 300
+            wait_settled 300
+            pos="$(locate Canvas Viewport)"
+        read -r vx vy _ <<<"$pos"
+            drag "$vx" "$vy" 3
+            wait_for "converged.*method=reference" "$UP" 300
+            printf 'truth\t%s\t%s\t%s\t%s\t%s\t%s\n' "$W" "$H" "$HEAD" "$LOG" "$DOWN" "$UP" >>"$RESULTS"
+            stop_editor
+        fi
+    done
+done
+
+python3 - "$RESULTS" "$OUT" <<'EOF'
+import statistics, sys
+results, out = sys.argv[1], sys.argv[2]
+def frames(log):
+    return [l.split() for l in open(log)]
+def driver(rows):
+    d = [" ".join(r[2:]) for r in rows if len(r) > 2 and r[1] == "driver"]
+    return d[0] if d else "not logged"
+def report(rows, name, t0, t1):
     # Skip the first 0.3 s (the drag threshold and the first preview).
     a = t0 + 0.3
     prev = [r for r in rows if r[1] == "frame" and r[2] == "preview" and a < float(r[0]) <= t1]
     ui = [r for r in rows if r[1] == "ui" and a < float(r[0]) <= t1]
-    conv = [float(r[0]) for r in rows if r[1] == "frame" and r[2] == "converged" and float(r[0]) > t1]
-    refine = [r for r in rows if r[1] == "frame" and r[2] == "refining" and t1 < float(r[0]) <= conv[0]]
+    conv = [r for r in rows if r[1] == "frame" and r[2] == "converged" and float(r[0]) > t1]
+    refine = [r for r in rows if r[1] == "frame" and r[2] == "refining" and t1 < float(r[0]) <= float(conv[0][0])]
+    if not prev:
+        sys.exit(f"error: no preview frame while dragging the {name}: the drag did nothing")
     span = t1 - a
     px = sorted((int(r[3].split("x")[0]) * int(r[3].split("x")[1]), r[3]) for r in prev)
-    sizes = [px[0][1], px[-1][1]] if px else ["none"]
     ms = [float(r[5].split("=")[1]) for r in prev]
-    full = [r[3] for r in rows if r[1] == "frame" and r[2] == "converged" and float(r[0]) > t1][0]
-    return (f"| {name} | {len(prev)/span:.1f} | {len(ui)/span:.1f} | {' to '.join(sizes)} "
-            f"| {statistics.median(ms) if ms else float('nan'):.0f} | {full} "
-            f"| {conv[0]-t1:.2f} | {len(refine)+1} |")
+    return (f"{len(prev)/span:.1f} | {len(ui)/span:.1f} | {px[0][1]} to {px[-1][1]} "
+            f"| {statistics.median(ms):.0f} | {conv[0][3]} | {float(conv[0][0])-t1:.2f} | {len(refine)+1}")
 lines = [
-    "| drag | viewport frames/s while dragging | UI frames/s | preview sizes | median preview render (ms) | full size | release → converged (s) | full-size frames |",
-    "|---|---|---|---|---|---|---|---|",
-    report("orbit", o0, o1),
-    report("scattering distance", s0, s1),
+    "| window | head | drag | viewport frames/s while dragging | UI frames/s | preview sizes | median preview render (ms) | full size | release → converged (s) | full-size frames |",
+    "|---|---|---|---|---|---|---|---|---|---|",
 ]
-truth = [l.split() for l in open(truth_log)]
-def first(kind):
-    hits = [r for r in truth if r[1] == "frame" and r[2] == kind and float(r[0]) > t1
-            and "method=reference" in r]
-    return (float(hits[0][0]) - t1, hits[0][3]) if hits else (float("nan"), "none")
-tiles, full = first("truth-tiles"), first("converged")
-# Each tiles frame that showed a time left: that against the time the
-# truth then took (frames with over 1 s still to go).
-done_at = t1 + full[0]
-errors = []
-for r in truth:
-    if r[1] == "frame" and r[2] == "truth-tiles" and float(r[0]) > t1:
-        left = [f.split("=")[1] for f in r if f.startswith("left_s=")]
-        if left and left[0] != "none" and done_at - float(r[0]) > 1.0:
-            actual = done_at - float(r[0])
-            errors.append(abs(float(left[0]) - actual) / actual)
-errors.sort()
-median = errors[len(errors) // 2] if errors else float("nan")
-worst = errors[-1] if errors else float("nan")
-lines += [
-    "",
-    "| ground truth after an orbit | release → first tiles (s) | tiles' size | release → full truth (s) | full size | time left shown: median / worst error |",
-    "|---|---|---|---|---|---|",
-    f"| reference | {tiles[0]:.2f} | {tiles[1]} | {full[0]:.2f} | {full[1]} | {100*median:.0f} % / {100*worst:.0f} % ({len(errors)} frames) |",
-]
+truth_lines = []
+drivers = set()
+for line in open(results):
+    f = line.rstrip("\n").split("\t")
+    if f[0] == "truth":
+        _, w, h, head, log, t0, t1 = f
+        rows, t1 = frames(log), float(t1)
+        drivers.add(driver(rows))
+        def first(kind):
+            hits = [r for r in rows if r[1] == "frame" and r[2] == kind and float(r[0]) > t1 and "method=reference" in r]
+            return (float(hits[0][0]) - t1, hits[0][3]) if hits else (float("nan"), "none")
+        tiles, full = first("truth-tiles"), first("converged")
+        done_at = t1 + full[0]
+        errors = []
+        for r in rows:
+            if r[1] == "frame" and r[2] == "truth-tiles" and float(r[0]) > t1:
+                left = [x.split("=")[1] for x in r if x.startswith("left_s=")]
+                if left and left[0] != "none" and done_at - float(r[0]) > 1.0:
+                    actual = done_at - float(r[0])
+                    errors.append(abs(float(left[0]) - actual) / actual)
+        errors.sort()
+        med = errors[len(errors) // 2] if errors else float("nan")
+        worst = errors[-1] if errors else float("nan")
+        truth_lines.append(f"| {w}×{h} | {head} | {tiles[0]:.2f} | {tiles[1]} | {full[0]:.2f} | {full[1]} "
+                           f"| {100*med:.0f} % / {100*worst:.0f} % ({len(errors)} frames) |")
+        continue
+    w, h, head, log, o0, o1, s0, s1, moved = f
+    rows = frames(log)
+    drivers.add(driver(rows))
+    lines.append(f"| {w}×{h} | {head} | orbit | " + report(rows, "orbit", float(o0), float(o1)) + " |")
+    lines.append(f"| {w}×{h} | {head} | scattering distance ({moved}) | "
+                 + report(rows, "scattering distance", float(s0), float(s1)) + " |")
+lines = [f"Driver: {', '.join(sorted(drivers))}", ""] + lines
+if truth_lines:
+    lines += [
+        "",
+        "| ground truth after an orbit | head | release → first tiles (s) | tiles' size | release → full truth (s) | full size | time left shown: median / worst error |",
+        "|---|---|---|---|---|---|---|",
+    ] + truth_lines
 print("\n".join(lines))
 if out:
     open(out, "w").write("\n".join(lines) + "\n")

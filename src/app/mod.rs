@@ -24,6 +24,7 @@ pub mod turntable;
 pub mod viewport;
 mod viewport_ui;
 pub mod wake;
+pub mod widget_map;
 
 use crate::export::Format;
 use crate::settings::{library, Preset};
@@ -673,6 +674,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
                 let p = ui_state.last_preset.clone()?;
                 Preset::load(&p).ok().map(|preset| (preset, Some(p)))
             });
+            widget_map::install(&cc.egui_ctx);
             let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
             // The data folder eframe keeps its state in (XDG_DATA_HOME/scatterlab).
             if let Some(dir) = eframe::storage_dir("scatterlab") {

@@ -41,7 +41,9 @@ pub(super) struct ViewportState {
     pub(super) applied_scale: Option<f32>,
     /// The pointer rests over the viewport: its mouse hint is shown.
     pub(super) show_mouse_hint: bool,
-    /// The GPU adapter's whole name (the status bar shows its first words).
+    /// The GPU adapter's whole name and its driver with the driver's
+    /// version (the status bar shows the name's first words, all of it on
+    /// hover).
     pub(super) adapter: String,
     /// The loaded HDR map, drawn behind the head when asked.
     pub(super) background_map: Option<viewport::SharedMap>,

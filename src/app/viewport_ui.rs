@@ -24,6 +24,10 @@ impl EditorApp {
             ui.scope_id().with("viewport"),
             egui::Sense::click_and_drag(),
         );
+        // Named for AccessKit: tools that drive the window find it so.
+        response.widget_info(|| {
+            egui::WidgetInfo::labeled(egui::accesskit::Role::Canvas, true, "Viewport")
+        });
         self.viewport_input(ui, rect, &response, framing);
         // The ground truth's next tiles are those nearest the pointer.
         if let Some(vp) = &self.view.viewport {
@@ -529,7 +533,15 @@ impl EditorApp {
                     // The adapter's first words (its whole name on hover).
                     stats.adapter.split(" (").next().unwrap_or(&stats.adapter)
                 );
-                self.view.adapter = stats.adapter.clone();
+                // The driver in the frame log, and an old lavapipe named
+                // once, with its upgrade.
+                if self.view.adapter.is_empty() {
+                    self.log_line(format_args!("driver {}", stats.driver));
+                    if let Some(advice) = &stats.driver_advice {
+                        self.say(format!("Warning: {advice}"));
+                    }
+                }
+                self.view.adapter = format!("{}; driver {}", stats.adapter, stats.driver);
                 let size = (self.view.last_frame.as_ref()).map_or((0, 0), |f| f.0.dimensions());
                 self.view
                     .history

@@ -279,13 +279,17 @@ impl RenderArgs {
             format!("{what}, ")
         };
         println!(
-            "wrote {} ({}×{}, {what}{}, passes: {})",
+            "wrote {} ({}×{}, {what}{}, {}, passes: {})",
             out.display(),
             self.width,
             self.height,
             stats.adapter,
+            stats.driver,
             passes.join(", ")
         );
+        if let Some(advice) = &stats.driver_advice {
+            eprintln!("note: {advice}");
+        }
         Ok(())
     }
 }

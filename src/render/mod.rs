@@ -8,6 +8,8 @@
 pub mod compare;
 #[cfg(feature = "gpu")]
 pub mod context;
+#[cfg(feature = "gpu")]
+pub mod driver;
 pub mod environment;
 #[cfg(feature = "gpu")]
 mod frame;

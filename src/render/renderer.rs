@@ -452,6 +452,8 @@ impl Renderer {
             width: s.width,
             height: s.height,
             adapter: self.adapter_name(),
+            driver: super::driver::describe(&self.ctx.adapter_info),
+            driver_advice: super::driver::advice(&self.ctx.adapter_info),
         };
         self.scene_key = Some((scene_key, sss_pixels));
         Ok((image, diffuse, stats))

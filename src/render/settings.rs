@@ -306,4 +306,11 @@ pub struct FrameStats {
     pub width: u32,
     pub height: u32,
     pub adapter: String,
+    /// The driver and its version ([`super::driver::describe`]): "lavapipe,
+    /// Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)".
+    pub driver: String,
+    /// A lavapipe older than the one the project installs, named with the
+    /// line that upgrades it ([`super::driver::advice`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub driver_advice: Option<String>,
 }
