@@ -290,3 +290,70 @@ fn a_killed_editor_leaves_its_unsaved_look_for_the_next_start() {
     next.wait().unwrap();
     std::fs::remove_dir_all(&home).unwrap();
 }
+
+/// Runs `tools/measure_live.sh` on the editor this build made, with the
+/// extra environment; its status and what it printed (stdout, stderr).
+fn measure_live(args: &[&str], env: &[(&str, &str)]) -> (bool, String, String) {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut cmd = Command::new(format!("{root}/tools/measure_live.sh"));
+    cmd.args(args)
+        .env("BIN", env!("CARGO_BIN_EXE_scatterlab"))
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd
+        .output()
+        .expect("run tools/measure_live.sh (it needs bash, Xvfb, xdotool and python3; .ci/run installs them)");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Issue 50: the live measurement, short (1 s drags, no ground truth), at
+/// 1500×900 and 1280×720 on the head scan and the procedural head. The
+/// tool finds the viewport and the red scattering distance by their
+/// AccessKit role and label (the editor's widget map), drags them with a
+/// real pointer, and fails when it cannot find one, when a drag changes
+/// nothing or when no converged frame follows. Its figures are a
+/// benchmark: printed, never judged here.
+#[test]
+fn the_live_measurement_finds_its_controls_and_sees_each_drag_converge() {
+    let (ok, out, err) = measure_live(&["--quick"], &[]);
+    assert!(ok, "tools/measure_live.sh --quick failed:\n{out}\n{err}");
+    eprintln!("{out}");
+    // Four configurations, two drags each, and the value the drag moved.
+    let rows: Vec<&str> = out.lines().filter(|l| l.starts_with("| 1")).collect();
+    assert_eq!(rows.len(), 8, "{out}");
+    for size in ["1500×900", "1280×720"] {
+        for head in ["scan", "procedural"] {
+            let row = rows
+                .iter()
+                .find(|r| r.contains(size) && r.contains(head) && r.contains("scattering distance"))
+                .unwrap_or_else(|| {
+                    panic!("no drag of the distance at {size} on the {head}: {out}")
+                });
+            assert!(row.contains("→"), "{row}");
+        }
+    }
+    assert!(out.contains("Driver: lavapipe"), "{out}");
+}
+
+/// The same tool told to drag a control the editor does not have fails,
+/// and says which: a renamed or removed control cannot pass unseen.
+#[test]
+fn the_live_measurement_fails_on_a_control_it_cannot_find() {
+    let (ok, out, err) = measure_live(
+        &["--quick", "--sizes", "1280x720", "--heads", "procedural"],
+        &[("CONTROL", "G: mm renamed")],
+    );
+    assert!(!ok, "the tool passed without its control:\n{out}\n{err}");
+    assert!(
+        err.contains("cannot find the SpinButton 'G: mm renamed'"),
+        "{err}"
+    );
+}

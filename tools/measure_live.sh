@@ -74,14 +74,25 @@ cleanup() {
 }
 trap cleanup EXIT
 trap "exit 130" INT TERM HUP PIPE
-# A display of its own: Xvfb picks a free number and writes it to fd 3.
-Xvfb -displayfd 3 -screen 0 1600x1000x24 -nolisten tcp 3>"$WORK/display" >/dev/null 2>&1 &
-XVFB_PID=$!
-for ((i = 0; ; i++)); do
-    [[ -s "$WORK/display" ]] && DISP=":$(head -1 "$WORK/display")" && DISPLAY="$DISP" xdpyinfo >/dev/null 2>&1 && break
-    ((i < 100)) || { echo "error: Xvfb did not start within 10 s" >&2; exit 1; }
-    sleep 0.1
+# A display of its own: a free number from a random start, taken when
+# our Xvfb is still running half a second later and answers (an Xvfb that
+# finds the number taken exits; Xvfb's own -displayfd raced between two
+# tools started at once).
+XVFB_PID=""
+for ((n = 100 + RANDOM % 800, tries = 0; ; n++, tries++)); do
+    ((tries < 20)) || { echo "error: no free X display for Xvfb (tried :$((n - 20))–:$((n - 1)))" >&2; exit 1; }
+    [[ -e "/tmp/.X$n-lock" || -e "/tmp/.X11-unix/X$n" ]] && continue
+    Xvfb ":$n" -screen 0 1600x1000x24 -nolisten tcp >/dev/null 2>&1 &
+    XVFB_PID=$!
+    for ((i = 0; i < 50; i++)); do
+        sleep 0.1
+        kill -0 "$XVFB_PID" 2>/dev/null || break
+        if ((i >= 5)) && DISPLAY=":$n" xdpyinfo >/dev/null 2>&1; then break 2; fi
+    done
+    kill "$XVFB_PID" 2>/dev/null || true
+    XVFB_PID=""
 done
+DISP=":$n"
 export DISPLAY="$DISP"
 mkdir -p "$WORK/run" "$WORK/runs"
 chmod 700 "$WORK/run"
@@ -93,6 +104,7 @@ preset_with_method() { # preset_with_method <Method> <out.ron>
 now() { date +%s.%N; }
 die() { # die <message>: says what the editor said, then fails
     echo "error: $1" >&2
+    kill -0 "${XVFB_PID:-0}" 2>/dev/null || echo "(its X server, Xvfb $DISP, is not running)" >&2
     if [[ -f "${RUN:-}/editor.out" ]]; then
         echo "--- the editor said:" >&2
         tail -20 "$RUN/editor.out" >&2
@@ -196,23 +208,37 @@ drag() {
 # start_editor <name> [args...]: an editor with its own fresh state (the
 # default window and layout), its frame log and widget map, at $W×$H.
 start_editor() {
-    local name="$1"
+    local name="$1" attempt
     shift
     RUN="$WORK/runs/$name"
-    mkdir -p "$RUN/data" "$RUN/config"
     LOG="$RUN/frames.log"
     MAP="$RUN/widgets.tsv"
-    XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$RUN/data" XDG_CONFIG_HOME="$RUN/config" \
-        SCATTERLAB_FRAME_LOG="$LOG" SCATTERLAB_WIDGET_MAP="$MAP" \
-        "$BIN" edit "$@" >"$RUN/editor.out" 2>&1 &
-    EDITOR_PID=$!
-    local deadline=$((SECONDS + 120))
-    WID=""
-    while [[ -z "$WID" ]]; do
-        ((SECONDS < deadline)) || die "the editor's window did not open within 120 s"
-        kill -0 "$EDITOR_PID" 2>/dev/null || die "the editor exited before its window opened"
-        WID="$(xdotool search --name 'scatterlab' 2>/dev/null | head -1 || true)"
-        sleep 0.2
+    for attempt in 1 2 3; do
+        rm -rf "$RUN"
+        mkdir -p "$RUN/data" "$RUN/config"
+        XDG_RUNTIME_DIR="$WORK/run" XDG_DATA_HOME="$RUN/data" XDG_CONFIG_HOME="$RUN/config" \
+            SCATTERLAB_FRAME_LOG="$LOG" SCATTERLAB_WIDGET_MAP="$MAP" \
+            "$BIN" edit "$@" >"$RUN/editor.out" 2>&1 &
+        EDITOR_PID=$!
+        local deadline=$((SECONDS + 120))
+        WID=""
+        while [[ -z "$WID" ]]; do
+            ((SECONDS < deadline)) || die "the editor's window did not open within 120 s"
+            if ! kill -0 "$EDITOR_PID" 2>/dev/null; then
+                # Seen about once in ten starts with two of these tools
+                # running at once, with the X server answering xdpyinfo
+                # before and after: Xlib's XOpenDisplay failed. Start again.
+                if grep -q "connection to X server" "$RUN/editor.out" && ((attempt < 3)); then
+                    echo "note: the editor could not connect to $DISP (attempt $attempt); starting it again" >&2
+                    sleep 1
+                    continue 2
+                fi
+                die "the editor exited before its window opened"
+            fi
+            WID="$(xdotool search --name 'scatterlab' 2>/dev/null | head -1 || true)"
+            sleep 0.2
+        done
+        break
     done
     xdotool windowmove "$WID" 0 0
     xdotool windowsize "$WID" "$W" "$H"

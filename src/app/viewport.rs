@@ -408,6 +408,11 @@ impl Viewport {
         }
     }
 
+    /// The number of the last request sent (0 before the first).
+    pub fn seq(&self) -> u64 {
+        self.seq
+    }
+
     /// The last request sent (its `seq` is 0).
     pub fn last_request(&self) -> Option<&Request> {
         self.last_sent.as_ref()

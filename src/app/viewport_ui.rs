@@ -43,15 +43,25 @@ impl EditorApp {
         let req = self.frame_request(ui, rect);
         let valid = self.doc.preset.rendering.validate().is_ok()
             && !matches!(self.profile.curves, Some(Err(_)));
-        let replies = match self.view.viewport.as_mut() {
+        let interactive = req.interactive;
+        let (replies, sent) = match self.view.viewport.as_mut() {
             Some(vp) => {
+                let before = vp.seq();
                 if valid {
                     vp.request(req);
                 }
-                vp.poll()
+                (vp.poll(), (vp.seq() != before).then(|| vp.seq()))
             }
-            None => Vec::new(),
+            None => (Vec::new(), None),
         };
+        // Each new request in the frame log: what the render thread was
+        // asked for, and when (tools/measure_live.sh's profile).
+        if let Some(seq) = sent {
+            self.log_line(format_args!(
+                "request seq={seq} interactive={}",
+                u8::from(interactive)
+            ));
+        }
         for reply in replies {
             self.handle_reply(ui.ctx(), reply);
         }

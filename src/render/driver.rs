@@ -83,16 +83,9 @@ mod tests {
     fn info(driver: &str, driver_info: &str, backend: wgpu::Backend) -> wgpu::AdapterInfo {
         wgpu::AdapterInfo {
             name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
-            vendor: 0x10005,
-            device: 0,
-            device_type: wgpu::DeviceType::Cpu,
-            device_pci_bus_id: String::new(),
             driver: driver.into(),
             driver_info: driver_info.into(),
-            backend,
-            subgroup_min_size: 4,
-            subgroup_max_size: 8,
-            transient_saves_memory: None,
+            ..wgpu::AdapterInfo::new(wgpu::DeviceType::Cpu, backend)
         }
     }
 
