@@ -69,7 +69,7 @@ python3 - "$OUT" "$SIZE" "${rows[@]}" <<'EOF'
 import json, sys
 out, size, rows = sys.argv[1], sys.argv[2], sys.argv[3:]
 lines = [
-    f"| method ({size}) | SSS GPU (ms) | frame GPU (ms) | ground truth wall (ms) | points the GPU left to the CPU | adapter |",
+    f"| method ({size}) | SSS GPU (ms) | frame GPU (ms) | ground truth wall (ms) | points the GPU left to the CPU | adapter; driver |",
     "|---|---|---|---|---|---|",
 ]
 for row in rows:
@@ -81,7 +81,7 @@ for row in rows:
     left = s.get("reference_gpu_unfinished")
     lines.append(
         f"| {name} | {fmt(s['sss_gpu_ms'])} | {fmt(frame)} | {'—' if truth is None else f'{truth:.0f}'} "
-        f"| {'—' if left is None else left} | {s['adapter']} |"
+        f"| {'—' if left is None else left} | {s['adapter']}; {s.get('driver', 'driver not named')} |"
     )
 text = "\n".join(lines)
 print(text)
