@@ -189,18 +189,29 @@ EOF
     die "cannot find the $1 '$2' in the editor's widget map ($W×$H, $HEAD)"
 }
 
-# drag <x> <y> <dx per step>: press, move in 30 ms steps for DRAG_S,
-# release; DOWN and UP are the times.
+# drag <x> <y> <dx per move> <net px>: press, move every STEP_MS for
+# DRAG_S, release; DOWN and UP are the times. The moves go forward, then
+# back, so that the drag ends <net px> from where it began whatever its
+# length (the view, or the value, the figures after it are measured at);
+# a drag too short for that goes forward only. The moves are one xdotool
+# process with its own sleeps: an xdotool started for each move took about
+# 10 ms to start, so moves meant every 30 ms came 25 times a second, below
+# the frame rates measured.
+STEP_MS="${STEP_MS:-16}"
 drag() {
     xdotool mousemove --window "$WID" "$1" "$2"
     sleep 0.3
     xdotool mousedown 1
-    local steps=$((DRAG_S * 1000 / 30))
-    DOWN="$(now)"
+    local steps=$((DRAG_S * 1000 / STEP_MS)) net=$(($4 / $3)) chain=() i forward
+    forward=$(((steps + net) / 2))
+    ((forward > steps)) && forward=$steps
     for ((i = 0; i < steps; i++)); do
-        xdotool mousemove_relative -- "$3" 0
-        sleep 0.03
+        local dx="$3"
+        ((i >= forward)) && dx=$((-$3))
+        chain+=(mousemove_relative -- "$dx" 0 sleep "0.$(printf %03d "$STEP_MS")")
     done
+    DOWN="$(now)"
+    xdotool "${chain[@]}"
     UP="$(now)"
     xdotool mouseup 1
 }
@@ -276,14 +287,18 @@ for size in "${size_list[@]}"; do
         wait_settled 120
         pos="$(locate Canvas Viewport)"
         read -r vx vy _ <<<"$pos"
-        drag "$vx" "$vy" 3
+        # 3 px a move (180 px a second), ending 400 px from the start.
+        drag "$vx" "$vy" 3 400
         ORBIT=("$DOWN" "$UP")
         wait_for "converged" "$UP" 60
         sleep 1
         pos="$(locate SpinButton "$CONTROL")"
         read -r cx cy before <<<"$pos"
-        # 1 px a step: the distance moves by the drag value's speed a pixel.
-        drag "$cx" "$cy" 1
+        # 1 px a move (60 px a second), ending 133 px from the start: from
+        # 0.757 mm to about 1.4 mm. egui's drag value snaps to round
+        # numbers, so not every move changes it: the table's requests/s
+        # says how often the editor had a new value to draw.
+        drag "$cx" "$cy" 1 133
         SLIDER=("$DOWN" "$UP")
         wait_for "converged" "$UP" 60
         pos="$(locate SpinButton "$CONTROL")"
@@ -301,7 +316,7 @@ for size in "${size_list[@]}"; do
             wait_settled 300
             pos="$(locate Canvas Viewport)"
         read -r vx vy _ <<<"$pos"
-            drag "$vx" "$vy" 3
+            drag "$vx" "$vy" 3 400
             wait_for "converged.*method=reference" "$UP" 300
             printf 'truth\t%s\t%s\t%s\t%s\t%s\t%s\n' "$W" "$H" "$HEAD" "$LOG" "$DOWN" "$UP" >>"$RESULTS"
             stop_editor
@@ -321,6 +336,9 @@ def report(rows, name, t0, t1):
     # Skip the first 0.3 s (the drag threshold and the first preview).
     a = t0 + 0.3
     prev = [r for r in rows if r[1] == "frame" and r[2] == "preview" and a < float(r[0]) <= t1]
+    # What the render thread was asked for: a viewport at the rate of its
+    # requests is keeping up with the input.
+    reqs = [r for r in rows if r[1] == "request" and a < float(r[0]) <= t1]
     ui = [r for r in rows if r[1] == "ui" and a < float(r[0]) <= t1]
     conv = [r for r in rows if r[1] == "frame" and r[2] == "converged" and float(r[0]) > t1]
     refine = [r for r in rows if r[1] == "frame" and r[2] == "refining" and t1 < float(r[0]) <= float(conv[0][0])]
@@ -329,11 +347,11 @@ def report(rows, name, t0, t1):
     span = t1 - a
     px = sorted((int(r[3].split("x")[0]) * int(r[3].split("x")[1]), r[3]) for r in prev)
     ms = [float(r[5].split("=")[1]) for r in prev]
-    return (f"{len(prev)/span:.1f} | {len(ui)/span:.1f} | {px[0][1]} to {px[-1][1]} "
+    return (f"{len(prev)/span:.1f} | {len(reqs)/span:.1f} | {len(ui)/span:.1f} | {px[0][1]} to {px[-1][1]} "
             f"| {statistics.median(ms):.0f} | {conv[0][3]} | {float(conv[0][0])-t1:.2f} | {len(refine)+1}")
 lines = [
-    "| window | head | drag | viewport frames/s while dragging | UI frames/s | preview sizes | median preview render (ms) | full size | release → converged (s) | full-size frames |",
-    "|---|---|---|---|---|---|---|---|---|---|",
+    "| window | head | drag | viewport frames/s while dragging | requests/s | UI frames/s | preview sizes | median preview render (ms) | full size | release → converged (s) | full-size frames |",
+    "|---|---|---|---|---|---|---|---|---|---|---|",
 ]
 truth_lines = []
 drivers = set()

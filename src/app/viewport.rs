@@ -130,24 +130,40 @@ impl Request {
 /// comparison with the ground truth on one side; A alone gets tiles).
 pub const COARSE_TRUTH_DIVISOR: f32 = 4.0;
 
-/// The ground truth's tiles (px a side): 64 px hold about 2,000 SSS
-/// pixels of a face, 0.2 s of gathering on two cores.
-pub const TRUTH_TILE_PX: u32 = 64;
+/// The ground truth's tiles (px a side): 32 px hold up to 1,024 SSS
+/// pixels of a face, about 75 ms of gathering on two cores (Mesa 25's
+/// lavapipe, the scan at 1500×900). A frame gathers at least one tile:
+/// 64 px tiles took about 300 ms each, and the first tiles came 0.56–0.58 s
+/// after an orbit where 32 px ones came in 0.44–0.48 s, the full truth
+/// the same within the machine's noise (docs/rendering.md).
+pub const TRUTH_TILE_PX: u32 = 32;
 
 /// What one frame of tiles may spend gathering (ms): the viewport shows
 /// new tiles about three times a second and takes a newer request
 /// between frames (one arriving during a frame stops its gather).
 pub const TRUTH_TILES_BUDGET_MS: f64 = 300.0;
 
+/// The first frame of tiles of a view gathers for this long (ms): the
+/// first tiles show soon after the view stops, the later frames keep the
+/// longer budget (fewer frames composed and sent for the same gather).
+pub const FIRST_TRUTH_TILES_BUDGET_MS: f64 = 100.0;
+
 /// Finished frames kept, per view, so that going back to one costs nothing.
 const KEPT_FRAMES: usize = 8;
 
-/// What a preview frame may take on the render thread (ms): 10 frames a
-/// second with room left for the UI's own frame.
-pub const PREVIEW_BUDGET_MS: f64 = 50.0;
+/// What a preview frame may take on the render thread (ms): 30 frames a
+/// second with room left for the UI's own frames, which share the two
+/// cores (a UI frame of the whole window costs lavapipe 10–20 ms of CPU).
+/// At 50 ms an orbit drew 17–19 frames a second on Mesa 25; at 25 ms,
+/// 36–39 (docs/rendering.md, "Live while you work").
+pub const PREVIEW_BUDGET_MS: f64 = 25.0;
 
 /// The preview's resolution divisors (per axis).
-const PREVIEW_DIVISORS: [f32; 9] = [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0];
+const PREVIEW_DIVISORS: [f32; 7] = [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, MAX_PREVIEW_DIVISOR];
+
+/// The coarsest preview: a quarter of the viewport's width and height
+/// (176 px of the default window's 704); 5 and 6 were allowed before.
+pub const MAX_PREVIEW_DIVISOR: f32 = 4.0;
 
 /// Progressive refinement stops here even if pixels still change.
 pub const MAX_REFINE_FRAMES: u32 = 64;
@@ -726,7 +742,7 @@ impl Worker {
                 ((full_w as f32 / d).round() as u32).max(16),
                 ((full_h as f32 / d).round() as u32).max(16),
             ),
-            Pass::Refine(_) | Pass::Tiles => (full_w, full_h),
+            Pass::Refine(_) | Pass::Tiles(_) => (full_w, full_h),
         };
         let mut notes: Vec<String> = Vec::new();
         // The ground truth takes seconds to minutes: while the artist
@@ -846,15 +862,18 @@ impl Worker {
         let settings = RenderSettings {
             progressive: match pass {
                 Pass::Refine(frame) => Some(Progressive { slot, frame }),
-                Pass::Preview(_) | Pass::Coarse(_) | Pass::Tiles => None,
+                Pass::Preview(_) | Pass::Coarse(_) | Pass::Tiles(_) => None,
             },
-            truth_tiles: (pass == Pass::Tiles && settings.method.sss().ground_truth).then(|| {
-                crate::render::TruthTiles {
-                    tile_px: TRUTH_TILE_PX,
-                    focus: self.focus(),
-                    budget_ms: TRUTH_TILES_BUDGET_MS,
+            truth_tiles: match pass {
+                Pass::Tiles(budget_ms) if settings.method.sss().ground_truth => {
+                    Some(crate::render::TruthTiles {
+                        tile_px: TRUTH_TILE_PX,
+                        focus: self.focus(),
+                        budget_ms,
+                    })
                 }
-            }),
+                _ => None,
+            },
             ..settings
         };
         let renderer = self.renderer.as_mut().ok_or("no renderer")?;
@@ -867,7 +886,7 @@ impl Worker {
             stochastic,
         };
         self.kept[slot] = (!stochastic && matches!(pass, Pass::Refine(_))).then(|| side.clone());
-        if matches!(pass, Pass::Coarse(_) | Pass::Tiles) {
+        if matches!(pass, Pass::Coarse(_) | Pass::Tiles(_)) {
             self.kept[slot] = None;
         }
         Ok(side)
@@ -885,8 +904,9 @@ enum Pass {
     /// Full resolution, frame n of the running mean.
     Refine(u32),
     /// The ground truth's next tiles at full resolution (A alone), nearest
-    /// the focus first ([`crate::render::TruthTiles`]).
-    Tiles,
+    /// the focus first ([`crate::render::TruthTiles`]), gathering for
+    /// about this many ms.
+    Tiles(f64),
 }
 
 /// One side of a frame.

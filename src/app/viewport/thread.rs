@@ -355,7 +355,7 @@ pub(super) fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Send
     let estimate = w.divisor.unwrap_or_else(|| {
         w.full_frame_ms
             .map_or(2.0, |ms| (ms / PREVIEW_BUDGET_MS).sqrt() as f32)
-            .clamp(1.0, 6.0)
+            .clamp(1.0, MAX_PREVIEW_DIVISOR)
     });
     // A few fixed steps, so that the preview's render targets keep their
     // size from frame to frame instead of being made anew for each.
@@ -370,7 +370,7 @@ pub(super) fn send_preview(w: &mut Worker, req: &Request, t0: Instant, tx: &Send
     let ms = t1.elapsed().as_secs_f64() * 1e3;
     // Halfway towards the divisor that would have met the budget.
     let ideal = divisor * (ms / PREVIEW_BUDGET_MS).sqrt() as f32;
-    w.divisor = Some((0.5 * (estimate + ideal)).clamp(1.0, 6.0));
+    w.divisor = Some((0.5 * (estimate + ideal)).clamp(1.0, MAX_PREVIEW_DIVISOR));
     sent
 }
 
@@ -556,7 +556,11 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
         return tx.send(reply).is_ok();
     };
     let (under, under_method) = (under.clone(), *under_method);
-    let rendered = match w.frame(&r.req, Pass::Tiles) {
+    let budget_ms = match r.tiles.frames {
+        0 => FIRST_TRUTH_TILES_BUDGET_MS,
+        _ => TRUTH_TILES_BUDGET_MS,
+    };
+    let rendered = match w.frame(&r.req, Pass::Tiles(budget_ms)) {
         Ok(x) => x,
         Err(e) if is_cancelled(&e) => return false,
         Err(e) => {
