@@ -18,6 +18,7 @@
 #          and warm (the same cache again), and the CPU truth;
 #   gtest  the test binary of tests/ground_truth_gpu.rs, wall time;
 #   tests  the whole `cargo test` (CI's longest part), wall time.
+# Both test steps start from an empty Mesa shader cache, as CI does.
 # --skip takes a comma-separated list of steps to leave out.
 #
 # Needs what tools/measure_live.sh needs, cargo, and (for the default old
@@ -141,7 +142,8 @@ for l in sys.stdin:
         echo "gtest: $d" >&2
         t0="$(date +%s.%N)"
         result=passed
-        VK_ICD_FILENAMES="${ICD[$d]}" "$gt" >"$WORK/gtest-$d.log" 2>&1 || result="failed (see below)"
+        MESA_SHADER_CACHE_DIR="$WORK/gtest-cache-$d" VK_ICD_FILENAMES="${ICD[$d]}" "$gt" >"$WORK/gtest-$d.log" 2>&1 ||
+            result="failed"
         echo "| ${NAME[$d]} | $(secs "$t0" "$(date +%s.%N)") | $result |" >>"$REPORT"
     done
     echo >>"$REPORT"
@@ -158,7 +160,7 @@ if want tests; then
         echo "tests: $d" >&2
         t0="$(date +%s.%N)"
         result=passed
-        VK_ICD_FILENAMES="${ICD[$d]}" cargo test --quiet >"$WORK/tests-$d.log" 2>&1 ||
+        MESA_SHADER_CACHE_DIR="$WORK/tests-cache-$d" VK_ICD_FILENAMES="${ICD[$d]}" cargo test --quiet >"$WORK/tests-$d.log" 2>&1 ||
             result="failed: $(grep -E '^    [a-z_:]+$' "$WORK/tests-$d.log" | tr -d ' ' | tr '\n' ' ')"
         echo "| ${NAME[$d]} | $(secs "$t0" "$(date +%s.%N)") | $result |" >>"$REPORT"
         cp "$WORK/tests-$d.log" "${OUT:-/tmp/compare_drivers}.tests-$d.log" 2>/dev/null || true
