@@ -11,8 +11,8 @@
 # Steps (each on both drivers, the old one first), all by default:
 #   live   tools/measure_live.sh, both window sizes and heads, the ground
 #          truth at 1500×900 on both heads;
-#   bench  `scatterlab bench` (full, ~16 min a driver): each method's frame
-#          time over `none`'s, the median over the scenes, per driver;
+#   bench  `scatterlab bench` (full, 6–7 min a driver): each method's
+#          frame time and its ratio to `none`'s, medians over the scenes;
 #   truth  `render --method reference --reference-gpu` at 320×180, cold
 #          (an empty Mesa shader cache: the gather's shader is compiled)
 #          and warm (the same cache again), and the CPU truth;
@@ -170,27 +170,34 @@ fi
 
 if want bench; then
     for d in old new; do
-        echo "bench: $d (about 16 min)" >&2
+        echo "bench: $d" >&2
         VK_ICD_FILENAMES="${ICD[$d]}" "$BIN" bench --out "$WORK/bench-$d" >"$WORK/bench-$d.log" 2>&1
     done
     python3 - "$WORK/bench-old/results.csv" "$WORK/bench-new/results.csv" "${NAME[old]}" "${NAME[new]}" >>"$REPORT" <<'EOF'
 import csv, statistics, sys
 old, new, name_old, name_new = sys.argv[1:5]
-def ratios(path):
-    by = {}
+def read(path):
+    ratio, ms, none = {}, {}, {}
     for r in csv.DictReader(open(path)):
+        none[r["scene"]] = float(r["none_frame_ms"])
         if r["method"] in ("none", "reference") or r["timing"] == "cpu-wall-clock":
             continue
         key = (r["method"], r["variant"], r["count"])
-        by.setdefault(key, []).append(float(r["frame_time_ratio"]))
-    return {k: statistics.median(v) for k, v in by.items()}
-a, b = ratios(old), ratios(new)
+        ratio.setdefault(key, []).append(float(r["frame_time_ratio"]))
+        ms.setdefault(key, []).append(float(r["frame_ms"]))
+    med = lambda d: {k: statistics.median(v) for k, v in d.items()}
+    return med(ratio), med(ms), statistics.median(none.values())
+(a, ams, anone), (b, bms, bnone) = read(old), read(new)
 print("### bench: frame time over `none`'s (median over the scenes)")
 print()
-print(f"| method | variant | count | {name_old} | {name_new} | new / old |")
-print("|---|---|---|---|---|---|")
+print(f"`none`'s frame, median over the scenes: {anone:.1f} ms on {name_old}, {bnone:.1f} ms on {name_new} "
+      f"({anone / bnone:.2f}× faster).")
+print()
+print(f"| method | variant | count | {name_old}: ms, × none | {name_new}: ms, × none | ratio new / old | time new / old |")
+print("|---|---|---|---|---|---|---|")
 for k in sorted(set(a) & set(b)):
-    print(f"| {k[0]} | {k[1] or '—'} | {k[2]} | {a[k]:.2f} | {b[k]:.2f} | {b[k] / a[k]:.2f} |")
+    print(f"| {k[0]} | {k[1] or '—'} | {k[2]} | {ams[k]:.1f}, {a[k]:.2f} | {bms[k]:.1f}, {b[k]:.2f} "
+          f"| {b[k] / a[k]:.2f} | {bms[k] / ams[k]:.2f} |")
 print()
 EOF
 fi

@@ -212,7 +212,7 @@ impl EditorApp {
                         }
                         None => {
                             ui.horizontal(|ui| {
-                                ui.spinner();
+                                super::report::spinner(ui);
                                 ui.label("Estimating how closely the target holds this look …");
                             });
                         }

@@ -362,7 +362,7 @@ impl EditorApp {
                 }
                 if result.is_none() && waiting {
                     ui.horizontal(|ui| {
-                        ui.spinner();
+                        super::report::spinner(ui);
                         ui.label("Previewing the maps on the UV layout …");
                     });
                 }

@@ -419,7 +419,7 @@ impl EditorApp {
                 Some(a) => a.burley_fit.clone().unwrap_or_else(|| Err("no fit".into())),
                 None => {
                     ui.horizontal(|ui| {
-                        ui.spinner();
+                        super::report::spinner(ui);
                         ui.label("fitting Burley …");
                     });
                     return;

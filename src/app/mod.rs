@@ -406,6 +406,7 @@ impl EditorApp {
         self.handle_drops(&ctx);
         self.shortcuts(&ctx);
         self.poll_workers();
+        self.poll_viewport(&ctx);
         let drawn = self.drawn();
 
         // Panels draw no background of their own: the window's clear colour
@@ -439,7 +440,9 @@ impl EditorApp {
         self.layout.panel_rects[0] = Some(params.response.rect);
         // Edits above change the preset; the plots below use it this frame.
         self.refresh_curves();
-        self.profile.analysis.request(self.analysis_key());
+        if self.profile.analysis.request(self.analysis_key()) {
+            self.log_line(format_args!("analysis request"));
+        }
         let plots = egui::Panel::right("plots")
             .frame(side)
             .resizable(true)

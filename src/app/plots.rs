@@ -227,7 +227,7 @@ pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
         }
         None => {
             ui.horizontal(|ui| {
-                ui.spinner();
+                super::report::spinner(ui);
                 ui.label("computing the layered profile …");
             });
             None
@@ -367,7 +367,7 @@ fn overlay_status_ui(
         }
         None if chosen != OverlayModel::None => {
             ui.horizontal(|ui| {
-                ui.spinner();
+                super::report::spinner(ui);
                 ui.label("fitting …");
             });
         }
@@ -572,7 +572,7 @@ fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
         .filter(|a| a.key.profile == app.doc.preset.profile)
     else {
         ui.horizontal(|ui| {
-            ui.spinner();
+            super::report::spinner(ui);
             ui.label("baking tables …");
         });
         return;
@@ -628,6 +628,7 @@ impl EditorApp {
     /// model's curves).
     pub(super) fn poll_analysis(&mut self) {
         if let Some((key, result)) = self.profile.analysis.poll() {
+            self.log_line(format_args!("analysis result"));
             match result {
                 Ok(a) => {
                     if super::analysis::is_slow(&key.profile)

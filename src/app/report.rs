@@ -147,7 +147,18 @@ impl EditorApp {
         if let Some(log) = self.report.frame_log.as_mut() {
             use std::io::Write;
             let t = unix_seconds();
-            let _ = writeln!(log, "{t:.3} ui {ui_ms:.1}");
+            // What asked for this frame (egui's record of the calls to
+            // request_repaint, file and line): what keeps the window
+            // drawing when nothing moves.
+            let why: Vec<String> = ctx
+                .repaint_causes()
+                .iter()
+                .map(|c| {
+                    let file = c.file.rsplit(['/', '\\']).take(2).collect::<Vec<_>>();
+                    format!("{}/{}:{}", file.get(1).unwrap_or(&""), file[0], c.line)
+                })
+                .collect();
+            let _ = writeln!(log, "{t:.3} ui {ui_ms:.1} why={}", why.join(","));
             // The status line as this frame drew it, when it changed (a
             // test reads when a job's result reached the screen).
             if drawn.status != self.report.logged_status {
@@ -169,7 +180,7 @@ impl EditorApp {
     pub(super) fn status_bar_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             if self.busy() {
-                ui.spinner();
+                spinner(ui);
             }
             let color = if self.report.status.starts_with("Error") {
                 ui.visuals().error_fg_color
@@ -195,4 +206,35 @@ impl EditorApp {
             });
         });
     }
+}
+
+/// A busy spinner that asks for the next frame in 100 ms, not at once:
+/// egui's own asks at once, so while the analysis, an export or the
+/// viewport worked the whole window was redrawn as fast as lavapipe could
+/// (30 frames a second after a scattering-distance drag, each frame
+/// 10–20 ms of CPU taken from the render thread on 2 cores). Drawn as
+/// egui's spinner draws itself (`egui::Spinner::paint_at`).
+pub(super) fn spinner(ui: &mut egui::Ui) -> egui::Response {
+    let size = ui.style().spacing.interact_size.y;
+    let (rect, response) = ui.allocate_exact_size(egui::vec2(size, size), egui::Sense::hover());
+    response.widget_info(|| egui::WidgetInfo::new(egui::accesskit::Role::ProgressIndicator));
+    if ui.is_rect_visible(rect) {
+        let colour = ui.visuals().strong_text_color();
+        let radius = 0.5 * rect.height().min(rect.width()) - 2.0;
+        let n = (radius.round() as u32).clamp(8, 128);
+        let time = ui.input(|i| i.time);
+        let start = time * std::f64::consts::TAU;
+        let end = start + 240f64.to_radians() * time.sin();
+        let points: Vec<egui::Pos2> = (0..n)
+            .map(|i| {
+                let angle = start + (end - start) * f64::from(i) / f64::from(n);
+                rect.center() + radius * egui::vec2(angle.cos() as f32, angle.sin() as f32)
+            })
+            .collect();
+        ui.painter()
+            .add(egui::Shape::line(points, egui::Stroke::new(3.0, colour)));
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_millis(100));
+    }
+    response
 }

@@ -190,7 +190,7 @@ impl EditorApp {
                 match self.jobs.still.as_ref() {
                     Some(job) => {
                         ui.horizontal(|ui| {
-                            ui.spinner();
+                            super::report::spinner(ui);
                             ui.label(format!(
                                 "rendering {}×{} until it converges … {:.0} s",
                                 job.settings.width * job.settings.supersample,

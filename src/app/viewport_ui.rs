@@ -68,6 +68,19 @@ impl EditorApp {
         self.viewport_overlays_ui(ui, rect);
     }
 
+    /// The render thread's replies that have arrived, handled before the
+    /// panels are drawn so that the status bar shows them in the same UI
+    /// frame. Polled only in the viewport's panel, after the status bar,
+    /// each reply changed what the bar had drawn and the frame was drawn
+    /// again: two UI frames a viewport frame, each costing lavapipe
+    /// 10–20 ms of CPU beside the render thread's.
+    pub(super) fn poll_viewport(&mut self, ctx: &egui::Context) {
+        let replies = self.view.viewport.as_mut().map(|vp| vp.poll());
+        for reply in replies.unwrap_or_default() {
+            self.handle_reply(ctx, reply);
+        }
+    }
+
     /// Compare mode, B, the split and A/B alone: rows that wrap.
     pub(super) fn compare_toolbar_ui(&mut self, ui: &mut egui::Ui) {
         let (a_name, b_name) = self.side_names();

@@ -14,7 +14,25 @@ mod compare;
 mod render;
 use common::{quad_gltf, quad_gltf_with};
 
+/// The line `render` adds on a lavapipe older than Mesa 25 (issue 50);
+/// the tests of other warnings count lines without it, so that they pass
+/// on an old lavapipe too (`render_writes_image_and_stats` checks it).
+const OLD_DRIVER_NOTE: &str = "note: this is lavapipe from Mesa ";
+
+/// Runs the CLI: its exit code, stdout and stderr (without the old
+/// driver's note).
 fn run(args: &[&str]) -> (i32, String, String) {
+    let (code, out, err) = run_raw(args);
+    let err = err
+        .lines()
+        .filter(|l| !l.starts_with(OLD_DRIVER_NOTE))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    (code, out, err)
+}
+
+/// Runs the CLI: its exit code, stdout and stderr as it printed them.
+fn run_raw(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
         .args(args)
         .output()

@@ -384,7 +384,7 @@ fn render_writes_image_and_stats() {
     let dir = std::env::temp_dir();
     let png = dir.join(format!("scatterlab-render-{}.png", std::process::id()));
     let stats = dir.join(format!("scatterlab-render-{}.json", std::process::id()));
-    let (code, out, err) = run(&[
+    let (code, out, err) = run_raw(&[
         "render",
         "--method",
         "burley",
@@ -424,6 +424,35 @@ fn render_writes_image_and_stats() {
             p["gpu_ms"].is_null() || p["gpu_ms"].as_f64().unwrap() >= 0.0,
             "{p}"
         );
+    }
+    // The driver and its version (issue 50). On lavapipe, as installed
+    // by Debian's package (not a library picked with VK_ICD_FILENAMES),
+    // the Mesa version it reports is the package's, as dpkg says; one
+    // older than 25 is named with its upgrade, a newer one is not.
+    let driver = s["driver"].as_str().unwrap();
+    assert!(out.contains(driver), "{out}");
+    eprintln!("render ran on: {driver}");
+    if let Some(version) = driver.strip_prefix("lavapipe, Mesa ") {
+        let major: u32 = version.split('.').next().unwrap().parse().unwrap();
+        assert_eq!(s["driver_advice"].is_string(), major < 25, "{s}");
+        assert_eq!(err.contains(OLD_DRIVER_NOTE), major < 25, "{err}");
+        let dpkg = std::process::Command::new("dpkg-query")
+            .args(["-W", "-f=${Version}", "mesa-vulkan-drivers"])
+            .output();
+        if let (Ok(d), None) = (dpkg, std::env::var_os("VK_ICD_FILENAMES")) {
+            let package = String::from_utf8_lossy(&d.stdout).into_owned();
+            // Mesa 22 reports the upstream version alone ("22.3.6"),
+            // Debian's 25 its package version ("25.0.7-2~bpo12+1").
+            let upstream = package.split('-').next().unwrap_or("");
+            if d.status.success() {
+                assert!(
+                    !upstream.is_empty() && version.starts_with(upstream),
+                    "lavapipe reports Mesa {version}, dpkg has mesa-vulkan-drivers {package}"
+                );
+            }
+        }
+    } else {
+        assert!(s["driver_advice"].is_null(), "{s}");
     }
     let burley = &passes[3];
     assert_eq!(burley["pixels"], s["sss_pixels"]);
