@@ -149,9 +149,10 @@ locate() {
     since="$(now)"
     deadline=$((SECONDS + 20))
     while ((SECONDS < deadline)); do
-        if out="$(python3 - "$MAP" "$since" "$1" "$2" <<'EOF'
+        if out="$(python3 - "$MAP" "$since" "$1" "$2" "$W" "$H" 2>"$WORK/locate.err" <<'EOF'
 import os, sys
 path, since, role, label = sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4]
+width, height = float(sys.argv[5]), float(sys.argv[6])
 if not os.path.exists(path) or os.path.getmtime(path) <= since:
     sys.exit(3)
 hits = []
@@ -169,9 +170,13 @@ x0, y0, x1, y1, v = hits[0]
 if x1 - x0 < 4 or y1 - y0 < 4:
     print(f"{role} '{label}' is {x1-x0:.0f}×{y1-y0:.0f} px: not on screen", file=sys.stderr)
     sys.exit(4)
+# A control scrolled out of its panel keeps its place in the tree.
+if not (0 <= (x0 + x1) / 2 < width and 0 <= (y0 + y1) / 2 < height):
+    print(f"{role} '{label}' is at {x0:.0f},{y0:.0f}–{x1:.0f},{y1:.0f}, outside the {width:.0f}×{height:.0f} window (scrolled out of view?)", file=sys.stderr)
+    sys.exit(4)
 print(f"{(x0 + x1) / 2:.0f} {(y0 + y1) / 2:.0f} {v}")
 EOF
-        )"; then
+        )" && [[ "$out" =~ ^[0-9]+\ [0-9]+ ]]; then
             echo "$out"
             return 0
         fi
@@ -186,7 +191,8 @@ for line in open(path, encoding="utf-8"):
     if line.split("\t")[0] == role or label.split(":")[0] in line:
         print(line.rstrip())
 EOF
-    die "cannot find the $1 '$2' in the editor's widget map ($W×$H, $HEAD)"
+    cat "$WORK/locate.err" >&2
+    die "cannot find the $1 '$2' in the editor's widget map, or it is not on screen ($W×$H, $HEAD)"
 }
 
 # drag <x> <y> <dx per move> <net px>: press, move every STEP_MS for
