@@ -34,6 +34,7 @@ impl EditorApp {
         .into_iter()
         .filter(|(_, o)| *o)
         .map(|(t, _)| t)
+        .chain(self.windows.open_titles())
         .collect()
     }
 
@@ -110,6 +111,7 @@ impl EditorApp {
             .find_map(|l| open.iter().find(|t| l.id == window_id(t)).copied())
             .unwrap_or(open[open.len() - 1]);
         match top {
+            t if self.windows.close(t) => {}
             "Shortcuts" => self.dialogs.help_open = false,
             "About scatterlab" => self.dialogs.about_open = false,
             "Presets" => self.dialogs.browser = None,

@@ -137,6 +137,13 @@ impl EditorApp {
             });
             ui.menu_button("Export", |ui| self.export_menu_ui(ui));
             ui.menu_button("View", |ui| {
+                for w in self.windows.all_mut() {
+                    if ui.button(format!("{}…", w.title())).clicked() {
+                        w.set_open(true);
+                        ui.close();
+                    }
+                }
+                ui.separator();
                 ui.add(
                     egui::Slider::new(&mut self.ui_state.ui_scale, state::UI_SCALE_RANGE)
                         .step_by(0.05)

@@ -2,6 +2,7 @@
 //! the middle (render thread, `viewport.rs`), plots on the right; presets,
 //! undo, compare and export from the menu bar.
 
+mod actions;
 mod albedo;
 pub mod analysis;
 mod autosave;
@@ -25,6 +26,7 @@ pub mod viewport;
 mod viewport_ui;
 pub mod wake;
 pub mod widget_map;
+pub mod windows;
 
 use crate::export::Format;
 use crate::settings::{library, Preset};
@@ -219,6 +221,8 @@ pub struct EditorApp {
     /// Wakes the UI when a background job finishes (each job's thread
     /// holds a clone).
     waker: wake::Waker,
+    /// The windows that are types of their own (`app/windows/`).
+    windows: windows::Windows,
 }
 
 impl EditorApp {
@@ -335,6 +339,7 @@ impl EditorApp {
             },
             autosave: None,
             waker,
+            windows: Default::default(),
         };
         app.refresh_curves();
         if viewport {
@@ -459,6 +464,7 @@ impl EditorApp {
             .frame(bare(egui::Frame::central_panel(&style)))
             .show(ui, |ui| self.viewport_panel_ui(ui));
         self.dialogs_ui(&ctx);
+        self.windows_ui(&ctx);
         self.recovery_prompt_ui(&ctx);
         self.notices_ui(&ctx);
         if self.allow_close {

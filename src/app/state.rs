@@ -709,6 +709,21 @@ impl UiState {
     }
 }
 
+/// The environment maps shipped in assets/hdri/ (CC0), by name.
+pub fn shipped_hdr_maps() -> Vec<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri");
+    let mut maps: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
+                .collect()
+        })
+        .unwrap_or_default();
+    maps.sort();
+    maps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

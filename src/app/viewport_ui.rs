@@ -44,6 +44,7 @@ impl EditorApp {
         let valid = self.doc.preset.rendering.validate().is_ok()
             && !matches!(self.profile.curves, Some(Err(_)));
         let interactive = req.interactive;
+        let display = req.view.tone_map.label();
         let (replies, sent) = match self.view.viewport.as_mut() {
             Some(vp) => {
                 let before = vp.seq();
@@ -58,7 +59,7 @@ impl EditorApp {
         // asked for, and when (tools/measure_live.sh's profile).
         if let Some(seq) = sent {
             self.log_line(format_args!(
-                "request seq={seq} interactive={}",
+                "request seq={seq} interactive={} display={display}",
                 u8::from(interactive)
             ));
         }
@@ -221,6 +222,7 @@ impl EditorApp {
     /// distance that frames the mesh (m).
     pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
         let mut open_environment = false;
+        let mut window_actions = Vec::new();
         let mut shipped: Option<PathBuf> = None;
         ui.horizontal_wrapped(|ui| {
             let v = &mut self.ui_state.view;
@@ -274,7 +276,7 @@ impl EditorApp {
                         open_environment = true;
                         ui.close();
                     }
-                    for path in shipped_hdr_maps() {
+                    for path in state::shipped_hdr_maps() {
                         let name = path
                             .file_stem()
                             .map(|n| n.to_string_lossy().replace('_', " "))
@@ -291,20 +293,14 @@ impl EditorApp {
                             ui.close();
                         }
                     }
-                    if v.environment == state::EnvironmentChoice::Map {
-                        ui.separator();
-                        ui.checkbox(&mut v.background.show, "show behind the head")
-                            .on_hover_text("Draw the HDR map as the viewport's background (exposed and tone mapped as the head is).");
-                        ui.add(
-                            egui::Slider::new(&mut v.background.turn_deg, -180.0..=180.0)
-                                .suffix("°")
-                                .text("turn"),
-                        )
-                        .on_hover_text("Turn the map about the vertical axis: the background and the head's lighting turn together.");
-                        ui.add(
-                            egui::Slider::new(&mut v.background.blur, 0.0..=1.0).text("blur"),
-                        )
-                        .on_hover_text("0: the map sharp; 1: its coarsest level, a soft wash of its colours.");
+                    ui.separator();
+                    if ui
+                        .button(format!("Turn, blur, background: {}…", super::windows::light::TITLE))
+                        .on_hover_text("The HDR map's turn and blur and whether it is drawn behind the head, in a window that stays open.")
+                        .clicked()
+                    {
+                        window_actions.push(super::windows::Action::OpenWindow(super::windows::light::TITLE));
+                        ui.close();
                     }
                 })
                 .response;
@@ -315,9 +311,7 @@ impl EditorApp {
                 info
             });
             env.on_hover_text("Environment: what lights the head besides the key light.");
-            if light_menu_ui(ui, v, &mut self.view.hdr_rig_pending) {
-                open_environment = true;
-            }
+            window_actions.extend(light_menu_ui(ui, v));
             if ui
                 .button("Reset view")
                 .on_hover_text(
@@ -364,6 +358,7 @@ impl EditorApp {
         if let Some(p) = shipped {
             self.load_environment(p);
         }
+        self.apply(window_actions);
     }
 
     /// Orbit (left drag), light (right or Shift+drag), pan (middle drag)
@@ -725,25 +720,12 @@ impl EditorApp {
     }
 }
 
-/// The environment maps shipped in assets/hdri/ (CC0), by name.
-pub fn shipped_hdr_maps() -> Vec<PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdri");
-    let mut maps: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map(|d| {
-            d.filter_map(Result::ok)
-                .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
-                .collect()
-        })
-        .unwrap_or_default();
-    maps.sort();
-    maps
-}
-
-/// The light rigs (one click each), the key light's intensity and the
-/// exposure; whether the chosen rig needs an HDR map first.
-fn light_menu_ui(ui: &mut egui::Ui, v: &mut state::ViewState, hdr_rig_pending: &mut bool) -> bool {
-    let mut open_environment = false;
+/// The light rigs, one click each, and the Light & display window (the
+/// key light's intensity, the exposure, the display transform: fields and
+/// a combo box that a menu cannot hold, tests/pointer.rs).
+fn light_menu_ui(ui: &mut egui::Ui, v: &state::ViewState) -> Vec<super::windows::Action> {
+    use super::windows::{light::TITLE, Action};
+    let mut actions = Vec::new();
     let current = state::LightRig::current(v);
     let rig_label = current.map_or("Light: custom".to_owned(), |r| {
         format!("Light: {}", r.label())
@@ -755,50 +737,21 @@ fn light_menu_ui(ui: &mut egui::Ui, v: &mut state::ViewState, hdr_rig_pending: &
                 .on_hover_text(rig.tip())
                 .clicked()
             {
-                if !rig.apply(v) {
-                    // The HDR rig with no map loaded: ask for one;
-                    // the map lights the head once it has loaded.
-                    open_environment = true;
-                    *hdr_rig_pending = true;
-                }
+                actions.push(Action::ApplyRig(rig));
                 ui.close();
             }
         }
         ui.separator();
-        ui.add(
-            egui::DragValue::new(&mut v.orbit.light_intensity)
-                .range(0.0..=50.0)
-                .speed(0.05)
-                .prefix("intensity "),
-        )
-        .on_hover_text("Irradiance of the key light (linear).");
-        // Exposure in stops (EV): the multiplier is 2^EV.
-        let mut ev = v.orbit.exposure.max(1e-4).log2();
         if ui
-            .add(
-                egui::DragValue::new(&mut ev)
-                    .range(-8.0..=8.0)
-                    .speed(0.02)
-                    .max_decimals(2)
-                    .prefix("exposure ")
-                    .suffix(" EV"),
-            )
-            .on_hover_text("Exposure in stops before the display transform: +1 EV doubles the light, 0 EV leaves it (the multiplier is 2^EV).")
-            .changed()
+            .button(format!("{TITLE}…"))
+            .on_hover_text("The key light's intensity, the exposure, the display transform (ACES, AgX, PBR Neutral) and the environment, in a window that stays open.")
+            .clicked()
         {
-            v.orbit.exposure = ev.exp2();
+            actions.push(Action::OpenWindow(TITLE));
+            ui.close();
         }
-        egui::ComboBox::from_label("display")
-            .selected_text(v.tone_map.label())
-            .show_ui(ui, |ui| {
-                for t in crate::render::tonemap::ToneMap::ALL {
-                    ui.selectable_value(&mut v.tone_map, t, t.label());
-                }
-            })
-            .response
-            .on_hover_text("The display transform from scene light to the screen: ACES fit (Narkowicz 2015, scatterlab's former curve), ACES (Hill's RRT+ODT fit: desaturated highlights), AgX (Blender's default view) or Khronos PBR Neutral (base colours as authored up to 0.76). Saved images and turntables use it too.");
     })
     .response
-    .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. The key light's intensity and the exposure are in here too.");
-    open_environment
+    .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. Intensity, exposure and the display transform: Light & display….");
+    actions
 }

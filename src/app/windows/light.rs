@@ -1,0 +1,199 @@
+//! View → Light & display (and the toolbar's "Light" menu): the light
+//! rigs, the key light's intensity, the exposure, the display transform
+//! and the environment with its HDR map's turn and blur, in a window that
+//! stays open while they are used. In a menu, the display transform's
+//! combo box could not be opened with a pointer (the click that opens its
+//! list lands outside the menu, and egui closes the menu), nor the map's
+//! fields typed into (egui issues #4153, #7821; tests/pointer.rs).
+
+use super::{Action, Window, WindowView};
+use crate::app::state::{self, EnvironmentChoice, LightRig};
+
+/// The window's title, and the menu item that opens it.
+pub const TITLE: &str = "Light & display";
+
+#[derive(Default)]
+pub struct LightWindow {
+    open: bool,
+}
+
+impl Window for LightWindow {
+    fn title(&self) -> &'static str {
+        TITLE
+    }
+
+    fn is_open(&self) -> bool {
+        self.open
+    }
+
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
+    }
+
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        let mut actions = Vec::new();
+        let mut v = *view.view;
+        egui::Window::new(TITLE)
+            .open(&mut self.open)
+            .resizable(false)
+            .collapsible(true)
+            .default_pos(ctx.content_rect().right_top() + egui::vec2(-520.0, 90.0))
+            .show(ctx, |ui| {
+                rigs_ui(ui, &v, &mut actions);
+                ui.separator();
+                key_light_ui(ui, &mut v);
+                ui.separator();
+                environment_ui(ui, &mut v, view, &mut actions);
+            });
+        if v != *view.view {
+            actions.push(Action::SetView(v));
+        }
+        actions
+    }
+}
+
+/// The rigs, one click each.
+fn rigs_ui(ui: &mut egui::Ui, v: &state::ViewState, actions: &mut Vec<Action>) {
+    let current = LightRig::current(v);
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Rig");
+        for rig in LightRig::ALL {
+            if ui
+                .selectable_label(current == Some(rig), rig.label())
+                .on_hover_text(rig.tip())
+                .clicked()
+            {
+                actions.push(Action::ApplyRig(rig));
+            }
+        }
+    })
+    .response
+    .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light.");
+}
+
+/// The key light's intensity, the exposure and the display transform.
+fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
+    egui::Grid::new("light_display").num_columns(2).show(ui, |ui| {
+        ui.label("Key light");
+        ui.add(
+            egui::DragValue::new(&mut v.orbit.light_intensity)
+                .range(0.0..=50.0)
+                .speed(0.05)
+                .prefix("intensity "),
+        )
+        .on_hover_text("Irradiance of the key light (linear).");
+        ui.end_row();
+        ui.label("Exposure");
+        // In stops (EV): the multiplier is 2^EV.
+        let mut ev = v.orbit.exposure.max(1e-4).log2();
+        if ui
+            .add(
+                egui::DragValue::new(&mut ev)
+                    .range(-8.0..=8.0)
+                    .speed(0.02)
+                    .max_decimals(2)
+                    .prefix("exposure ")
+                    .suffix(" EV"),
+            )
+            .on_hover_text("Exposure in stops before the display transform: +1 EV doubles the light, 0 EV leaves it (the multiplier is 2^EV).")
+            .changed()
+        {
+            v.orbit.exposure = ev.exp2();
+        }
+        ui.end_row();
+        ui.label("Display");
+        let current = v.tone_map.label();
+        let combo = egui::ComboBox::from_id_salt("display")
+            .selected_text(current)
+            .show_ui(ui, |ui| {
+                for t in crate::render::tonemap::ToneMap::ALL {
+                    ui.selectable_value(&mut v.tone_map, t, t.label());
+                }
+            })
+            .response;
+        // Named for AccessKit (and the pointer test), as its row says.
+        combo.widget_info(|| {
+            let mut info = egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, "display");
+            info.current_text_value = Some(current.into());
+            info
+        });
+        combo.on_hover_text("The display transform from scene light to the screen: ACES fit (Narkowicz 2015, scatterlab's former curve), ACES (Hill's RRT+ODT fit: desaturated highlights), AgX (Blender's default view) or Khronos PBR Neutral (base colours as authored up to 0.76). Saved images and turntables use it too.");
+        ui.end_row();
+    });
+}
+
+/// What lights the head besides the key light, and the HDR map's
+/// background, turn and blur.
+fn environment_ui(
+    ui: &mut egui::Ui,
+    v: &mut state::ViewState,
+    view: &WindowView,
+    actions: &mut Vec<Action>,
+) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Environment");
+        ui.selectable_value(&mut v.environment, EnvironmentChoice::Studio, "studio sky")
+            .on_hover_text("The procedural studio sky.");
+        ui.selectable_value(&mut v.environment, EnvironmentChoice::Black, "black")
+            .on_hover_text("No environment light: the key light alone.");
+        if v.environment_map_sh.is_some() {
+            let name = view
+                .environment_file
+                .and_then(|p| p.file_name())
+                .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
+            ui.selectable_value(&mut v.environment, EnvironmentChoice::Map, name)
+                .on_hover_text("The last HDR map loaded (its irradiance, as order-2 spherical harmonics).");
+        }
+        if ui
+            .button("HDR map…")
+            .on_hover_text("Light the head with an equirectangular Radiance .hdr map (or drop one onto the window).")
+            .clicked()
+        {
+            actions.push(Action::ChooseEnvironmentFile);
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Shipped maps");
+        for path in state::shipped_hdr_maps() {
+            let name = path
+                .file_stem()
+                .map(|n| n.to_string_lossy().replace('_', " "))
+                .unwrap_or_default();
+            if ui
+                .button(name)
+                .on_hover_text(format!(
+                    "{} (CC0, made by tools/make_hdri.py)",
+                    path.display()
+                ))
+                .clicked()
+            {
+                actions.push(Action::LoadEnvironment(path));
+            }
+        }
+    });
+    ui.add_enabled_ui(v.environment == EnvironmentChoice::Map, |ui| {
+        ui.checkbox(&mut v.background.show, "show behind the head")
+            .on_hover_text("Draw the HDR map as the viewport's background (exposed and tone mapped as the head is).");
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut v.background.turn_deg)
+                    .range(-180.0..=180.0)
+                    .speed(0.5)
+                    .max_decimals(1)
+                    .prefix("turn ")
+                    .suffix("°"),
+            )
+            .on_hover_text("Turn the map about the vertical axis: the background and the head's lighting turn together. Drag, or click and type.");
+            ui.add(
+                egui::DragValue::new(&mut v.background.blur)
+                    .range(0.0..=1.0)
+                    .speed(0.005)
+                    .max_decimals(3)
+                    .prefix("blur "),
+            )
+            .on_hover_text("0: the map sharp; 1: its coarsest level, a soft wash of its colours. Drag, or click and type.");
+        });
+    })
+    .response
+    .on_disabled_hover_text("With an HDR map as the environment.");
+}
