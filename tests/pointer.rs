@@ -229,6 +229,30 @@ impl Session {
         );
     }
 
+    /// Waits until no control `pick` chooses is on screen (15 s).
+    fn gone(&self, what: &str, pick: impl Fn(&Widget) -> bool) {
+        let since = SystemTime::now();
+        let t0 = Instant::now();
+        while t0.elapsed() < Duration::from_secs(15) {
+            if let Some(ws) = self.widgets_since(since, t0.elapsed() > Duration::from_secs(1)) {
+                if !ws.iter().any(&pick) {
+                    return;
+                }
+            }
+            let wid = self.wid.clone();
+            self.xdotool(&["mousemove", "--window", &wid, "1", "1"]);
+            self.xdotool(&["mousemove", "--window", &wid, "2", "2"]);
+            std::thread::sleep(Duration::from_millis(150));
+        }
+        let shot = self.screenshot(what);
+        panic!(
+            "at {}×{}: {what} is still on screen; screenshot {}",
+            self.size.0,
+            self.size.1,
+            shot.display()
+        );
+    }
+
     /// A picture of the screen, for a failure's message.
     fn screenshot(&self, what: &str) -> PathBuf {
         let name: String = what
@@ -380,5 +404,39 @@ fn the_hdr_maps_turn_is_typed_into_with_a_pointer_and_keys() {
                 .count()
                 > before
         });
+    }
+}
+
+/// Every window of the View and Help menus opens with a pointer (the
+/// menu, then its item: the window's title is on screen) and Escape closes
+/// it again.
+#[test]
+fn the_view_and_help_menus_open_their_windows_with_a_pointer() {
+    let items = [
+        ("View", "Light & display…", "Light & display"),
+        ("Help", "Shortcuts  (F1)", "Shortcuts"),
+        ("Help", "About scatterlab", "About scatterlab"),
+    ];
+    for (w, h) in SIZES {
+        let s = Session::start("menus", w, h);
+        for (menu, item, title) in items {
+            let m = s.find(&format!("the {menu} menu"), |c| {
+                c.role == "Button" && c.label == menu
+            });
+            s.click(&m);
+            let i = s.find(&format!("{item} in {menu}"), |c| {
+                c.role == "Button" && c.label == item
+            });
+            s.click(&i);
+            s.find(&format!("the {title} window's title"), |c| {
+                c.role == "Window" && c.label == title
+            });
+            let wid = s.wid.clone();
+            s.xdotool(&["windowfocus", "--sync", &wid]);
+            s.xdotool(&["key", "Escape"]);
+            s.gone(&format!("the {title} window, after Escape"), |c| {
+                c.role == "Window" && c.label == title
+            });
+        }
     }
 }

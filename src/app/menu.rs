@@ -66,7 +66,7 @@ impl EditorApp {
             )
         });
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
-            self.dialogs.help_open = !self.dialogs.help_open;
+            self.windows.shortcuts.toggle();
         }
         if image {
             self.open_dialog(DialogKind::SaveImage);
@@ -137,12 +137,7 @@ impl EditorApp {
             });
             ui.menu_button("Export", |ui| self.export_menu_ui(ui));
             ui.menu_button("View", |ui| {
-                for w in self.windows.all_mut() {
-                    if ui.button(format!("{}…", w.title())).clicked() {
-                        w.set_open(true);
-                        ui.close();
-                    }
-                }
+                self.windows.menu_items_ui(ui, windows::Menu::View);
                 ui.separator();
                 ui.add(
                     egui::Slider::new(&mut self.ui_state.ui_scale, state::UI_SCALE_RANGE)
@@ -162,14 +157,7 @@ impl EditorApp {
                 .on_hover_text("The interface's colours; the viewport and plots keep theirs.");
             });
             ui.menu_button("Help", |ui| {
-                if ui.button("Shortcuts  (F1)").clicked() {
-                    self.dialogs.help_open = true;
-                    ui.close();
-                }
-                if ui.button("About scatterlab").clicked() {
-                    self.dialogs.about_open = true;
-                    ui.close();
-                }
+                self.windows.menu_items_ui(ui, windows::Menu::Help)
             });
             ui.separator();
             let dirty = if self.doc.is_dirty() { " *" } else { "" };

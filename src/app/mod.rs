@@ -295,8 +295,6 @@ impl EditorApp {
                 still_open: false,
                 browser: None,
                 thumbnail_dir: Self::default_thumbnail_dir(),
-                help_open: false,
-                about_open: false,
                 budget: None,
                 budget_open: false,
                 open_last_frame: Vec::new(),

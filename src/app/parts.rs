@@ -111,9 +111,6 @@ pub(super) struct Dialogs {
     /// cached.
     pub(super) browser: Option<browser::PresetBrowser>,
     pub(super) thumbnail_dir: Option<PathBuf>,
-    /// Help → Shortcuts (F1) and Help → About, open.
-    pub(super) help_open: bool,
-    pub(super) about_open: bool,
     /// `edit --budget DIR`: a budget report's merges, and their window.
     pub(super) budget: Option<budget::BudgetPairs>,
     pub(super) budget_open: bool,

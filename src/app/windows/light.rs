@@ -22,6 +22,10 @@ impl Window for LightWindow {
         TITLE
     }
 
+    fn menu(&self) -> super::Menu {
+        super::Menu::View
+    }
+
     fn is_open(&self) -> bool {
         self.open
     }

@@ -10,6 +10,7 @@
 //! `show(ctx, &mut open)`) and Rerun's panels (a view returns commands to
 //! the app rather than writing its state).
 
+pub mod help;
 pub mod light;
 
 use super::state;
@@ -40,10 +41,23 @@ pub struct WindowView<'a> {
     pub environment_file: Option<&'a Path>,
 }
 
+/// The menu bar's menu a window is opened from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Menu {
+    View,
+    Help,
+}
+
 /// A window: its title (also its egui id: Escape closes the topmost by
-/// it), its open flag and how it draws itself.
+/// it), its menu item, its open flag and how it draws itself.
 pub trait Window {
     fn title(&self) -> &'static str;
+    /// The menu that opens it.
+    fn menu(&self) -> Menu;
+    /// Its item in that menu.
+    fn menu_label(&self) -> String {
+        format!("{}…", self.title())
+    }
     fn is_open(&self) -> bool;
     fn set_open(&mut self, open: bool);
     /// Draws the window when it is open; what it wants changed.
@@ -54,16 +68,18 @@ pub trait Window {
 #[derive(Default)]
 pub struct Windows {
     pub light: light::LightWindow,
+    pub shortcuts: help::ShortcutsWindow,
+    pub about: help::AboutWindow,
 }
 
 impl Windows {
     /// Each window, in drawing order.
-    pub fn all_mut(&mut self) -> [&mut dyn Window; 1] {
-        [&mut self.light]
+    pub fn all_mut(&mut self) -> [&mut dyn Window; 3] {
+        [&mut self.light, &mut self.shortcuts, &mut self.about]
     }
 
-    pub fn all(&self) -> [&dyn Window; 1] {
-        [&self.light]
+    pub fn all(&self) -> [&dyn Window; 3] {
+        [&self.light, &self.shortcuts, &self.about]
     }
 
     /// The titles of the open windows.
@@ -73,6 +89,16 @@ impl Windows {
             .filter(|w| w.is_open())
             .map(|w| w.title())
             .collect()
+    }
+
+    /// The items of `menu`: one a window, each opening it.
+    pub fn menu_items_ui(&mut self, ui: &mut egui::Ui, menu: Menu) {
+        for w in self.all_mut() {
+            if w.menu() == menu && ui.button(w.menu_label()).clicked() {
+                w.set_open(true);
+                ui.close();
+            }
+        }
     }
 
     /// Opens the window titled `title`; whether there is one.

