@@ -19,6 +19,8 @@ pub mod gpu_types;
 pub mod ground_truth;
 #[cfg(feature = "gpu")]
 pub mod inputs;
+#[cfg(feature = "gpu")]
+mod layers;
 pub mod mesh;
 #[cfg(feature = "gpu")]
 mod passes;
@@ -44,9 +46,11 @@ pub mod uv_layout;
 
 #[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
+#[cfg(feature = "gpu")]
+pub use layers::FrameLayers;
 pub use mesh::{procedural, Mesh};
 #[cfg(feature = "gpu")]
-pub use renderer::{FrameLayers, Renderer};
+pub use renderer::Renderer;
 #[cfg(feature = "gpu")]
 pub use settings::FrameStats;
 pub use settings::{

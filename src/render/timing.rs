@@ -122,3 +122,14 @@ impl PassTimer {
         self.passes
     }
 }
+
+/// Sum of the SSS passes' GPU times, where every one was timed.
+pub(super) fn sss_gpu_ms(passes: &[PassStats]) -> Option<f64> {
+    let sss: Vec<_> = passes
+        .iter()
+        .filter(|p| p.name.starts_with("sss"))
+        .collect();
+    (!sss.is_empty())
+        .then(|| sss.iter().map(|p| p.gpu_ms).sum::<Option<f64>>())
+        .flatten()
+}
