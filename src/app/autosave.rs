@@ -128,7 +128,11 @@ impl Autosave {
     /// newest recovery file an editor that is no longer running left there.
     pub fn new(data_dir: &Path) -> Self {
         let dir = data_dir.join("autosave");
-        let file = dir.join(format!("{}.ron", std::process::id()));
+        let file = dir.join(format!(
+            "{}.{}",
+            std::process::id(),
+            crate::settings::PRESET_EXTENSION
+        ));
         let (found, unreadable) = Self::find_left(&dir, &file);
         Self {
             dir,
@@ -155,7 +159,7 @@ impl Autosave {
         let mut unreadable = Vec::new();
         let found = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p != own && p.extension().is_some_and(|x| x == "ron"))
+            .filter(|p| p != own && crate::settings::is_preset_file(p))
             .filter(|p| !editor_running(p))
             .filter_map(|file| {
                 let read = std::fs::read_to_string(&file)

@@ -123,7 +123,7 @@ impl PresetBrowser {
                 .map(|d| {
                     d.filter_map(Result::ok)
                         .map(|e| e.path())
-                        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("ron")))
+                        .filter(|p| crate::settings::is_preset_file(p))
                         .collect()
                 })
                 .unwrap_or_else(|e| {

@@ -168,7 +168,13 @@ impl EditorApp {
                 .as_deref()
                 .and_then(Path::file_name)
                 .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| format!("{}.ron", file_stem(&self.doc.preset.name))),
+                .unwrap_or_else(|| {
+                    format!(
+                        "{}.{}",
+                        file_stem(&self.doc.preset.name),
+                        crate::settings::PRESET_EXTENSION
+                    )
+                }),
             DialogKind::Export(f) => {
                 crate::export::export_file_name(&file_stem(&self.doc.preset.name), *f)
             }

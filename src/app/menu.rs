@@ -23,7 +23,7 @@ impl EditorApp {
             let engines = crate::export::importable_extensions(false);
             let meshes = crate::render::mesh::Mesh::EXTENSIONS;
             match ext.as_str() {
-                e if e == Format::Ron.extension() => self.guarded(Pending::Open(path)),
+                e if e == crate::settings::PRESET_EXTENSION => self.guarded(Pending::Open(path)),
                 // A .gltf is a look when a material has the volume
                 // extension (the glTF export), and otherwise a mesh.
                 e if engines.contains(&e)

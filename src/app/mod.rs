@@ -89,7 +89,9 @@ impl DialogKind {
             // What the export targets' readers read (`Target::reader`).
             DialogKind::Import => return crate::export::importable_extensions(false),
             DialogKind::CompareB => return crate::export::importable_extensions(true),
-            DialogKind::Open | DialogKind::SaveAs => return vec![Format::Ron.extension()],
+            DialogKind::Open | DialogKind::SaveAs => {
+                return vec![crate::settings::PRESET_EXTENSION]
+            }
         };
         exts.to_vec()
     }

@@ -945,10 +945,7 @@ pub fn b_look(a: &Preset, b: &CompareB) -> Result<Look, String> {
 /// The look in `path`: a preset, or what the engine whose file it is will
 /// draw from it (the first of several).
 pub fn load_look(path: &std::path::Path) -> Result<Preset, String> {
-    let is_ron = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("ron"));
-    if is_ron {
+    if crate::settings::is_preset_file(path) {
         return Preset::load(path).map_err(|e| e.to_string());
     }
     crate::export::import_file(path, &crate::export::ImportOptions::default())

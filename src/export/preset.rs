@@ -5,14 +5,14 @@ use super::{
     import::strip_path, no_notes, write, ExportError, ImportError, ImportOptions, ImportedLook,
     Provenance, Reader, Target,
 };
-use crate::settings::Preset;
+use crate::settings::{Preset, PRESET_EXTENSION};
 use std::path::Path;
 
 pub(super) const RON: Target = Target {
-    id: "ron",
+    id: PRESET_EXTENSION,
     name: "scatterlab preset",
     description: "the look as a .ron preset, exactly",
-    extension: "ron",
+    extension: PRESET_EXTENSION,
     companion: None,
     slow: false,
     write: write_ron,
@@ -20,8 +20,8 @@ pub(super) const RON: Target = Target {
     fidelity: |_| Some(0.0),
     params: None,
     reader: Some(Reader {
-        extensions: &["ron"],
-        claims: |ext, _| ext == "ron",
+        extensions: &[PRESET_EXTENSION],
+        claims: |ext, _| ext == PRESET_EXTENSION,
         read: read_ron,
     }),
 };

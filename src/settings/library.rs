@@ -90,7 +90,7 @@ mod tests {
             .unwrap()
             .filter(|e| {
                 e.as_ref()
-                    .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "ron"))
+                    .is_ok_and(|e| crate::settings::is_preset_file(&e.path()))
             })
             .count();
         assert_eq!(on_disk, super::PRESETS.len());

@@ -8,7 +8,7 @@ pub mod profile;
 pub mod rendering;
 pub mod view;
 
-pub use preset::{Preset, PresetError};
+pub use preset::{is_preset_file, Preset, PresetError, PRESET_EXTENSION};
 pub use profile::ProfileSpec;
 pub use rendering::RenderingSpec;
 pub use view::OrbitView;

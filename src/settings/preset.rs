@@ -14,6 +14,17 @@ pub const FORMAT_VERSION: u32 = 2;
 /// The embedded default look (also `presets/skin_default.ron`).
 pub const DEFAULT_PRESET_RON: &str = include_str!("../../presets/skin_default.ron");
 
+/// A preset file's extension: the one place the format is named (the
+/// editor's dialogs and drops, the browser, the autosave, the library,
+/// the export registry).
+pub const PRESET_EXTENSION: &str = "ron";
+
+/// Whether `path` names a preset file (by its extension, in any case).
+pub fn is_preset_file(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(PRESET_EXTENSION))
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Preset {
@@ -150,6 +161,18 @@ impl Preset {
 
 #[cfg(test)]
 mod tests {
+    /// A preset is named by its extension in any case, and only by it (the
+    /// editor's drops and the autosave's leftovers go through this).
+    #[test]
+    fn a_preset_file_is_known_by_its_extension_alone() {
+        use std::path::Path;
+        assert!(super::is_preset_file(Path::new("/p/skin.ron")));
+        assert!(super::is_preset_file(Path::new("SKIN.RON")));
+        assert!(!super::is_preset_file(Path::new("skin.ron.bak")));
+        assert!(!super::is_preset_file(Path::new("ron")));
+        assert!(!super::is_preset_file(Path::new("skin.gltf")));
+    }
+
     use super::*;
 
     #[test]
