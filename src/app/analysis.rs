@@ -290,8 +290,9 @@ impl<K: Clone + PartialEq + Send + Sync + 'static, V: Send + 'static> Background
                 // Its parallel work (the table preview's bake) on this
                 // thread alone: in rayon's global pool it took both cores
                 // for about a second after every edit, and the viewport's
-                // frames then took 130–150 ms instead of 90–95
-                // (docs/rendering.md, "Live while you work").
+                // refining frames then took 150–260 ms instead of 90–100
+                // (with the nice value below; docs/rendering.md, "Live
+                // while you work").
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(1)
                     .thread_name(|_| "scatterlab-analysis-pool".into())

@@ -60,8 +60,9 @@ impl EditorApp {
         self.budget_window_ui(ctx);
     }
 
-    /// Closes the open window that is drawn on top (Shortcuts, About, the
-    /// preset browser, Mesh maps, Save turntable, Budget merges); whether
+    /// Closes the open window that is drawn on top (those of
+    /// `windows::Windows`, the preset browser, Mesh maps, Save turntable,
+    /// Save image at size, Reference, Budget merges); whether
     /// one was open. egui keeps its windows' layers in
     /// drawing order, each named by the window's title.
     pub(super) fn close_topmost_window(&mut self, ctx: &egui::Context) -> bool {

@@ -45,6 +45,7 @@ impl EditorApp {
             && !matches!(self.profile.curves, Some(Err(_)));
         let interactive = req.interactive;
         let display = req.view.tone_map.label();
+        let turn = req.view.background.turn_deg;
         let (replies, sent) = match self.view.viewport.as_mut() {
             Some(vp) => {
                 let before = vp.seq();
@@ -59,7 +60,7 @@ impl EditorApp {
         // asked for, and when (tools/measure_live.sh's profile).
         if let Some(seq) = sent {
             self.log_line(format_args!(
-                "request seq={seq} interactive={} display={display}",
+                "request seq={seq} interactive={} turn={turn} display={display}",
                 u8::from(interactive)
             ));
         }
@@ -215,9 +216,9 @@ impl EditorApp {
         });
     }
 
-    /// Environment, light (rigs and intensity), exposure, Reset view, and a
+    /// Environment, light rigs (and Light & display…), Reset view, and a
     /// loaded mesh's Units… and Maps…: one row at 1280×720 (the environment
-    /// and the light are menus, the intensity inside the light's). It wraps
+    /// and the light are menus; their fields are in Light & display). It wraps
     /// only where the viewport is narrower still. `framing`: the camera
     /// distance that frames the mesh (m).
     pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
@@ -675,7 +676,13 @@ impl EditorApp {
         {
             self.view.show_before = !self.view.show_before;
         }
-        if ctx.input(|i| i.key_pressed(Key::Escape)) && self.close_topmost_window(ctx) {
+        // Escape in a field being typed into or in an open list is theirs
+        // (it cancels the edit, closes the list), not the window's.
+        if ctx.input(|i| i.key_pressed(Key::Escape))
+            && free
+            && !egui::Popup::is_any_open(ctx)
+            && self.close_topmost_window(ctx)
+        {
             ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape));
             return;
         }

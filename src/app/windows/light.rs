@@ -15,6 +15,8 @@ pub const TITLE: &str = "Light & display";
 #[derive(Default)]
 pub struct LightWindow {
     open: bool,
+    /// The shipped HDR maps, listed once (not read from disk each frame).
+    shipped: Option<Vec<std::path::PathBuf>>,
 }
 
 impl Window for LightWindow {
@@ -47,7 +49,8 @@ impl Window for LightWindow {
                 ui.separator();
                 key_light_ui(ui, &mut v);
                 ui.separator();
-                environment_ui(ui, &mut v, view, &mut actions);
+                let shipped = self.shipped.get_or_insert_with(state::shipped_hdr_maps);
+                environment_ui(ui, &mut v, view, shipped, &mut actions);
             });
         if v != *view.view {
             actions.push(Action::SetView(v));
@@ -132,6 +135,7 @@ fn environment_ui(
     ui: &mut egui::Ui,
     v: &mut state::ViewState,
     view: &WindowView,
+    shipped: &[std::path::PathBuf],
     actions: &mut Vec<Action>,
 ) {
     ui.horizontal_wrapped(|ui| {
@@ -145,8 +149,11 @@ fn environment_ui(
                 .environment_file
                 .and_then(|p| p.file_name())
                 .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
+            let tip = view.environment_file.map_or("The last HDR map loaded.".into(), |p| {
+                format!("{} (its irradiance, as order-2 spherical harmonics)", p.display())
+            });
             ui.selectable_value(&mut v.environment, EnvironmentChoice::Map, name)
-                .on_hover_text("The last HDR map loaded (its irradiance, as order-2 spherical harmonics).");
+                .on_hover_text(tip);
         }
         if ui
             .button("HDR map…")
@@ -158,7 +165,7 @@ fn environment_ui(
     });
     ui.horizontal_wrapped(|ui| {
         ui.label("Shipped maps");
-        for path in state::shipped_hdr_maps() {
+        for path in shipped {
             let name = path
                 .file_stem()
                 .map(|n| n.to_string_lossy().replace('_', " "))
@@ -171,7 +178,7 @@ fn environment_ui(
                 ))
                 .clicked()
             {
-                actions.push(Action::LoadEnvironment(path));
+                actions.push(Action::LoadEnvironment(path.clone()));
             }
         }
     });
