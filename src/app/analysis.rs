@@ -370,11 +370,5 @@ impl<K: Clone + PartialEq + Send + Sync + 'static, V: Send + 'static> Background
 
 /// Linear [0, 1] to an 8-bit sRGB code (display only).
 pub fn linear_to_srgb8(v: f64) -> u8 {
-    let v = v.clamp(0.0, 1.0);
-    let s = if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
+    crate::model::colour::linear_to_srgb8(v as f32)
 }

@@ -365,12 +365,7 @@ pub fn godot_material(preset: &Preset, prov: &Provenance) -> Result<String, Mode
 /// sRGB transfer function (IEC 61966-2-1), for Godot's `source_color`
 /// colours, which the editor stores encoded and the renderer linearises.
 fn linear_to_srgb(v: f64) -> f64 {
-    let v = v.clamp(0.0, 1.0);
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
+    crate::model::colour::linear_to_srgb_f64(v.clamp(0.0, 1.0))
 }
 
 mod read;

@@ -209,11 +209,7 @@ pub(super) fn strip_path(message: &str, path: &Path) -> String {
 /// sRGB's transfer function, decoding (IEC 61966-2-1): how MaterialX's
 /// `srgb_texture` and Godot's material colours become linear.
 pub(crate) fn srgb_decode(v: f64) -> f64 {
-    if v <= 0.04045 {
-        v / 12.92
-    } else {
-        ((v + 0.055) / 1.055).powf(2.4)
-    }
+    crate::model::colour::srgb_to_linear_f64(v)
 }
 
 /// A name made safe as a file stem.

@@ -50,6 +50,7 @@ macro_rules! delegate_radial_profile {
 pub(crate) use delegate_radial_profile;
 
 pub mod burley;
+pub mod colour;
 pub mod dipole;
 pub mod fit;
 pub mod gaussian;

@@ -21,12 +21,7 @@ pub fn split_view(a: &RgbaImage, b: &RgbaImage, split: f32) -> RgbaImage {
 
 /// An sRGB-encoded byte as linear (IEC 61966-2-1).
 pub fn srgb_to_linear(v: u8) -> f32 {
-    let c = v as f32 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    crate::model::colour::srgb8_to_linear(v)
 }
 
 fn luminance(p: &Rgba<u8>) -> f32 {

@@ -58,11 +58,7 @@ pub enum EnvironmentError {
 /// The sRGB transfer function inverted (IEC 61966-2-1): an encoded value
 /// in [0, 1] to linear.
 pub(crate) fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    crate::model::colour::srgb_to_linear(c)
 }
 
 impl Environment {

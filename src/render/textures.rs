@@ -504,15 +504,9 @@ impl TextureImage {
             .map(|i| {
                 let x = i as f32 / 255.0;
                 let y = if to_srgb {
-                    if x <= 0.003_130_8 {
-                        12.92 * x
-                    } else {
-                        1.055 * x.powf(1.0 / 2.4) - 0.055
-                    }
-                } else if x <= 0.040_45 {
-                    x / 12.92
+                    crate::model::colour::linear_to_srgb(x)
                 } else {
-                    ((x + 0.055) / 1.055).powf(2.4)
+                    crate::model::colour::srgb_to_linear(x)
                 };
                 (y * 255.0).round().clamp(0.0, 255.0) as u8
             })

@@ -290,15 +290,7 @@ pub fn bake(mesh: &Mesh) -> MeshTextures {
             point(i % n, i / n).map_or(([1.0; 3], 1.0, 1.0), |(p, _)| surface(p, p * mm_per_unit))
         })
         .collect();
-    let srgb = |v: f32| {
-        let v = v.clamp(0.0, 1.0);
-        let s = if v <= 0.003_130_8 {
-            12.92 * v
-        } else {
-            1.055 * v.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0).round() as u8
-    };
+    let srgb = crate::model::colour::linear_to_srgb8;
     let mut albedo = Vec::with_capacity(n * n * 4);
     let mut rough = Vec::with_capacity(n * n);
     let mut mask = Vec::with_capacity(n * n);
