@@ -2,6 +2,7 @@
 //! is performed here, in one place (issue 51), so that no window writes
 //! the document or another window's state.
 
+use super::windows::reference::PickInto;
 use super::windows::Action;
 use super::*;
 
@@ -24,6 +25,40 @@ impl EditorApp {
                 Action::OpenWindow(title) => {
                     self.windows.open(title);
                 }
+                Action::Say(line) => self.say(line),
+                Action::OpenDialog(kind) => self.open_dialog(kind),
+                Action::SetStill(s) => self.ui_state.still = s,
+                Action::SetTurntable(s) => self.ui_state.turntable = s,
+                Action::BrowsePresets => {
+                    let wake = self.waker.as_fn();
+                    self.windows
+                        .browser
+                        .open(&self.ui_state.preset_folders, wake);
+                }
+                Action::SetPresetFolders(folders) => {
+                    self.ui_state.preset_folders = folders;
+                    let wake = self.waker.as_fn();
+                    self.windows
+                        .browser
+                        .relist(&self.ui_state.preset_folders, wake);
+                }
+                Action::OpenPreset(path) => self.guarded(Pending::Open(path)),
+                Action::NewLook(p) => self.guarded(Pending::New(p)),
+                Action::SetMeshSettings(mesh, settings) => {
+                    self.ui_state.meshes.insert(mesh, settings);
+                }
+                Action::ComparePair([a, b]) => {
+                    self.guarded(Pending::Open(a));
+                    self.ui_state.compare_b = state::CompareB::Preset(b);
+                    self.ui_state.compare = state::CompareMode::SideBySide;
+                }
+                Action::PickColour(rgb, into) => {
+                    let said = match self.pick_colour(rgb, into) {
+                        Ok(s) => s,
+                        Err(e) => format!("Error: eyedropper: {e}"),
+                    };
+                    self.say(said);
+                }
             }
         }
     }
@@ -33,8 +68,109 @@ impl EditorApp {
         let view = windows::WindowView {
             view: &self.ui_state.view,
             environment_file: self.ui_state.environment_file.as_deref(),
+            still: &self.ui_state.still,
+            turntable: &self.ui_state.turntable,
+            preset_folders: &self.ui_state.preset_folders,
+            doc_path: self.doc.path.as_deref(),
+            mesh: self.meshes.mesh.as_deref(),
+            mesh_info: self.meshes.mesh_info,
+            meshes: &self.ui_state.meshes,
+            waker: &self.waker,
+            viewport_rect: self.layout.viewport_rect,
         };
         let actions = self.windows.show(ctx, &view);
         self.apply(actions);
+    }
+
+    /// Starts the still to `out` from the viewport's current request.
+    pub(super) fn start_still(&mut self, out: PathBuf) {
+        match self.viewport_request() {
+            Some(base) => {
+                self.windows
+                    .still
+                    .start(base, self.ui_state.still, out, self.waker.as_fn())
+            }
+            None => self.say(format!(
+                "Error: {}: no viewport view to render (wait for the head to appear)",
+                out.display()
+            )),
+        }
+    }
+
+    /// Starts a turntable to `gif` from the viewport's current request
+    /// (its window polls it while it runs).
+    pub(super) fn start_turntable(&mut self, gif: PathBuf) {
+        match self.viewport_request() {
+            Some(base) => {
+                self.windows
+                    .turntable
+                    .start(base, self.ui_state.turntable, gif, self.waker.as_fn())
+            }
+            None => self.say(format!(
+                "Error: {}: no viewport to turn (wait for the head to appear)",
+                gif.display()
+            )),
+        }
+    }
+
+    /// Whether a still is rendering (UI tests).
+    pub fn still_running(&self) -> bool {
+        self.windows.still.running()
+    }
+
+    /// Frames done and in all of the turntable rendering (UI tests).
+    pub fn turntable_progress(&self) -> Option<(u32, u32)> {
+        self.windows.turntable.progress()
+    }
+
+    /// Writes `rgb` (linear) into the field `into`, as an undoable edit.
+    /// Returns what it did, for the status bar.
+    pub fn pick_colour(&mut self, rgb: [f64; 3], into: PickInto) -> Result<String, String> {
+        let p = &mut self.doc.preset;
+        match into {
+            PickInto::Albedo => {
+                if !crate::settings::albedo::set_albedo(p, rgb) {
+                    return Err(
+                        "this model has no albedo field (Burley's has): pick into the transmission tint, or switch the model".into(),
+                    );
+                }
+            }
+            PickInto::TransmissionTint => p.rendering.transmission_tint = rgb,
+        }
+        self.doc.commit();
+        Ok(format!(
+            "{} picked: {:.4} / {:.4} / {:.4} (linear, the reference's 5×5 mean)",
+            into.label(),
+            rgb[0],
+            rgb[1],
+            rgb[2]
+        ))
+    }
+
+    /// Loads `path` as the reference image.
+    pub(super) fn load_reference(&mut self, path: PathBuf) {
+        let said = self.windows.reference.load(path);
+        self.say(said);
+    }
+
+    /// The reference image's path (UI tests).
+    pub fn reference_path(&self) -> Option<&Path> {
+        self.windows.reference.path()
+    }
+
+    /// Test hook: keep the preset browser's thumbnails in `dir` instead.
+    pub fn set_thumbnail_dir(&mut self, dir: PathBuf) {
+        self.windows.browser.thumbnail_dir = Some(dir);
+    }
+
+    /// The open preset browser (UI tests).
+    pub fn preset_browser(&self) -> Option<&super::windows::browser::PresetBrowser> {
+        self.windows.browser.browser()
+    }
+
+    /// Opens a budget report's merges in their window.
+    pub fn open_budget(&mut self, pairs: super::windows::budget::BudgetPairs) {
+        let said = self.windows.budget.load(pairs);
+        self.say(said);
     }
 }

@@ -15,10 +15,11 @@
 //! tinted by the look's albedo, or the look's albedo alone
 //! ([`MapColour`]).
 
-use super::state::MaterialAlbedo;
 use super::EditorApp;
 use crate::model::Rgb;
-use crate::render::textures::MapColour;
+use crate::settings::albedo::{
+    b_as_drawn, look_albedo, resolve, set_albedo, MapColour, MaterialAlbedo,
+};
 use crate::settings::{Preset, ProfileSpec};
 
 /// What the material-albedo prompt is for.
@@ -44,116 +45,6 @@ pub(super) struct AlbedoPrompt {
     pub(super) a_albedo: Rgb,
 }
 
-/// The colour `p` gives the surface: Burley's A, else the profile's total
-/// reflectance, clamped to [0, 1] (`render::inputs::look_colour`, which
-/// also gives kernels without a colour the default skin's).
-pub fn look_albedo(p: &Preset) -> Rgb {
-    if let ProfileSpec::Burley(b) = &p.profile {
-        return b.albedo;
-    }
-    match p.profile.build() {
-        Ok(profile) => {
-            crate::render::inputs::look_colour(&p.profile, profile.as_ref()).map(|c| c as f64)
-        }
-        Err(_) => crate::render::inputs::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
-    }
-}
-
-/// `p` with its albedo set to `rgb` (clamped to Burley's range), where its
-/// model has one (HDRP's profiles are Burley's). Returns whether it did.
-pub fn set_albedo(p: &mut Preset, rgb: Rgb) -> bool {
-    let (lo, hi) = crate::model::burley::ALBEDO_RANGE;
-    match &mut p.profile {
-        ProfileSpec::Burley(b) => {
-            b.albedo = rgb.map(|c| c.clamp(lo, hi));
-            true
-        }
-        _ => false,
-    }
-}
-
-/// The colour a material-albedo choice stands for: A's, the map's mean
-/// (A's without a colour map), or the typed one.
-pub fn resolve(choice: MaterialAlbedo, a_albedo: Rgb, map_mean: Option<[f32; 3]>) -> Rgb {
-    match choice {
-        MaterialAlbedo::LookA => a_albedo,
-        MaterialAlbedo::Map => map_mean.map_or(a_albedo, |m| m.map(|c| c as f64)),
-        MaterialAlbedo::Typed(c) => c,
-    }
-}
-
-/// B as the editor draws and compares it: a look whose engine keeps the
-/// albedo in the material gets `choice`'s colour, and on a colour map it
-/// is drawn in the map's colour when the choice is the map. Returns the
-/// look, its surface colour on a colour map, and the choice's label where
-/// one was applied.
-pub fn b_as_drawn(
-    mut b: Preset,
-    a_albedo: Rgb,
-    choice: MaterialAlbedo,
-    map_colour: MapColour,
-    map_mean: Option<[f32; 3]>,
-) -> (Preset, MapColour, Option<String>) {
-    if !b.rendering.albedo_in_material {
-        return (b, map_colour, None);
-    }
-    let rgb = resolve(choice, a_albedo, map_mean);
-    if !set_albedo(&mut b, rgb) {
-        return (b, map_colour, None);
-    }
-    let (colour, label) = match (choice, map_mean) {
-        (MaterialAlbedo::Map, Some(_)) => (MapColour::Map, choice.label()),
-        (MaterialAlbedo::Map, None) => (map_colour, "A's (no colour map)".into()),
-        _ => (map_colour, choice.label()),
-    };
-    (b, colour, Some(label))
-}
-
-/// The engine-side fields in which B's look differs from A's, named with
-/// both values (the compare row lists them beside B − A: what a profile's
-/// shape error does not show).
-pub fn differing_fields(a: &Preset, b: &Preset) -> Vec<(&'static str, String)> {
-    let (ra, rb) = (&a.rendering, &b.rendering);
-    let mut out = Vec::new();
-    let mut diff = |name: &'static str, x: String, y: String| {
-        if x != y {
-            out.push((name, format!("{name}: B {y}, A {x}")));
-        }
-    };
-    diff(
-        "texturing",
-        format!("{:?}", ra.texturing),
-        format!("{:?}", rb.texturing),
-    );
-    diff(
-        "transmission",
-        format!("{:?}", ra.transmission),
-        format!("{:?}", rb.transmission),
-    );
-    diff(
-        "world scale",
-        format!("{} m/unit", ra.world_scale_m_per_unit),
-        format!("{} m/unit", rb.world_scale_m_per_unit),
-    );
-    diff(
-        "thickness remap",
-        format!("{:?} mm", ra.thickness_remap_mm),
-        format!("{:?} mm", rb.thickness_remap_mm),
-    );
-    diff(
-        "transmission tint",
-        format!("{:.3?}", ra.transmission_tint),
-        format!("{:.3?}", rb.transmission_tint),
-    );
-    diff("IOR", format!("{:.3}", ra.ior), format!("{:.3}", rb.ior));
-    diff(
-        "specular",
-        format!("{:.3?}", ra.specular),
-        format!("{:.3?}", rb.specular),
-    );
-    out
-}
-
 impl EditorApp {
     /// Look A's albedo without building a slow model each frame: Burley's
     /// A, else the total reflectance of the curves the analysis thread
@@ -171,7 +62,7 @@ impl EditorApp {
         }
         match (&self.profile.curves, &self.profile.curves_for) {
             (Some(Ok(c)), Some(spec)) if *spec == p.profile => c.total.map(|t| t.clamp(0.0, 1.0)),
-            _ => crate::render::inputs::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
+            _ => crate::settings::albedo::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
         }
     }
 
@@ -470,68 +361,5 @@ impl EditorApp {
                     mean[0], mean[1], mean[2]
                 ));
         });
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// An HDRP import (albedo 1, in the material) compared as B takes A's
-    /// albedo by default, the typed one when chosen, and the map's mean
-    /// drawn as the map when there is one; a look with its own albedo is
-    /// left alone.
-    #[test]
-    fn b_takes_the_chosen_material_albedo() {
-        let a = Preset::default_skin();
-        let mut hdrp = Preset::default();
-        hdrp.rendering.albedo_in_material = true;
-        let (b, mc, label) = b_as_drawn(
-            hdrp.clone(),
-            look_albedo(&a),
-            MaterialAlbedo::LookA,
-            MapColour::Tinted,
-            None,
-        );
-        assert_eq!(look_albedo(&b), look_albedo(&a));
-        assert_eq!((mc, label.as_deref()), (MapColour::Tinted, Some("A's")));
-        let typed = [0.2, 0.5, 0.1];
-        let (b, ..) = b_as_drawn(
-            hdrp.clone(),
-            look_albedo(&a),
-            MaterialAlbedo::Typed(typed),
-            MapColour::Map,
-            None,
-        );
-        assert_eq!(look_albedo(&b), typed);
-        let mean = [0.5f32, 0.25, 0.125];
-        let (b, mc, _) = b_as_drawn(
-            hdrp.clone(),
-            look_albedo(&a),
-            MaterialAlbedo::Map,
-            MapColour::Look,
-            Some(mean),
-        );
-        assert_eq!(look_albedo(&b), [0.5, 0.25, 0.125]);
-        assert_eq!(mc, MapColour::Map);
-        // Without a colour map the map choice falls back to A's, and says so.
-        let (b, _, label) = b_as_drawn(
-            hdrp,
-            look_albedo(&a),
-            MaterialAlbedo::Map,
-            MapColour::Map,
-            None,
-        );
-        assert_eq!(look_albedo(&b), look_albedo(&a));
-        assert!(label.unwrap().contains("no colour map"));
-        let own = Preset::default_skin();
-        let (b, _, label) = b_as_drawn(
-            own.clone(),
-            look_albedo(&a),
-            MaterialAlbedo::Typed(typed),
-            MapColour::Map,
-            None,
-        );
-        assert_eq!((b, label), (own, None));
     }
 }

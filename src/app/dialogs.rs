@@ -21,19 +21,7 @@ impl EditorApp {
 
     /// The titles of the open windows Escape can close.
     fn open_windows(&self) -> Vec<&'static str> {
-        [
-            ("Presets", self.dialogs.browser.is_some()),
-            ("Mesh maps", self.meshes.maps_window.is_some()),
-            ("Save turntable", self.dialogs.turntable_open),
-            ("Save image at size", self.dialogs.still_open),
-            ("Reference", self.view.reference.is_some()),
-            ("Budget merges", self.dialogs.budget_open),
-        ]
-        .into_iter()
-        .filter(|(_, o)| *o)
-        .map(|(t, _)| t)
-        .chain(self.windows.open_titles())
-        .collect()
+        self.windows.open_titles()
     }
 
     pub(super) fn dialogs_ui(&mut self, ctx: &egui::Context) {
@@ -47,17 +35,10 @@ impl EditorApp {
             }
         }
         self.dialogs.open_last_frame = open;
-        self.units_prompt_ui(ctx);
-        self.maps_window_ui(ctx);
         self.overwrite_prompt_ui(ctx);
         self.unsaved_prompt_ui(ctx);
         self.albedo_prompt_ui(ctx);
         self.file_dialog_ui(ctx);
-        self.turntable_window_ui(ctx);
-        self.still_window_ui(ctx);
-        self.reference_window_ui(ctx);
-        self.browser_window_ui(ctx);
-        self.budget_window_ui(ctx);
     }
 
     /// Closes the open window that is drawn on top (those of
@@ -76,16 +57,7 @@ impl EditorApp {
             .rev()
             .find_map(|l| open.iter().find(|t| l.id == window_id(t)).copied())
             .unwrap_or(open[open.len() - 1]);
-        match top {
-            t if self.windows.close(t) => {}
-            "Presets" => self.dialogs.browser = None,
-            "Mesh maps" => self.meshes.maps_window = None,
-            "Save turntable" => self.dialogs.turntable_open = false,
-            "Save image at size" => self.dialogs.still_open = false,
-            "Reference" => self.view.reference = None,
-            _ => self.dialogs.budget_open = false,
-        }
-        true
+        self.windows.close(top)
     }
 
     /// The unsaved-changes prompt for a pending open, new or quit: Save
@@ -244,7 +216,7 @@ impl EditorApp {
                 vec![path.clone()]
             }
             DialogKind::SaveTurntable => {
-                super::turntable::planned_paths(&path, &self.ui_state.turntable)
+                super::windows::turntable::planned_paths(&path, &self.ui_state.turntable)
             }
             DialogKind::Export(f) => crate::export::planned_paths(*f, &path),
             _ => Vec::new(),

@@ -137,7 +137,8 @@ impl EditorApp {
             });
             ui.menu_button("Export", |ui| self.export_menu_ui(ui));
             ui.menu_button("View", |ui| {
-                self.windows.menu_items_ui(ui, windows::Menu::View);
+                let items = self.windows.menu_items_ui(ui, windows::Menu::View);
+                self.apply(items);
                 ui.separator();
                 ui.add(
                     egui::Slider::new(&mut self.ui_state.ui_scale, state::UI_SCALE_RANGE)
@@ -157,7 +158,8 @@ impl EditorApp {
                 .on_hover_text("The interface's colours; the viewport and plots keep theirs.");
             });
             ui.menu_button("Help", |ui| {
-                self.windows.menu_items_ui(ui, windows::Menu::Help)
+                let items = self.windows.menu_items_ui(ui, windows::Menu::Help);
+                self.apply(items);
             });
             ui.separator();
             let dirty = if self.doc.is_dirty() { " *" } else { "" };
@@ -168,27 +170,8 @@ impl EditorApp {
 
     /// The File menu: presets, open, import, save, images, meshes and quit.
     fn file_menu_ui(&mut self, ui: &mut egui::Ui) {
-        if ui
-            .button("Browse presets…")
-            .on_hover_text("Every shipped preset, and those in your own folders, as a thumbnail of the head, rendered here and cached; click one to start from it")
-            .clicked()
-        {
-            self.dialogs.browser = Some(browser::PresetBrowser::open(
-                self.dialogs.thumbnail_dir.clone(),
-                &self.ui_state.preset_folders,
-                self.waker.as_fn(),
-            ));
-            ui.close();
-        }
-        if self.dialogs.budget.is_some()
-            && ui
-                .button("Budget merges…")
-                .on_hover_text("The merges of the budget report opened with --budget: compare each profile with its merge")
-                .clicked()
-        {
-            self.dialogs.budget_open = true;
-            ui.close();
-        }
+        let items = self.windows.menu_items_ui(ui, windows::Menu::FilePresets);
+        self.apply(items);
         ui.menu_button("New from preset", |ui| {
             for (file, _) in library::PRESETS {
                 if let Ok(p) = library::load(file) {
@@ -248,22 +231,8 @@ impl EditorApp {
             self.open_dialog(DialogKind::Reference);
             ui.close();
         }
-        if ui
-            .button("Save image at size…")
-            .on_hover_text("The viewport's view rendered offscreen at up to 4096×4096, supersampled, until it converges, as a PNG, with progress and Cancel")
-            .clicked()
-        {
-            self.dialogs.still_open = true;
-            ui.close();
-        }
-        if ui
-            .button("Save turntable…")
-            .on_hover_text("N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel")
-            .clicked()
-        {
-            self.dialogs.turntable_open = true;
-            ui.close();
-        }
+        let items = self.windows.menu_items_ui(ui, windows::Menu::FileImages);
+        self.apply(items);
         ui.separator();
         if ui
             .button("Load mesh…")

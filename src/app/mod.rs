@@ -6,22 +6,16 @@ mod actions;
 mod albedo;
 pub mod analysis;
 mod autosave;
-pub mod browser;
-pub mod budget;
 mod dialogs;
 mod environment;
 mod files;
-mod maps;
 mod menu;
 mod overlays;
 mod params_ui;
 mod parts;
 mod plots;
-mod reference;
 mod report;
 pub mod state;
-pub mod still;
-pub mod turntable;
 pub mod viewport;
 mod viewport_ui;
 pub mod wake;
@@ -270,7 +264,6 @@ impl EditorApp {
                 last_frame: None,
                 background_map: None,
                 keep_environment: None,
-                reference: None,
                 show_mouse_hint: false,
                 applied_scale: None,
                 adapter: String::new(),
@@ -282,9 +275,6 @@ impl EditorApp {
             meshes: MeshState {
                 mesh: None,
                 mesh_info: None,
-                units_prompt: None,
-                maps_window: None,
-                maps_preview: None,
             },
             dialogs: Dialogs {
                 dialog: None,
@@ -293,19 +283,11 @@ impl EditorApp {
                 overwrite: None,
                 albedo_prompt: None,
                 export_notes: None,
-                turntable_open: false,
-                still_open: false,
-                browser: None,
-                thumbnail_dir: Self::default_thumbnail_dir(),
-                budget: None,
-                budget_open: false,
                 open_last_frame: Vec::new(),
             },
             jobs: Jobs {
                 exports: Vec::new(),
                 environment_load: None,
-                turntable: None,
-                still: None,
             },
             report: Report {
                 status:
@@ -646,7 +628,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     }
     // A budget report to compare: refused here too.
     let budget = match &budget {
-        Some(dir) => Some(budget::BudgetPairs::load(dir).map_err(anyhow::Error::msg)?),
+        Some(dir) => Some(windows::budget::BudgetPairs::load(dir).map_err(anyhow::Error::msg)?),
         None => None,
     };
     let options = eframe::NativeOptions {

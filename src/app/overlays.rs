@@ -210,7 +210,7 @@ impl EditorApp {
             }
             _ => None,
         };
-        self.reference_overlay_ui(&painter, rect);
+        self.windows.reference.overlay_ui(&painter, rect);
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
         if self.view.show_before {
@@ -511,17 +511,6 @@ impl EditorApp {
         painter.rect_filled(r, 4.0, egui::Color32::from_black_alpha(170));
         painter.galley(r.min + egui::vec2(4.0, 4.0), galley, egui::Color32::WHITE);
         self.layout.probe = Some(text);
-    }
-
-    /// Where a window opens so that it covers neither side panel: `down`
-    /// points below the viewport's top-left corner, 8 in (before the first
-    /// frame: where the viewport usually is).
-    pub(super) fn window_pos_in_viewport(&self, down: f32) -> egui::Pos2 {
-        self.layout
-            .viewport_rect
-            .map_or(egui::pos2(330.0, 96.0), |r| {
-                r.left_top() + egui::vec2(8.0, down)
-            })
     }
 
     /// The probe's text as last drawn (UI tests).

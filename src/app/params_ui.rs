@@ -2,6 +2,7 @@
 //! rendering settings, each field with its unit and a tooltip that says
 //! what it does physically.
 
+use crate::model::colour::{hex_of, hsv_of, parse_hex, rgb_of_hsv};
 use crate::model::multipole::{DIPOLES_RANGE, THICKNESS_RANGE_MM};
 use crate::model::{burley, dipole, gaussian, jimenez, measured, separable, Rgb, CHANNEL_NAMES};
 use crate::settings::profile::*;
@@ -101,57 +102,6 @@ fn colour_parts(v: &Rgb, range: &std::ops::RangeInclusive<f64>) -> ([f64; 3], f6
     (v.map(|x| (x / multiplier).clamp(0.0, 1.0)), multiplier)
 }
 
-/// sRGB (0–1, encoded) to HSV: hue in degrees, saturation and value 0–1
-/// (Smith 1978, "Color gamut transform pairs", the hexcone model).
-pub fn hsv_of(c: [f64; 3]) -> [f64; 3] {
-    let max = c.iter().cloned().fold(f64::MIN, f64::max);
-    let min = c.iter().cloned().fold(f64::MAX, f64::min);
-    let d = max - min;
-    let h = if d <= 0.0 {
-        0.0
-    } else if max == c[0] {
-        60.0 * ((c[1] - c[2]) / d).rem_euclid(6.0)
-    } else if max == c[1] {
-        60.0 * ((c[2] - c[0]) / d + 2.0)
-    } else {
-        60.0 * ((c[0] - c[1]) / d + 4.0)
-    };
-    [h, if max > 0.0 { d / max } else { 0.0 }, max]
-}
-
-/// HSV (hue in degrees, S and V 0–1) to sRGB 0–1 (the inverse of
-/// [`hsv_of`]).
-pub fn rgb_of_hsv([h, s, v]: [f64; 3]) -> [f64; 3] {
-    let h = h.rem_euclid(360.0) / 60.0;
-    let c = v * s;
-    let x = c * (1.0 - (h % 2.0 - 1.0).abs());
-    let (r, g, b) = match h as u32 {
-        0 => (c, x, 0.0),
-        1 => (x, c, 0.0),
-        2 => (0.0, c, x),
-        3 => (0.0, x, c),
-        4 => (x, 0.0, c),
-        _ => (c, 0.0, x),
-    };
-    let m = v - c;
-    [r + m, g + m, b + m]
-}
-
-/// `#rrggbb` or `rrggbb` (or `#rgb`) as sRGB bytes.
-pub fn parse_hex(text: &str) -> Option<[u8; 3]> {
-    let t = text.trim().trim_start_matches('#');
-    let t: String = if t.len() == 3 {
-        t.chars().flat_map(|c| [c, c]).collect()
-    } else {
-        t.to_owned()
-    };
-    if t.len() != 6 || !t.is_ascii() {
-        return None;
-    }
-    let b = |i: usize| u8::from_str_radix(&t[2 * i..2 * i + 2], 16).ok();
-    Some([b(0)?, b(1)?, b(2)?])
-}
-
 /// Whether a colour field's entry row is open (its "#" toggle).
 fn colour_entry_id(label: &str) -> egui::Id {
     egui::Id::unique(("colour_entry_open", label))
@@ -180,7 +130,7 @@ fn colour_entry_ui(
         let hex_id = egui::Id::unique(("colour_entry_hex", label));
         let mut hex = ui
             .data(|d| d.get_temp::<String>(hex_id))
-            .unwrap_or_else(|| format!("#{:02x}{:02x}{:02x}", srgb[0], srgb[1], srgb[2]));
+            .unwrap_or_else(|| hex_of(srgb));
         let r = ui
             .add(egui::TextEdit::singleline(&mut hex).desired_width(64.0))
             .on_hover_text("sRGB hex, #rrggbb; Enter applies");
@@ -251,10 +201,7 @@ fn colour_entry_ui(
             resp.widget_info(|| {
                 egui::WidgetInfo::labeled(egui::accesskit::Role::Button, true, &name)
             });
-            if resp
-                .on_hover_text(format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))
-                .clicked()
-            {
+            if resp.on_hover_text(hex_of(c)).clicked() {
                 picked = Some(*r);
             }
         }
@@ -308,7 +255,7 @@ fn colour_picker_ui(
     let name = format!("{label} colour");
     response.widget_info(|| {
         let mut info = egui::WidgetInfo::labeled(egui::accesskit::Role::ColorWell, true, &name);
-        info.current_text_value = Some(format!("#{:02x}{:02x}{:02x}", srgb[0], srgb[1], srgb[2]));
+        info.current_text_value = Some(hex_of(srgb));
         info
     });
     let tip = if multiplier == 1.0 && *range.end() <= 1.0 {
@@ -980,41 +927,5 @@ fn specular_ui(ui: &mut Ui, ior: &mut f64, world_scale: &mut f64, s: &mut DualLo
     ];
     for (label, tip, v, range) in rows {
         scalar_ui(ui, label, "", tip, v, span(range), 0.005);
-    }
-}
-
-#[cfg(test)]
-mod colour_entry_tests {
-    use super::*;
-
-    /// The hexcone HSV (Smith 1978) of the primaries and a mid grey, and
-    /// back: red 0°, green 120°, blue 240°, each S = V = 1; grey S = 0.
-    #[test]
-    fn hsv_of_known_colours_and_back() {
-        for (rgb, hsv) in [
-            ([1.0, 0.0, 0.0], [0.0, 1.0, 1.0]),
-            ([0.0, 1.0, 0.0], [120.0, 1.0, 1.0]),
-            ([0.0, 0.0, 1.0], [240.0, 1.0, 1.0]),
-            ([1.0, 1.0, 0.0], [60.0, 1.0, 1.0]),
-            ([0.5, 0.5, 0.5], [0.0, 0.0, 0.5]),
-        ] {
-            let got = hsv_of(rgb);
-            for c in 0..3 {
-                assert!((got[c] - hsv[c]).abs() < 1e-12, "{rgb:?}: {got:?}");
-            }
-            let back = rgb_of_hsv(got);
-            for c in 0..3 {
-                assert!((back[c] - rgb[c]).abs() < 1e-12, "{rgb:?}: {back:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn hex_parses_as_artists_type_it() {
-        assert_eq!(parse_hex("#f59d8e"), Some([0xf5, 0x9d, 0x8e]));
-        assert_eq!(parse_hex("F59D8E"), Some([0xf5, 0x9d, 0x8e]));
-        assert_eq!(parse_hex("#fa0"), Some([0xff, 0xaa, 0x00]));
-        assert_eq!(parse_hex("#f59d8"), None);
-        assert_eq!(parse_hex("#zz9d8e"), None);
     }
 }

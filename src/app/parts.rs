@@ -35,8 +35,6 @@ pub(super) struct ProfileState {
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
 pub(super) struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
-    /// File → Reference image: the photo, beside or over the render.
-    pub(super) reference: Option<super::reference::Reference>,
     /// The interface scale set on the context last frame.
     pub(super) applied_scale: Option<f32>,
     /// The pointer rests over the viewport: its mouse hint is shown.
@@ -83,11 +81,6 @@ pub(super) struct MeshState {
     pub(super) mesh: Option<PathBuf>,
     /// The loaded mesh's size and framing (from the render thread).
     pub(super) mesh_info: Option<viewport::MeshInfo>,
-    /// The units prompt, open for this mesh.
-    pub(super) units_prompt: Option<PathBuf>,
-    /// The map slots window, open for this mesh, and its previews.
-    pub(super) maps_window: Option<PathBuf>,
-    pub(super) maps_preview: Option<maps::MapsPreview>,
 }
 
 /// Open dialogs, prompts and windows, and what waits on them.
@@ -103,17 +96,7 @@ pub(super) struct Dialogs {
     pub(super) albedo_prompt: Option<super::albedo::AlbedoPrompt>,
     /// The open export dialog's notes, while they are being computed.
     pub(super) export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
-    /// File → Save turntable: its window, and the turntable rendering.
-    pub(super) turntable_open: bool,
-    /// File → Save image at size's window.
-    pub(super) still_open: bool,
-    /// File → Browse presets: the window, and where its thumbnails are
-    /// cached.
-    pub(super) browser: Option<browser::PresetBrowser>,
-    pub(super) thumbnail_dir: Option<PathBuf>,
     /// `edit --budget DIR`: a budget report's merges, and their window.
-    pub(super) budget: Option<budget::BudgetPairs>,
-    pub(super) budget_open: bool,
     /// The windows open at the last frame (`dialogs_ui` brings a newly
     /// opened one to the front).
     pub(super) open_last_frame: Vec<&'static str>,
@@ -124,9 +107,6 @@ pub(super) struct Jobs {
     pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
     /// An HDR environment map loading on its own thread.
     pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
-    pub(super) turntable: Option<turntable::TurntableJob>,
-    /// File → Save image at size, rendering.
-    pub(super) still: Option<super::still::StillJob>,
 }
 
 /// The status line, notifications, the frame log and timings.

@@ -1,6 +1,7 @@
 //! The document being edited (a preset and its file), its undo history,
 //! and the UI state remembered between runs. No egui here.
 
+pub use crate::settings::albedo::MaterialAlbedo;
 use crate::settings::Preset;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -330,33 +331,6 @@ pub enum CompareB {
 impl Default for CompareB {
     fn default() -> Self {
         CompareB::Method(crate::render::Method::compare_partner())
-    }
-}
-
-/// The albedo a look is drawn and compared with when its engine keeps the
-/// albedo in the material (`RenderingSpec::albedo_in_material`: an HDRP
-/// profile, whose file has none).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub enum MaterialAlbedo {
-    /// Look A's albedo: the question "how far is my look from this
-    /// engine's profile?" with the colour held equal.
-    #[default]
-    LookA,
-    /// The head's colour map as the engine's material would use it (the
-    /// map's mean colour stands for it in the plots).
-    Map,
-    /// A colour the artist typed (linear RGB).
-    Typed([f64; 3]),
-}
-
-impl MaterialAlbedo {
-    /// Short, for the compare row ("B's albedo: …").
-    pub fn label(self) -> String {
-        match self {
-            MaterialAlbedo::LookA => "A's".into(),
-            MaterialAlbedo::Map => "the head's map".into(),
-            MaterialAlbedo::Typed(c) => format!("typed {:.3}/{:.3}/{:.3}", c[0], c[1], c[2]),
-        }
     }
 }
 
@@ -722,6 +696,35 @@ pub fn shipped_hdr_maps() -> Vec<std::path::PathBuf> {
         .unwrap_or_default();
     maps.sort();
     maps
+}
+
+/// The shipped head scan and its settings (`EditorApp::open_scanned_head`).
+pub fn scanned_head() -> Option<(PathBuf, MeshSettings)> {
+    use crate::render::textures::MapSlot;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scan");
+    let mesh = dir.join("LeePerrySmith.glb");
+    let (colour, normal) = (
+        dir.join("Map-COL.jpg"),
+        dir.join("Infinite-Level_02_Tangent_SmoothUV.jpg"),
+    );
+    if !(mesh.is_file() && colour.is_file() && normal.is_file()) {
+        return None;
+    }
+    let mut settings = MeshSettings {
+        metres_per_unit: 0.0462,
+        ..Default::default()
+    };
+    settings.maps[0] = MapSlot {
+        path: Some(colour),
+        flip_v: true,
+        srgb: true,
+    };
+    settings.maps[1] = MapSlot {
+        path: Some(normal),
+        flip_v: true,
+        srgb: false,
+    };
+    Some((mesh, settings))
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! (a loaded mesh framed, a restored one kept as it was); what is drawn
 //! over the frame is `overlays.rs`.
 
+use super::windows::Window;
 use super::*;
 
 impl EditorApp {
@@ -161,7 +162,7 @@ impl EditorApp {
                 {
                     let albedo = self.b_albedo_note();
                     let others = match &self.profile.b_look_cache {
-                        Some((_, _, Ok(b))) => super::albedo::differing_fields(&self.doc.preset, b),
+                        Some((_, _, Ok(b))) => crate::settings::albedo::differing_fields(&self.doc.preset, b),
                         _ => Vec::new(),
                     };
                     ui.label(format!(
@@ -329,25 +330,11 @@ impl EditorApp {
                 .on_hover_text(
                     "Refine to the truth: once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
                 );
-            if let Some(p) = self.meshes.mesh.clone() {
+            if self.meshes.mesh.is_some() {
                 // One menu, so a loaded mesh keeps the row at 1280×720.
                 ui.menu_button("Mesh", |ui| {
-                    if ui
-                        .button("Units…")
-                        .on_hover_text("Metres per unit of this mesh: its size, the camera and the scattering distances in mm depend on it.")
-                        .clicked()
-                    {
-                        self.meshes.units_prompt = Some(p.clone());
-                        ui.close();
-                    }
-                    if ui
-                        .button("Maps…")
-                        .on_hover_text("This mesh's albedo, normal, roughness, SSS mask and thickness maps: files, V-flip and colour space.")
-                        .clicked()
-                    {
-                        self.meshes.maps_window = Some(p);
-                        ui.close();
-                    }
+                    let items = self.windows.menu_items_ui(ui, windows::Menu::Mesh);
+                    self.apply(items);
                 })
                 .response
                 .on_hover_text("The loaded mesh's units and maps.");
@@ -631,7 +618,7 @@ impl EditorApp {
         self.view.framed_for = Some(key);
         if let Some(p) = &p {
             if !self.ui_state.meshes.contains_key(p) {
-                self.meshes.units_prompt = Some(p.clone());
+                self.windows.units.set_open(true);
             }
         }
         match &p {

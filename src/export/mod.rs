@@ -4,6 +4,7 @@
 //! scatterlab version and the source preset.
 
 mod blender;
+pub mod frames;
 mod gltf;
 mod godot;
 mod images;

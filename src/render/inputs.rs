@@ -5,12 +5,8 @@
 //! [`super::sss::ProfileInputs`].
 
 use crate::model::{RadialProfile, Rgb};
+pub use crate::settings::albedo::{look_colour, KERNEL_SURFACE_ALBEDO};
 use crate::settings::ProfileSpec;
-
-/// Base colour for kernels without a colour (see [`look_colour`]): the
-/// default skin's albedo A (presets/skin_default.ron, Unreal's default
-/// SurfaceAlbedo).
-pub const KERNEL_SURFACE_ALBEDO: [f32; 3] = [0.91058, 0.338275, 0.2718];
 
 /// What every method shares for one look.
 #[derive(Debug, Clone)]
@@ -64,20 +60,6 @@ pub fn table_radius_mm(profile: &dyn RadialProfile) -> f64 {
         .radius_for_energy(0.999)
         .into_iter()
         .fold(1e-6, f64::max)
-}
-
-/// The colour a look gives the surface ([`Shared::surface_albedo`]):
-/// its profile's total reflectance, clamped to [0, 1]; kernels without a
-/// colour of their own (energy-conserving blurs, total 1: Jimenez 2012,
-/// the artist model) leave it to the surface, as in the engines, and the
-/// default skin's albedo stands in for a colour map.
-pub fn look_colour(spec: &ProfileSpec, profile: &dyn RadialProfile) -> [f32; 3] {
-    if matches!(spec, ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)) {
-        return KERNEL_SURFACE_ALBEDO;
-    }
-    profile
-        .total_reflectance()
-        .map(|t| t.clamp(0.0, 1.0) as f32)
 }
 
 /// The thin-slab transmittance T(d)/total per channel at 64 thicknesses

@@ -15,46 +15,7 @@ pub enum AlbedoMode {
     Absolute,
 }
 
-/// Where the surface colour comes from when a mesh has a colour map of
-/// its own ([`AlbedoMode::Absolute`]); a modulating map (the default
-/// head's) always multiplies the look's colour. An engine's material
-/// takes its base colour from the map, and the profile spreads light
-/// without changing its colour (HDRP, Unreal, Cycles), so the map alone
-/// draws every look in the scan's colour: `Tinted` and `Look` are how a
-/// look's own albedo A is seen on a scan.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-pub enum MapColour {
-    /// The map is the albedo, as the engines draw it.
-    #[default]
-    Map,
-    /// The map's detail scaled so that its mean is the look's albedo:
-    /// albedo(uv) = A · map(uv) / mean(map), per channel.
-    Tinted,
-    /// The look's albedo everywhere; the map's colour is not used.
-    Look,
-}
-
-impl MapColour {
-    pub const ALL: [MapColour; 3] = [MapColour::Map, MapColour::Tinted, MapColour::Look];
-
-    pub fn label(self) -> &'static str {
-        match self {
-            MapColour::Map => "the map's colour",
-            MapColour::Tinted => "the map tinted by the look's albedo",
-            MapColour::Look => "the look's albedo",
-        }
-    }
-}
+pub use crate::settings::albedo::MapColour;
 
 /// The mean linear colour of a colour map over its used texels (alpha
 /// over ½ and not black: a scan's unused atlas space is black or

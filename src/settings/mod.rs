@@ -2,6 +2,7 @@
 //! RON. Every struct is `#[serde(default)]` so older files still load, and
 //! validation errors name the field (and the loader adds the file).
 
+pub mod albedo;
 pub mod library;
 pub mod preset;
 pub mod profile;

@@ -857,7 +857,7 @@ fn preset_browser_renders_thumbnails_once_and_opens_a_preset() {
     assert_eq!(stored, all, "one cached PNG a preset");
     let skin = b.thumbnail("Skin (default)").unwrap().clone();
     let ketchup = b.thumbnail("Ketchup (Jensen 2001)").unwrap().clone();
-    assert_eq!(skin.dimensions(), scatterlab::app::browser::THUMB);
+    assert_eq!(skin.dimensions(), scatterlab::app::windows::browser::THUMB);
     // The head fills the middle; ketchup is far redder than skin there.
     let centre = |img: &image::RgbaImage| {
         let p = img.get_pixel(img.width() / 2, img.height() / 2);

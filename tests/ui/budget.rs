@@ -1,8 +1,8 @@
 //! `edit --budget DIR`: a budget report's merges as compare pairs.
 
 use super::*;
-use scatterlab::app::budget::BudgetPairs;
 use scatterlab::app::state::{CompareB, CompareMode};
+use scatterlab::app::windows::budget::BudgetPairs;
 
 /// A budget folder as `scatterlab budget` writes one: budget.json and the
 /// pair presets it names.

@@ -21,8 +21,8 @@ impl Window for ShortcutsWindow {
         "Shortcuts"
     }
 
-    fn menu(&self) -> super::Menu {
-        super::Menu::Help
+    fn menu(&self) -> Option<super::Menu> {
+        Some(super::Menu::Help)
     }
 
     fn menu_label(&self) -> String {
@@ -66,8 +66,8 @@ impl Window for AboutWindow {
         "About scatterlab"
     }
 
-    fn menu(&self) -> super::Menu {
-        super::Menu::Help
+    fn menu(&self) -> Option<super::Menu> {
+        Some(super::Menu::Help)
     }
 
     fn menu_label(&self) -> String {

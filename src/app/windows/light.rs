@@ -24,8 +24,8 @@ impl Window for LightWindow {
         TITLE
     }
 
-    fn menu(&self) -> super::Menu {
-        super::Menu::View
+    fn menu(&self) -> Option<super::Menu> {
+        Some(super::Menu::View)
     }
 
     fn is_open(&self) -> bool {

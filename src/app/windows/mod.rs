@@ -10,8 +10,15 @@
 //! `show(ctx, &mut open)`) and Rerun's panels (a view returns commands to
 //! the app rather than writing its state).
 
+pub mod browser;
+pub mod budget;
 pub mod help;
 pub mod light;
+pub mod maps;
+pub mod reference;
+pub mod still;
+pub mod turntable;
+pub mod units;
 
 use super::state;
 use std::path::{Path, PathBuf};
@@ -32,6 +39,35 @@ pub enum Action {
     LoadEnvironment(PathBuf),
     /// Opens the window of this title (a menu item).
     OpenWindow(&'static str),
+    /// A line for the status bar (and a notification when it is an
+    /// error or a warning).
+    Say(String),
+    /// The file dialog of this kind.
+    OpenDialog(super::DialogKind),
+    /// Save image at size's settings as its window left them.
+    SetStill(state::StillSettings),
+    /// Save turntable's settings as its window left them.
+    SetTurntable(state::TurntableSettings),
+    /// File → Browse presets: lists the presets (the artist's folders
+    /// too) and opens the browser.
+    BrowsePresets,
+    /// The artist's preset folders as the browser left them (it lists
+    /// them again).
+    SetPresetFolders(Vec<PathBuf>),
+    /// Opens this preset file (asking first about unsaved changes).
+    OpenPreset(PathBuf),
+    /// Starts a new look from this one (asking first about unsaved
+    /// changes).
+    NewLook(Box<crate::settings::Preset>),
+    /// A mesh's units and maps as a window left them (remembered for the
+    /// file; the mesh reloads with them).
+    SetMeshSettings(PathBuf, state::MeshSettings),
+    /// Opens the first preset as the look (asking first about unsaved
+    /// changes) and compares it side by side with the second as B.
+    ComparePair([PathBuf; 2]),
+    /// The reference image's eyedropper: a linear colour into a field of
+    /// the look, as an undoable edit.
+    PickColour([f64; 3], reference::PickInto),
 }
 
 /// What a window may read of the editor's state.
@@ -39,11 +75,43 @@ pub struct WindowView<'a> {
     pub view: &'a state::ViewState,
     /// The HDR map loaded last, if any.
     pub environment_file: Option<&'a Path>,
+    pub still: &'a state::StillSettings,
+    pub turntable: &'a state::TurntableSettings,
+    /// The artist's preset folders.
+    pub preset_folders: &'a [PathBuf],
+    /// The open look's file, if it has one.
+    pub doc_path: Option<&'a Path>,
+    /// The loaded mesh (none: the default head), its size once loaded,
+    /// and every mesh's remembered units and maps.
+    pub mesh: Option<&'a Path>,
+    pub mesh_info: Option<super::viewport::MeshInfo>,
+    pub meshes: &'a std::collections::BTreeMap<PathBuf, state::MeshSettings>,
+    /// Wakes the UI from a window's own thread.
+    pub waker: &'a super::wake::Waker,
+    /// Where the viewport was drawn last frame.
+    pub viewport_rect: Option<egui::Rect>,
+}
+
+impl WindowView<'_> {
+    /// A window's first place: inside the viewport's top left, `down`
+    /// below its top (clear of the Look panel), or near the top left
+    /// before the viewport was drawn.
+    pub fn pos_in_viewport(&self, down: f32) -> egui::Pos2 {
+        self.viewport_rect.map_or(egui::pos2(330.0, 96.0), |r| {
+            r.left_top() + egui::vec2(8.0, down)
+        })
+    }
 }
 
 /// The menu bar's menu a window is opened from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Menu {
+    /// The File menu's first items, with the presets.
+    FilePresets,
+    /// The File menu's images (after the viewport's PNG and the reference).
+    FileImages,
+    /// The view toolbar's Mesh menu (with a mesh loaded).
+    Mesh,
     View,
     Help,
 }
@@ -52,13 +120,26 @@ pub enum Menu {
 /// it), its menu item, its open flag and how it draws itself.
 pub trait Window {
     fn title(&self) -> &'static str;
-    /// The menu that opens it.
-    fn menu(&self) -> Menu;
+    /// The menu that opens it (none: opened another way).
+    fn menu(&self) -> Option<Menu>;
     /// Its item in that menu.
     fn menu_label(&self) -> String {
         format!("{}…", self.title())
     }
+    /// Its menu item's tooltip.
+    fn menu_tooltip(&self) -> &'static str {
+        ""
+    }
+    /// Whether its menu item is listed now.
+    fn in_menu(&self) -> bool {
+        true
+    }
     fn is_open(&self) -> bool;
+    /// What its menu item asks for, where opening needs more than the
+    /// open flag (none: the item opens it).
+    fn opens_with(&self) -> Option<Action> {
+        None
+    }
     fn set_open(&mut self, open: bool);
     /// Draws the window when it is open; what it wants changed.
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action>;
@@ -67,6 +148,13 @@ pub trait Window {
 /// Every window of this kind, listed once.
 #[derive(Default)]
 pub struct Windows {
+    pub browser: browser::BrowserWindow,
+    pub budget: budget::BudgetWindow,
+    pub still: still::StillWindow,
+    pub turntable: turntable::TurntableWindow,
+    pub units: units::UnitsWindow,
+    pub maps: maps::MapsWindow,
+    pub reference: reference::ReferenceWindow,
     pub light: light::LightWindow,
     pub shortcuts: help::ShortcutsWindow,
     pub about: help::AboutWindow,
@@ -74,12 +162,34 @@ pub struct Windows {
 
 impl Windows {
     /// Each window, in drawing order.
-    pub fn all_mut(&mut self) -> [&mut dyn Window; 3] {
-        [&mut self.light, &mut self.shortcuts, &mut self.about]
+    pub fn all_mut(&mut self) -> [&mut dyn Window; 10] {
+        [
+            &mut self.browser,
+            &mut self.budget,
+            &mut self.still,
+            &mut self.turntable,
+            &mut self.units,
+            &mut self.maps,
+            &mut self.reference,
+            &mut self.light,
+            &mut self.shortcuts,
+            &mut self.about,
+        ]
     }
 
-    pub fn all(&self) -> [&dyn Window; 3] {
-        [&self.light, &self.shortcuts, &self.about]
+    pub fn all(&self) -> [&dyn Window; 10] {
+        [
+            &self.browser,
+            &self.budget,
+            &self.still,
+            &self.turntable,
+            &self.units,
+            &self.maps,
+            &self.reference,
+            &self.light,
+            &self.shortcuts,
+            &self.about,
+        ]
     }
 
     /// The titles of the open windows.
@@ -92,13 +202,25 @@ impl Windows {
     }
 
     /// The items of `menu`: one a window, each opening it.
-    pub fn menu_items_ui(&mut self, ui: &mut egui::Ui, menu: Menu) {
+    pub fn menu_items_ui(&mut self, ui: &mut egui::Ui, menu: Menu) -> Vec<Action> {
+        let mut actions = Vec::new();
         for w in self.all_mut() {
-            if w.menu() == menu && ui.button(w.menu_label()).clicked() {
-                w.set_open(true);
+            if w.menu() != Some(menu) || !w.in_menu() {
+                continue;
+            }
+            let mut item = ui.button(w.menu_label());
+            if !w.menu_tooltip().is_empty() {
+                item = item.on_hover_text(w.menu_tooltip());
+            }
+            if item.clicked() {
+                match w.opens_with() {
+                    Some(a) => actions.push(a),
+                    None => w.set_open(true),
+                }
                 ui.close();
             }
         }
+        actions
     }
 
     /// Opens the window titled `title`; whether there is one.

@@ -3,7 +3,8 @@
 //! merge costs them, and Compare opens the profile as A beside its merge
 //! as B.
 
-use super::*;
+use super::{Action, Menu, Window, WindowView};
+use std::path::{Path, PathBuf};
 
 /// One profile of a merge.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,82 +97,113 @@ impl BudgetPairs {
     }
 }
 
-impl EditorApp {
-    /// Opens a budget report's merges in their window.
-    pub fn open_budget(&mut self, pairs: BudgetPairs) {
-        self.say(format!(
+/// `edit --budget DIR`: the report's merges, and whether their window is
+/// open.
+#[derive(Default)]
+pub struct BudgetWindow {
+    pairs: Option<BudgetPairs>,
+    open: bool,
+}
+
+impl BudgetWindow {
+    /// Opens `pairs` in the window; the line for the status bar.
+    pub fn load(&mut self, pairs: BudgetPairs) -> String {
+        let said = format!(
             "Budget {}: {} merges; 'A | B' opens a profile beside its merge",
             pairs.dir.display(),
             pairs.merges.len()
-        ));
-        self.dialogs.budget = Some(pairs);
-        self.dialogs.budget_open = true;
+        );
+        self.pairs = Some(pairs);
+        self.open = true;
+        said
+    }
+}
+
+/// One merge's profiles with what the merge costs each; the one whose
+/// "A | B" was clicked.
+fn merge_ui(ui: &mut egui::Ui, i: usize, m: &BudgetMerge) -> Option<BudgetMember> {
+    let mut chosen = None;
+    ui.strong(format!("{}. {}", i + 1, m.name));
+    egui::Grid::new(("budget", i)).striped(true).show(ui, |ui| {
+        ui.label("profile");
+        ui.label("mat.").on_hover_text("materials that use the profile");
+        ui.label("shape").on_hover_text("shape error: the worst channel's relative L2 error of r·R(r), energy-normalised; 1 = no scattering at all");
+        ui.label("tint ΔE").on_hover_text("CIE 1976 ΔE*ab of the transmission tint");
+        ui.label("ΔL*").on_hover_text("mean CIE lightness difference on the rendered head, old against merged (— where not rendered)");
+        ui.label("");
+        ui.end_row();
+        for mem in &m.members {
+            ui.label(&mem.name);
+            ui.label(mem.materials.to_string());
+            ui.label(format!("{:.4}", mem.shape_error));
+            ui.label(format!("{:.2}", mem.tint_delta_e));
+            ui.label(mem.delta_l_mean.map_or("—".into(), |d| format!("{d:.2}")));
+            if ui
+                .button("A | B")
+                .on_hover_text(format!("Compare: A {}, B the merge, side by side", mem.name))
+                .clicked()
+            {
+                chosen = Some(mem.clone());
+            }
+            ui.end_row();
+        }
+    });
+    ui.add_space(6.0);
+    chosen
+}
+
+impl Window for BudgetWindow {
+    fn title(&self) -> &'static str {
+        "Budget merges"
+    }
+    fn menu(&self) -> Option<Menu> {
+        Some(Menu::FilePresets)
+    }
+    fn menu_tooltip(&self) -> &'static str {
+        "The merges of the budget report opened with --budget: compare each profile with its merge"
+    }
+    /// Listed only with a report opened (`edit --budget DIR`).
+    fn in_menu(&self) -> bool {
+        self.pairs.is_some()
+    }
+    fn is_open(&self) -> bool {
+        self.open && self.pairs.is_some()
+    }
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
     }
 
-    /// Compares a profile (A, opened as the look) with its merge (B, side
-    /// by side).
-    pub fn compare_budget_pair(&mut self, member: &BudgetMember) {
-        self.guarded(Pending::Open(member.pair[0].clone()));
-        self.ui_state.compare_b = state::CompareB::Preset(member.pair[1].clone());
-        self.ui_state.compare = state::CompareMode::SideBySide;
-    }
-
-    /// The "Budget merges" window.
-    pub(super) fn budget_window_ui(&mut self, ctx: &egui::Context) {
-        let Some(pairs) = self.dialogs.budget.clone() else {
-            return;
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        let Some(pairs) = self.pairs.as_ref().filter(|_| self.open) else {
+            return Vec::new();
         };
-        let mut open = self.dialogs.budget_open;
         let mut chosen = None;
         // Inside the viewport, clear of both panels (at 1280×720 the
         // viewport is under 500 points wide).
-        let (pos, width) = match self.layout.viewport_rect {
+        let (pos, width) = match view.viewport_rect {
             Some(r) => (
                 r.left_top() + egui::vec2(8.0, 8.0),
                 (r.width() - 16.0).clamp(280.0, 460.0),
             ),
             None => (egui::pos2(330.0, 96.0), 460.0),
         };
-        egui::Window::new("Budget merges")
-            .open(&mut open)
+        egui::Window::new(self.title())
+            .open(&mut self.open)
             .default_width(width)
             .default_pos(pos)
             .show(ctx, |ui| {
                 ui.label(pairs.dir.display().to_string());
-                egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
-                    for (i, m) in pairs.merges.iter().enumerate() {
-                        ui.strong(format!("{}. {}", i + 1, m.name));
-                        egui::Grid::new(("budget", i)).striped(true).show(ui, |ui| {
-                            ui.label("profile");
-                            ui.label("mat.").on_hover_text("materials that use the profile");
-                            ui.label("shape").on_hover_text("shape error: the worst channel's relative L2 error of r·R(r), energy-normalised; 1 = no scattering at all");
-                            ui.label("tint ΔE").on_hover_text("CIE 1976 ΔE*ab of the transmission tint");
-                            ui.label("ΔL*").on_hover_text("mean CIE lightness difference on the rendered head, old against merged (— where not rendered)");
-                            ui.label("");
-                            ui.end_row();
-                            for mem in &m.members {
-                                ui.label(&mem.name);
-                                ui.label(mem.materials.to_string());
-                                ui.label(format!("{:.4}", mem.shape_error));
-                                ui.label(format!("{:.2}", mem.tint_delta_e));
-                                ui.label(mem.delta_l_mean.map_or("—".into(), |d| format!("{d:.2}")));
-                                if ui
-                                    .button("A | B")
-                                    .on_hover_text(format!("Compare: A {}, B the merge, side by side", mem.name))
-                                    .clicked()
-                                {
-                                    chosen = Some(mem.clone());
-                                }
-                                ui.end_row();
-                            }
-                        });
-                        ui.add_space(6.0);
-                    }
-                });
+                egui::ScrollArea::vertical()
+                    .max_height(420.0)
+                    .show(ui, |ui| {
+                        for (i, m) in pairs.merges.iter().enumerate() {
+                            chosen = merge_ui(ui, i, m).or(chosen.take());
+                        }
+                    });
             });
-        self.dialogs.budget_open = open;
-        if let Some(mem) = chosen {
-            self.compare_budget_pair(&mem);
-        }
+        chosen
+            .map(|m| Action::ComparePair(m.pair))
+            .into_iter()
+            .collect()
     }
 }

@@ -11,9 +11,11 @@
 //! fixed studio light); an HDR environment stays put. Nothing is written
 //! until every frame is in: a cancelled turntable leaves no files.
 
-pub use super::state::TurntableSettings;
-use super::viewport::{Request, Viewport};
-use super::*;
+use super::{Action, Menu, Window, WindowView};
+pub use crate::app::state::TurntableSettings;
+use crate::app::viewport::{Request, Viewport};
+use crate::app::DialogKind;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
 use std::sync::Arc;
@@ -40,42 +42,6 @@ pub fn planned_paths(gif: &Path, settings: &TurntableSettings) -> Vec<PathBuf> {
 /// first frame).
 pub fn apng_path(gif: &Path) -> PathBuf {
     gif.with_extension("png")
-}
-
-/// The frames as an APNG looping forever, each shown `delay_ms`: RGBA 8
-/// bits, every frame whole (no blending or offsets), so each decodes to
-/// exactly the frame given (APNG 1.0 specification, Mozilla: acTL with
-/// num_plays 0, an fcTL per frame, the first in IDAT).
-pub fn encode_apng(frames: &[image::RgbaImage], delay_ms: u32) -> Result<Vec<u8>, String> {
-    let first = frames.first().ok_or("no frames")?;
-    let (w, h) = first.dimensions();
-    let mut bytes = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut bytes, w, h);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        enc.set_animated(frames.len() as u32, 0)
-            .map_err(|e| e.to_string())?;
-        let delay = delay_ms.clamp(1, u16::MAX as u32) as u16;
-        enc.set_frame_delay(delay, 1000)
-            .map_err(|e| e.to_string())?;
-        let mut writer = enc.write_header().map_err(|e| e.to_string())?;
-        for f in frames {
-            if f.dimensions() != (w, h) {
-                return Err(format!(
-                    "frame of {}×{} in a {w}×{h} animation",
-                    f.width(),
-                    f.height()
-                ));
-            }
-            writer
-                .write_image_data(f.as_raw())
-                .map_err(|e| e.to_string())?;
-        }
-        writer.finish().map_err(|e| e.to_string())?;
-    }
-    Ok(bytes)
 }
 
 /// `<folder>/<stem>_frames` and the stem, for the PNG sequence.
@@ -237,7 +203,8 @@ fn write(
     let mut written = Vec::new();
     if settings.apng {
         let path = apng_path(gif);
-        let apng = encode_apng(frames, delay_ms).map_err(|e| at(&path, &e))?;
+        let apng =
+            crate::export::frames::encode_apng(frames, delay_ms).map_err(|e| at(&path, &e))?;
         crate::fsutil::write_atomic(&path, &apng).map_err(|e| at(&path, &e))?;
         written.push(path);
     }
@@ -261,123 +228,150 @@ fn write(
     Ok(written)
 }
 
-impl EditorApp {
-    /// File → Save turntable…: its settings, Save…, then the progress
-    /// with Cancel.
-    pub(super) fn turntable_window_ui(&mut self, ctx: &egui::Context) {
-        if let Some(job) = self.jobs.turntable.as_mut() {
-            if let Some(r) = job.poll() {
-                let out = job.out.clone();
-                self.jobs.turntable = None;
-                self.say(match r {
-                    Ok(files) => {
-                        let apng = files.contains(&apng_path(&out));
-                        let pngs = files.len() - 1 - apng as usize;
-                        format!(
-                            "Saved turntable {} ({} frames{}{})",
-                            out.display(),
-                            self.ui_state.turntable.frames,
-                            if apng { ", an APNG" } else { "" },
-                            if pngs > 0 {
-                                format!(", and {pngs} PNGs")
-                            } else {
-                                String::new()
-                            }
-                        )
+/// File → Save turntable: its open flag and the turntable rendering.
+#[derive(Default)]
+pub struct TurntableWindow {
+    open: bool,
+    job: Option<TurntableJob>,
+}
+
+impl TurntableWindow {
+    /// Frames done and in all of the turntable rendering.
+    pub fn progress(&self) -> Option<(u32, u32)> {
+        self.job.as_ref().map(|j| (j.done, j.total))
+    }
+
+    /// Starts a turntable to `gif` from `base` (the viewport's request).
+    pub fn start(
+        &mut self,
+        base: Request,
+        settings: TurntableSettings,
+        gif: PathBuf,
+        wake: impl Fn() + Send + 'static,
+    ) {
+        self.job = Some(TurntableJob::start(base, settings, gif, wake));
+        self.open = true;
+    }
+
+    /// A finished turntable's line for the status bar, if one finished.
+    fn finished(&mut self, ctx: &egui::Context) -> Option<String> {
+        let job = self.job.as_mut()?;
+        let Some(r) = job.poll() else {
+            ctx.request_repaint_after(Duration::from_millis(200));
+            return None;
+        };
+        let (out, frames) = (job.out.clone(), job.total);
+        self.job = None;
+        Some(match r {
+            Ok(files) => {
+                let apng = files.contains(&apng_path(&out));
+                let pngs = files.len() - 1 - apng as usize;
+                format!(
+                    "Saved turntable {} ({frames} frames{}{})",
+                    out.display(),
+                    if apng { ", an APNG" } else { "" },
+                    if pngs > 0 {
+                        format!(", and {pngs} PNGs")
+                    } else {
+                        String::new()
                     }
-                    Err(e) if e == CANCELLED => format!("Turntable {CANCELLED}"),
-                    Err(e) => format!("Error: turntable {}: {e}", out.display()),
-                });
-            } else {
-                ctx.request_repaint_after(Duration::from_millis(200));
+                )
             }
+            Err(e) if e == CANCELLED => format!("Turntable {CANCELLED}"),
+            Err(e) => format!("Error: turntable {}: {e}", out.display()),
+        })
+    }
+}
+
+/// Frames, one turn's time, the light and the extra files.
+fn settings_ui(ui: &mut egui::Ui, s: &mut TurntableSettings) {
+    egui::Grid::new("turntable_settings")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("Frames");
+            ui.add(
+                egui::DragValue::new(&mut s.frames)
+                    .range(FRAME_RANGE)
+                    .suffix(" frames"),
+            )
+            .on_hover_text(
+                "Frames in one turn (360° / frames apart). Each is rendered until it converges.",
+            );
+            ui.end_row();
+            ui.label("One turn");
+            ui.add(
+                egui::DragValue::new(&mut s.seconds)
+                    .range(0.5..=60.0)
+                    .speed(0.1)
+                    .suffix(" s"),
+            )
+            .on_hover_text("How long the GIF takes for one turn.");
+            ui.end_row();
+        });
+    ui.checkbox(&mut s.light_follows, "Key light turns with the camera")
+        .on_hover_text("On: the head spins under a fixed studio light. Off: the camera walks round a head lit from one side. An HDR environment never turns.");
+    ui.checkbox(&mut s.apng, "Also an animated PNG")
+        .on_hover_text("<name>.png beside the GIF: an APNG in full colour (the GIF has 256 colours a frame). Browsers, Discord and most viewers play it; others show its first frame.");
+    ui.checkbox(&mut s.png_sequence, "Also a PNG per frame")
+        .on_hover_text("Written to <name>_frames/ beside the GIF.");
+}
+
+impl Window for TurntableWindow {
+    fn title(&self) -> &'static str {
+        "Save turntable"
+    }
+    fn menu(&self) -> Option<Menu> {
+        Some(Menu::FileImages)
+    }
+    fn menu_tooltip(&self) -> &'static str {
+        "N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel"
+    }
+    fn is_open(&self) -> bool {
+        self.open || self.job.is_some()
+    }
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
+        if let (false, Some(job)) = (open, &self.job) {
+            job.cancel();
         }
-        if !self.dialogs.turntable_open && self.jobs.turntable.is_none() {
-            return;
+    }
+
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        let mut actions: Vec<Action> = self.finished(ctx).into_iter().map(Action::Say).collect();
+        if !self.is_open() {
+            return actions;
         }
         let mut open = true;
-        let mut save = false;
-        let mut cancel = false;
-        let running = self.jobs.turntable.is_some();
-        let at = self.window_pos_in_viewport(40.0);
-        egui::Window::new("Save turntable")
+        let mut settings = *view.turntable;
+        egui::Window::new(self.title())
             .collapsible(false)
             .resizable(false)
-            .default_pos(at)
+            .default_pos(view.pos_in_viewport(40.0))
             .open(&mut open)
             .show(ctx, |ui| {
-                let s = &mut self.ui_state.turntable;
-                ui.add_enabled_ui(!running, |ui| {
-                    egui::Grid::new("turntable_settings").num_columns(2).show(ui, |ui| {
-                        ui.label("Frames");
-                        ui.add(egui::DragValue::new(&mut s.frames).range(FRAME_RANGE).suffix(" frames"))
-                            .on_hover_text("Frames in one turn (360° / frames apart). Each is rendered until it converges.");
-                        ui.end_row();
-                        ui.label("One turn");
-                        ui.add(egui::DragValue::new(&mut s.seconds).range(0.5..=60.0).speed(0.1).suffix(" s"))
-                            .on_hover_text("How long the GIF takes for one turn.");
-                        ui.end_row();
-                    });
-                    ui.checkbox(&mut s.light_follows, "Key light turns with the camera")
-                        .on_hover_text("On: the head spins under a fixed studio light. Off: the camera walks round a head lit from one side. An HDR environment never turns.");
-                    ui.checkbox(&mut s.apng, "Also an animated PNG")
-                        .on_hover_text("<name>.png beside the GIF: an APNG in full colour (the GIF has 256 colours a frame). Browsers, Discord and most viewers play it; others show its first frame.");
-                    ui.checkbox(&mut s.png_sequence, "Also a PNG per frame")
-                        .on_hover_text("Written to <name>_frames/ beside the GIF.");
-                });
+                ui.add_enabled_ui(self.job.is_none(), |ui| settings_ui(ui, &mut settings));
                 ui.label("At the viewport's size and view, as the viewport shows it (a comparison too): the method's converged frames.");
-                match self.jobs.turntable.as_ref() {
+                match self.job.as_ref() {
                     Some(job) => {
                         let f = if job.writing { 1.0 } else { job.done as f32 / job.total.max(1) as f32 };
                         ui.add(egui::ProgressBar::new(f).text(job.text()).desired_width(360.0));
                         if ui.button("Cancel turntable").clicked() {
-                            cancel = true;
+                            job.cancel();
                         }
                     }
                     None => {
                         if ui.button("Save turntable as GIF…").clicked() {
-                            save = true;
+                            actions.push(Action::OpenDialog(DialogKind::SaveTurntable));
                         }
                     }
                 }
             });
-        if cancel {
-            if let Some(job) = &self.jobs.turntable {
-                job.cancel();
-            }
-        }
-        if save {
-            self.open_dialog(DialogKind::SaveTurntable);
+        if settings != *view.turntable {
+            actions.push(Action::SetTurntable(settings));
         }
         if !open {
-            self.dialogs.turntable_open = false;
-            if let Some(job) = &self.jobs.turntable {
-                job.cancel();
-            }
+            self.set_open(false);
         }
-    }
-
-    /// Frames done and in all of the turntable rendering (UI tests).
-    pub fn turntable_progress(&self) -> Option<(u32, u32)> {
-        self.jobs.turntable.as_ref().map(|j| (j.done, j.total))
-    }
-
-    /// Starts a turntable to `gif` from the viewport's current request
-    /// (the window polls it while it runs).
-    pub(super) fn start_turntable(&mut self, gif: PathBuf) {
-        let Some(base) = self.viewport_request() else {
-            self.say(format!(
-                "Error: {}: no viewport to turn (wait for the head to appear)",
-                gif.display()
-            ));
-            return;
-        };
-        self.jobs.turntable = Some(TurntableJob::start(
-            base,
-            self.ui_state.turntable,
-            gif,
-            self.waker.as_fn(),
-        ));
-        self.dialogs.turntable_open = true;
+        actions
     }
 }

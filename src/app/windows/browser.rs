@@ -5,8 +5,11 @@
 //! new look from it; on one of the artist's, opens that file; either asks
 //! first if the open look has unsaved changes.
 
-use super::viewport::{Look, Request, Viewport};
-use super::*;
+use super::{Action, Menu, Window, WindowView};
+use crate::app::state;
+use crate::app::viewport::{Look, Request, Viewport};
+use crate::settings::{library, Preset};
+use std::path::{Path, PathBuf};
 use std::sync::mpsc::Receiver;
 use std::time::Duration;
 
@@ -68,8 +71,8 @@ fn thumbnail_request(preset: &Preset) -> Request {
     // A look whose albedo is the material's (HDRP's) is drawn with the
     // default skin's, as the editor draws it as B by default; white
     // otherwise.
-    let skin = super::albedo::look_albedo(&Preset::default_skin());
-    let (preset, _, _) = super::albedo::b_as_drawn(
+    let skin = crate::settings::albedo::look_albedo(&Preset::default_skin());
+    let (preset, _, _) = crate::settings::albedo::b_as_drawn(
         preset.clone(),
         skin,
         state::MaterialAlbedo::LookA,
@@ -245,112 +248,156 @@ impl PresetBrowser {
     }
 }
 
-impl EditorApp {
-    /// The thumbnails' cache folder: beside the editor's remembered state.
-    pub(super) fn default_thumbnail_dir() -> Option<PathBuf> {
-        eframe::storage_dir("scatterlab").map(|d| d.join("thumbnails"))
-    }
+/// File → Browse presets: the browser while it is open, and where its
+/// thumbnails are cached.
+pub struct BrowserWindow {
+    browser: Option<PresetBrowser>,
+    /// The thumbnails' cache folder (beside the editor's remembered
+    /// state; UI tests set their own).
+    pub thumbnail_dir: Option<PathBuf>,
+}
 
-    /// Test hook: keep thumbnails in `dir` instead.
-    pub fn set_thumbnail_dir(&mut self, dir: PathBuf) {
-        self.dialogs.thumbnail_dir = Some(dir);
-    }
-
-    /// The open preset browser (UI tests).
-    pub fn preset_browser(&self) -> Option<&PresetBrowser> {
-        self.dialogs.browser.as_ref()
-    }
-
-    /// The preset browser window, while open.
-    pub(super) fn browser_window_ui(&mut self, ctx: &egui::Context) {
-        let Some(mut browser) = self.dialogs.browser.take() else {
-            return;
-        };
-        browser.poll();
-        let (done, all) = browser.progress();
-        if done < all && browser.error.is_none() {
-            ctx.request_repaint_after(Duration::from_millis(100));
+impl Default for BrowserWindow {
+    fn default() -> Self {
+        Self {
+            browser: None,
+            thumbnail_dir: eframe::storage_dir("scatterlab").map(|d| d.join("thumbnails")),
         }
-        let mut open = true;
+    }
+}
+
+impl BrowserWindow {
+    /// Opens the browser (again) on the shipped presets and `folders`.
+    pub fn open(&mut self, folders: &[PathBuf], wake: impl Fn() + Send + 'static) {
+        self.browser = Some(PresetBrowser::open(
+            self.thumbnail_dir.clone(),
+            folders,
+            wake,
+        ));
+    }
+
+    /// Lists again with `folders` when it is open.
+    pub fn relist(&mut self, folders: &[PathBuf], wake: impl Fn() + Send + 'static) {
+        if self.browser.is_some() {
+            self.open(folders, wake);
+        }
+    }
+
+    /// The open browser (UI tests).
+    pub fn browser(&self) -> Option<&PresetBrowser> {
+        self.browser.as_ref()
+    }
+}
+
+impl PresetBrowser {
+    /// The progress bar or the error of the thumbnails.
+    fn progress_ui(&self, ui: &mut egui::Ui) {
+        let (done, all) = self.progress();
+        if let Some(e) = &self.error {
+            ui.colored_label(
+                egui::Color32::from_rgb(240, 120, 90),
+                format!("No thumbnail: {e}"),
+            );
+        } else if done < all {
+            ui.add(
+                egui::ProgressBar::new(done as f32 / all.max(1) as f32).text(format!(
+                    "rendering thumbnails: {done} of {all} (cached for next time)"
+                )),
+            );
+        }
+    }
+
+    /// The artist's folders: each can be removed, the look's own folder
+    /// and a typed one added. The folders as they should be, when changed.
+    fn folders_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        folders: &[PathBuf],
+        doc_path: Option<&Path>,
+    ) -> Option<Vec<PathBuf>> {
+        let mut changed = None;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Your folders:");
+            for (i, f) in folders.iter().enumerate() {
+                if ui
+                    .button(format!("{} ×", f.display()))
+                    .on_hover_text("Stop listing this folder (its files stay).")
+                    .clicked()
+                {
+                    let mut left = folders.to_vec();
+                    left.remove(i);
+                    changed = Some(left);
+                }
+            }
+            let here = doc_path
+                .and_then(Path::parent)
+                .filter(|d| !crate::app::files::is_shipped_presets(d))
+                .map(Path::to_path_buf);
+            if let Some(dir) = here.filter(|d| !folders.contains(d)) {
+                if ui
+                    .button("+ this look's folder")
+                    .on_hover_text(format!("List the presets in {} here too.", dir.display()))
+                    .clicked()
+                {
+                    changed = Some([folders, &[dir]].concat());
+                }
+            }
+            if let Some(dir) = self.typed_folder_ui(ui) {
+                if !folders.contains(&dir) {
+                    changed = Some([folders, &[dir]].concat());
+                }
+            }
+        });
+        for s in &self.skipped {
+            ui.colored_label(ui.visuals().warn_fg_color, format!("Not listed: {s}"));
+        }
+        changed
+    }
+
+    /// A folder typed into the field and added (Enter or "+ add"), once it
+    /// is one.
+    fn typed_folder_ui(&mut self, ui: &mut egui::Ui) -> Option<PathBuf> {
+        let typed_id = egui::Id::unique("scatterlab_preset_folder_typed");
+        let mut typed: String = ui.data(|d| d.get_temp(typed_id).unwrap_or_default());
+        let field = ui.add(
+            egui::TextEdit::singleline(&mut typed)
+                .hint_text("a folder of .ron presets")
+                .desired_width(180.0),
+        );
+        let add = ui
+            .button("+ add")
+            .on_hover_text("List the presets in the folder typed here.")
+            .clicked()
+            || (field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
+        let mut added = None;
+        if add && !typed.trim().is_empty() {
+            let dir = PathBuf::from(typed.trim());
+            if dir.is_dir() {
+                added = Some(dir);
+                typed.clear();
+            } else {
+                self.skipped
+                    .insert(0, format!("{}: not a folder", dir.display()));
+            }
+        }
+        ui.data_mut(|d| d.insert_temp(typed_id, typed));
+        added
+    }
+
+    /// The thumbnails, by group; the one clicked (its look, and its file
+    /// when it is one of the artist's).
+    fn thumbnails_ui(&mut self, ui: &mut egui::Ui) -> Option<(Preset, Option<PathBuf>)> {
         let mut chosen = None;
-        let mut folders_changed = false;
-        egui::Window::new("Presets")
-            .collapsible(false)
-            .resizable(true)
-            .default_width(5.0 * (THUMB.0 as f32 + 16.0))
-            .default_height(ctx.content_rect().height() * 0.75)
-            .open(&mut open)
-            .show(ctx, |ui| {
-                if let Some(e) = &browser.error {
-                    ui.colored_label(egui::Color32::from_rgb(240, 120, 90), format!("No thumbnail: {e}"));
-                } else if done < all {
-                    ui.add(
-                        egui::ProgressBar::new(done as f32 / all.max(1) as f32)
-                            .text(format!("rendering thumbnails: {done} of {all} (cached for next time)")),
-                    );
-                }
-                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
-                ui.horizontal_wrapped(|ui| {
-                    ui.label("Your folders:");
-                    let mut remove = None;
-                    for (i, f) in self.ui_state.preset_folders.iter().enumerate() {
-                        if ui
-                            .button(format!("{} ×", f.display()))
-                            .on_hover_text("Stop listing this folder (its files stay).")
-                            .clicked()
-                        {
-                            remove = Some(i);
-                        }
-                    }
-                    if let Some(i) = remove {
-                        self.ui_state.preset_folders.remove(i);
-                        folders_changed = true;
-                    }
-                    let here = self
-                        .doc
-                        .path
-                        .as_deref()
-                        .and_then(Path::parent)
-                        .filter(|d| !super::files::is_shipped_presets(d))
-                        .map(Path::to_path_buf);
-                    if let Some(dir) = here.filter(|d| !self.ui_state.preset_folders.contains(d)) {
-                        if ui
-                            .button("+ this look's folder")
-                            .on_hover_text(format!("List the presets in {} here too.", dir.display()))
-                            .clicked()
-                        {
-                            self.ui_state.preset_folders.push(dir);
-                            folders_changed = true;
-                        }
-                    }
-                    let typed_id = egui::Id::unique("scatterlab_preset_folder_typed");
-                    let mut typed: String = ui.data(|d| d.get_temp(typed_id).unwrap_or_default());
-                    let field = ui.add(egui::TextEdit::singleline(&mut typed).hint_text("a folder of .ron presets").desired_width(180.0));
-                    let add = ui.button("+ add").on_hover_text("List the presets in the folder typed here.").clicked()
-                        || (field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
-                    if add && !typed.trim().is_empty() {
-                        let dir = PathBuf::from(typed.trim());
-                        if dir.is_dir() {
-                            if !self.ui_state.preset_folders.contains(&dir) {
-                                self.ui_state.preset_folders.push(dir);
-                                folders_changed = true;
-                            }
-                            typed.clear();
-                        } else {
-                            browser.skipped.insert(0, format!("{}: not a folder", dir.display()));
-                        }
-                    }
-                    ui.data_mut(|d| d.insert_temp(typed_id, typed));
-                });
-                for s in &browser.skipped {
-                    ui.colored_label(ui.visuals().warn_fg_color, format!("Not listed: {s}"));
-                }
-                egui::ScrollArea::vertical().auto_shrink(false).show(ui, |ui| {
-                    let per_row = ((ui.available_width() / (THUMB.0 as f32 + 16.0)) as usize).max(1);
-                    egui::Grid::new("preset_thumbnails").spacing([8.0, 8.0]).show(ui, |ui| {
+        egui::ScrollArea::vertical()
+            .auto_shrink(false)
+            .show(ui, |ui| {
+                let per_row = ((ui.available_width() / (THUMB.0 as f32 + 16.0)) as usize).max(1);
+                egui::Grid::new("preset_thumbnails")
+                    .spacing([8.0, 8.0])
+                    .show(ui, |ui| {
                         let mut group = String::new();
                         let mut in_row = 0;
-                        for (k, e) in browser.entries.iter_mut().enumerate() {
+                        for (k, e) in self.entries.iter_mut().enumerate() {
                             if e.group != group {
                                 if in_row > 0 {
                                     ui.end_row();
@@ -363,7 +410,11 @@ impl EditorApp {
                             let size = egui::vec2(THUMB.0 as f32, THUMB.1 as f32);
                             ui.vertical(|ui| {
                                 ui.set_width(size.x);
-                                let tip = format!("{}\n{}", e.preset.source, e.preset.rendering.method.id());
+                                let tip = format!(
+                                    "{}\n{}",
+                                    e.preset.source,
+                                    e.preset.rendering.method.id()
+                                );
                                 let clicked = match &e.image {
                                     Some(img) => {
                                         let tex = e.texture.get_or_insert_with(|| {
@@ -376,19 +427,33 @@ impl EditorApp {
                                                 egui::TextureOptions::LINEAR,
                                             )
                                         });
-                                        ui.add(egui::Button::image(egui::Image::new((tex.id(), size))))
-                                            .on_hover_text(&tip)
-                                            .clicked()
+                                        ui.add(egui::Button::image(egui::Image::new((
+                                            tex.id(),
+                                            size,
+                                        ))))
+                                        .on_hover_text(&tip)
+                                        .clicked()
                                     }
                                     None => {
-                                        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-                                        ui.painter().rect_filled(rect, 4.0, ui.visuals().faint_bg_color);
+                                        let (rect, _) =
+                                            ui.allocate_exact_size(size, egui::Sense::hover());
+                                        ui.painter().rect_filled(
+                                            rect,
+                                            4.0,
+                                            ui.visuals().faint_bg_color,
+                                        );
                                         ui.put(rect, egui::Spinner::new());
                                         false
                                     }
                                 };
                                 let name_clicked = ui
-                                    .add(egui::Button::new(egui::RichText::new(&e.preset.name).small()).frame(false).wrap())
+                                    .add(
+                                        egui::Button::new(
+                                            egui::RichText::new(&e.preset.name).small(),
+                                        )
+                                        .frame(false)
+                                        .wrap(),
+                                    )
                                     .on_hover_text(&tip)
                                     .clicked();
                                 if clicked || name_clicked {
@@ -401,29 +466,74 @@ impl EditorApp {
                             }
                         }
                     });
-                });
             });
-        match chosen {
-            Some((_, Some(path))) => {
-                self.guarded(Pending::Open(path));
-                open = false;
-            }
-            Some((p, None)) => {
-                self.guarded(Pending::New(Box::new(p)));
-                open = false;
-            }
-            None => {}
+        chosen
+    }
+}
+
+impl Window for BrowserWindow {
+    fn title(&self) -> &'static str {
+        "Presets"
+    }
+    fn menu(&self) -> Option<Menu> {
+        Some(Menu::FilePresets)
+    }
+    fn menu_label(&self) -> String {
+        "Browse presets…".into()
+    }
+    fn menu_tooltip(&self) -> &'static str {
+        "Every shipped preset, and those in your own folders, as a thumbnail of the head, rendered here and cached; click one to start from it"
+    }
+    fn is_open(&self) -> bool {
+        self.browser.is_some()
+    }
+    /// Opening lists the presets: the menu item asks for it with
+    /// [`Action::BrowsePresets`], which knows the folders.
+    fn set_open(&mut self, open: bool) {
+        if !open {
+            self.browser = None;
         }
-        if open && folders_changed {
-            // List again with the folders as they are now (cached
-            // thumbnails come back at once).
-            self.dialogs.browser = Some(PresetBrowser::open(
-                self.dialogs.thumbnail_dir.clone(),
-                &self.ui_state.preset_folders,
-                self.waker.as_fn(),
-            ));
-        } else if open {
-            self.dialogs.browser = Some(browser);
+    }
+    fn opens_with(&self) -> Option<Action> {
+        Some(Action::BrowsePresets)
+    }
+
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        let Some(browser) = self.browser.as_mut() else {
+            return Vec::new();
+        };
+        browser.poll();
+        let (done, all) = browser.progress();
+        if done < all && browser.error.is_none() {
+            ctx.request_repaint_after(Duration::from_millis(100));
         }
+        let mut open = true;
+        let mut actions = Vec::new();
+        egui::Window::new("Presets")
+            .collapsible(false)
+            .resizable(true)
+            .default_width(5.0 * (THUMB.0 as f32 + 16.0))
+            .default_height(ctx.content_rect().height() * 0.75)
+            .open(&mut open)
+            .show(ctx, |ui| {
+                browser.progress_ui(ui);
+                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
+                if let Some(f) = browser.folders_ui(ui, view.preset_folders, view.doc_path) {
+                    actions.push(Action::SetPresetFolders(f));
+                }
+                match browser.thumbnails_ui(ui) {
+                    Some((_, Some(path))) => actions.push(Action::OpenPreset(path)),
+                    Some((p, None)) => actions.push(Action::NewLook(Box::new(p))),
+                    None => {}
+                }
+            });
+        if !open
+            || actions
+                .iter()
+                .any(|a| matches!(a, Action::OpenPreset(_) | Action::NewLook(_)))
+        {
+            self.browser = None;
+        }
+        actions
     }
 }

@@ -1,0 +1,277 @@
+//! File → Save image at size…: the viewport's view (look, comparison,
+//! mesh, light) rendered offscreen at a chosen size up to 4096 a side,
+//! supersampled, until it converges, on a thread of its own with progress
+//! and Cancel; written as a PNG to a temporary path and renamed.
+//!
+//! Supersampling renders k times the size a side and averages each k×k
+//! block (a box filter: every rendered pixel weighs the same, so a flat
+//! colour stays exactly that colour).
+
+use super::{Action, Menu, Window, WindowView};
+pub use crate::app::state::StillSettings;
+use crate::app::viewport::{Request, Viewport};
+use crate::app::DialogKind;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Receiver;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// The largest saved side, and the largest side rendered (supersampled).
+pub const MAX_SIDE: u32 = 4096;
+pub const MAX_RENDER_SIDE: u32 = 8192;
+
+/// The supersampling factors `settings` allows: k with size·k within
+/// [`MAX_RENDER_SIDE`].
+pub fn factors(settings: &StillSettings) -> Vec<u32> {
+    [1, 2, 3, 4]
+        .into_iter()
+        .filter(|k| settings.width.max(settings.height) * k <= MAX_RENDER_SIDE)
+        .collect()
+}
+
+/// A still being rendered.
+pub struct StillJob {
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<Result<(u32, u32), String>>,
+    pub out: PathBuf,
+    settings: StillSettings,
+    started: Instant,
+}
+
+const CANCELLED: &str = "cancelled: nothing written";
+
+impl StillJob {
+    /// Starts rendering `base` at `settings`' size into `out`.
+    pub fn start(
+        base: Request,
+        settings: StillSettings,
+        out: PathBuf,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (theirs, path) = (cancel.clone(), out.clone());
+        std::thread::spawn(move || {
+            let r = render_still(base, settings, &theirs, &path);
+            let _ = tx.send(r);
+            wake();
+        });
+        Self {
+            cancel,
+            rx,
+            out,
+            settings,
+            started: Instant::now(),
+        }
+    }
+}
+
+/// Renders and writes the still; its size.
+fn render_still(
+    base: Request,
+    s: StillSettings,
+    cancel: &AtomicBool,
+    out: &Path,
+) -> Result<(u32, u32), String> {
+    let k = s.supersample.max(1);
+    let mut req = base;
+    req.interactive = false;
+    req.size = (s.width * k, s.height * k);
+    let mut viewport = Viewport::start(|| {});
+    let image = viewport
+        .render_converged(req, &|| cancel.load(Ordering::Relaxed))?
+        .ok_or_else(|| CANCELLED.to_string())?;
+    let still = crate::export::frames::box_downsample(&image, k);
+    let mut png = Vec::new();
+    still
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(|e| e.to_string())?;
+    crate::fsutil::write_atomic(out, &png).map_err(|e| e.to_string())?;
+    Ok(still.dimensions())
+}
+
+/// File → Save image at size: its open flag and the still rendering.
+#[derive(Default)]
+pub struct StillWindow {
+    open: bool,
+    job: Option<StillJob>,
+}
+
+impl StillWindow {
+    /// Whether a still is rendering.
+    pub fn running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Starts the still to `out` from `base` (the viewport's request).
+    pub fn start(
+        &mut self,
+        base: Request,
+        settings: StillSettings,
+        out: PathBuf,
+        wake: impl Fn() + Send + 'static,
+    ) {
+        self.job = Some(StillJob::start(base, settings, out, wake));
+        self.open = true;
+    }
+
+    /// A finished still's line for the status bar, if one finished.
+    fn poll(&mut self, ctx: &egui::Context) -> Option<String> {
+        let job = self.job.as_ref()?;
+        let Ok(r) = job.rx.try_recv() else {
+            ctx.request_repaint_after(Duration::from_millis(200));
+            return None;
+        };
+        let (out, secs, k) = (
+            job.out.clone(),
+            job.started.elapsed().as_secs_f64(),
+            job.settings.supersample,
+        );
+        self.job = None;
+        Some(match r {
+            Ok((w, h)) => format!(
+                "Saved image {} ({w}×{h}, {k}× supersampled, converged, {secs:.1} s)",
+                out.display()
+            ),
+            Err(e) if e == CANCELLED => format!("Image {CANCELLED}"),
+            Err(e) => format!("Error: {}: {e}", out.display()),
+        })
+    }
+
+    fn cancel(&self) {
+        if let Some(job) = &self.job {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The size, its presets and the supersampling (while no still renders).
+fn settings_ui(ui: &mut egui::Ui, s: &mut StillSettings) {
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut s.width)
+                .range(16..=MAX_SIDE)
+                .suffix(" px"),
+        )
+        .on_hover_text("Width of the saved image (16–4096 px).");
+        ui.label("×");
+        ui.add(
+            egui::DragValue::new(&mut s.height)
+                .range(16..=MAX_SIDE)
+                .suffix(" px"),
+        )
+        .on_hover_text("Height of the saved image (16–4096 px).");
+    });
+    ui.horizontal(|ui| {
+        for (w, h) in [(1920, 1080), (2048, 2048), (3840, 2160), (4096, 4096)] {
+            if ui.button(format!("{w}×{h}")).clicked() {
+                (s.width, s.height) = (w, h);
+            }
+        }
+    });
+    let allowed = factors(s);
+    if !allowed.contains(&s.supersample) {
+        s.supersample = allowed.last().copied().unwrap_or(1);
+    }
+    ui.horizontal(|ui| {
+        ui.label("Supersampling");
+        for k in [1, 2, 3, 4] {
+            ui.add_enabled_ui(allowed.contains(&k), |ui| {
+                ui.radio_value(&mut s.supersample, k, format!("{k}×"))
+                    .on_hover_text(format!("Render {k}×{k} pixels for each saved pixel and average them (a box filter)."))
+                    .on_disabled_hover_text(format!("At most {MAX_RENDER_SIDE} px a side are rendered."));
+            });
+        }
+    });
+    ui.label(format!(
+        "Renders {}×{} offscreen, whatever the window's size: the viewport's look, comparison, mesh, light and camera (the framing follows the aspect).",
+        s.width * s.supersample,
+        s.height * s.supersample
+    ));
+}
+
+impl Window for StillWindow {
+    fn title(&self) -> &'static str {
+        "Save image at size"
+    }
+    fn menu(&self) -> Option<Menu> {
+        Some(Menu::FileImages)
+    }
+    fn menu_tooltip(&self) -> &'static str {
+        "The viewport's view rendered offscreen at up to 4096×4096, supersampled, until it converges, as a PNG, with progress and Cancel"
+    }
+    fn is_open(&self) -> bool {
+        self.open || self.job.is_some()
+    }
+    fn set_open(&mut self, open: bool) {
+        self.open = open;
+        if !open {
+            self.cancel();
+        }
+    }
+
+    /// Size, presets, supersampling, Save…, then progress with Cancel.
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        let mut actions: Vec<Action> = self.poll(ctx).into_iter().map(Action::Say).collect();
+        if !self.is_open() {
+            return actions;
+        }
+        let mut open = true;
+        let mut settings = *view.still;
+        egui::Window::new(self.title())
+            .collapsible(false)
+            .resizable(false)
+            .default_pos(view.pos_in_viewport(8.0))
+            .open(&mut open)
+            .show(ctx, |ui| {
+                ui.add_enabled_ui(self.job.is_none(), |ui| settings_ui(ui, &mut settings));
+                match self.job.as_ref() {
+                    Some(job) => {
+                        ui.horizontal(|ui| {
+                            crate::app::report::spinner(ui);
+                            ui.label(format!(
+                                "rendering {}×{} until it converges … {:.0} s",
+                                job.settings.width * job.settings.supersample,
+                                job.settings.height * job.settings.supersample,
+                                job.started.elapsed().as_secs_f64()
+                            ));
+                        });
+                        if ui.button("Cancel image").clicked() {
+                            self.cancel();
+                        }
+                    }
+                    None => {
+                        if ui.button("Save image as PNG…").clicked() {
+                            actions.push(Action::OpenDialog(DialogKind::SaveStill));
+                        }
+                    }
+                }
+            });
+        if settings != *view.still {
+            actions.push(Action::SetStill(settings));
+        }
+        if !open {
+            self.set_open(false);
+        }
+        actions
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Supersampling never renders past 8192 a side.
+    #[test]
+    fn factors_keep_the_render_within_bounds() {
+        let s = |w, h| StillSettings {
+            width: w,
+            height: h,
+            supersample: 1,
+        };
+        assert_eq!(factors(&s(4096, 4096)), vec![1, 2]);
+        assert_eq!(factors(&s(2048, 1024)), vec![1, 2, 3, 4]);
+        assert_eq!(factors(&s(3000, 100)), vec![1, 2]);
+    }
+}
