@@ -68,8 +68,14 @@ impl Drop for Xvfb {
 }
 
 impl Session {
-    /// The editor with fresh state at `w`×`h` on a display of its own.
+    /// The editor on the procedural head with fresh state at `w`×`h` on
+    /// a display of its own.
     fn start(name: &str, w: u32, h: u32) -> Self {
+        Self::start_with(name, w, h, &["--procedural-head"])
+    }
+
+    /// The editor with `args` after `edit` (none: the head scan).
+    fn start_with(name: &str, w: u32, h: u32, args: &[&str]) -> Self {
         let dir = std::env::temp_dir().join(format!(
             "scatterlab-pointer-{name}-{w}x{h}-{}",
             std::process::id()
@@ -104,7 +110,8 @@ impl Session {
         let display = format!(":{}", number.trim());
         assert!(display.len() > 1, "Xvfb named no display");
         let editor = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
-            .args(["edit", "--procedural-head"])
+            .arg("edit")
+            .args(args)
             .env("DISPLAY", &display)
             .env("XDG_DATA_HOME", dir.join("data"))
             .env("XDG_CONFIG_HOME", dir.join("config"))
@@ -238,9 +245,92 @@ impl Session {
             "at {}×{}: cannot reach {what} (not on screen as one control); screenshot {}; the controls on screen:\n{}",
             self.size.0,
             self.size.1,
-            shot.display(),
+            shot,
             shown.join("\n")
         );
+    }
+
+    /// The one control `pick` chooses inside the window titled `title`
+    /// (its title bar's rectangle down to the window's last control).
+    fn find_in(&self, title: &str, what: &str, pick: impl Fn(&Widget) -> bool) -> Widget {
+        let window = self.find(&format!("the {title} window"), |c| {
+            c.role == "Window" && c.label == title
+        });
+        let [x0, y0, x1, y1] = window.rect;
+        self.find(&format!("{what} in {title}"), |c| {
+            let (x, y) = c.centre();
+            pick(c) && (x0 as i32..=x1 as i32).contains(&x) && (y0 as i32..=y1 as i32).contains(&y)
+        })
+    }
+
+    /// Opens `item` of the menu labelled `menu` with two clicks.
+    fn menu_item(&self, menu: &str, item: &str) {
+        let m = self.find(&format!("the {menu} menu"), |c| {
+            c.role == "Button" && c.label == menu
+        });
+        self.click(&m);
+        let i = self.find(&format!("{item} in {menu}"), |c| {
+            c.role == "Button" && c.label == item
+        });
+        self.click(&i);
+    }
+
+    /// Escape, with X's keyboard focus on the window first.
+    fn escape(&self) {
+        let wid = self.wid.clone();
+        self.xdotool(&["windowfocus", "--sync", &wid]);
+        self.xdotool(&["key", "Escape"]);
+    }
+
+    /// The drag value `pick` chooses in `title` clicked, `text` typed
+    /// into it and Enter; the field (found again where it was: its value
+    /// changes while it is a text edit) as it shows the value afterwards.
+    fn type_into_field(
+        &self,
+        title: &str,
+        what: &str,
+        pick: impl Fn(&Widget) -> bool,
+        text: &str,
+    ) -> Widget {
+        let field = self.find_in(title, what, pick);
+        let here = |c: &Widget| {
+            c.role == field.role
+                && (c.rect[0] - field.rect[0]).abs() < 3.0
+                && (c.rect[1] - field.rect[1]).abs() < 3.0
+        };
+        self.click(&field);
+        // Typed only once the field is a text edit (keys in the frame of
+        // the click are lost).
+        self.find_in(title, &format!("{what} as a text edit"), |c| {
+            here(c) && c.value != field.value
+        });
+        self.type_into_focused(text);
+        self.find_in(title, &format!("{what} showing {text}"), |c| {
+            here(c) && c.value.contains(text) && c.value != text
+        })
+    }
+
+    /// The number of requests sent to the render thread so far.
+    fn requests(&self) -> usize {
+        std::fs::read_to_string(self.dir.join("frames.log"))
+            .unwrap_or_default()
+            .lines()
+            .filter(|l| l.contains(" request "))
+            .count()
+    }
+
+    /// Waits for a request to the render thread past the first `n`.
+    fn wait_request_after(&self, what: &str, n: usize) {
+        let t0 = Instant::now();
+        while self.requests() <= n {
+            assert!(
+                t0.elapsed() < Duration::from_secs(60),
+                "at {}×{}: {what} sent the render thread no request",
+                self.size.0,
+                self.size.1
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
     }
 
     /// Waits until no control `pick` chooses is on screen (15 s).
@@ -261,14 +351,13 @@ impl Session {
         let shot = self.screenshot(what);
         panic!(
             "at {}×{}: {what} is still on screen; screenshot {}",
-            self.size.0,
-            self.size.1,
-            shot.display()
+            self.size.0, self.size.1, shot
         );
     }
 
-    /// A picture of the screen, for a failure's message.
-    fn screenshot(&self, what: &str) -> PathBuf {
+    /// A picture of the screen for a failure's message: where it is, or
+    /// why there is none.
+    fn screenshot(&self, what: &str) -> String {
         let name: String = what
             .chars()
             .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
@@ -277,11 +366,16 @@ impl Session {
             "pointer-{}x{}-{name}.png",
             self.size.0, self.size.1
         ));
-        let _ = Command::new("import")
+        let took = Command::new("import")
             .args(["-window", "root", out.to_str().unwrap()])
             .env("DISPLAY", &self.display)
-            .status();
-        out
+            .status()
+            .is_ok_and(|s| s.success());
+        if took && out.is_file() {
+            out.display().to_string()
+        } else {
+            "none (ImageMagick's import is missing: apt-get install imagemagick)".into()
+        }
     }
 
     /// Moves to the control's centre and clicks it.
@@ -444,5 +538,158 @@ fn the_view_and_help_menus_open_their_windows_with_a_pointer() {
                 c.role == "Window" && c.label == title
             });
         }
+    }
+}
+
+/// The File menu's windows used with a pointer, each kind of control in
+/// them: Save image at size (a preset button, the width typed into its
+/// drag value, a supersampling radio button), Save turntable (a checkbox,
+/// the frame count typed) and Browse presets (a folder typed into its text
+/// field and refused by name, then a preset's button, which opens it: the
+/// window's title names it).
+#[test]
+fn the_file_menus_windows_are_used_with_a_pointer() {
+    for (w, h) in SIZES {
+        let s = Session::start("file", w, h);
+        let still = "Save image at size";
+        s.menu_item("File", "Save image at size…");
+        let preset = s.find_in(still, "the 3840×2160 button", |c| {
+            c.role == "Button" && c.label == "3840×2160"
+        });
+        s.click(&preset);
+        s.find_in(still, "the width at 3840", |c| {
+            c.role == "SpinButton" && c.value == "3840 px"
+        });
+        let px = |c: &Widget| c.role == "SpinButton" && c.value.ends_with(" px");
+        let width = s.find_in(still, "the width", |c| px(c) && c.value == "3840 px");
+        let _ = width;
+        s.type_into_field(
+            still,
+            "the width",
+            |c| px(c) && !c.value.starts_with("2160"),
+            "640",
+        );
+        // 3×: 2160 × 3 is within the 8192 rendered a side (4× is not,
+        // and is disabled).
+        let three = s.find_in(still, "the 3× radio button", |c| {
+            c.role == "RadioButton" && c.label == "3×"
+        });
+        s.click(&three);
+        s.find_in(still, "3× checked", |c| {
+            c.role == "RadioButton" && c.label == "3×" && c.value == "checked"
+        });
+        s.find_in(still, "the size rendered at 640×2160, 3×", |c| {
+            c.role == "Label" && c.value.starts_with("Renders 1920×6480 ")
+        });
+        s.escape();
+        s.gone("Save image at size after Escape", |c| {
+            c.role == "Window" && c.label == still
+        });
+
+        let tt = "Save turntable";
+        s.menu_item("File", "Save turntable…");
+        let pngs = s.find_in(tt, "the PNG-per-frame checkbox", |c| {
+            c.role == "CheckBox" && c.label == "Also a PNG per frame"
+        });
+        assert_eq!(pngs.value, "checked", "a PNG per frame is on by default");
+        s.click(&pngs);
+        s.find_in(tt, "the PNG-per-frame checkbox unchecked", |c| {
+            c.role == "CheckBox" && c.label == "Also a PNG per frame" && c.value == "unchecked"
+        });
+        s.type_into_field(
+            tt,
+            "the frame count",
+            |c| c.role == "SpinButton" && c.value.ends_with(" frames"),
+            "12",
+        );
+        s.escape();
+        s.gone("Save turntable after Escape", |c| {
+            c.role == "Window" && c.label == tt
+        });
+
+        let presets = "Presets";
+        s.menu_item("File", "Browse presets…");
+        let field = s.find_in(presets, "the folder field", |c| {
+            c.role == "TextInput" && c.label == "Your folders:"
+        });
+        s.click(&field);
+        s.type_into_focused("/no/such/folder");
+        s.find_in(presets, "the typed folder refused by name", |c| {
+            c.role == "Label" && c.value == "Not listed: /no/such/folder: not a folder"
+        });
+        let jade = s.find_in(presets, "Jade's button", |c| {
+            c.role == "Button" && c.label == "Jade"
+        });
+        s.click(&jade);
+        s.gone("the preset browser after a preset was chosen", |c| {
+            c.role == "Window" && c.label == presets
+        });
+        let t0 = Instant::now();
+        loop {
+            let wid = s.wid.clone();
+            let title = s.xdotool(&["getwindowname", &wid]);
+            if title.contains("Jade") {
+                break;
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(15),
+                "at {w}×{h}: the window's title is '{title}' after Jade was chosen"
+            );
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+}
+
+/// The Mesh menu's windows on the head scan: Mesh units (a unit's
+/// selectable, the field showing it, OK) and Mesh maps (a flip-V
+/// checkbox and a colour-space combo box); each change sends the render
+/// thread a new request (the mesh reloads with it).
+#[test]
+fn the_mesh_menus_windows_are_used_with_a_pointer() {
+    for (w, h) in SIZES {
+        let s = Session::start_with("mesh", w, h, &[]);
+        let units = "Mesh units";
+        s.menu_item("Mesh", "Units…");
+        let cm = s.find_in(units, "the cm choice", |c| c.label == "cm");
+        let n = s.requests();
+        s.click(&cm);
+        s.find_in(units, "the units field at 0.01 m/unit", |c| {
+            c.role == "SpinButton" && c.value.starts_with("0.01") && c.value.ends_with(" m/unit")
+        });
+        s.wait_request_after("centimetres", n);
+        let ok = s.find_in(units, "OK", |c| c.role == "Button" && c.label == "OK");
+        s.click(&ok);
+        s.gone("Mesh units after OK", |c| {
+            c.role == "Window" && c.label == units
+        });
+
+        let maps = "Mesh maps";
+        s.menu_item("Mesh", "Maps…");
+        let flip = s.find_in(maps, "the normal map's flip V", |c| {
+            c.role == "CheckBox" && c.label == "Normal: flip V"
+        });
+        let n = s.requests();
+        s.click(&flip);
+        s.find_in(maps, "the normal map's flip V changed", |c| {
+            c.role == "CheckBox" && c.label == "Normal: flip V" && c.value != flip.value
+        });
+        s.wait_request_after("the flip", n);
+        // The second slot's colour space (the normal map's, linear).
+        let combos =
+            |c: &Widget| c.role == "ComboBox" && (c.value == "linear" || c.value == "sRGB");
+        let combo = s.find_in(maps, "the normal map's colour space", |c| {
+            combos(c) && c.value == "linear"
+        });
+        s.click(&combo);
+        let srgb = s.find("sRGB in the colour-space list", |c| {
+            c.label == "sRGB" && c.role != "ComboBox"
+        });
+        let n = s.requests();
+        s.click(&srgb);
+        s.wait_request_after("the colour space", n);
+        s.escape();
+        s.gone("Mesh maps after Escape", |c| {
+            c.role == "Window" && c.label == maps
+        });
     }
 }

@@ -92,13 +92,30 @@ pub fn render(update: &egui::accesskit::TreeUpdate, pixels_per_point: f32) -> St
     let clean = |s: &str| s.replace(['\t', '\n', '\r'], " ");
     let mut out =
         String::from("# scatterlab widget map: role, label, value, x0 y0 x1 y1 (window pixels)\n");
+    // A control labelled by another node (egui's `labelled_by`) takes
+    // that node's text as its label.
+    let texts: std::collections::HashMap<_, &str> = update
+        .nodes
+        .iter()
+        .filter_map(|(id, n)| Some((*id, n.label().or(n.value())?)))
+        .collect();
     for (_, node) in &update.nodes {
-        let label = node.label().unwrap_or("");
-        // A text's value, or a number's (a drag value, a slider).
-        let value = match (node.value(), node.numeric_value()) {
-            (Some(v), _) => v.to_owned(),
-            (None, Some(n)) => format!("{n}"),
-            (None, None) => String::new(),
+        let label = node
+            .label()
+            .or_else(|| {
+                node.labelled_by()
+                    .iter()
+                    .find_map(|id| texts.get(id).copied())
+            })
+            .unwrap_or("");
+        // A text's value, or a number's (a drag value, a slider), or
+        // whether a checkbox, radio button or selectable is on.
+        let value = match (node.value(), node.numeric_value(), node.toggled()) {
+            (Some(v), _, _) => v.to_owned(),
+            (None, Some(n), _) => format!("{n}"),
+            (None, None, Some(egui::accesskit::Toggled::True)) => "checked".into(),
+            (None, None, Some(_)) => "unchecked".into(),
+            (None, None, None) => String::new(),
         };
         let Some(b) = node.bounds() else { continue };
         if label.is_empty() && value.is_empty() {
@@ -156,5 +173,31 @@ mod tests {
             .collect();
         let want = [rect.min.x, rect.min.y, rect.max.x, rect.max.y].map(|v| (v * 2.0).round());
         assert_eq!(numbers, want, "{line}");
+    }
+
+    /// A checkbox's state is its value, and a text field labelled by a
+    /// label (egui's `labelled_by`) carries that label's text.
+    #[test]
+    fn a_checkbox_says_its_state_and_a_field_its_labels_text() {
+        let ctx = egui::Context::default();
+        ctx.enable_accesskit();
+        let (mut on, mut off, mut typed) = (true, false, String::new());
+        let mut out = ctx.run_ui(egui::RawInput::default(), |ui| {
+            egui::CentralPanel::default().show(ui, |ui| {
+                ui.checkbox(&mut on, "flip V");
+                ui.checkbox(&mut off, "mask");
+                let label = ui.label("Your folders:");
+                ui.text_edit_singleline(&mut typed).labelled_by(label.id);
+            });
+        });
+        out.textures_delta.clear();
+        let text = render(out.platform_output.accesskit_update.as_ref().unwrap(), 1.0);
+        for want in [
+            "CheckBox\tflip V\tchecked\t",
+            "CheckBox\tmask\tunchecked\t",
+            "TextInput\tYour folders:\t\t",
+        ] {
+            assert!(text.lines().any(|l| l.starts_with(want)), "no {want:?} in\n{text}");
+        }
     }
 }

@@ -317,7 +317,7 @@ impl PresetBrowser {
     ) -> Option<Vec<PathBuf>> {
         let mut changed = None;
         ui.horizontal_wrapped(|ui| {
-            ui.label("Your folders:");
+            let label = ui.label("Your folders:");
             for (i, f) in folders.iter().enumerate() {
                 if ui
                     .button(format!("{} ×", f.display()))
@@ -342,7 +342,7 @@ impl PresetBrowser {
                     changed = Some([folders, &[dir]].concat());
                 }
             }
-            if let Some(dir) = self.typed_folder_ui(ui) {
+            if let Some(dir) = self.typed_folder_ui(ui, label.id) {
                 if !folders.contains(&dir) {
                     changed = Some([folders, &[dir]].concat());
                 }
@@ -356,14 +356,16 @@ impl PresetBrowser {
 
     /// A folder typed into the field and added (Enter or "+ add"), once it
     /// is one.
-    fn typed_folder_ui(&mut self, ui: &mut egui::Ui) -> Option<PathBuf> {
+    fn typed_folder_ui(&mut self, ui: &mut egui::Ui, label: egui::Id) -> Option<PathBuf> {
         let typed_id = egui::Id::unique("scatterlab_preset_folder_typed");
         let mut typed: String = ui.data(|d| d.get_temp(typed_id).unwrap_or_default());
-        let field = ui.add(
-            egui::TextEdit::singleline(&mut typed)
-                .hint_text("a folder of .ron presets")
-                .desired_width(180.0),
-        );
+        let field = ui
+            .add(
+                egui::TextEdit::singleline(&mut typed)
+                    .hint_text("a folder of .ron presets")
+                    .desired_width(180.0),
+            )
+            .labelled_by(label);
         let add = ui
             .button("+ add")
             .on_hover_text("List the presets in the folder typed here.")
