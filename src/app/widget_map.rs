@@ -197,7 +197,10 @@ mod tests {
             "CheckBox\tmask\tunchecked\t",
             "TextInput\tYour folders:\t\t",
         ] {
-            assert!(text.lines().any(|l| l.starts_with(want)), "no {want:?} in\n{text}");
+            assert!(
+                text.lines().any(|l| l.starts_with(want)),
+                "no {want:?} in\n{text}"
+            );
         }
     }
 }

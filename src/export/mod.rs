@@ -34,6 +34,8 @@ pub use import::{import_file, import_text, ImportError, ImportOptions, ImportedL
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};
 pub use unity::budget as unity_budget;
+#[cfg(feature = "gpu")]
+pub use unity::budget_run as unity_budget_run;
 pub use unity::project as unity_project;
 pub use unity::{unity_asset, unity_dual_lobe, UnityDualLobe};
 pub use unreal::{

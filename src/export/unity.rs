@@ -206,6 +206,9 @@ fn yaml_name(name: &str) -> String {
 }
 
 pub mod budget;
+/// The budget's use case: the files it writes, the heads it renders.
+#[cfg(feature = "gpu")]
+pub mod budget_run;
 pub mod project;
 mod read;
 pub use read::read;

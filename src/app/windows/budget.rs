@@ -4,95 +4,24 @@
 //! as B.
 
 use super::{Action, Menu, Window, WindowView};
+use crate::export::unity_budget::{BudgetReport, ReportMember, ReportMerge};
 use std::path::{Path, PathBuf};
 
-/// One profile of a merge.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BudgetMember {
-    pub name: String,
-    pub materials: u64,
-    pub shape_error: f64,
-    pub tint_delta_e: f64,
-    pub delta_l_mean: Option<f64>,
-    /// The profile's preset and the merge's.
-    pub pair: [PathBuf; 2],
-}
-
-/// One merge of the report.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BudgetMerge {
-    pub name: String,
-    pub members: Vec<BudgetMember>,
-}
-
-/// A budget report's merges, read from its `budget.json`.
+/// A budget report's merges, read from its `budget.json`, and the folder
+/// its pairs are named in.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BudgetPairs {
     pub dir: PathBuf,
-    pub merges: Vec<BudgetMerge>,
+    pub report: BudgetReport,
 }
 
 impl BudgetPairs {
-    /// Reads `DIR/budget.json`; an error names the file and the field.
+    /// Reads `DIR/budget.json` ([`BudgetReport::read`]): an error names
+    /// the file and the field or the missing pair.
     pub fn load(dir: &Path) -> Result<Self, String> {
-        let file = dir.join("budget.json");
-        let text = std::fs::read_to_string(&file).map_err(|e| {
-            format!(
-                "{}: {e} (is {} a `scatterlab budget` folder?)",
-                file.display(),
-                dir.display()
-            )
-        })?;
-        let v: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| format!("{}: malformed JSON: {e}", file.display()))?;
-        let field = |what: &str| format!("{}: {what} is missing or malformed", file.display());
-        let mut merges = Vec::new();
-        for (i, m) in v["merges"]
-            .as_array()
-            .ok_or_else(|| field("merges"))?
-            .iter()
-            .enumerate()
-        {
-            let name = m["merged"]["name"]
-                .as_str()
-                .ok_or_else(|| field(&format!("merges[{i}].merged.name")))?
-                .to_owned();
-            let mut members = Vec::new();
-            for (j, mem) in m["members"]
-                .as_array()
-                .ok_or_else(|| field(&format!("merges[{i}].members")))?
-                .iter()
-                .enumerate()
-            {
-                let at = |f: &str| field(&format!("merges[{i}].members[{j}].{f}"));
-                let pair = mem["pair"]
-                    .as_array()
-                    .filter(|p| p.len() == 2)
-                    .ok_or_else(|| at("pair"))?;
-                let path = |k: usize| -> Result<PathBuf, String> {
-                    let p = dir.join(pair[k].as_str().ok_or_else(|| at("pair"))?);
-                    if p.is_file() {
-                        Ok(p)
-                    } else {
-                        Err(format!("{}: {} is missing", file.display(), p.display()))
-                    }
-                };
-                members.push(BudgetMember {
-                    name: mem["name"].as_str().ok_or_else(|| at("name"))?.to_owned(),
-                    materials: mem["materials"].as_u64().unwrap_or(0),
-                    shape_error: mem["shape_error"]
-                        .as_f64()
-                        .ok_or_else(|| at("shape_error"))?,
-                    tint_delta_e: mem["tint_delta_e"].as_f64().unwrap_or(0.0),
-                    delta_l_mean: mem["delta_l_mean"].as_f64(),
-                    pair: [path(0)?, path(1)?],
-                });
-            }
-            merges.push(BudgetMerge { name, members });
-        }
         Ok(Self {
             dir: dir.to_owned(),
-            merges,
+            report: BudgetReport::read(dir)?,
         })
     }
 }
@@ -111,7 +40,7 @@ impl BudgetWindow {
         let said = format!(
             "Budget {}: {} merges; 'A | B' opens a profile beside its merge",
             pairs.dir.display(),
-            pairs.merges.len()
+            pairs.report.merges.len()
         );
         self.pairs = Some(pairs);
         self.open = true;
@@ -121,9 +50,9 @@ impl BudgetWindow {
 
 /// One merge's profiles with what the merge costs each; the one whose
 /// "A | B" was clicked.
-fn merge_ui(ui: &mut egui::Ui, i: usize, m: &BudgetMerge) -> Option<BudgetMember> {
+fn merge_ui(ui: &mut egui::Ui, i: usize, m: &ReportMerge) -> Option<ReportMember> {
     let mut chosen = None;
-    ui.strong(format!("{}. {}", i + 1, m.name));
+    ui.strong(format!("{}. {}", i + 1, m.merged.name));
     egui::Grid::new(("budget", i)).striped(true).show(ui, |ui| {
         ui.label("profile");
         ui.label("mat.").on_hover_text("materials that use the profile");
@@ -196,13 +125,13 @@ impl Window for BudgetWindow {
                 egui::ScrollArea::vertical()
                     .max_height(420.0)
                     .show(ui, |ui| {
-                        for (i, m) in pairs.merges.iter().enumerate() {
+                        for (i, m) in pairs.report.merges.iter().enumerate() {
                             chosen = merge_ui(ui, i, m).or(chosen.take());
                         }
                     });
             });
         chosen
-            .map(|m| Action::ComparePair(m.pair))
+            .map(|m| Action::ComparePair(m.pair.map(|p| pairs.dir.join(p))))
             .into_iter()
             .collect()
     }

@@ -436,6 +436,104 @@ pub fn plan_greedy(costs: &mut Costs, slots: usize) -> Vec<Vec<usize>> {
     groups
 }
 
+/// `budget.json`: what `scatterlab budget` decided, in one serde type
+/// that the command writes and the editor's Budget merges window reads
+/// (`edit --budget DIR`). Every field has a default, so a report written
+/// by an older version (or by hand) still loads; the pairs it names are
+/// checked to exist.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct BudgetReport {
+    pub project: std::path::PathBuf,
+    pub slots: usize,
+    pub profiles_before: usize,
+    pub profiles_after: usize,
+    pub weighted_cost: f64,
+    pub merges: Vec<ReportMerge>,
+}
+
+/// One merge: the new profile and the profiles it replaces.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct ReportMerge {
+    pub merged: MergedProfile,
+    pub members: Vec<ReportMember>,
+}
+
+/// A merged profile: its name, GUID and asset (relative to the report).
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct MergedProfile {
+    pub name: String,
+    pub guid: String,
+    pub asset: String,
+}
+
+/// A profile of a merge and what the merge costs the materials using it.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct ReportMember {
+    pub name: String,
+    pub guid: String,
+    pub materials: usize,
+    pub shape_error: f64,
+    pub tint_delta_e: f64,
+    pub modes_changed: u32,
+    /// Mean and largest |ΔL*| on the rendered head, old against merged
+    /// (none: not rendered).
+    pub delta_l_mean: Option<f32>,
+    pub delta_l_max: Option<f32>,
+    /// The profile's preset and the merge's, relative to the report.
+    pub pair: [String; 2],
+}
+
+impl BudgetReport {
+    /// The report's file in `dir`.
+    pub fn path(dir: &std::path::Path) -> std::path::PathBuf {
+        dir.join("budget.json")
+    }
+
+    /// Reads `DIR/budget.json`; an error names the file and what is wrong
+    /// (a field, or a pair preset that is missing).
+    pub fn read(dir: &std::path::Path) -> Result<Self, String> {
+        let file = Self::path(dir);
+        let text = std::fs::read_to_string(&file).map_err(|e| {
+            format!(
+                "{}: {e} (is {} a `scatterlab budget` folder?)",
+                file.display(),
+                dir.display()
+            )
+        })?;
+        let report: Self = serde_json::from_str(&text)
+            .map_err(|e| format!("{}: malformed: {e}", file.display()))?;
+        for (i, m) in report.merges.iter().enumerate() {
+            for (j, mem) in m.members.iter().enumerate() {
+                for p in &mem.pair {
+                    if p.is_empty() {
+                        return Err(format!(
+                            "{}: merges[{i}].members[{j}].pair is missing",
+                            file.display()
+                        ));
+                    }
+                    if !dir.join(p).is_file() {
+                        return Err(format!(
+                            "{}: {} is missing",
+                            file.display(),
+                            dir.join(p).display()
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(report)
+    }
+
+    /// The report as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
