@@ -26,6 +26,9 @@ impl EditorApp {
                     self.windows.open(title);
                 }
                 Action::Say(line) => self.say(line),
+                Action::SetCompare(c) => self.set_compare(c),
+                Action::AskBAlbedoColour => self.ask_b_albedo_colour(),
+                Action::SetRefineToTruth(on) => self.ui_state.refine_to_truth = on,
                 Action::OpenDialog(kind) => self.open_dialog(kind),
                 Action::SetStill(s) => self.ui_state.still = s,
                 Action::SetTurntable(s) => self.ui_state.turntable = s,
@@ -172,5 +175,18 @@ impl EditorApp {
     pub fn open_budget(&mut self, pairs: super::windows::budget::BudgetPairs) {
         let said = self.windows.budget.load(pairs);
         self.say(said);
+    }
+
+    /// The compare toolbar's settings: the mode, B, what is shown and the
+    /// difference view's scale (remembered), A/B alone and "before".
+    fn set_compare(&mut self, c: super::toolbars::CompareSettings) {
+        let u = &mut self.ui_state;
+        (u.compare, u.compare_b, u.split) = (c.mode, c.b, c.split);
+        (u.difference_scale, u.difference_auto) = (c.difference_scale, c.difference_auto);
+        if c.b_albedo != u.b_material_albedo {
+            u.b_material_albedo = c.b_albedo;
+            u.b_material_albedo_asked = true;
+        }
+        (self.view.ab, self.view.show_before) = (c.ab, c.show_before);
     }
 }

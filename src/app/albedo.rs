@@ -298,37 +298,17 @@ impl EditorApp {
         }
     }
 
-    /// B's material albedo, beside B in the compare row, for a B whose
-    /// engine keeps the albedo in the material.
-    pub(super) fn b_albedo_ui(&mut self, ui: &mut egui::Ui) {
+    /// The material-albedo prompt for B, on a typed colour ("a colour…"
+    /// beside B).
+    pub(super) fn ask_b_albedo_colour(&mut self) {
         let b = match &self.profile.b_look_cache {
             Some((_, _, Ok(b))) if b.rendering.albedo_in_material => b.clone(),
             _ => return,
         };
-        let has_map = self.colour_map_mean().is_some();
-        let current = self.ui_state.b_material_albedo;
-        let mut choice = current;
-        egui::ComboBox::from_id_salt("b_material_albedo")
-            .selected_text(format!("B's albedo: {}", current.label()))
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut choice, MaterialAlbedo::LookA, "A's");
-                ui.add_enabled_ui(has_map, |ui| {
-                    ui.selectable_value(&mut choice, MaterialAlbedo::Map, "the head's map")
-                        .on_disabled_hover_text("The head has no colour map of its own.");
-                });
-                if ui.selectable_label(matches!(current, MaterialAlbedo::Typed(_)), "a colour…").clicked() {
-                    self.ui_state.b_material_albedo_asked = false;
-                    self.ask_b_albedo(&b);
-                    if let Some(p) = self.dialogs.albedo_prompt.as_mut() {
-                        p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
-                    }
-                }
-            })
-            .response
-            .on_hover_text("B's engine keeps the albedo in the material (HDRP), so its file has none: B is drawn and compared with this albedo.");
-        if choice != current {
-            self.ui_state.b_material_albedo = choice;
-            self.ui_state.b_material_albedo_asked = true;
+        self.ui_state.b_material_albedo_asked = false;
+        self.ask_b_albedo(&b);
+        if let Some(p) = self.dialogs.albedo_prompt.as_mut() {
+            p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
         }
     }
 

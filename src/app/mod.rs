@@ -16,6 +16,7 @@ mod parts;
 mod plots;
 mod report;
 pub mod state;
+pub mod toolbars;
 pub mod viewport;
 mod viewport_ui;
 pub mod wake;

@@ -84,269 +84,62 @@ impl EditorApp {
         }
     }
 
-    /// Compare mode, B, the split and A/B alone: rows that wrap.
+    /// The compare toolbar ([`toolbars::CompareBar`]).
     pub(super) fn compare_toolbar_ui(&mut self, ui: &mut egui::Ui) {
-        let (a_name, b_name) = self.side_names();
-        // Wraps onto more rows where the viewport is narrow, so the
-        // viewport below never grows past its panel.
-        ui.horizontal_wrapped(|ui| {
-            ui.label("Compare").on_hover_text(
-                "A is the current look; B another method or preset. Space flips between A alone and B alone; Escape, or the mode again, shows both.",
-            );
-            for (m, name) in [
-                (CompareMode::Off, "off"),
-                (CompareMode::Split, "split"),
-                (CompareMode::SideBySide, "side by side"),
-                (CompareMode::Difference, "difference"),
-            ] {
-                if ui
-                    .selectable_label(self.ui_state.compare == m && self.view.ab == AbView::Both, name)
-                    .clicked()
-                {
-                    self.ui_state.compare = m;
-                    self.view.ab = AbView::Both;
-                }
+        let b_file = match &self.profile.b_look_cache {
+            Some((_, _, Ok(b))) if matches!(self.ui_state.compare_b, CompareB::Preset(_)) => {
+                Some(b)
             }
-            let before = self.doc.before_last_edit().is_some();
-            if !before {
-                self.view.show_before = false;
-            }
-            ui.add_enabled_ui(before, |ui| {
-                ui.toggle_value(&mut self.view.show_before, "before")
-                    .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
-                    .on_disabled_hover_text("No edit yet to compare with.");
-            });
-            let none = CompareB::Method(crate::settings::rendering::MethodId::baseline());
-            let sss_only = self.ui_state.compare == CompareMode::Difference
-                && self.ui_state.compare_b == none
-                && self.view.ab == AbView::Both;
-            if ui
-                .selectable_label(sss_only, "SSS only")
-                .on_hover_text("What scattering adds: the difference view of this look against the same look without SSS (method none), |ΔL*| on the fixed scale at the right edge. Click again to go back.")
-                .clicked()
-            {
-                if sss_only {
-                    self.ui_state.compare = CompareMode::Off;
-                } else {
-                    self.ui_state.compare = CompareMode::Difference;
-                    self.ui_state.compare_b = none;
-                    self.view.ab = AbView::Both;
-                }
-            }
-            if self.ui_state.compare != CompareMode::Off {
-                // B and its controls on a row of their own: a widget that
-                // overflows a row widens everything under it.
-                ui.end_row();
-                ui.menu_button(format!("B: {b_name}"), |ui| {
-                    for &m in crate::settings::rendering::MethodId::all() {
-                        if ui.button(m.label()).clicked() {
-                            self.ui_state.compare_b = CompareB::Method(m);
-                            ui.close();
-                        }
-                    }
-                    if ui
-                        .button("a preset or engine file…")
-                        .on_hover_text("B is the look in a preset, or what an engine draws from its file (Unity .asset, Unreal text, MaterialX, Godot .tres, Blender .py), with how far its r·R(r) is from A")
-                        .clicked()
-                    {
-                        self.open_dialog(DialogKind::CompareB);
-                        ui.close();
-                    }
-                });
-                if matches!(self.ui_state.compare_b, CompareB::Preset(_)) {
-                    self.b_albedo_ui(ui);
-                }
-                // How far a file's look is from A: what the round trip costs.
-                if let (CompareB::Preset(_), Some((_, Ok((_, _, d))))) =
-                    (&self.ui_state.compare_b, self.profile.b_curves.as_ref())
-                {
-                    let albedo = self.b_albedo_note();
-                    let others = match &self.profile.b_look_cache {
-                        Some((_, _, Ok(b))) => crate::settings::albedo::differing_fields(&self.doc.preset, b),
-                        _ => Vec::new(),
-                    };
-                    ui.label(format!(
-                        "B − A: {:.1} / {:.1} / {:.1} %{}",
-                        100.0 * d[0],
-                        100.0 * d[1],
-                        100.0 * d[2],
-                        albedo.as_ref().map_or(String::new(), |a| format!(" ({a})"))
-                    ))
-                    .on_hover_text(format!("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.{}", match albedo {
-                        Some(a) => format!(" B's engine keeps the albedo in the material, so B is {a}: what differs is the profile's shape and B's other fields (its world scale and transmission mode in the Engines panel)."),
-                        None => String::new(),
-                    }));
-                    if !others.is_empty() {
-                        let names: Vec<&str> = others.iter().map(|(n, _)| *n).collect();
-                        let details: Vec<&str> = others.iter().map(|(_, d)| d.as_str()).collect();
-                        ui.label(format!("also differs: {}", names.join(", ")))
-                            .on_hover_text(format!("B's engine-side fields that differ from A's, which the r·R(r) difference does not show:\n{}", details.join("\n")));
-                    }
-                }
-                if self.ui_state.compare == CompareMode::Difference {
-                    ui.add_enabled(
-                        !self.ui_state.difference_auto,
-                        egui::DragValue::new(&mut self.ui_state.difference_scale)
-                            .range(0.1..=100.0)
-                            .speed(0.05)
-                            .max_decimals(1)
-                            .prefix("white = ")
-                            .suffix(" ΔL*"),
-                    )
-                    .on_hover_text("The difference that shows white: |A − B| of CIE lightness L* (0 black, 100 white; about 1 is just noticeable side by side). Fixed, so compares read on one scale.");
-                    ui.checkbox(&mut self.ui_state.difference_auto, "auto")
-                        .on_hover_text("Scale each difference view to its own largest difference instead (the scale then changes with every pair).");
-                }
-                if self.ui_state.compare == CompareMode::Split {
-                    ui.spacing_mut().slider_width = 90.0;
-                    ui.add(egui::Slider::new(&mut self.ui_state.split, 0.0..=1.0).text("split"))
-                        .on_hover_text("Where the split line sits: A left of it, B right.");
-                }
-                for (side, name) in [(AbView::A, "A alone"), (AbView::B, "B alone")] {
-                    if ui
-                        .selectable_label(self.view.ab == side, name)
-                        .on_hover_text(format!(
-                            "Space flips between A alone and B alone (A: {a_name}, B: {b_name})."
-                        ))
-                        .clicked()
-                    {
-                        self.view.ab = if self.view.ab == side { AbView::Both } else { side };
-                    }
-                }
-            }
-        });
+            _ => None,
+        };
+        let readout = match (&self.ui_state.compare_b, self.profile.b_curves.as_ref()) {
+            (CompareB::Preset(_), Some((_, Ok((_, _, d))))) => Some(toolbars::BReadout {
+                difference: *d,
+                albedo_note: self.b_albedo_note(),
+                others: b_file.map_or_else(Vec::new, |b| {
+                    crate::settings::albedo::differing_fields(&self.doc.preset, b)
+                }),
+            }),
+            _ => None,
+        };
+        let u = &self.ui_state;
+        let bar = toolbars::CompareBar {
+            settings: toolbars::CompareSettings {
+                mode: u.compare,
+                b: u.compare_b.clone(),
+                ab: self.view.ab,
+                show_before: self.view.show_before,
+                difference_scale: u.difference_scale,
+                difference_auto: u.difference_auto,
+                split: u.split,
+                b_albedo: u.b_material_albedo,
+            },
+            names: self.side_names(),
+            has_before: self.doc.before_last_edit().is_some(),
+            b_albedo_in_material: b_file.is_some_and(|b| b.rendering.albedo_in_material),
+            has_map: self.colour_map_mean().is_some(),
+            readout,
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
     }
 
-    /// Environment, light rigs (and Light & display…), Reset view, and a
-    /// loaded mesh's Units… and Maps…: one row at 1280×720 (the environment
-    /// and the light are menus; their fields are in Light & display). It wraps
-    /// only where the viewport is narrower still. `framing`: the camera
+    /// The view toolbar ([`toolbars::ViewBar`]). `framing`: the camera
     /// distance that frames the mesh (m).
     pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui, framing: f32) {
-        let mut open_environment = false;
-        let mut window_actions = Vec::new();
-        let mut shipped: Option<PathBuf> = None;
-        ui.horizontal_wrapped(|ui| {
-            let v = &mut self.ui_state.view;
-            let map_name = self
-                .ui_state
-                .environment_file
-                .as_ref()
-                .and_then(|p| p.file_name())
-                .map_or("HDR map".into(), |n| n.to_string_lossy().into_owned());
-            let current = match v.environment {
-                state::EnvironmentChoice::Studio => "studio sky".to_owned(),
-                state::EnvironmentChoice::Black => "black".to_owned(),
-                state::EnvironmentChoice::Map => map_name.clone(),
-            };
-            let env = egui::ComboBox::from_id_salt("environment")
-                .selected_text(current.clone())
-                .show_ui(ui, |ui| {
-                    ui.selectable_value(
-                        &mut v.environment,
-                        state::EnvironmentChoice::Studio,
-                        "studio sky",
-                    )
-                    .on_hover_text("The procedural studio sky.");
-                    ui.selectable_value(&mut v.environment, state::EnvironmentChoice::Black, "black")
-                        .on_hover_text("No environment light: the key light alone.");
-                    if v.environment_map_sh.is_some() {
-                        let tip = self.ui_state.environment_file.as_ref().map_or(
-                            "The last HDR map loaded.".into(),
-                            |p| {
-                                format!(
-                                    "{} (its irradiance, as order-2 spherical harmonics)",
-                                    p.display()
-                                )
-                            },
-                        );
-                        ui.selectable_value(
-                            &mut v.environment,
-                            state::EnvironmentChoice::Map,
-                            map_name,
-                        )
-                        .on_hover_text(tip);
-                    }
-                    if ui
-                        .button("HDR map…")
-                        .on_hover_text(
-                            "Light the head with an equirectangular Radiance .hdr map \
-                             (or drop one onto the window).",
-                        )
-                        .clicked()
-                    {
-                        open_environment = true;
-                        ui.close();
-                    }
-                    for path in state::shipped_hdr_maps() {
-                        let name = path
-                            .file_stem()
-                            .map(|n| n.to_string_lossy().replace('_', " "))
-                            .unwrap_or_default();
-                        if ui
-                            .button(format!("shipped: {name}"))
-                            .on_hover_text(format!(
-                                "{} (CC0, made by tools/make_hdri.py)",
-                                path.display()
-                            ))
-                            .clicked()
-                        {
-                            shipped = Some(path);
-                            ui.close();
-                        }
-                    }
-                    ui.separator();
-                    if ui
-                        .button(format!("Turn, blur, background: {}…", super::windows::light::TITLE))
-                        .on_hover_text("The HDR map's turn and blur and whether it is drawn behind the head, in a window that stays open.")
-                        .clicked()
-                    {
-                        window_actions.push(super::windows::Action::OpenWindow(super::windows::light::TITLE));
-                        ui.close();
-                    }
-                })
-                .response;
-            env.widget_info(|| {
-                let mut info =
-                    egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, "Environment");
-                info.current_text_value = Some(current.clone());
-                info
-            });
-            env.on_hover_text("Environment: what lights the head besides the key light.");
-            window_actions.extend(light_menu_ui(ui, v));
-            if ui
-                .button("Reset view")
-                .on_hover_text(
-                    "Camera, key light and exposure back to their defaults; the environment stays.",
-                )
-                .clicked()
-            {
-                v.orbit = crate::settings::OrbitView {
-                    camera_distance_m: framing,
-                    ..Default::default()
-                };
-            }
-            ui.checkbox(&mut self.ui_state.refine_to_truth, "to truth")
-                .on_hover_text(
-                    "Refine to the truth: once the method's frame has converged, go on to the ground truth (reference) of the same view and keep it as the converged state: a coarse one first, then the full frame, with progress and the time left. A alone; while comparing, the two sides stay as they are.",
-                );
-            if self.meshes.mesh.is_some() {
-                // One menu, so a loaded mesh keeps the row at 1280×720.
-                ui.menu_button("Mesh", |ui| {
-                    let items = self.windows.menu_items_ui(ui, windows::Menu::Mesh);
-                    self.apply(items);
-                })
-                .response
-                .on_hover_text("The loaded mesh's units and maps.");
-            }
-        });
-        if open_environment {
-            self.open_dialog(DialogKind::Environment);
-        }
-        if let Some(p) = shipped {
-            self.load_environment(p);
-        }
-        self.apply(window_actions);
+        let bar = toolbars::ViewBar {
+            view: self.ui_state.view,
+            environment_file: self.ui_state.environment_file.as_deref(),
+            refine_to_truth: self.ui_state.refine_to_truth,
+            framing,
+            mesh_items: if self.meshes.mesh.is_some() {
+                self.windows.items(windows::Menu::Mesh)
+            } else {
+                Vec::new()
+            },
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
     }
 
     /// Orbit (left drag), light (right or Shift+drag), pan (middle drag)
@@ -712,40 +505,4 @@ impl EditorApp {
             None => self.meshes.mesh = None,
         }
     }
-}
-
-/// The light rigs, one click each, and the Light & display window (the
-/// key light's intensity, the exposure, the display transform: fields and
-/// a combo box that a menu cannot hold, tests/pointer.rs).
-fn light_menu_ui(ui: &mut egui::Ui, v: &state::ViewState) -> Vec<super::windows::Action> {
-    use super::windows::{light::TITLE, Action};
-    let mut actions = Vec::new();
-    let current = state::LightRig::current(v);
-    let rig_label = current.map_or("Light: custom".to_owned(), |r| {
-        format!("Light: {}", r.label())
-    });
-    ui.menu_button(rig_label, |ui| {
-        for rig in state::LightRig::ALL {
-            if ui
-                .selectable_label(current == Some(rig), rig.label())
-                .on_hover_text(rig.tip())
-                .clicked()
-            {
-                actions.push(Action::ApplyRig(rig));
-                ui.close();
-            }
-        }
-        ui.separator();
-        if ui
-            .button(format!("{TITLE}…"))
-            .on_hover_text("The key light's intensity, the exposure, the display transform (ACES, AgX, PBR Neutral) and the environment, in a window that stays open.")
-            .clicked()
-        {
-            actions.push(Action::OpenWindow(TITLE));
-            ui.close();
-        }
-    })
-    .response
-    .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light. Intensity, exposure and the display transform: Light & display….");
-    actions
 }

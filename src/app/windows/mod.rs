@@ -65,6 +65,12 @@ pub enum Action {
     /// Opens the first preset as the look (asking first about unsaved
     /// changes) and compares it side by side with the second as B.
     ComparePair([PathBuf; 2]),
+    /// The compare toolbar's settings as it left them.
+    SetCompare(super::toolbars::CompareSettings),
+    /// The material-albedo prompt for B, on a typed colour.
+    AskBAlbedoColour,
+    /// "to truth": the viewport refines to the ground truth.
+    SetRefineToTruth(bool),
     /// The reference image's eyedropper: a linear colour into a field of
     /// the look, as an undoable edit.
     PickColour([f64; 3], reference::PickInto),
@@ -145,6 +151,31 @@ pub trait Window {
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action>;
 }
 
+/// A menu's item for a window: its label, tooltip and what it asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MenuItem {
+    pub label: String,
+    pub tooltip: &'static str,
+    pub action: Action,
+}
+
+/// `items` as menu buttons; what the one clicked asks for (the menu
+/// closes).
+pub fn items_ui(ui: &mut egui::Ui, items: &[MenuItem]) -> Vec<Action> {
+    let mut actions = Vec::new();
+    for item in items {
+        let mut button = ui.button(&item.label);
+        if !item.tooltip.is_empty() {
+            button = button.on_hover_text(item.tooltip);
+        }
+        if button.clicked() {
+            actions.push(item.action.clone());
+            ui.close();
+        }
+    }
+    actions
+}
+
 /// Every window of this kind, listed once.
 #[derive(Default)]
 pub struct Windows {
@@ -201,26 +232,22 @@ impl Windows {
             .collect()
     }
 
-    /// The items of `menu`: one a window, each opening it.
-    pub fn menu_items_ui(&mut self, ui: &mut egui::Ui, menu: Menu) -> Vec<Action> {
-        let mut actions = Vec::new();
-        for w in self.all_mut() {
-            if w.menu() != Some(menu) || !w.in_menu() {
-                continue;
-            }
-            let mut item = ui.button(w.menu_label());
-            if !w.menu_tooltip().is_empty() {
-                item = item.on_hover_text(w.menu_tooltip());
-            }
-            if item.clicked() {
-                match w.opens_with() {
-                    Some(a) => actions.push(a),
-                    None => w.set_open(true),
-                }
-                ui.close();
-            }
-        }
-        actions
+    /// The items of `menu`, one a window listed now.
+    pub fn items(&self, menu: Menu) -> Vec<MenuItem> {
+        self.all()
+            .into_iter()
+            .filter(|w| w.menu() == Some(menu) && w.in_menu())
+            .map(|w| MenuItem {
+                label: w.menu_label(),
+                tooltip: w.menu_tooltip(),
+                action: w.opens_with().unwrap_or(Action::OpenWindow(w.title())),
+            })
+            .collect()
+    }
+
+    /// The items of `menu` drawn in it; what the one clicked asks for.
+    pub fn menu_items_ui(&self, ui: &mut egui::Ui, menu: Menu) -> Vec<Action> {
+        items_ui(ui, &self.items(menu))
     }
 
     /// Opens the window titled `title`; whether there is one.
