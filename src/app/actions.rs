@@ -26,6 +26,20 @@ impl EditorApp {
                     self.windows.open(title);
                 }
                 Action::Say(line) => self.say(line),
+                Action::Undo => self.doc.undo(),
+                Action::Redo => self.doc.redo(),
+                Action::Save => self.save(),
+                Action::ScannedHead => {
+                    if !self.open_scanned_head() {
+                        self.say("Error: the head scan is not here (assets/scan/ of the repository): use Load mesh…");
+                    }
+                }
+                Action::ProceduralHead => self.load_mesh(None),
+                Action::Quit => self.guarded(Pending::Quit),
+                Action::SetInterface { scale, light_theme } => {
+                    (self.ui_state.ui_scale, self.ui_state.light_theme) = (scale, light_theme);
+                }
+                Action::SetStartOnScan(on) => self.ui_state.start_on_scan = on,
                 Action::SetCompare(c) => self.set_compare(c),
                 Action::AskBAlbedoColour => self.ask_b_albedo_colour(),
                 Action::SetRefineToTruth(on) => self.ui_state.refine_to_truth = on,

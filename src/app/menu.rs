@@ -115,196 +115,25 @@ impl EditorApp {
         }
     }
 
+    /// The menu bar ([`menus::MenuBar`]).
     pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
-        egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| self.file_menu_ui(ui));
-            ui.menu_button("Edit", |ui| {
-                if ui
-                    .add_enabled(self.doc.can_undo(), egui::Button::new("Undo  (Ctrl+Z)"))
-                    .clicked()
-                {
-                    self.doc.undo();
-                }
-                if ui
-                    .add_enabled(
-                        self.doc.can_redo(),
-                        egui::Button::new("Redo  (Ctrl+Shift+Z)"),
-                    )
-                    .clicked()
-                {
-                    self.doc.redo();
-                }
-            });
-            ui.menu_button("Export", |ui| self.export_menu_ui(ui));
-            ui.menu_button("View", |ui| {
-                let items = self.windows.menu_items_ui(ui, windows::Menu::View);
-                self.apply(items);
-                ui.separator();
-                ui.add(
-                    egui::Slider::new(&mut self.ui_state.ui_scale, state::UI_SCALE_RANGE)
-                        .step_by(0.05)
-                        .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
-                        .text("interface scale"),
-                )
-                .on_hover_text(
-                    "The size of text and controls (Ctrl+plus and Ctrl+minus too); remembered.",
-                );
-                ui.horizontal(|ui| {
-                    ui.label("Theme");
-                    ui.selectable_value(&mut self.ui_state.light_theme, false, "dark");
-                    ui.selectable_value(&mut self.ui_state.light_theme, true, "light");
-                })
-                .response
-                .on_hover_text("The interface's colours; the viewport and plots keep theirs.");
-            });
-            ui.menu_button("Help", |ui| {
-                let items = self.windows.menu_items_ui(ui, windows::Menu::Help);
-                self.apply(items);
-            });
-            ui.separator();
-            let dirty = if self.doc.is_dirty() { " *" } else { "" };
-            ui.label(format!("{}{}", self.doc.preset.name, dirty))
-                .on_hover_text("* = unsaved changes");
-        });
-    }
-
-    /// The File menu: presets, open, import, save, images, meshes and quit.
-    fn file_menu_ui(&mut self, ui: &mut egui::Ui) {
-        let items = self.windows.menu_items_ui(ui, windows::Menu::FilePresets);
-        self.apply(items);
-        ui.menu_button("New from preset", |ui| {
-            for (file, _) in library::PRESETS {
-                if let Ok(p) = library::load(file) {
-                    if ui.button(&p.name).on_hover_text(&p.source).clicked() {
-                        self.guarded(Pending::New(Box::new(p)));
-                        ui.close();
-                    }
-                }
-            }
-        });
-        if ui.button("Open…  (Ctrl+O)").clicked() {
-            self.open_dialog(DialogKind::Open);
-            ui.close();
-        }
-        if ui
-            .button("Import engine file…")
-            .on_hover_text("A Unity HDRP diffusion profile, Unreal SubsurfaceProfile text or .py, MaterialX document, Godot material or Blender snippet, as a new look: what that engine draws from it (you can also drop the file on the window)")
-            .clicked()
-        {
-            self.open_dialog(DialogKind::Import);
-            ui.close();
-        }
-        ui.menu_button("Open recent", |ui| {
-            if self.ui_state.recent.is_empty() {
-                ui.label("(none)");
-            }
-            for p in self.ui_state.recent.clone() {
-                if ui.button(p.display().to_string()).clicked() {
-                    self.guarded(Pending::Open(p));
-                    ui.close();
-                }
-            }
-        });
-        if ui.button("Save  (Ctrl+S)").clicked() {
-            self.save();
-            ui.close();
-        }
-        if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
-            self.open_dialog(DialogKind::SaveAs);
-            ui.close();
-        }
-        if ui
-            .button("Save image…  (F12)")
-            .on_hover_text(
-                "The viewport's frame as you see it (both sides of a comparison), as a PNG",
-            )
-            .clicked()
-        {
-            self.open_dialog(DialogKind::SaveImage);
-            ui.close();
-        }
-        if ui
-            .button("Reference image…")
-            .on_hover_text("A photograph beside the render or over it, with an eyedropper that picks its colours into the look's albedo or tint")
-            .clicked()
-        {
-            self.open_dialog(DialogKind::Reference);
-            ui.close();
-        }
-        let items = self.windows.menu_items_ui(ui, windows::Menu::FileImages);
-        self.apply(items);
-        ui.separator();
-        if ui
-            .button("Load mesh…")
-            .on_hover_text("An OBJ or glTF with UVs, in metres.")
-            .clicked()
-        {
-            self.open_dialog(DialogKind::Mesh);
-            ui.close();
-        }
-        if ui
-            .button("Scanned head")
-            .on_hover_text("Lee Perry-Smith's head scan (CC BY 3.0) with its colour and normal maps, at 0.0462 m/unit: a person, eyes closed as scanned.")
-            .clicked()
-        {
-            if !self.open_scanned_head() {
-                self.say("Error: the head scan is not here (assets/scan/ of the repository): use Load mesh…");
-            }
-            ui.close();
-        }
-        if ui
-            .button("Procedural head")
-            .on_hover_text("scatterlab's own head (CC0, with eyes and teeth): the bench's head.")
-            .clicked()
-        {
-            self.load_mesh(None);
-            ui.close();
-        }
-        ui.checkbox(&mut self.ui_state.start_on_scan, "Start on the scanned head")
-            .on_hover_text("Open the editor on the head scan (else the procedural head) when no mesh is asked for.");
-        ui.separator();
-        if ui.button("Quit").clicked() {
-            self.guarded(Pending::Quit);
-            ui.close();
-        }
-    }
-
-    /// The Export menu: every target, its name and what it writes.
-    fn export_menu_ui(&mut self, ui: &mut egui::Ui) {
-        for &f in Format::all() {
-            // The name, and what it writes on a second, dimmer line.
-            let mut text = egui::text::LayoutJob::default();
-            let style = ui.style();
-            text.append(
-                f.name(),
-                0.0,
-                egui::TextFormat::simple(
-                    egui::TextStyle::Button.resolve(style),
-                    style.visuals.text_color(),
-                ),
-            );
-            text.append(
-                &format!("\n{}", f.description()),
-                0.0,
-                egui::TextFormat::simple(
-                    egui::TextStyle::Small.resolve(style),
-                    style.visuals.weak_text_color(),
-                ),
-            );
-            if ui
-                .button(text)
-                .on_hover_text(format!(
-                    "{}: {} (command line: --format {})",
-                    f.name(),
-                    f.description(),
-                    f.id()
-                ))
-                .clicked()
-            {
-                self.open_dialog(DialogKind::Export(f));
-                ui.close();
-            }
-        }
+        use windows::Menu;
+        let bar = menus::MenuBar {
+            name: self.doc.preset.name.clone(),
+            dirty: self.doc.is_dirty(),
+            can_undo: self.doc.can_undo(),
+            can_redo: self.doc.can_redo(),
+            recent: self.ui_state.recent.clone(),
+            presets_items: self.windows.items(Menu::FilePresets),
+            images_items: self.windows.items(Menu::FileImages),
+            view_items: self.windows.items(Menu::View),
+            help_items: self.windows.items(Menu::Help),
+            ui_scale: self.ui_state.ui_scale,
+            light_theme: self.ui_state.light_theme,
+            start_on_scan: self.ui_state.start_on_scan,
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
     }
 
     pub(super) fn params_panel_ui(&mut self, ui: &mut egui::Ui) {

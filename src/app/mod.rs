@@ -10,6 +10,7 @@ mod dialogs;
 mod environment;
 mod files;
 mod menu;
+pub mod menus;
 mod overlays;
 mod params_ui;
 mod parts;

@@ -65,6 +65,23 @@ pub enum Action {
     /// Opens the first preset as the look (asking first about unsaved
     /// changes) and compares it side by side with the second as B.
     ComparePair([PathBuf; 2]),
+    /// Undo and redo the look's last edit.
+    Undo,
+    Redo,
+    /// Saves the look (Save As where it has no file yet).
+    Save,
+    /// The shipped head scan, or the procedural head, as the mesh.
+    ScannedHead,
+    ProceduralHead,
+    /// Quits (asking first about unsaved changes).
+    Quit,
+    /// The interface's scale and theme (light: true).
+    SetInterface {
+        scale: f32,
+        light_theme: bool,
+    },
+    /// Open on the head scan when no mesh is asked for.
+    SetStartOnScan(bool),
     /// The compare toolbar's settings as it left them.
     SetCompare(super::toolbars::CompareSettings),
     /// The material-albedo prompt for B, on a typed colour.
@@ -155,7 +172,7 @@ pub trait Window {
 #[derive(Clone, Debug, PartialEq)]
 pub struct MenuItem {
     pub label: String,
-    pub tooltip: &'static str,
+    pub tooltip: String,
     pub action: Action,
 }
 
@@ -166,7 +183,7 @@ pub fn items_ui(ui: &mut egui::Ui, items: &[MenuItem]) -> Vec<Action> {
     for item in items {
         let mut button = ui.button(&item.label);
         if !item.tooltip.is_empty() {
-            button = button.on_hover_text(item.tooltip);
+            button = button.on_hover_text(&item.tooltip);
         }
         if button.clicked() {
             actions.push(item.action.clone());
@@ -239,15 +256,10 @@ impl Windows {
             .filter(|w| w.menu() == Some(menu) && w.in_menu())
             .map(|w| MenuItem {
                 label: w.menu_label(),
-                tooltip: w.menu_tooltip(),
+                tooltip: w.menu_tooltip().into(),
                 action: w.opens_with().unwrap_or(Action::OpenWindow(w.title())),
             })
             .collect()
-    }
-
-    /// The items of `menu` drawn in it; what the one clicked asks for.
-    pub fn menu_items_ui(&self, ui: &mut egui::Ui, menu: Menu) -> Vec<Action> {
-        items_ui(ui, &self.items(menu))
     }
 
     /// Opens the window titled `title`; whether there is one.
