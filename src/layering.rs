@@ -641,3 +641,5 @@ fn the_graph_finds_a_circle_and_follows_re_exports() {
     assert_eq!(up, vec![("render/a".to_string(), "render/b".to_string())]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+mod sizes;

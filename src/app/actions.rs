@@ -4,6 +4,7 @@
 
 use super::windows::reference::PickInto;
 use super::windows::Action;
+use super::windows::Window;
 use super::*;
 
 impl EditorApp {
@@ -26,6 +27,8 @@ impl EditorApp {
                     self.windows.open(title);
                 }
                 Action::Say(line) => self.say(line),
+                Action::AnswerAlbedo(p, true) => self.answer_albedo_prompt(p),
+                Action::AnswerAlbedo(p, false) => self.decline_albedo_prompt(p),
                 Action::Undo => self.doc.undo(),
                 Action::Redo => self.doc.redo(),
                 Action::Save => self.save(),
@@ -93,6 +96,7 @@ impl EditorApp {
             mesh_info: self.meshes.mesh_info,
             meshes: &self.ui_state.meshes,
             waker: &self.waker,
+            colour_map_mean: self.colour_map_mean(),
             viewport_rect: self.layout.viewport_rect,
         };
         let actions = self.windows.show(ctx, &view);
@@ -193,7 +197,7 @@ impl EditorApp {
 
     /// The compare toolbar's settings: the mode, B, what is shown and the
     /// difference view's scale (remembered), A/B alone and "before".
-    fn set_compare(&mut self, c: super::toolbars::CompareSettings) {
+    fn set_compare(&mut self, c: compare::CompareSettings) {
         let u = &mut self.ui_state;
         (u.compare, u.compare_b, u.split) = (c.mode, c.b, c.split);
         (u.difference_scale, u.difference_auto) = (c.difference_scale, c.difference_auto);
@@ -202,5 +206,64 @@ impl EditorApp {
             u.b_material_albedo_asked = true;
         }
         (self.view.ab, self.view.show_before) = (c.ab, c.show_before);
+    }
+
+    /// The mesh the viewport is asked to show (`None`: the default head).
+    pub fn mesh_path(&self) -> Option<&Path> {
+        self.meshes.mesh.as_deref()
+    }
+
+    /// The loaded mesh's size and framing, once the viewport has it.
+    pub fn mesh_info(&self) -> Option<viewport::MeshInfo> {
+        self.meshes.mesh_info
+    }
+
+    /// The mesh whose units prompt is open.
+    pub fn units_prompt_for(&self) -> Option<&Path> {
+        self.mesh_path().filter(|_| self.windows.units.is_open())
+    }
+
+    /// Whether the Maps window's previews are computed (UI tests).
+    pub fn maps_preview_ready(&self) -> bool {
+        self.windows.maps.preview_ready()
+    }
+
+    /// Opens the shipped head scan (Lee Perry-Smith, CC BY 3.0:
+    /// assets/scan/ATTRIBUTION.md) at 0.0462 m/unit with its colour and
+    /// normal maps, flipped as they are made (V up), in the map's own
+    /// colour (the Look panel offers it tinted by the look's albedo, for
+    /// looks to differ on it); units and maps the artist has set for it
+    /// before are kept. False where the files are missing (a copy of the
+    /// binary without the repository).
+    pub fn open_scanned_head(&mut self) -> bool {
+        let Some((path, settings)) = state::scanned_head() else {
+            return false;
+        };
+        self.ui_state.meshes.entry(path.clone()).or_insert(settings);
+        self.load_mesh(Some(path));
+        true
+    }
+
+    /// Shows the mesh at `path` in the viewport, or the default head.
+    pub(super) fn load_mesh(&mut self, path: Option<PathBuf>) {
+        match &path {
+            Some(p) => self.say(format!("Loading mesh {} …", p.display())),
+            None if self.meshes.mesh.is_some() => self.say("Loading the default head …"),
+            None => {}
+        }
+        self.meshes.mesh = path;
+    }
+
+    /// Shows `mesh` in the viewport (`edit --mesh`), with its units if
+    /// given: they are remembered for the file as the units prompt would.
+    pub fn open_mesh(&mut self, mesh: MeshArg) {
+        if let Some(m) = mesh.metres_per_unit {
+            self.ui_state
+                .meshes
+                .entry(mesh.path.clone())
+                .or_default()
+                .metres_per_unit = m;
+        }
+        self.load_mesh(Some(mesh.path));
     }
 }

@@ -15,35 +15,13 @@
 //! tinted by the look's albedo, or the look's albedo alone
 //! ([`MapColour`]).
 
+use super::windows::albedo::{AlbedoPrompt, PromptFor};
 use super::EditorApp;
 use crate::model::Rgb;
 use crate::settings::albedo::{
     b_as_drawn, look_albedo, resolve, set_albedo, MapColour, MaterialAlbedo,
 };
 use crate::settings::{Preset, ProfileSpec};
-
-/// What the material-albedo prompt is for.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) enum PromptFor {
-    /// The look just opened or imported (its albedo is set).
-    Document,
-    /// B, a file of such an engine (`UiState::b_material_albedo`).
-    CompareB,
-}
-
-/// The open material-albedo prompt.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct AlbedoPrompt {
-    pub(super) target: PromptFor,
-    /// The look's name and the engine's file kind, for the text.
-    pub(super) name: String,
-    pub(super) choice: MaterialAlbedo,
-    /// The colour the "typed" choice edits (linear).
-    pub(super) typed: [f32; 3],
-    /// Look A's albedo when the prompt opened (for a document: the look
-    /// open before it).
-    pub(super) a_albedo: Rgb,
-}
 
 impl EditorApp {
     /// Look A's albedo without building a slow model each frame: Burley's
@@ -100,8 +78,8 @@ impl EditorApp {
         if !self.doc.preset.rendering.albedo_in_material {
             return;
         }
-        self.dialogs.albedo_prompt = Some(AlbedoPrompt {
-            target: PromptFor::Document,
+        self.windows.albedo.prompt = Some(AlbedoPrompt {
+            target: PromptFor::Look,
             name: self.doc.preset.name.clone(),
             choice: MaterialAlbedo::LookA,
             typed: a_albedo.map(|c| c as f32),
@@ -116,7 +94,7 @@ impl EditorApp {
             return;
         }
         let a_albedo = self.a_albedo();
-        self.dialogs.albedo_prompt = Some(AlbedoPrompt {
+        self.windows.albedo.prompt = Some(AlbedoPrompt {
             target: PromptFor::CompareB,
             name: b.name.clone(),
             choice: self.ui_state.b_material_albedo,
@@ -128,8 +106,22 @@ impl EditorApp {
         });
     }
 
+    /// The prompt's other button: "Use A's for now" for B (A's, asked),
+    /// "Keep albedo 1" for a document (said).
+    pub(super) fn decline_albedo_prompt(&mut self, p: AlbedoPrompt) {
+        if p.target == PromptFor::CompareB {
+            self.ui_state.b_material_albedo = MaterialAlbedo::LookA;
+            self.ui_state.b_material_albedo_asked = true;
+        } else {
+            self.say(format!(
+                "\"{}\" keeps its file's albedo 1 (a white head): set Albedo to the material's",
+                p.name
+            ));
+        }
+    }
+
     /// Applies the prompt's answer.
-    fn answer_albedo_prompt(&mut self, p: AlbedoPrompt) {
+    pub(super) fn answer_albedo_prompt(&mut self, p: AlbedoPrompt) {
         let map_mean = self.colour_map_mean();
         match p.target {
             PromptFor::CompareB => {
@@ -141,7 +133,7 @@ impl EditorApp {
                     p.choice.label()
                 ));
             }
-            PromptFor::Document => {
+            PromptFor::Look => {
                 let rgb = resolve(p.choice, p.a_albedo, map_mean);
                 let as_read = self.doc.preset.clone();
                 let preset = &mut self.doc.preset;
@@ -191,113 +183,6 @@ impl EditorApp {
         }
     }
 
-    /// The material-albedo prompt (a modal: it decides what the next
-    /// frame draws).
-    pub(super) fn albedo_prompt_ui(&mut self, ctx: &egui::Context) {
-        let Some(mut p) = self.dialogs.albedo_prompt.clone() else {
-            return;
-        };
-        let has_map = self.colour_map_mean().is_some();
-        let mut answer = None;
-        egui::Modal::new(egui::Id::unique("scatterlab_albedo_prompt")).show(ctx, |ui| {
-            ui.set_max_width(460.0);
-            ui.heading("Material albedo");
-            ui.label(format!(
-                "\"{}\" comes from an engine that keeps the albedo in the material (HDRP): its file has no colour, so as it is it draws a white head. Draw {} with:",
-                p.name,
-                if p.target == PromptFor::Document { "it" } else { "B" }
-            ));
-            let a = p.a_albedo;
-            ui.radio_value(
-                &mut p.choice,
-                MaterialAlbedo::LookA,
-                format!(
-                    "A's albedo ({:.3} / {:.3} / {:.3}){}",
-                    a[0],
-                    a[1],
-                    a[2],
-                    if p.target == PromptFor::Document {
-                        ": the look open before it"
-                    } else {
-                        ""
-                    }
-                ),
-            )
-            .on_hover_text("The colour held equal, so that only the profile's shape differs: how far this engine's profile is from the look.");
-            ui.add_enabled_ui(has_map, |ui| {
-                ui.radio_value(&mut p.choice, MaterialAlbedo::Map, "the head's colour map")
-                    .on_hover_text("The loaded mesh's colour map as the engine's material uses it (its mean colour in the plots).")
-                    .on_disabled_hover_text("The head has no colour map of its own (the default head's map only varies the look's colour): load a mesh with one.");
-            });
-            ui.horizontal(|ui| {
-                let typed = matches!(p.choice, MaterialAlbedo::Typed(_));
-                if ui.radio(typed, "this colour").clicked() || typed {
-                    p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
-                }
-                if egui::color_picker::color_edit_button_rgb(ui, &mut p.typed)
-                    .on_hover_text("Linear RGB, the material's base colour")
-                    .changed()
-                {
-                    p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
-                }
-                ui.label(format!(
-                    "{:.3} / {:.3} / {:.3}",
-                    p.typed[0], p.typed[1], p.typed[2]
-                ));
-            });
-            ui.separator();
-            ui.horizontal(|ui| {
-                if ui.button("OK").clicked() {
-                    answer = Some(true);
-                }
-                let cancel = if p.target == PromptFor::Document {
-                    "Keep albedo 1 (white)"
-                } else {
-                    "Use A's for now"
-                };
-                if ui.button(cancel).clicked() {
-                    answer = Some(false);
-                }
-            });
-        });
-        // Enter answers OK, Escape the other button (as the prompt's keys
-        // elsewhere).
-        if answer.is_none() {
-            let (enter, escape) = ctx.input(|i| {
-                (
-                    i.key_pressed(egui::Key::Enter),
-                    i.key_pressed(egui::Key::Escape),
-                )
-            });
-            if enter {
-                answer = Some(true);
-            } else if escape {
-                answer = Some(false);
-            }
-        }
-        match answer {
-            Some(true) => {
-                self.dialogs.albedo_prompt = None;
-                self.answer_albedo_prompt(p);
-            }
-            Some(false) => {
-                self.dialogs.albedo_prompt = None;
-                if p.target == PromptFor::CompareB {
-                    // "Use A's for now": A's, asked.
-                    self.ui_state.b_material_albedo = MaterialAlbedo::LookA;
-                    self.ui_state.b_material_albedo_asked = true;
-                }
-                if p.target == PromptFor::Document {
-                    self.say(format!(
-                        "\"{}\" keeps its file's albedo 1 (a white head): set Albedo to the material's",
-                        p.name
-                    ));
-                }
-            }
-            None => self.dialogs.albedo_prompt = Some(p),
-        }
-    }
-
     /// The material-albedo prompt for B, on a typed colour ("a colour…"
     /// beside B).
     pub(super) fn ask_b_albedo_colour(&mut self) {
@@ -307,7 +192,7 @@ impl EditorApp {
         };
         self.ui_state.b_material_albedo_asked = false;
         self.ask_b_albedo(&b);
-        if let Some(p) = self.dialogs.albedo_prompt.as_mut() {
+        if let Some(p) = self.windows.albedo.prompt.as_mut() {
             p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
         }
     }

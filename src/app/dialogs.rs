@@ -15,7 +15,7 @@ impl EditorApp {
     pub fn modal_prompt_open(&self) -> bool {
         self.dialogs.pending.is_some()
             || self.dialogs.overwrite.is_some()
-            || self.dialogs.albedo_prompt.is_some()
+            || self.windows.modal_open()
             || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
@@ -37,7 +37,6 @@ impl EditorApp {
         self.dialogs.open_last_frame = open;
         self.overwrite_prompt_ui(ctx);
         self.unsaved_prompt_ui(ctx);
-        self.albedo_prompt_ui(ctx);
         self.file_dialog_ui(ctx);
     }
 

@@ -3,69 +3,9 @@
 //! and the results of the background jobs (analysis, environment loads,
 //! exports) as they come in.
 
-use super::windows::Window;
 use super::*;
 
 impl EditorApp {
-    /// The mesh the viewport is asked to show (`None`: the default head).
-    pub fn mesh_path(&self) -> Option<&Path> {
-        self.meshes.mesh.as_deref()
-    }
-
-    /// The loaded mesh's size and framing, once the viewport has it.
-    pub fn mesh_info(&self) -> Option<viewport::MeshInfo> {
-        self.meshes.mesh_info
-    }
-
-    /// The mesh whose units prompt is open.
-    pub fn units_prompt_for(&self) -> Option<&Path> {
-        self.mesh_path().filter(|_| self.windows.units.is_open())
-    }
-
-    /// Whether the Maps window's previews are computed (UI tests).
-    pub fn maps_preview_ready(&self) -> bool {
-        self.windows.maps.preview_ready()
-    }
-
-    /// Opens the shipped head scan (Lee Perry-Smith, CC BY 3.0:
-    /// assets/scan/ATTRIBUTION.md) at 0.0462 m/unit with its colour and
-    /// normal maps, flipped as they are made (V up), in the map's own
-    /// colour (the Look panel offers it tinted by the look's albedo, for
-    /// looks to differ on it); units and maps the artist has set for it
-    /// before are kept. False where the files are missing (a copy of the
-    /// binary without the repository).
-    pub fn open_scanned_head(&mut self) -> bool {
-        let Some((path, settings)) = state::scanned_head() else {
-            return false;
-        };
-        self.ui_state.meshes.entry(path.clone()).or_insert(settings);
-        self.load_mesh(Some(path));
-        true
-    }
-
-    /// Shows the mesh at `path` in the viewport, or the default head.
-    pub(super) fn load_mesh(&mut self, path: Option<PathBuf>) {
-        match &path {
-            Some(p) => self.say(format!("Loading mesh {} …", p.display())),
-            None if self.meshes.mesh.is_some() => self.say("Loading the default head …"),
-            None => {}
-        }
-        self.meshes.mesh = path;
-    }
-
-    /// Shows `mesh` in the viewport (`edit --mesh`), with its units if
-    /// given: they are remembered for the file as the units prompt would.
-    pub fn open_mesh(&mut self, mesh: MeshArg) {
-        if let Some(m) = mesh.metres_per_unit {
-            self.ui_state
-                .meshes
-                .entry(mesh.path.clone())
-                .or_default()
-                .metres_per_unit = m;
-        }
-        self.load_mesh(Some(mesh.path));
-    }
-
     /// Imports the engine file at `path` as a new, unsaved look (the first
     /// of several, with a note), keeping the file's own fields for the
     /// Engines readout.
@@ -195,7 +135,7 @@ impl EditorApp {
             | DialogKind::SaveTurntable
             | DialogKind::SaveStill => None,
         };
-        let usable = |d: &Path| !(writes && is_shipped_presets(d));
+        let usable = |d: &Path| !(writes && library::is_shipped_presets(d));
         let folder_of = |p: &Path| {
             p.parent()
                 .filter(|d| !d.as_os_str().is_empty() && d.is_dir() && usable(d))
@@ -404,14 +344,6 @@ impl EditorApp {
             });
         }
     }
-}
-
-/// Whether `dir` is the shipped presets' folder (it holds every shipped
-/// preset file).
-pub(super) fn is_shipped_presets(dir: &Path) -> bool {
-    library::PRESETS
-        .iter()
-        .all(|(file, _)| dir.join(file).is_file())
 }
 
 /// The artist's documents folder: `XDG_DOCUMENTS_DIR` (the environment,

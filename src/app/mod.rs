@@ -6,6 +6,7 @@ mod actions;
 mod albedo;
 pub mod analysis;
 mod autosave;
+pub mod compare;
 mod dialogs;
 mod environment;
 mod files;
@@ -283,7 +284,6 @@ impl EditorApp {
                 pending: None,
                 after_save: None,
                 overwrite: None,
-                albedo_prompt: None,
                 export_notes: None,
                 open_last_frame: Vec::new(),
             },

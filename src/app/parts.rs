@@ -92,8 +92,6 @@ pub(super) struct Dialogs {
     pub(super) after_save: Option<Pending>,
     /// Files a Save As or export would replace, waiting for a yes.
     pub(super) overwrite: Option<Overwrite>,
-    /// The material-albedo prompt (`albedo.rs`), while it is open.
-    pub(super) albedo_prompt: Option<super::albedo::AlbedoPrompt>,
     /// The open export dialog's notes, while they are being computed.
     pub(super) export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// `edit --budget DIR`: a budget report's merges, and their window.

@@ -3,30 +3,13 @@
 //! settings it edits, and returns [`Action`]s, which
 //! `EditorApp::apply` performs. Neither writes the editor's state.
 
+use super::compare::CompareSettings;
 use super::state::{self, CompareB, CompareMode, EnvironmentChoice, ViewState};
 use super::windows::{Action, MenuItem};
 use super::AbView;
 use crate::settings::albedo::MaterialAlbedo;
 use crate::settings::rendering::MethodId;
 use std::path::Path;
-
-/// What the compare toolbar edits.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CompareSettings {
-    pub mode: CompareMode,
-    pub b: CompareB,
-    /// Both sides, or one alone.
-    pub ab: AbView,
-    /// The look before the last edit is shown ("before", F).
-    pub show_before: bool,
-    /// White in the difference view (ΔL*), or each view's own largest.
-    pub difference_scale: f32,
-    pub difference_auto: bool,
-    /// Where the split line sits (0–1).
-    pub split: f32,
-    /// The albedo B is drawn with when its engine keeps it in the material.
-    pub b_albedo: MaterialAlbedo,
-}
 
 /// How far B's file is from A, beside B.
 pub struct BReadout {

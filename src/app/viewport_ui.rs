@@ -104,7 +104,7 @@ impl EditorApp {
         };
         let u = &self.ui_state;
         let bar = toolbars::CompareBar {
-            settings: toolbars::CompareSettings {
+            settings: compare::CompareSettings {
                 mode: u.compare,
                 b: u.compare_b.clone(),
                 ab: self.view.ab,

@@ -208,6 +208,8 @@ fn yaml_name(name: &str) -> String {
 pub mod budget;
 /// The budget's use case: the files it writes, the heads it renders.
 #[cfg(feature = "gpu")]
+mod budget_pictures;
+#[cfg(feature = "gpu")]
 pub mod budget_run;
 pub mod project;
 mod read;

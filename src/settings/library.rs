@@ -80,6 +80,12 @@ pub fn load(file: &str) -> Result<Preset, PresetError> {
     Preset::from_ron(text, Path::new(file))
 }
 
+/// Whether `dir` is the shipped presets' folder (it holds every shipped
+/// preset file).
+pub fn is_shipped_presets(dir: &Path) -> bool {
+    PRESETS.iter().all(|(file, _)| dir.join(file).is_file())
+}
+
 #[cfg(test)]
 mod tests {
     /// Every file in presets/ is embedded (a new file must be added here).

@@ -331,7 +331,7 @@ impl PresetBrowser {
             }
             let here = doc_path
                 .and_then(Path::parent)
-                .filter(|d| !crate::app::files::is_shipped_presets(d))
+                .filter(|d| !library::is_shipped_presets(d))
                 .map(Path::to_path_buf);
             if let Some(dir) = here.filter(|d| !folders.contains(d)) {
                 if ui

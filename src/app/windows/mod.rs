@@ -10,16 +10,6 @@
 //! `show(ctx, &mut open)`) and Rerun's panels (a view returns commands to
 //! the app rather than writing its state).
 
-pub mod browser;
-pub mod budget;
-pub mod help;
-pub mod light;
-pub mod maps;
-pub mod reference;
-pub mod still;
-pub mod turntable;
-pub mod units;
-
 use super::state;
 use std::path::{Path, PathBuf};
 
@@ -45,9 +35,9 @@ pub enum Action {
     /// The file dialog of this kind.
     OpenDialog(super::DialogKind),
     /// Save image at size's settings as its window left them.
-    SetStill(state::StillSettings),
+    SetStill(still::StillSettings),
     /// Save turntable's settings as its window left them.
-    SetTurntable(state::TurntableSettings),
+    SetTurntable(turntable::TurntableSettings),
     /// File → Browse presets: lists the presets (the artist's folders
     /// too) and opens the browser.
     BrowsePresets,
@@ -83,11 +73,13 @@ pub enum Action {
     /// Open on the head scan when no mesh is asked for.
     SetStartOnScan(bool),
     /// The compare toolbar's settings as it left them.
-    SetCompare(super::toolbars::CompareSettings),
+    SetCompare(super::compare::CompareSettings),
     /// The material-albedo prompt for B, on a typed colour.
     AskBAlbedoColour,
     /// "to truth": the viewport refines to the ground truth.
     SetRefineToTruth(bool),
+    /// The material-albedo prompt's answer: OK (true) or the other button.
+    AnswerAlbedo(albedo::AlbedoPrompt, bool),
     /// The reference image's eyedropper: a linear colour into a field of
     /// the look, as an undoable edit.
     PickColour([f64; 3], reference::PickInto),
@@ -98,8 +90,8 @@ pub struct WindowView<'a> {
     pub view: &'a state::ViewState,
     /// The HDR map loaded last, if any.
     pub environment_file: Option<&'a Path>,
-    pub still: &'a state::StillSettings,
-    pub turntable: &'a state::TurntableSettings,
+    pub still: &'a still::StillSettings,
+    pub turntable: &'a turntable::TurntableSettings,
     /// The artist's preset folders.
     pub preset_folders: &'a [PathBuf],
     /// The open look's file, if it has one.
@@ -111,6 +103,8 @@ pub struct WindowView<'a> {
     pub meshes: &'a std::collections::BTreeMap<PathBuf, state::MeshSettings>,
     /// Wakes the UI from a window's own thread.
     pub waker: &'a super::wake::Waker,
+    /// The mean colour of the head's colour map, when it has one.
+    pub colour_map_mean: Option<[f32; 3]>,
     /// Where the viewport was drawn last frame.
     pub viewport_rect: Option<egui::Rect>,
 }
@@ -164,6 +158,11 @@ pub trait Window {
         None
     }
     fn set_open(&mut self, open: bool);
+    /// A modal prompt: it answers Escape itself, and no key reaches the
+    /// look while it is up.
+    fn is_modal(&self) -> bool {
+        false
+    }
     /// Draws the window when it is open; what it wants changed.
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action>;
 }
@@ -193,60 +192,62 @@ pub fn items_ui(ui: &mut egui::Ui, items: &[MenuItem]) -> Vec<Action> {
     actions
 }
 
-/// Every window of this kind, listed once.
-#[derive(Default)]
-pub struct Windows {
-    pub browser: browser::BrowserWindow,
-    pub budget: budget::BudgetWindow,
-    pub still: still::StillWindow,
-    pub turntable: turntable::TurntableWindow,
-    pub units: units::UnitsWindow,
-    pub maps: maps::MapsWindow,
-    pub reference: reference::ReferenceWindow,
-    pub light: light::LightWindow,
-    pub shortcuts: help::ShortcutsWindow,
-    pub about: help::AboutWindow,
+/// The registry of windows, as `render/sss`'s `methods!` is of methods:
+/// each entry is a window's file (`mod`) and its type, in drawing order,
+/// and makes the module, the [`Windows`] field of that name and its place
+/// in [`Windows::all`]. A new window is its file and one line here.
+macro_rules! windows {
+    ($($m:ident: $window:ident),* $(,)?) => {
+        $(pub mod $m;)*
+
+        /// Every window, listed once.
+        #[derive(Default)]
+        pub struct Windows {
+            $(pub $m: $m::$window,)*
+        }
+
+        impl Windows {
+            /// Each window, in drawing order.
+            pub fn all_mut(&mut self) -> Vec<&mut dyn Window> {
+                vec![$(&mut self.$m,)*]
+            }
+
+            /// Each window, in drawing order.
+            pub fn all(&self) -> Vec<&dyn Window> {
+                vec![$(&self.$m,)*]
+            }
+        }
+    };
+}
+
+windows! {
+    albedo: AlbedoWindow,
+    browser: BrowserWindow,
+    budget: BudgetWindow,
+    still: StillWindow,
+    turntable: TurntableWindow,
+    units: UnitsWindow,
+    maps: MapsWindow,
+    reference: ReferenceWindow,
+    light: LightWindow,
+    shortcuts: ShortcutsWindow,
+    about: AboutWindow,
 }
 
 impl Windows {
-    /// Each window, in drawing order.
-    pub fn all_mut(&mut self) -> [&mut dyn Window; 10] {
-        [
-            &mut self.browser,
-            &mut self.budget,
-            &mut self.still,
-            &mut self.turntable,
-            &mut self.units,
-            &mut self.maps,
-            &mut self.reference,
-            &mut self.light,
-            &mut self.shortcuts,
-            &mut self.about,
-        ]
-    }
-
-    pub fn all(&self) -> [&dyn Window; 10] {
-        [
-            &self.browser,
-            &self.budget,
-            &self.still,
-            &self.turntable,
-            &self.units,
-            &self.maps,
-            &self.reference,
-            &self.light,
-            &self.shortcuts,
-            &self.about,
-        ]
-    }
-
-    /// The titles of the open windows.
+    /// The titles of the open windows (not the modal prompts: they take
+    /// Escape themselves).
     pub fn open_titles(&self) -> Vec<&'static str> {
         self.all()
             .into_iter()
-            .filter(|w| w.is_open())
+            .filter(|w| w.is_open() && !w.is_modal())
             .map(|w| w.title())
             .collect()
+    }
+
+    /// Whether a modal prompt is up.
+    pub fn modal_open(&self) -> bool {
+        self.all().into_iter().any(|w| w.is_open() && w.is_modal())
     }
 
     /// The items of `menu`, one a window listed now.
