@@ -35,12 +35,12 @@ fn parsed(module_name: &str) -> naga::Module {
 #[test]
 fn every_gpu_struct_matches_its_wgsl_twin() {
     use scatterlab::render::gpu_types::{
-        BurleyUniforms, CompositeUniforms, GpuSample, GpuTap, SceneUniforms, SssUniforms,
-        TextureSpaceUniforms,
+        BurleyUniforms, CompositeUniforms, GatherParams, GpuSample, GpuTap, SceneUniforms,
+        SssUniforms, TextureSpaceUniforms,
     };
     type Fields = &'static [(&'static str, usize, &'static str)];
     // (WGSL module, WGSL struct, Rust size, Rust fields)
-    let twins: [(&str, &str, usize, Fields); 11] = [
+    let twins: [(&str, &str, usize, Fields); 12] = [
         (
             "scene",
             "SceneUniforms",
@@ -106,6 +106,12 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
             "CompositeUniforms",
             std::mem::size_of::<CompositeUniforms>(),
             CompositeUniforms::FIELDS,
+        ),
+        (
+            "ground_truth",
+            "GatherParams",
+            std::mem::size_of::<GatherParams>(),
+            GatherParams::FIELDS,
         ),
     ];
     for (module_name, struct_name, rust_size, rust_fields) in twins {

@@ -309,3 +309,33 @@ pub struct Vertex {
     pub tangent: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<Vertex>() == 60);
+
+gpu_struct! {
+    /// Twin of `GatherParams` in `shaders/ground_truth.wgsl`: the GPU
+    /// ground truth's table grid, bounds, dispatch and quadrature.
+    pub struct GatherParams {
+        /// The table's grid (`ProfileTable`): ln r₀, 1/step, r₀ (mm).
+        pub ln_r0: f32,
+        pub inv_step: f32,
+        pub r0_mm: f32,
+        /// Truncation radius, smallest split (mm) and the cloud's reach.
+        pub r_max_mm: f32,
+        pub epsilon_mm: f32,
+        pub reach_mm: f32,
+        /// Points in this dispatch and the first of them.
+        pub count: u32,
+        pub first: u32,
+        /// CDF at r = 0 (rgb, and 0).
+        pub cdf_zero: [f32; 4],
+        /// Where the roots and the leaf order start in `tree` (vec4s), and
+        /// the number of clusters.
+        pub roots_at: u32,
+        pub order_at: u32,
+        pub clusters: u32,
+        /// The table's splitting tolerance (`TruthBound::uneven`).
+        pub uneven: f32,
+        /// 8-point Gauss–Legendre on [−1, 1], four a row.
+        pub gl_nodes: [[f32; 4]; 2],
+        pub gl_weights: [[f32; 4]; 2],
+    }
+}

@@ -101,6 +101,18 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             include_str!("../../shaders/texture_space_scene.wgsl")
         ),
     )])
+    // The GPU ground truth's gather as `reference --reference-gpu` builds
+    // it: the scene's `shade` and the mesh's interpolation first (groups 0
+    // and 1), the gather's own bindings after them.
+    .chain([(
+        "ground_truth",
+        format!(
+            "{}\n{}\n{}",
+            include_str!("../../shaders/scene.wgsl"),
+            include_str!("../../shaders/ground_truth_scene.wgsl"),
+            include_str!("../../shaders/ground_truth.wgsl").replace("@group(0)", "@group(2)")
+        ),
+    )])
     // Each method's own pass (`MethodInfo::shader`), after the shared code.
     .chain(super::Method::all().iter().filter_map(|m| {
         m.sss()

@@ -397,10 +397,8 @@ impl Renderer {
             drawn: lod,
         };
         let scattered = (method.sss().encode)(&mut f, &self.sss, &io, &mut self.sss_state)?;
-        let reference_cpu_ms = scattered.cpu_ms;
-        let reference_gpu_unfinished = scattered.gpu_unfinished;
-        let truth_tiles = scattered.truth_tiles.clone();
-        let reference_build_ms = scattered.build_ms;
+        let truth = scattered.truth.clone().unwrap_or_default();
+        let reference_cpu_ms = scattered.truth.as_ref().map(|t| t.cpu_ms);
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
@@ -442,9 +440,9 @@ impl Renderer {
             sss_samples,
             lod_skipped_pixels,
             reference_cpu_ms,
-            reference_build_ms,
-            reference_gpu_unfinished,
-            truth_tiles,
+            reference_build_ms: truth.build_ms,
+            reference_gpu_unfinished: truth.gpu_unfinished,
+            truth_tiles: truth.tiles,
             profile_uploaded: false,
             scene_reused: reuse,
             target_bytes: t.bytes,

@@ -16,6 +16,7 @@
 
 use super::table::ProfileTable;
 use super::{Cloud, GatherPoint};
+use crate::render::gpu_types::GatherParams;
 use crate::render::{GpuContext, GpuError};
 use wgpu::util::DeviceExt;
 
@@ -23,35 +24,12 @@ use wgpu::util::DeviceExt;
 /// single submission runs long enough for a driver's watchdog).
 const POINTS_PER_DISPATCH: usize = 8192;
 
-/// The uniform block `GatherParams` of `ground_truth.wgsl`, field for
-/// field.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    ln_r0: f32,
-    inv_step: f32,
-    r0_mm: f32,
-    r_max_mm: f32,
-    epsilon_mm: f32,
-    reach_mm: f32,
-    count: u32,
-    first: u32,
-    cdf_zero: [f32; 4],
-    roots_at: u32,
-    order_at: u32,
-    clusters: u32,
-    /// The table's splitting tolerance (`TruthBound::uneven`).
-    uneven: f32,
-    gl_nodes: [f32; 8],
-    gl_weights: [f32; 8],
-}
-
 /// A cloud's clusters, cells and profile on the GPU, and the gather's
 /// pipeline with its irradiance module.
 pub struct GpuCloud {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    params: Params,
+    params: GatherParams,
     params_buffer: wgpu::Buffer,
     tree: wgpu::Buffer,
     node_e: wgpu::Buffer,
@@ -158,7 +136,7 @@ impl GpuCloud {
         }
         let t = cloud.table();
         let (nodes, weights) = crate::model::quad::gl8();
-        let params = Params {
+        let params = GatherParams {
             ln_r0: t.ln_r0 as f32,
             inv_step: t.inv_step as f32,
             r0_mm: t.r0_mm as f32,
@@ -172,8 +150,8 @@ impl GpuCloud {
             order_at,
             clusters: cells.clusters.len() as u32,
             uneven: t.uneven,
-            gl_nodes: std::array::from_fn(|i| nodes[i] as f32),
-            gl_weights: std::array::from_fn(|i| weights[i] as f32),
+            gl_nodes: std::array::from_fn(|r| std::array::from_fn(|c| nodes[4 * r + c] as f32)),
+            gl_weights: std::array::from_fn(|r| std::array::from_fn(|c| weights[4 * r + c] as f32)),
         };
         let device = &ctx.device;
         let storage = |label: &str, contents: &[u8]| {
@@ -252,7 +230,7 @@ impl GpuCloud {
                 params,
                 params_buffer: device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("ground truth params"),
-                    size: std::mem::size_of::<Params>() as u64,
+                    size: std::mem::size_of::<GatherParams>() as u64,
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 }),
@@ -352,7 +330,7 @@ impl GpuCloud {
         })?;
         for first in (0..points.len()).step_by(POINTS_PER_DISPATCH) {
             let count = POINTS_PER_DISPATCH.min(points.len() - first);
-            let params = Params {
+            let params = GatherParams {
                 first: first as u32,
                 count: count as u32,
                 ..self.params

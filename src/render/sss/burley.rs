@@ -329,13 +329,8 @@ fn encode(
         true,
     );
     Ok(Scattered {
-        target: HdrTarget::Ping,
-        samples_per_pixel: n,
         counted_pass: Some(label),
-        cpu_ms: None,
-        gpu_unfinished: None,
-        truth_tiles: None,
-        build_ms: None,
+        ..Scattered::in_target(HdrTarget::Ping, n)
     })
 }
 

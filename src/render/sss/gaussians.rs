@@ -103,15 +103,7 @@ fn encode(
     let taps = gpu.tap_count;
     if gpu.gaussians.is_empty() {
         // No Gaussians set: nothing to add, the diffuse stays unscattered.
-        return Ok(Scattered {
-            target: HdrTarget::Diffuse,
-            samples_per_pixel: 0,
-            counted_pass: None,
-            cpu_ms: None,
-            gpu_unfinished: None,
-            truth_tiles: None,
-            build_ms: None,
-        });
+        return Ok(Scattered::in_target(HdrTarget::Diffuse, 0));
     }
     for (k, (buffer, weight, sigma)) in gpu.gaussians.iter().enumerate() {
         // Each Gaussian follows the surface with its own σ (Jimenez 2015
@@ -129,15 +121,10 @@ fn encode(
             ["sss gaussian x", "sss gaussian y"],
         );
     }
-    Ok(Scattered {
-        target: HdrTarget::Pong,
-        samples_per_pixel: 2 * taps * gpu.gaussians.len() as u32,
-        counted_pass: None,
-        cpu_ms: None,
-        gpu_unfinished: None,
-        truth_tiles: None,
-        build_ms: None,
-    })
+    Ok(Scattered::in_target(
+        HdrTarget::Pong,
+        2 * taps * gpu.gaussians.len() as u32,
+    ))
 }
 
 /// `gaussians`' CPU inputs: each Gaussian's σ and weight, and the taps of

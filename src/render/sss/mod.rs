@@ -282,16 +282,36 @@ pub(in crate::render) struct Scattered {
     pub samples_per_pixel: u32,
     /// The pass whose samples the GPU counters measured, if any.
     pub counted_pass: Option<&'static str>,
-    /// CPU time of a method computed on the CPU (ms).
-    pub cpu_ms: Option<f64>,
-    /// `reference` on the GPU: the points whose walk the GPU did not
-    /// finish, gathered on the CPU instead.
-    pub gpu_unfinished: Option<u64>,
-    /// `reference` in tiles: how far the view has got.
-    pub truth_tiles: Option<crate::render::settings::TruthProgress>,
-    /// `reference`: the part of `cpu_ms` that built the cells, where this
-    /// frame built them.
+    /// The ground truth's figures, for the one method that gathers it.
+    pub truth: Option<TruthFigures>,
+}
+
+/// What a ground-truth frame (`reference`) measured.
+#[derive(Debug, Clone, Default)]
+pub(in crate::render) struct TruthFigures {
+    /// Its CPU time (ms).
+    pub cpu_ms: f64,
+    /// The part of `cpu_ms` that built the cells, where this frame built
+    /// them.
     pub build_ms: Option<f64>,
+    /// On the GPU: the points whose walk the GPU did not finish, gathered
+    /// on the CPU instead.
+    pub gpu_unfinished: Option<u64>,
+    /// In tiles: how far the view has got.
+    pub tiles: Option<crate::render::settings::TruthProgress>,
+}
+
+impl Scattered {
+    /// A method's passes left the irradiance in `target`, `samples` a
+    /// pixel.
+    pub fn in_target(target: HdrTarget, samples_per_pixel: u32) -> Self {
+        Self {
+            target,
+            samples_per_pixel,
+            counted_pass: None,
+            truth: None,
+        }
+    }
 }
 
 /// Records a method's passes (or computes it, `reference`).
@@ -306,15 +326,7 @@ pub(in crate::render) fn no_pass(
     _: &SssFrame,
     _: &mut State,
 ) -> Result<Scattered, GpuError> {
-    Ok(Scattered {
-        target: HdrTarget::Diffuse,
-        samples_per_pixel: 0,
-        counted_pass: None,
-        cpu_ms: None,
-        gpu_unfinished: None,
-        truth_tiles: None,
-        build_ms: None,
-    })
+    Ok(Scattered::in_target(HdrTarget::Diffuse, 0))
 }
 
 /// What a method lit in the scene pass gives it (`shaders/scene.wgsl`).

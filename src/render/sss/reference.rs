@@ -128,13 +128,13 @@ fn encode(
         io.cancel,
     )?;
     Ok(Scattered {
-        target: HdrTarget::Ping,
-        samples_per_pixel: 0,
-        counted_pass: None,
-        cpu_ms: Some(timing.build_ms.unwrap_or(0.0) + timing.gather_ms),
-        gpu_unfinished: timing.gpu_unfinished,
-        truth_tiles: timing.tiles,
-        build_ms: timing.build_ms,
+        truth: Some(super::TruthFigures {
+            cpu_ms: timing.build_ms.unwrap_or(0.0) + timing.gather_ms,
+            build_ms: timing.build_ms,
+            gpu_unfinished: timing.gpu_unfinished,
+            tiles: timing.tiles,
+        }),
+        ..Scattered::in_target(HdrTarget::Ping, 0)
     })
 }
 

@@ -241,15 +241,7 @@ fn encode(
         Into::Replace,
         ["sss separable x", "sss separable y"],
     );
-    Ok(Scattered {
-        target: HdrTarget::Pong,
-        samples_per_pixel: 2 * gpu.count,
-        counted_pass: None,
-        cpu_ms: None,
-        gpu_unfinished: None,
-        truth_tiles: None,
-        build_ms: None,
-    })
+    Ok(Scattered::in_target(HdrTarget::Pong, 2 * gpu.count))
 }
 
 /// `separable`'s CPU inputs: the kernel's taps and how the passes follow

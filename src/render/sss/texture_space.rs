@@ -482,15 +482,7 @@ fn encode(
         io.drawn
             .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]);
     }
-    Ok(Scattered {
-        target: HdrTarget::Ping,
-        samples_per_pixel: n,
-        counted_pass: None,
-        cpu_ms: None,
-        gpu_unfinished: None,
-        truth_tiles: None,
-        build_ms: None,
-    })
+    Ok(Scattered::in_target(HdrTarget::Ping, n))
 }
 
 #[cfg(test)]
