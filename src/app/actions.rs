@@ -27,6 +27,8 @@ impl EditorApp {
                     self.windows.open(title);
                 }
                 Action::Say(line) => self.say(line),
+                Action::AnswerUnsaved(p, answer) => self.answer_unsaved(p, answer),
+                Action::AnswerOverwrite(o, replace) => self.answer_overwrite(o, replace),
                 Action::AnswerAlbedo(p, true) => self.answer_albedo_prompt(p),
                 Action::AnswerAlbedo(p, false) => self.decline_albedo_prompt(p),
                 Action::Undo => self.doc.undo(),
@@ -96,6 +98,7 @@ impl EditorApp {
             mesh_info: self.meshes.mesh_info,
             meshes: &self.ui_state.meshes,
             waker: &self.waker,
+            look_name: &self.doc.preset.name,
             colour_map_mean: self.colour_map_mean(),
             viewport_rect: self.layout.viewport_rect,
         };

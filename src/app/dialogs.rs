@@ -1,22 +1,22 @@
-//! The editor's windows and prompts: unsaved changes, the file dialog,
-//! the overwrite prompt and the help windows (a mesh's units and maps:
-//! `maps.rs`).
+//! The file dialog (`egui_file`), what its OK does, the answers of the
+//! unsaved-changes and overwrite prompts (the prompts themselves are
+//! windows: `windows/unsaved.rs`, `windows/overwrite.rs`), and Escape's
+//! topmost window.
 
+use super::windows::unsaved::Unsaved;
+use super::windows::Window;
 use super::*;
 
 impl EditorApp {
     /// Whether the unsaved-changes prompt is waiting for an answer.
     pub fn prompt_open(&self) -> bool {
-        self.dialogs.pending.is_some()
+        self.windows.unsaved.is_open()
     }
 
     /// Whether a modal prompt is up: unsaved changes, replace existing
     /// files, or recover an earlier editor's work.
     pub fn modal_prompt_open(&self) -> bool {
-        self.dialogs.pending.is_some()
-            || self.dialogs.overwrite.is_some()
-            || self.windows.modal_open()
-            || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
+        self.windows.modal_open() || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
     /// The titles of the open windows Escape can close.
@@ -35,8 +35,6 @@ impl EditorApp {
             }
         }
         self.dialogs.open_last_frame = open;
-        self.overwrite_prompt_ui(ctx);
-        self.unsaved_prompt_ui(ctx);
         self.file_dialog_ui(ctx);
     }
 
@@ -59,57 +57,22 @@ impl EditorApp {
         self.windows.close(top)
     }
 
-    /// The unsaved-changes prompt for a pending open, new or quit: Save
-    /// (Save As first for a look without a file), Discard, Cancel.
-    pub(super) fn unsaved_prompt_ui(&mut self, ctx: &egui::Context) {
-        if let Some(pending) = self.dialogs.pending.clone() {
-            let modal =
-                egui::Modal::new(egui::Id::unique("scatterlab_unsaved_prompt")).show(ctx, |ui| {
-                    ui.heading("Unsaved changes");
-                    ui.label(format!(
-                        "\"{}\" has changes that are not saved.",
-                        self.doc.preset.name
-                    ));
-                    let mut choice = None;
-                    ui.horizontal(|ui| {
-                        if ui.button("Save").clicked() {
-                            choice = Some(0);
-                        }
-                        if ui.button("Discard changes").clicked() {
-                            choice = Some(1);
-                        }
-                        if ui.button("Cancel").clicked() {
-                            choice = Some(2);
-                        }
-                    });
-                    choice
-                });
-            // Escape or a click outside is Cancel (nothing is lost by it).
-            let choice = match modal.inner {
-                None if modal.should_close() => Some(2),
-                c => c,
-            };
-            match choice {
-                Some(0) => {
-                    self.dialogs.pending = None;
-                    if self.doc.path.is_none() {
-                        // No file yet: Save As first, then carry on.
-                        self.dialogs.after_save = Some(pending);
-                        self.open_dialog(DialogKind::SaveAs);
-                    } else {
-                        self.save();
-                        if !self.doc.is_dirty() {
-                            self.run_pending(pending);
-                        }
-                    }
-                }
-                Some(1) => {
-                    self.dialogs.pending = None;
+    /// The unsaved-changes prompt's answer for `pending`: Save (Save As
+    /// first for a look without a file, then carry on), Discard or Cancel.
+    pub(super) fn answer_unsaved(&mut self, pending: Pending, answer: Unsaved) {
+        match answer {
+            Unsaved::Save if self.doc.path.is_none() => {
+                self.dialogs.after_save = Some(pending);
+                self.open_dialog(DialogKind::SaveAs);
+            }
+            Unsaved::Save => {
+                self.save();
+                if !self.doc.is_dirty() {
                     self.run_pending(pending);
                 }
-                Some(_) => self.dialogs.pending = None,
-                None => {}
             }
+            Unsaved::Discard => self.run_pending(pending),
+            Unsaved::Cancel => {}
         }
     }
 
@@ -224,7 +187,7 @@ impl EditorApp {
         .filter(|p| p.exists())
         .collect();
         if dialog.kind.writes() && !existing.is_empty() {
-            self.dialogs.overwrite = Some(Overwrite {
+            self.windows.overwrite.write = Some(Overwrite {
                 kind: dialog.kind.clone(),
                 path,
                 existing,
@@ -239,54 +202,22 @@ impl EditorApp {
         }
     }
 
-    /// Asks before a Save As or export replaces files; Replace writes,
-    /// Cancel goes back to the dialog at the same path.
-    pub(super) fn overwrite_prompt_ui(&mut self, ctx: &egui::Context) {
-        let Some(o) = self.dialogs.overwrite.clone() else {
+    /// The overwrite prompt's answer: write, or back to the dialog.
+    pub(super) fn answer_overwrite(&mut self, o: Overwrite, replace: bool) {
+        if replace {
+            let mut close = true;
+            self.write_or_open(o.kind, o.path, &mut close);
             return;
-        };
-        let modal =
-            egui::Modal::new(egui::Id::unique("scatterlab_overwrite_prompt")).show(ctx, |ui| {
-                ui.heading("Replace existing files?");
-                for p in &o.existing {
-                    ui.label(format!("{} exists.", p.display()));
-                }
-                let mut choice = None;
-                ui.horizontal(|ui| {
-                    if ui.button("Replace").clicked() {
-                        choice = Some(true);
-                    }
-                    if ui.button("Cancel").clicked() {
-                        choice = Some(false);
-                    }
-                });
-                choice
-            });
-        // Escape or a click outside is Cancel: back to the dialog.
-        let choice = match modal.inner {
-            None if modal.should_close() => Some(false),
-            c => c,
-        };
-        match choice {
-            Some(true) => {
-                self.dialogs.overwrite = None;
-                let mut close = true;
-                self.write_or_open(o.kind, o.path, &mut close);
-            }
-            Some(false) => {
-                self.dialogs.overwrite = None;
-                let dir = o.path.parent().map(Path::to_path_buf).unwrap_or_default();
-                let name = o
-                    .path
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                self.show_dialog(o.kind, &dir, &name);
-                if let Some(d) = self.dialogs.dialog.as_mut() {
-                    d.notes = o.notes;
-                }
-            }
-            None => {}
+        }
+        let dir = o.path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let name = o
+            .path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        self.show_dialog(o.kind, &dir, &name);
+        if let Some(d) = self.dialogs.dialog.as_mut() {
+            d.notes = o.notes;
         }
     }
 

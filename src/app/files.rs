@@ -85,7 +85,7 @@ impl EditorApp {
     /// Runs `action` now, or asks first if there are unsaved changes.
     pub(super) fn guarded(&mut self, action: Pending) {
         if self.doc.is_dirty() {
-            self.dialogs.pending = Some(action);
+            self.windows.unsaved.pending = Some(action);
         } else {
             self.run_pending(action);
         }

@@ -139,13 +139,13 @@ struct FileDialog {
 }
 
 /// A write that would replace files, waiting for the artist.
-#[derive(Debug, Clone)]
-struct Overwrite {
-    kind: DialogKind,
-    path: PathBuf,
-    existing: Vec<PathBuf>,
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overwrite {
+    pub kind: DialogKind,
+    pub path: PathBuf,
+    pub existing: Vec<PathBuf>,
     /// The export's notes, for the dialog that Cancel goes back to.
-    notes: Option<Vec<String>>,
+    pub notes: Option<Vec<String>>,
 }
 
 /// What the viewport shows while comparing.
@@ -168,8 +168,8 @@ pub struct ViewportLayout {
 }
 
 /// An action waiting for the unsaved-changes prompt.
-#[derive(Debug, Clone)]
-enum Pending {
+#[derive(Debug, Clone, PartialEq)]
+pub enum Pending {
     Open(PathBuf),
     New(Box<Preset>),
     Quit,
@@ -281,9 +281,7 @@ impl EditorApp {
             },
             dialogs: Dialogs {
                 dialog: None,
-                pending: None,
                 after_save: None,
-                overwrite: None,
                 export_notes: None,
                 open_last_frame: Vec::new(),
             },
@@ -517,7 +515,7 @@ impl eframe::App for EframeApp {
         {
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            app.dialogs.pending = Some(Pending::Quit);
+            app.windows.unsaved.pending = Some(Pending::Quit);
         }
         if app.allow_close {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);

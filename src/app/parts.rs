@@ -86,12 +86,9 @@ pub(super) struct MeshState {
 /// Open dialogs, prompts and windows, and what waits on them.
 pub(super) struct Dialogs {
     pub(super) dialog: Option<FileDialog>,
-    pub(super) pending: Option<Pending>,
     /// Run after the Save As dialog saves (Save in the unsaved-changes
     /// prompt of a look that has no file yet).
     pub(super) after_save: Option<Pending>,
-    /// Files a Save As or export would replace, waiting for a yes.
-    pub(super) overwrite: Option<Overwrite>,
     /// The open export dialog's notes, while they are being computed.
     pub(super) export_notes: Option<std::sync::mpsc::Receiver<Vec<String>>>,
     /// `edit --budget DIR`: a budget report's merges, and their window.

@@ -78,6 +78,10 @@ pub enum Action {
     AskBAlbedoColour,
     /// "to truth": the viewport refines to the ground truth.
     SetRefineToTruth(bool),
+    /// The unsaved-changes prompt's answer for what waited on it.
+    AnswerUnsaved(super::Pending, unsaved::Unsaved),
+    /// The overwrite prompt's answer: replace (true) or back to the dialog.
+    AnswerOverwrite(super::Overwrite, bool),
     /// The material-albedo prompt's answer: OK (true) or the other button.
     AnswerAlbedo(albedo::AlbedoPrompt, bool),
     /// The reference image's eyedropper: a linear colour into a field of
@@ -103,6 +107,8 @@ pub struct WindowView<'a> {
     pub meshes: &'a std::collections::BTreeMap<PathBuf, state::MeshSettings>,
     /// Wakes the UI from a window's own thread.
     pub waker: &'a super::wake::Waker,
+    /// The look's name.
+    pub look_name: &'a str,
     /// The mean colour of the head's colour map, when it has one.
     pub colour_map_mean: Option<[f32; 3]>,
     /// Where the viewport was drawn last frame.
@@ -221,6 +227,8 @@ macro_rules! windows {
 }
 
 windows! {
+    unsaved: UnsavedWindow,
+    overwrite: OverwriteWindow,
     albedo: AlbedoWindow,
     browser: BrowserWindow,
     budget: BudgetWindow,
