@@ -28,6 +28,9 @@ impl EditorApp {
                 }
                 Action::Say(line) => self.say(line),
                 Action::AnswerUnsaved(p, answer) => self.answer_unsaved(p, answer),
+                Action::AnswerRecovery(found, restore) => {
+                    self.answer_recovery(None, *found, restore)
+                }
                 Action::AnswerOverwrite(o, replace) => self.answer_overwrite(o, replace),
                 Action::AnswerAlbedo(p, true) => self.answer_albedo_prompt(p),
                 Action::AnswerAlbedo(p, false) => self.decline_albedo_prompt(p),

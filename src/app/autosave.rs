@@ -99,6 +99,7 @@ fn half() -> f32 {
 }
 
 /// A recovery file another editor left behind.
+#[derive(Debug, Clone)]
 pub struct Found {
     pub file: PathBuf,
     pub recovery: Recovery,
@@ -252,14 +253,6 @@ impl Autosave {
             let _ = std::fs::remove_file(&self.file);
         }
     }
-
-    /// Removes the recovery file an earlier run left (restored or
-    /// discarded).
-    pub fn forget_found(&mut self) {
-        if let Some(f) = self.found.take() {
-            let _ = std::fs::remove_file(&f.file);
-        }
-    }
 }
 
 /// Whether the editor that wrote `file` (named by its process id) is still
@@ -296,7 +289,7 @@ fn process_alive_and_ours(pid: u32) -> bool {
     comm(&dir) == comm(Path::new("/proc/self"))
 }
 
-fn unix_seconds() -> u64 {
+pub(super) fn unix_seconds() -> u64 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs())
@@ -330,6 +323,8 @@ impl super::EditorApp {
                 autosave.unreadable.len()
             ));
         }
+        let mut autosave = autosave;
+        self.windows.recovery.found = autosave.found.take();
         self.autosave = Some(autosave);
         self
     }
@@ -403,87 +398,25 @@ impl super::EditorApp {
         ));
     }
 
-    /// The start-up prompt for a look an earlier editor left unsaved.
-    pub(super) fn recovery_prompt_ui(&mut self, ctx: &egui::Context) {
-        let Some(found) = self.autosave.as_ref().and_then(|a| a.found.as_ref()) else {
-            return;
-        };
-        let r = &found.recovery;
-        let file = found.file.clone();
-        let age_s = unix_seconds().saturating_sub(r.written_unix_s);
-        let from = r
-            .path
-            .as_ref()
-            .map_or("a look never saved".to_owned(), |p| p.display().to_string());
-        let mut answer = None;
-        egui::Modal::new(egui::Id::unique("scatterlab_recovery_prompt")).show(ctx, |ui| {
-            ui.heading("Recover unsaved work?");
-            ui.label(format!(
-                "The editor stopped with unsaved changes to \"{}\" ({from}), autosaved {} ago.",
-                r.preset.name,
-                age_text(age_s)
-            ));
-            ui.label(format!("Recovery file: {}", file.display()));
-            ui.horizontal(|ui| {
-                if ui
-                    .button("Restore")
-                    .on_hover_text("Open the look as it was, with its view and compare, as unsaved changes (Enter)")
-                    .clicked()
-                {
-                    answer = Some(0);
-                }
-                if ui
-                    .button("Discard")
-                    .on_hover_text("Delete the recovery file and keep the look opened now")
-                    .clicked()
-                {
-                    answer = Some(1);
-                }
-                if ui
-                    .button("Show file")
-                    .on_hover_text("Open the folder that holds the recovery file (a RON file with the preset in it)")
-                    .clicked()
-                {
-                    answer = Some(2);
-                }
-            });
-        });
-        // Enter restores (nothing is lost by it; Discard needs the mouse).
-        if answer.is_none() && ctx.input(|i| i.key_pressed(egui::Key::Enter)) {
-            answer = Some(0);
+    /// The recovery prompt's answer: restore the look an earlier editor
+    /// left (and write it under this editor's name before the old file
+    /// goes: a crash in between loses nothing), or discard its file.
+    pub(super) fn answer_recovery(
+        &mut self,
+        ctx: Option<&egui::Context>,
+        found: Found,
+        restore: bool,
+    ) {
+        if restore {
+            self.restore(found.recovery);
+            self.autosave_tick(ctx, true);
         }
-        match answer {
-            Some(0) => {
-                let found = self.autosave.as_mut().and_then(|a| a.found.take());
-                if let Some(f) = found {
-                    self.restore(f.recovery);
-                    // Written under this editor's name before the old file
-                    // goes: a crash in between loses nothing.
-                    self.autosave_tick(Some(ctx), true);
-                    let _ = std::fs::remove_file(&f.file);
-                }
-            }
-            Some(1) => {
-                if let Some(a) = self.autosave.as_mut() {
-                    a.forget_found();
-                }
-            }
-            Some(2) => {
-                let dir = file.parent().unwrap_or(Path::new(".")).to_owned();
-                if !show_in_file_manager(&dir) {
-                    self.say(format!(
-                        "Warning: no file manager to show {}",
-                        dir.display()
-                    ));
-                }
-            }
-            _ => {}
-        }
+        let _ = std::fs::remove_file(&found.file);
     }
 }
 
 /// "42 s", "3 min", "2 h", "5 days".
-fn age_text(s: u64) -> String {
+pub(super) fn age_text(s: u64) -> String {
     match s {
         0..=89 => format!("{s} s"),
         90..=5399 => format!("{} min", (s + 30) / 60),

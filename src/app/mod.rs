@@ -447,7 +447,6 @@ impl EditorApp {
             .show(ui, |ui| self.viewport_panel_ui(ui));
         self.dialogs_ui(&ctx);
         self.windows_ui(&ctx);
-        self.recovery_prompt_ui(&ctx);
         self.notices_ui(&ctx);
         if self.allow_close {
             // Quit answered (Save or Discard): close now, not at the next

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 /// A change of the editor's state that a window, toolbar or panel asks
 /// for; [`super::EditorApp::apply`] performs it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Action {
     /// The view's settings (light, exposure, display transform,
     /// environment) as the control left them.
@@ -82,6 +82,9 @@ pub enum Action {
     AnswerUnsaved(super::Pending, unsaved::Unsaved),
     /// The overwrite prompt's answer: replace (true) or back to the dialog.
     AnswerOverwrite(super::Overwrite, bool),
+    /// The recovery prompt's answer: restore (true) or discard the look
+    /// an earlier editor left.
+    AnswerRecovery(Box<super::autosave::Found>, bool),
     /// The material-albedo prompt's answer: OK (true) or the other button.
     AnswerAlbedo(albedo::AlbedoPrompt, bool),
     /// The reference image's eyedropper: a linear colour into a field of
@@ -174,7 +177,7 @@ pub trait Window {
 }
 
 /// A menu's item for a window: its label, tooltip and what it asks for.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct MenuItem {
     pub label: String,
     pub tooltip: String,
@@ -227,6 +230,7 @@ macro_rules! windows {
 }
 
 windows! {
+    recovery: RecoveryWindow,
     unsaved: UnsavedWindow,
     overwrite: OverwriteWindow,
     albedo: AlbedoWindow,
