@@ -708,3 +708,79 @@ fn the_mesh_menus_windows_are_used_with_a_pointer() {
         });
     }
 }
+
+impl Session {
+    /// The window's title, as X has it.
+    fn title(&self) -> String {
+        let wid = self.wid.clone();
+        self.xdotool(&["getwindowname", &wid])
+    }
+
+    /// Waits for the window's title to satisfy `ok` (15 s).
+    fn wait_title(&self, what: &str, ok: impl Fn(&str) -> bool) {
+        let t0 = Instant::now();
+        loop {
+            let title = self.title();
+            if ok(&title) {
+                return;
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(15),
+                "at {}×{}: the window's title is '{title}', not {what}",
+                self.size.0,
+                self.size.1
+            );
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+}
+
+/// The Edit menu and the unsaved-changes prompt with a pointer: the red
+/// scattering distance typed into (the title says the look is changed),
+/// Edit → Undo (the field shows its old value again), typed into again,
+/// then File → New from preset → Jade, which asks first; "Discard
+/// changes" opens Jade.
+#[test]
+fn the_edit_menu_and_the_unsaved_prompt_are_used_with_a_pointer() {
+    let _one = one_at_a_time();
+    for (w, h) in SIZES {
+        let s = Session::start("edit", w, h);
+        let red = |c: &Widget| c.role == "SpinButton" && c.label == "R: mm";
+        let field = s.find("the red scattering distance", red);
+        let was = field.value.clone();
+        let type_distance = |mm: &str| {
+            let f = s.find("the red scattering distance", red);
+            s.click(&f);
+            s.find("the red scattering distance as a text edit", |c| {
+                red(c) && !c.value.starts_with("R:")
+            });
+            s.type_into_focused(mm);
+            s.find(&format!("the red scattering distance at {mm} mm"), |c| {
+                red(c) && c.value.starts_with(&format!("R: {mm}"))
+            });
+        };
+        type_distance("2.5");
+        s.wait_title("changed ('* ')", |t| t.starts_with("* "));
+        s.menu_item("Edit", "Undo  (Ctrl+Z)");
+        s.find("the red scattering distance back as it was", |c| {
+            red(c) && c.value == was
+        });
+        s.wait_title("unchanged", |t| !t.starts_with("* "));
+        type_distance("3");
+        let file = s.find("the File menu", |c| c.role == "Button" && c.label == "File");
+        s.click(&file);
+        let new = s.find("New from preset in File", |c| {
+            c.role == "Button" && c.label == "New from preset"
+        });
+        s.click(&new);
+        let jade = s.find("Jade in New from preset", |c| {
+            c.role == "Button" && c.label == "Jade"
+        });
+        s.click(&jade);
+        let discard = s.find("the unsaved-changes prompt's Discard changes", |c| {
+            c.role == "Button" && c.label == "Discard changes"
+        });
+        s.click(&discard);
+        s.wait_title("Jade's", |t| t.contains("Jade"));
+    }
+}
