@@ -6,6 +6,7 @@ mod actions;
 mod albedo;
 pub mod analysis;
 mod autosave;
+mod colour_ui;
 pub mod compare;
 mod dialogs;
 mod environment;
@@ -240,85 +241,13 @@ impl EditorApp {
             doc: Document::new(preset, path),
             ui_state,
             allow_close: false,
-            profile: ProfileState {
-                analysis: Background::start(
-                    "scatterlab-analysis",
-                    analysis::analyse,
-                    Err,
-                    waker.as_fn(),
-                ),
-                latest: None,
-                curves: None,
-                curves_for: None,
-                preview_textures: None,
-                b_curves: None,
-                b_look_cache: None,
-                imported: None,
-            },
-            view: ViewportState {
-                viewport: viewport.then(|| viewport::Viewport::start(waker.as_fn())),
-                texture: None,
-                frame_info: String::new(),
-                hdr_rig_pending: false,
-                ab: AbView::Both,
-                framed_for: None,
-                show_before: false,
-                difference_shown: None,
-                last_frame: None,
-                background_map: None,
-                keep_environment: None,
-                show_mouse_hint: false,
-                applied_scale: None,
-                adapter: String::new(),
-                quality: None,
-                history: Default::default(),
-                truth_phase: None,
-                last_wheel: None,
-            },
-            meshes: MeshState {
-                mesh: None,
-                mesh_info: None,
-            },
-            dialogs: Dialogs {
-                dialog: None,
-                after_save: None,
-                export_notes: None,
-                open_last_frame: Vec::new(),
-            },
-            jobs: Jobs {
-                exports: Vec::new(),
-                environment_load: None,
-            },
-            report: Report {
-                status:
-                    "Ready. Drag a preset (.ron), mesh (.obj/.gltf/.glb) or environment (.hdr) onto the window to open it."
-                        .into(),
-                notices: Vec::new(),
-                status_seen: String::new(),
-                frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
-                    std::fs::File::create(&p)
-                        .map_err(|e| {
-                            eprintln!(
-                                "warning: SCATTERLAB_FRAME_LOG {}: {e}",
-                                PathBuf::from(&p).display()
-                            )
-                        })
-                        .ok()
-                        .map(std::io::LineWriter::new)
-                }),
-                ui_ms: 0.0,
-                logged_status: String::new(),
-                started: std::time::Instant::now(),
-                reported: (false, false),
-                last_title: String::new(),
-            },
-            layout: Layout {
-                viewport_rect: None,
-                plot_rect: None,
-                compare_labels: Vec::new(),
-                probe: None,
-                panel_rects: [None, None],
-            },
+            profile: ProfileState::new(&waker),
+            view: ViewportState::new(viewport.then(|| viewport::Viewport::start(waker.as_fn()))),
+            meshes: MeshState::default(),
+            dialogs: Dialogs::default(),
+            jobs: Jobs::default(),
+            report: Report::new(),
+            layout: Layout::default(),
             autosave: None,
             waker,
             windows: Default::default(),
@@ -603,30 +532,18 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let RunArgs {
-        preset,
-        exit_after_first_frame,
-        compare,
-        import,
-        mesh,
-        budget,
-        compare_with,
-        environment,
-        map_colour,
-        procedural_head,
-    } = args;
     let started = std::time::Instant::now();
-    let initial = match &preset {
+    let initial = match &args.preset {
         Some(p) => Some((Preset::load(p)?, Some(p.clone()))),
         None => None,
     };
     // An engine file to open: refused here, with its one line, before a
     // window opens.
-    if let Some(f) = &import {
+    if let Some(f) = &args.import {
         crate::export::import_file(f, &crate::export::ImportOptions::default())?;
     }
     // A budget report to compare: refused here too.
-    let budget = match &budget {
+    let budget = match &args.budget {
         Some(dir) => Some(windows::budget::BudgetPairs::load(dir).map_err(anyhow::Error::msg)?),
         None => None,
     };
@@ -644,58 +561,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         "scatterlab",
         options,
         Box::new(move |cc| {
-            let mut ui_state: UiState = cc
-                .storage
-                .and_then(|s| eframe::get_value(s, STORAGE_KEY))
-                .unwrap_or_default();
-            if let Some((mode, b)) = compare {
-                ui_state.compare = mode;
-                if let Some(m) = b {
-                    ui_state.compare_b = CompareB::Method(m);
-                }
-            }
-            if let Some(m) = map_colour {
-                ui_state.map_colour = m;
-            }
-            if procedural_head {
-                ui_state.start_on_scan = false;
-            }
-            let initial = initial.or_else(|| {
-                let p = ui_state.last_preset.clone()?;
-                Preset::load(&p).ok().map(|preset| (preset, Some(p)))
-            });
-            widget_map::install(&cc.egui_ctx);
-            let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
-            // The data folder eframe keeps its state in (XDG_DATA_HOME/scatterlab).
-            if let Some(dir) = eframe::storage_dir("scatterlab") {
-                app = app.with_autosave(&dir);
-            }
-            app = app.started_at(started);
-            if let Some(f) = &import {
-                app.import_now(f);
-            }
-            match mesh {
-                Some(m) => app.open_mesh(m),
-                None if app.ui_state.start_on_scan => {
-                    app.open_scanned_head();
-                }
-                None => {}
-            }
-            if let Some(b) = budget {
-                app.open_budget(b);
-            }
-            if let Some(p) = environment {
-                app.load_environment(p);
-            }
-            if let Some(p) = compare_with {
-                match viewport::load_look(&p) {
-                    Ok(b) => {
-                        app.ui_state.compare_b = CompareB::Preset(p);
-                        app.ask_b_albedo(&b);
-                    }
-                    Err(e) => app.say(format!("Error: --compare-with: {e}")),
-                }
-            }
+            let exit_after_first_frame = args.exit_after_first_frame;
+            let app = start_editor(cc, args, initial, budget, started);
             Ok(Box::new(EframeApp {
                 app,
                 exit_after_first_frame,
@@ -703,6 +570,79 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the editor window: {e}"))
+}
+
+/// The UI state remembered from the last run, with what the command line
+/// asks for over it (a compare mode and B, the map's colour, the
+/// procedural head).
+fn remembered_state(cc: &eframe::CreationContext<'_>, args: &RunArgs) -> UiState {
+    let mut ui_state: UiState = cc
+        .storage
+        .and_then(|s| eframe::get_value(s, STORAGE_KEY))
+        .unwrap_or_default();
+    if let Some((mode, b)) = args.compare {
+        ui_state.compare = mode;
+        if let Some(m) = b {
+            ui_state.compare_b = CompareB::Method(m);
+        }
+    }
+    if let Some(m) = args.map_colour {
+        ui_state.map_colour = m;
+    }
+    if args.procedural_head {
+        ui_state.start_on_scan = false;
+    }
+    ui_state
+}
+
+/// The editor on `initial` (else the look open last time) with its
+/// autosave, and the command line's import, mesh, budget, environment and
+/// B.
+fn start_editor(
+    cc: &eframe::CreationContext<'_>,
+    args: RunArgs,
+    initial: Option<(Preset, Option<PathBuf>)>,
+    budget: Option<windows::budget::BudgetPairs>,
+    started: std::time::Instant,
+) -> EditorApp {
+    let ui_state = remembered_state(cc, &args);
+    let initial = initial.or_else(|| {
+        let p = ui_state.last_preset.clone()?;
+        Preset::load(&p).ok().map(|preset| (preset, Some(p)))
+    });
+    widget_map::install(&cc.egui_ctx);
+    let mut app = EditorApp::new(Some(&cc.egui_ctx), ui_state, initial, true);
+    // The data folder eframe keeps its state in (XDG_DATA_HOME/scatterlab).
+    if let Some(dir) = eframe::storage_dir("scatterlab") {
+        app = app.with_autosave(&dir);
+    }
+    app = app.started_at(started);
+    if let Some(f) = &args.import {
+        app.import_now(f);
+    }
+    match args.mesh {
+        Some(m) => app.open_mesh(m),
+        None if app.ui_state.start_on_scan => {
+            app.open_scanned_head();
+        }
+        None => {}
+    }
+    if let Some(b) = budget {
+        app.open_budget(b);
+    }
+    if let Some(p) = args.environment {
+        app.load_environment(p);
+    }
+    if let Some(p) = args.compare_with {
+        match viewport::load_look(&p) {
+            Ok(b) => {
+                app.ui_state.compare_b = CompareB::Preset(p);
+                app.ask_b_albedo(&b);
+            }
+            Err(e) => app.say(format!("Error: --compare-with: {e}")),
+        }
+    }
+    app
 }
 
 #[cfg(test)]

@@ -143,6 +143,54 @@ impl EditorApp {
             .as_ref()
             .and_then(|v| v.busy_since)
             .map(|t| t.elapsed().as_secs_f32());
+        self.progress_bars_ui(ui, rect);
+        let label = match (self.view.viewport.is_none(), busy) {
+            (true, _) => Some("viewport off".to_string()),
+            // Not while dragging: previews keep coming, and the wait runs
+            // from the drag's first request (the status bar says "preview").
+            (_, Some(s))
+                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.view.texture.is_none() =>
+            {
+                Some(format!("rendering … {s:.1} s"))
+            }
+            _ => None,
+        };
+        self.windows.reference.overlay_ui(&painter, rect);
+        self.compare_labels_ui(&painter, rect);
+        self.difference_scale_ui(&painter, rect);
+        if self.view.show_before {
+            before_plate_ui(&painter, rect);
+        }
+        self.light_gizmo_ui(ui, rect);
+        self.probe_ui(ui, &painter, rect);
+        if self.view.show_mouse_hint && label.is_none() {
+            painter.text(
+                rect.left_bottom() + egui::vec2(8.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                "drag: orbit · right/Shift drag: light · middle: pan · wheel: zoom · Space: A/B",
+                egui::FontId::proportional(12.0),
+                egui::Color32::from_white_alpha(150),
+            );
+        }
+        self.layout.viewport_rect = Some(rect);
+        if let Some(l) = label {
+            painter.text(
+                rect.center_bottom() - egui::vec2(0.0, 12.0),
+                egui::Align2::CENTER_BOTTOM,
+                l,
+                egui::FontId::proportional(14.0),
+                egui::Color32::LIGHT_GRAY,
+            );
+        }
+        if busy.is_some() {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+
+    /// The progress bars at the viewport's bottom left: the mesh's bake
+    /// and the ground truth's cells or tiles.
+    fn progress_bars_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
         // A progress bar at the viewport's bottom left, `lift` px up.
         let progress = |ui: &mut egui::Ui, done: f32, text: String, lift: f32| {
             let width = rect.width().min(360.0) - 16.0;
@@ -198,48 +246,6 @@ impl EditorApp {
         ) {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(250));
-        }
-        let label = match (self.view.viewport.is_none(), busy) {
-            (true, _) => Some("viewport off".to_string()),
-            // Not while dragging: previews keep coming, and the wait runs
-            // from the drag's first request (the status bar says "preview").
-            (_, Some(s))
-                if (s > 0.3 && ui.ctx().dragged_id().is_none()) || self.view.texture.is_none() =>
-            {
-                Some(format!("rendering … {s:.1} s"))
-            }
-            _ => None,
-        };
-        self.windows.reference.overlay_ui(&painter, rect);
-        self.compare_labels_ui(&painter, rect);
-        self.difference_scale_ui(&painter, rect);
-        if self.view.show_before {
-            before_plate_ui(&painter, rect);
-        }
-        self.light_gizmo_ui(ui, rect);
-        self.probe_ui(ui, &painter, rect);
-        if self.view.show_mouse_hint && label.is_none() {
-            painter.text(
-                rect.left_bottom() + egui::vec2(8.0, -8.0),
-                egui::Align2::LEFT_BOTTOM,
-                "drag: orbit · right/Shift drag: light · middle: pan · wheel: zoom · Space: A/B",
-                egui::FontId::proportional(12.0),
-                egui::Color32::from_white_alpha(150),
-            );
-        }
-        self.layout.viewport_rect = Some(rect);
-        if let Some(l) = label {
-            painter.text(
-                rect.center_bottom() - egui::vec2(0.0, 12.0),
-                egui::Align2::CENTER_BOTTOM,
-                l,
-                egui::FontId::proportional(14.0),
-                egui::Color32::LIGHT_GRAY,
-            );
-        }
-        if busy.is_some() {
-            ui.ctx()
-                .request_repaint_after(std::time::Duration::from_millis(100));
         }
     }
 

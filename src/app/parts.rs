@@ -77,6 +77,7 @@ pub(super) struct ViewportState {
 }
 
 /// The loaded mesh, its size, and its units prompt and Maps window.
+#[derive(Default)]
 pub(super) struct MeshState {
     pub(super) mesh: Option<PathBuf>,
     /// The loaded mesh's size and framing (from the render thread).
@@ -84,6 +85,7 @@ pub(super) struct MeshState {
 }
 
 /// Open dialogs, prompts and windows, and what waits on them.
+#[derive(Default)]
 pub(super) struct Dialogs {
     pub(super) dialog: Option<FileDialog>,
     /// Run after the Save As dialog saves (Save in the unsaved-changes
@@ -98,6 +100,7 @@ pub(super) struct Dialogs {
 }
 
 /// Work on other threads: exports, an environment map loading, a turntable.
+#[derive(Default)]
 pub(super) struct Jobs {
     pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
     /// An HDR environment map loading on its own thread.
@@ -126,6 +129,7 @@ pub(super) struct Report {
 }
 
 /// Where things were drawn (the viewport, labels, panels, plot), for layout and UI tests.
+#[derive(Default)]
 pub(super) struct Layout {
     /// Where the viewport was drawn, and the compare labels on it.
     pub(super) viewport_rect: Option<egui::Rect>,
@@ -136,4 +140,80 @@ pub(super) struct Layout {
     pub(super) panel_rects: [Option<egui::Rect>; 2],
     /// Where the profile plot was drawn (its legend goes under it).
     pub(super) plot_rect: Option<egui::Rect>,
+}
+
+impl ProfileState {
+    /// No analysis yet; its thread started, waking the UI with `waker`.
+    pub(super) fn new(waker: &wake::Waker) -> Self {
+        Self {
+            analysis: Background::start(
+                "scatterlab-analysis",
+                analysis::analyse,
+                Err,
+                waker.as_fn(),
+            ),
+            latest: None,
+            curves: None,
+            curves_for: None,
+            preview_textures: None,
+            b_curves: None,
+            b_look_cache: None,
+            imported: None,
+        }
+    }
+}
+
+impl ViewportState {
+    /// Nothing shown yet, on `viewport`'s render thread (none: the UI
+    /// tests of the panels).
+    pub(super) fn new(viewport: Option<viewport::Viewport>) -> Self {
+        Self {
+            viewport,
+            texture: None,
+            frame_info: String::new(),
+            hdr_rig_pending: false,
+            ab: AbView::Both,
+            framed_for: None,
+            show_before: false,
+            difference_shown: None,
+            last_frame: None,
+            background_map: None,
+            keep_environment: None,
+            show_mouse_hint: false,
+            applied_scale: None,
+            adapter: String::new(),
+            quality: None,
+            history: Default::default(),
+            truth_phase: None,
+            last_wheel: None,
+        }
+    }
+}
+
+impl Report {
+    /// "Ready." and the frame log (`SCATTERLAB_FRAME_LOG`) opened.
+    pub(super) fn new() -> Self {
+        Self {
+        status:
+            "Ready. Drag a preset (.ron), mesh (.obj/.gltf/.glb) or environment (.hdr) onto the window to open it."
+                .into(),
+        notices: Vec::new(),
+        status_seen: String::new(),
+        frame_log: std::env::var_os("SCATTERLAB_FRAME_LOG").and_then(|p| {
+            std::fs::File::create(&p)
+                .map_err(|e| {
+                    eprintln!(
+                        "warning: SCATTERLAB_FRAME_LOG {}: {e}",
+                        PathBuf::from(&p).display()
+                    )
+                })
+                .ok()
+                .map(std::io::LineWriter::new)
+        }),
+        ui_ms: 0.0,
+        logged_status: String::new(),
+        started: std::time::Instant::now(),
+        reported: (false, false),
+        last_title: String::new(),}
+    }
 }

@@ -68,7 +68,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
 const LONG_FILES: &[(&str, usize)] = &[
     ("export/gltf.rs", 864),
     ("app/state.rs", 887),
-    ("app/params_ui.rs", 931),
     ("app/viewport.rs", 957),
 ];
 
