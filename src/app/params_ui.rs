@@ -162,100 +162,126 @@ pub fn model_params_ui(ui: &mut Ui, spec: &mut ProfileSpec) {
             rgb_ui(ui, "Strength", "", "Per channel, the fraction of light that scatters (Jimenez 2012 'SSS strength'); the rest stays where it entered.", strength, span(jimenez::STRENGTH_RANGE), 0.005, false);
             rgb_ui(ui, "Falloff", "", "Per channel, how far the scattered light spreads relative to red (Jimenez 2012 'falloff').", falloff, span(jimenez::FALLOFF_RANGE), 0.005, false);
         }
-        ProfileSpec::Artist(ArtistSpec {
-            sigma_near,
-            sigma_far,
-            weight,
-            scale_mm,
-        }) => {
-            rgb_ui(ui, "σn (near)", "", "Width of the near Gaussian per channel, relative to the scale s: short-range softening.", sigma_near, span(separable::ARTIST_SIGMA_RANGE), 0.002, false);
-            rgb_ui(
-                ui,
-                "σf (far)",
-                "",
-                "Width of the far Gaussian per channel, relative to s: the long red tail.",
-                sigma_far,
-                span(separable::ARTIST_SIGMA_RANGE),
-                0.005,
-                false,
-            );
-            scalar_ui(
-                ui,
-                "w (near weight)",
-                "",
-                "Share of the energy in the near Gaussian; 1 − w goes to the far one.",
-                weight,
-                span(separable::ARTIST_WEIGHT_RANGE),
-                0.005,
-            );
-            scalar_ui(
-                ui,
-                "s (scale)",
-                " mm",
-                "Global width of both Gaussians in millimetres: how far light travels.",
-                scale_mm,
-                span(separable::ARTIST_SCALE_RANGE_MM),
-                0.05,
-            );
-        }
+        ProfileSpec::Artist(a) => artist_ui(ui, a),
         ProfileSpec::Gaussians(g) => gaussians_ui(ui, g),
-        ProfileSpec::Dipole(DipoleSpec {
-            sigma_a_per_mm,
-            sigma_s_prime_per_mm,
-            eta,
-        }) => {
-            ui.horizontal(|ui| {
-                egui::ComboBox::from_label("Fill from measured")
-                    .selected_text("…")
-                    .show_ui(ui, |ui| {
-                        for m in measured::all() {
-                            if ui.button(&m.name).clicked() {
-                                *sigma_a_per_mm = m.sigma_a_per_mm;
-                                *sigma_s_prime_per_mm = m.sigma_s_prime_per_mm;
-                            }
-                        }
-                    })
-                    .response
-                    .on_hover_text(
-                        "Copy σa and σs' of a measured material (Jensen 2001, Narasimhan 2006).",
-                    );
-            });
-            rgb_ui(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", sigma_a_per_mm, span(dipole::SIGMA_A_RANGE), 0.001, false);
-            rgb_ui(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", sigma_s_prime_per_mm, span(dipole::SIGMA_S_PRIME_RANGE), 0.005, false);
-            scalar_ui(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", eta, span(dipole::ETA_RANGE), 0.005);
-        }
-        ProfileSpec::Measured(MeasuredSpec { name, eta }) => {
-            egui::ComboBox::from_label("Material")
-                .selected_text(name.clone())
-                .show_ui(ui, |ui| {
-                    for mat in measured::all() {
-                        let tip = format!(
-                            "σs' = {:?} /mm, σa = {:?} /mm",
-                            mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
-                        );
-                        ui.selectable_value(name, mat.name.clone(), &mat.name)
-                            .on_hover_text(tip);
-                    }
-                })
-                .response
-                .on_hover_text("Measured σs' and σa (Jensen et al. 2001; Narasimhan et al. 2006), through the dipole.");
-            scalar_ui(
-                ui,
-                "η",
-                "",
-                "Relative index of refraction of the surface.",
-                eta,
-                span(dipole::ETA_RANGE),
-                0.005,
-            );
-            if let Ok(mat) = measured::find(name) {
-                ui.label(format!(
-                    "σs' = {:.3?} /mm\nσa = {:.4?} /mm",
-                    mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
-                ));
-            }
-        }
+        ProfileSpec::Dipole(d) => dipole_ui(ui, d),
+        ProfileSpec::Measured(m) => measured_ui(ui, m),
         ProfileSpec::Multipole(m) => multipole_ui(ui, m),
+    }
+}
+
+/// The artist model's two Gaussians: widths, weight and scale.
+fn artist_ui(
+    ui: &mut Ui,
+    ArtistSpec {
+        sigma_near,
+        sigma_far,
+        weight,
+        scale_mm,
+    }: &mut ArtistSpec,
+) {
+    rgb_ui(
+        ui,
+        "σn (near)",
+        "",
+        "Width of the near Gaussian per channel, relative to the scale s: short-range softening.",
+        sigma_near,
+        span(separable::ARTIST_SIGMA_RANGE),
+        0.002,
+        false,
+    );
+    rgb_ui(
+        ui,
+        "σf (far)",
+        "",
+        "Width of the far Gaussian per channel, relative to s: the long red tail.",
+        sigma_far,
+        span(separable::ARTIST_SIGMA_RANGE),
+        0.005,
+        false,
+    );
+    scalar_ui(
+        ui,
+        "w (near weight)",
+        "",
+        "Share of the energy in the near Gaussian; 1 − w goes to the far one.",
+        weight,
+        span(separable::ARTIST_WEIGHT_RANGE),
+        0.005,
+    );
+    scalar_ui(
+        ui,
+        "s (scale)",
+        " mm",
+        "Global width of both Gaussians in millimetres: how far light travels.",
+        scale_mm,
+        span(separable::ARTIST_SCALE_RANGE_MM),
+        0.05,
+    );
+}
+
+/// The dipole's σa, σs' and η, with a measured material to fill them from.
+fn dipole_ui(
+    ui: &mut Ui,
+    DipoleSpec {
+        sigma_a_per_mm,
+        sigma_s_prime_per_mm,
+        eta,
+    }: &mut DipoleSpec,
+) {
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_label("Fill from measured")
+            .selected_text("…")
+            .show_ui(ui, |ui| {
+                for m in measured::all() {
+                    if ui.button(&m.name).clicked() {
+                        *sigma_a_per_mm = m.sigma_a_per_mm;
+                        *sigma_s_prime_per_mm = m.sigma_s_prime_per_mm;
+                    }
+                }
+            })
+            .response
+            .on_hover_text(
+                "Copy σa and σs' of a measured material (Jensen 2001, Narasimhan 2006).",
+            );
+    });
+    rgb_ui(ui, "σa", " /mm", "Absorption coefficient per channel: larger absorbs sooner, shortening and tinting the scatter.", sigma_a_per_mm, span(dipole::SIGMA_A_RANGE), 0.001, false);
+    rgb_ui(ui, "σs'", " /mm", "Reduced scattering coefficient per channel: larger scatters sooner, shortening the profile and raising its albedo.", sigma_s_prime_per_mm, span(dipole::SIGMA_S_PRIME_RANGE), 0.005, false);
+    scalar_ui(ui, "η", "", "Relative index of refraction of the surface: more internal reflection keeps light in longer.", eta, span(dipole::ETA_RANGE), 0.005);
+}
+
+/// A measured material through the dipole, and its η.
+fn measured_ui(ui: &mut Ui, MeasuredSpec { name, eta }: &mut MeasuredSpec) {
+    egui::ComboBox::from_label("Material")
+        .selected_text(name.clone())
+        .show_ui(ui, |ui| {
+            for mat in measured::all() {
+                let tip = format!(
+                    "σs' = {:?} /mm, σa = {:?} /mm",
+                    mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
+                );
+                ui.selectable_value(name, mat.name.clone(), &mat.name)
+                    .on_hover_text(tip);
+            }
+        })
+        .response
+        .on_hover_text(
+            "Measured σs' and σa (Jensen et al. 2001; Narasimhan et al. 2006), through the dipole.",
+        );
+    scalar_ui(
+        ui,
+        "η",
+        "",
+        "Relative index of refraction of the surface.",
+        eta,
+        span(dipole::ETA_RANGE),
+        0.005,
+    );
+    if let Ok(mat) = measured::find(name) {
+        ui.label(format!(
+            "σs' = {:.3?} /mm\nσa = {:.4?} /mm",
+            mat.sigma_s_prime_per_mm, mat.sigma_a_per_mm
+        ));
     }
 }
 
