@@ -631,6 +631,28 @@ fn the_file_menus_windows_are_used_with_a_pointer() {
         s.find_in(presets, "the typed folder refused by name", |c| {
             c.role == "Label" && c.value == "Not listed: /no/such/folder: not a folder"
         });
+        // The grid settles once every thumbnail is in (an image button is
+        // taller than the spinner it replaces, and the rows below it move):
+        // a click before that once landed on the thumbnail under the name.
+        let t0 = Instant::now();
+        let rendering = |c: &Widget| {
+            c.value.starts_with("rendering thumbnails")
+                || c.label.starts_with("rendering thumbnails")
+        };
+        while s
+            .widgets_since(SystemTime::UNIX_EPOCH, true)
+            .is_none_or(|ws| ws.iter().any(rendering))
+        {
+            assert!(
+                t0.elapsed() < Duration::from_secs(180),
+                "at {w}×{h}: the thumbnails did not all come in within 180 s"
+            );
+            // A frame to write the map on.
+            let wid = s.wid.clone();
+            s.xdotool(&["mousemove", "--window", &wid, "1", "1"]);
+            s.xdotool(&["mousemove", "--window", &wid, "2", "2"]);
+            std::thread::sleep(Duration::from_millis(500));
+        }
         let jade = s.find_in(presets, "Jade's button", |c| {
             c.role == "Button" && c.label == "Jade"
         });

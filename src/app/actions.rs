@@ -79,7 +79,10 @@ impl EditorApp {
                 }
                 Action::PickColour(rgb, into) => {
                     let said = match self.pick_colour(rgb, into) {
-                        Ok(s) => s,
+                        Ok(s) => {
+                            self.windows.reference.set_picked(rgb);
+                            s
+                        }
                         Err(e) => format!("Error: eyedropper: {e}"),
                     };
                     self.say(said);

@@ -36,6 +36,10 @@ pub struct AlbedoPrompt {
 #[derive(Default)]
 pub struct AlbedoWindow {
     pub prompt: Option<AlbedoPrompt>,
+    /// The prompt has been drawn: Enter and Escape are its from the next
+    /// frame on (the Enter that confirmed a file dialog in the frame the
+    /// prompt opened is not its OK).
+    drawn: bool,
 }
 
 impl AlbedoPrompt {
@@ -116,8 +120,10 @@ impl Window for AlbedoWindow {
 
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
         let Some(p) = self.prompt.as_mut() else {
+            self.drawn = false;
             return Vec::new();
         };
+        let keys_are_ours = std::mem::replace(&mut self.drawn, true);
         let modal = egui::Modal::new(egui::Id::unique("scatterlab_albedo_prompt")).show(ctx, |ui| {
             ui.set_max_width(460.0);
             ui.heading("Material albedo");
@@ -135,12 +141,16 @@ impl Window for AlbedoWindow {
         let (enter, escape) = ctx.input(|i| {
             (i.key_pressed(egui::Key::Enter), i.key_pressed(egui::Key::Escape))
         });
+        let (enter, escape) = (enter && keys_are_ours, escape && keys_are_ours);
         let answer = modal
             .inner
             .or(enter.then_some(true))
             .or(escape.then_some(false));
         match (answer, self.prompt.take()) {
-            (Some(ok), Some(p)) => vec![Action::AnswerAlbedo(p, ok)],
+            (Some(ok), Some(p)) => {
+                self.drawn = false;
+                vec![Action::AnswerAlbedo(p, ok)]
+            }
             (None, p) => {
                 self.prompt = p;
                 Vec::new()

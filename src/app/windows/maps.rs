@@ -131,6 +131,9 @@ fn slot_label(slot: TextureSlot) -> &'static str {
 #[derive(Default)]
 pub struct MapsWindow {
     open: bool,
+    /// The mesh it was opened for: it stays on it (a map that fails to
+    /// load must still be there to clear) until closed.
+    for_mesh: Option<PathBuf>,
     preview: Option<MapsPreview>,
 }
 
@@ -228,10 +231,16 @@ impl Window for MapsWindow {
     /// Changes apply at once (the mesh reloads with them) and are
     /// remembered for the file.
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
-        let Some(path) = view.mesh.filter(|_| self.open).map(Path::to_path_buf) else {
-            self.preview = None;
+        if !self.open {
+            (self.for_mesh, self.preview) = (None, None);
+            return Vec::new();
+        }
+        let Some(path) = self.for_mesh.clone().or(view.mesh.map(Path::to_path_buf)) else {
+            // No mesh of the artist's: nothing to show, and closed.
+            self.open = false;
             return Vec::new();
         };
+        self.for_mesh = Some(path.clone());
         let before = view.meshes.get(&path).cloned().unwrap_or_default();
         let mut settings = before.clone();
         let key = (path.clone(), settings.clone());

@@ -94,6 +94,13 @@ impl ReferenceWindow {
         }
     }
 
+    /// The last colour picked into the look (the window's swatch).
+    pub fn set_picked(&mut self, rgb: [f64; 3]) {
+        if let Some(r) = self.reference.as_mut() {
+            r.picked = Some(rgb);
+        }
+    }
+
     /// The reference image's file.
     pub fn path(&self) -> Option<&Path> {
         self.reference.as_ref().map(|r| r.path.as_path())
@@ -231,9 +238,6 @@ impl Window for ReferenceWindow {
             .default_width(360.0)
             .show(ctx, |ui| r.ui(ui))
             .and_then(|i| i.inner.flatten());
-        if let Some(c) = picked {
-            r.picked = Some(c);
-        }
         let into = r.pick_into;
         if !open {
             self.reference = None;

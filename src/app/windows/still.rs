@@ -201,20 +201,20 @@ impl Window for StillWindow {
     fn menu_tooltip(&self) -> &'static str {
         "The viewport's view rendered offscreen at up to 4096×4096, supersampled, until it converges, as a PNG, with progress and Cancel"
     }
+    /// Open as the artist left it; a still rendering shows its window
+    /// anyway (Escape hides it, the render goes on; its close button or
+    /// Cancel stops it).
     fn is_open(&self) -> bool {
-        self.open || self.job.is_some()
+        self.open
     }
     fn set_open(&mut self, open: bool) {
         self.open = open;
-        if !open {
-            self.cancel();
-        }
     }
 
     /// Size, presets, supersampling, Save…, then progress with Cancel.
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
         let mut actions: Vec<Action> = self.poll(ctx).into_iter().map(Action::Say).collect();
-        if !self.is_open() {
+        if !self.open && self.job.is_none() {
             return actions;
         }
         let mut open = true;
@@ -252,7 +252,8 @@ impl Window for StillWindow {
             actions.push(Action::SetStill(settings));
         }
         if !open {
-            self.set_open(false);
+            self.open = false;
+            self.cancel();
         }
         actions
     }

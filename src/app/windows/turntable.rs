@@ -326,19 +326,19 @@ impl Window for TurntableWindow {
     fn menu_tooltip(&self) -> &'static str {
         "N converged frames around the head as an animated GIF and a PNG per frame, with progress and Cancel"
     }
+    /// Open as the artist left it; a turntable rendering shows its
+    /// window anyway (Escape hides it, the render goes on; its close
+    /// button or Cancel stops it).
     fn is_open(&self) -> bool {
-        self.open || self.job.is_some()
+        self.open
     }
     fn set_open(&mut self, open: bool) {
         self.open = open;
-        if let (false, Some(job)) = (open, &self.job) {
-            job.cancel();
-        }
     }
 
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
         let mut actions: Vec<Action> = self.finished(ctx).into_iter().map(Action::Say).collect();
-        if !self.is_open() {
+        if !self.open && self.job.is_none() {
             return actions;
         }
         let mut open = true;
@@ -370,7 +370,10 @@ impl Window for TurntableWindow {
             actions.push(Action::SetTurntable(settings));
         }
         if !open {
-            self.set_open(false);
+            self.open = false;
+            if let Some(job) = &self.job {
+                job.cancel();
+            }
         }
         actions
     }

@@ -119,6 +119,10 @@ impl Window for UnitsWindow {
     }
 
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
+        if view.mesh.is_none() {
+            // The default head has no units to ask for: closed.
+            self.open = false;
+        }
         let (Some(path), Some(info)) = (view.mesh.filter(|_| self.open), view.mesh_info) else {
             return Vec::new();
         };

@@ -448,7 +448,8 @@ pub struct BudgetReport {
     pub slots: usize,
     pub profiles_before: usize,
     pub profiles_after: usize,
-    pub weighted_cost: f64,
+    /// None where the cost was not finite (JSON has no NaN: null).
+    pub weighted_cost: Option<f64>,
     pub merges: Vec<ReportMerge>,
 }
 

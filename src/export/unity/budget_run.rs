@@ -145,12 +145,15 @@ impl BudgetOptions {
         // Pairs for the editor, curves and renders.
         self.pairs_and_pictures(&mut merges, &candidates)?;
         let summary = self.report(&scan, &candidates, &users, &groups, &merges, total)?;
-        let mut said = summary;
-        if self.apply {
-            said += "\n";
-            said += &self.apply(&merges, &remapped, list_name, &list_guid)?;
-        }
-        Ok(format!("{said}\n{}", report_path.display()))
+        // As it happens: the project changed, then what the report says.
+        let applied = match self.apply {
+            true => format!(
+                "{}\n",
+                self.apply(&merges, &remapped, list_name, &list_guid)?
+            ),
+            false => String::new(),
+        };
+        Ok(format!("{applied}{summary}\n{}", report_path.display()))
     }
 
     /// The merged profiles as HDRP's assets with HDRP's hash, and the
@@ -325,7 +328,7 @@ impl BudgetOptions {
             slots: self.slots,
             profiles_before: scan.profiles.len(),
             profiles_after: groups.len(),
-            weighted_cost: total,
+            weighted_cost: total.is_finite().then_some(total),
             merges: merges
                 .iter()
                 .enumerate()
