@@ -146,16 +146,9 @@ impl Window for AlbedoWindow {
             .inner
             .or(enter.then_some(true))
             .or(escape.then_some(false));
-        match (answer, self.prompt.take()) {
-            (Some(ok), Some(p)) => {
-                self.drawn = false;
-                vec![Action::AnswerAlbedo(p, ok)]
-            }
-            (None, p) => {
-                self.prompt = p;
-                Vec::new()
-            }
-            (_, None) => Vec::new(),
+        if answer.is_some() {
+            self.drawn = false;
         }
+        super::answered(&mut self.prompt, answer, Action::AnswerAlbedo)
     }
 }

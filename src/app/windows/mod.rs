@@ -176,6 +176,19 @@ pub trait Window {
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action>;
 }
 
+/// A modal prompt's answer: what waited on it, taken out, given to
+/// `action` with the answer; nothing while unanswered (it stays).
+pub fn answered<T, A>(
+    waiting: &mut Option<T>,
+    answer: Option<A>,
+    action: impl FnOnce(T, A) -> Action,
+) -> Vec<Action> {
+    match answer {
+        Some(a) => waiting.take().map(|t| action(t, a)).into_iter().collect(),
+        None => Vec::new(),
+    }
+}
+
 /// A menu's item for a window: its label, tooltip and what it asks for.
 #[derive(Clone, Debug)]
 pub struct MenuItem {

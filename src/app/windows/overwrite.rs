@@ -57,13 +57,6 @@ impl Window for OverwriteWindow {
             None if modal.should_close() => Some(false),
             c => c,
         };
-        match (choice, self.write.take()) {
-            (Some(replace), Some(o)) => vec![Action::AnswerOverwrite(o, replace)],
-            (None, o) => {
-                self.write = o;
-                Vec::new()
-            }
-            (Some(_), None) => Vec::new(),
-        }
+        super::answered(&mut self.write, choice, Action::AnswerOverwrite)
     }
 }

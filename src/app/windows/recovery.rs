@@ -95,13 +95,9 @@ impl Window for RecoveryWindow {
                     vec![Action::Say(format!("Warning: no file manager to show {}", dir.display()))]
                 }
             }
-            Some(a) => self
-                .found
-                .take()
-                .map(|f| Action::AnswerRecovery(Box::new(f), a == 0))
-                .into_iter()
-                .collect(),
-            None => Vec::new(),
+            restore => super::answered(&mut self.found, restore.map(|a| a == 0), |f, r| {
+                Action::AnswerRecovery(Box::new(f), r)
+            }),
         }
     }
 }

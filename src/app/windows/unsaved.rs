@@ -67,13 +67,6 @@ impl Window for UnsavedWindow {
             None if modal.should_close() => Some(Unsaved::Cancel),
             c => c,
         };
-        match (choice, self.pending.take()) {
-            (Some(answer), Some(p)) => vec![Action::AnswerUnsaved(p, answer)],
-            (None, p) => {
-                self.pending = p;
-                Vec::new()
-            }
-            (Some(_), None) => Vec::new(),
-        }
+        super::answered(&mut self.pending, choice, Action::AnswerUnsaved)
     }
 }
