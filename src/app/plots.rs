@@ -517,18 +517,10 @@ fn profile_plot_ui(
                 }
             }
             if show_taps && !log && !taps.is_empty() {
-                // Scale the weights into the plot's range.
                 let peak = lines.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
-                let wmax = taps.iter().flat_map(|t| t.weight).fold(1e-12, f64::max);
-                for c in 0..3 {
-                    let pts: Vec<[f64; 2]> = taps
-                        .iter()
-                        .filter(|t| t.offset_mm >= 0.0)
-                        .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
-                        .collect();
-                    let pts = x(&pts);
+                for (c, pts) in scaled_taps(&taps, peak).iter().enumerate() {
                     plot.points(
-                        Points::new("separable taps (scaled)", PlotPoints::from(pts))
+                        Points::new("separable taps (scaled)", PlotPoints::from(x(pts)))
                             .stems(0.0)
                             .radius(3.0)
                             .color(CHANNEL_COLORS[c].gamma_multiply(0.5)),
@@ -537,28 +529,45 @@ fn profile_plot_ui(
             }
         });
     let plot_rect = plot.response.rect;
-    // The legend: R, G, B in that order, then what else is drawn,
-    // the fit by its name; under the plot, off the curves.
-    ui.horizontal_wrapped(|ui| {
-        for c in 0..3 {
-            legend_entry_ui(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
-        }
-        legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
-        if let Some(Ok(o)) = &overlay {
-            legend_entry_ui(ui, Color32::GRAY, Stroke::Dashed, &o.label);
-        }
-        if let Some((label, _)) = &b_series {
-            legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, label);
-        }
-        if show_taps && !log && !taps.is_empty() {
-            legend_entry_ui(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
-        }
-    });
+    legend_ui(ui, overlay, b_series, show_taps && !log && !taps.is_empty());
     ui.label(format!(
         "Total reflectance {:.3} / {:.3} / {:.3} · 99.7 % radius {:.2} / {:.2} / {:.2} mm",
         curves.total[0], curves.total[1], curves.total[2], r997[0], r997[1], r997[2]
     ));
     plot_rect
+}
+
+/// The separable taps at positive offsets, per channel, as (mm, weight)
+/// points with the weights scaled so that the largest reaches `peak` (the
+/// plot's highest value).
+fn scaled_taps(taps: &[crate::model::separable::Tap], peak: f64) -> [Vec<[f64; 2]>; 3] {
+    let wmax = taps.iter().flat_map(|t| t.weight).fold(1e-12, f64::max);
+    std::array::from_fn(|c| {
+        taps.iter()
+            .filter(|t| t.offset_mm >= 0.0)
+            .map(|t| [t.offset_mm, t.weight[c] / wmax * peak])
+            .collect()
+    })
+}
+
+/// The profile plot's legend: R, G, B in that order, then what else is
+/// drawn, the fit by its name; under the plot, off the curves.
+fn legend_ui(ui: &mut egui::Ui, overlay: &FitOverlay, b_series: &Option<NamedSeries>, taps: bool) {
+    ui.horizontal_wrapped(|ui| {
+        for c in 0..3 {
+            legend_entry_ui(ui, CHANNEL_COLORS[c], Stroke::Solid, ["R", "G", "B"][c]);
+        }
+        legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, "99.7 % energy radius");
+        if let Some(Ok(o)) = overlay {
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Dashed, &o.label);
+        }
+        if let Some((label, _)) = b_series {
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Dotted, label);
+        }
+        if taps {
+            legend_entry_ui(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
+        }
+    });
 }
 
 /// The pre-integrated table and the transmittance strip of the last

@@ -56,9 +56,8 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("cli/convert.rs", "convert_files", 156),
     ("export/gltf.rs", "read_material", 151),
     ("export/unreal/substrate.rs", "read", 139),
-    ("app/viewport/thread.rs", "refine_step", 139),
     ("export/unreal.rs", "unreal_python", 138),
-    ("render/renderer.rs", "encode_and_read", 129),
+    ("render/renderer.rs", "encode_and_read", 127),
     ("export/gltf.rs", "gltf_readings", 123),
     ("render/sss/texture_space.rs", "new", 122),
     ("render/ground_truth/gather.rs", "integrate", 121),
@@ -68,7 +67,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
 const LONG_FILES: &[(&str, usize)] = &[
     ("export/gltf.rs", 864),
     ("app/state.rs", 887),
-    ("app/viewport.rs", 957),
 ];
 
 /// ARCHITECTURE.md, "Rules": no function over 120 lines and no file over

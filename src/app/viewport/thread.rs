@@ -167,7 +167,7 @@ pub(super) fn worker(
                 None => return,
             },
         };
-        let Some(mut req) = next else {
+        let Some(req) = next else {
             if let Some(r) = refine.as_mut() {
                 if !refine_step(&mut w, r, tx) {
                     refine = None;
@@ -176,69 +176,89 @@ pub(super) fn worker(
             }
             continue;
         };
-        refine = None;
-        // The newest request is taken: a cancel set before now was for the
-        // requests it replaces (one sent from here on cancels its work).
-        w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
-        let t0 = Instant::now();
-        if !prepare_mesh(&mut w, &mut req, tx, faults) {
-            wake();
-            continue;
-        }
-        if req.interactive && w.pending_maps.is_none() {
-            if !send_preview(&mut w, &req, t0, tx) {
-                return;
-            }
-            wake();
-            continue;
-        }
-        // A view finished before: shown again at once.
-        if w.pending_maps.is_none() {
-            match send_kept(&mut w, &req, t0, tx) {
-                Some(false) => return,
-                Some(true) => {
-                    wake();
-                    continue;
-                }
-                None => {}
-            }
-        }
-        let mut r = Refine {
-            req,
-            frames: 0,
-            prev: None,
-            since: t0,
-            coarse_done: false,
-            truth_of: None,
-            tiles: TilesState::default(),
+        refine = match take_request(&mut w, req, tx, wake, faults) {
+            Next::Quit => return,
+            Next::Wait => None,
+            Next::Refine(r) => Some(*r),
         };
-        if w.pending_maps.is_some() {
-            // The head first, with neutral maps; then the same view with
-            // its skin maps, refined from there. The ground truth of a head
-            // about to change would be seconds thrown away: a preview.
-            let sent = if r.req.has_truth() {
-                send_frame(&mut w, &r.req, Pass::Preview(1.0), t0, tx, |_| {
-                    Quality::Preview { divisor: 1.0 }
-                })
-            } else {
-                send_frame(&mut w, &r.req, Pass::Refine(0), t0, tx, |_| {
-                    Quality::Refining { frames: 1 }
-                })
-            };
-            if !sent {
-                return;
-            }
-            wake();
-            if let Err(e) = w.apply_pending_maps() {
-                let _ = tx.send(Reply::Error(e));
-                wake();
-                continue;
-            }
+        wake();
+    }
+}
+
+/// What the render loop does after a new request: stop (the UI has
+/// gone), wait for the next, or refine this one.
+enum Next {
+    Quit,
+    Wait,
+    Refine(Box<Refine>),
+}
+
+/// A new request taken: its mesh made ready, then its preview (while
+/// input lasts), its kept frame (a view finished before), or its first
+/// refining step.
+fn take_request(
+    w: &mut Worker,
+    mut req: Request,
+    tx: &Sender<Reply>,
+    wake: &impl Fn(),
+    faults: &Faults,
+) -> Next {
+    // The newest request is taken: a cancel set before now was for the
+    // requests it replaces (one sent from here on cancels its work).
+    w.cancel.store(false, std::sync::atomic::Ordering::Relaxed);
+    let t0 = Instant::now();
+    if !prepare_mesh(w, &mut req, tx, faults) {
+        return Next::Wait;
+    }
+    if req.interactive && w.pending_maps.is_none() {
+        if !send_preview(w, &req, t0, tx) {
+            return Next::Quit;
         }
-        if refine_step(&mut w, &mut r, tx) {
-            refine = Some(r);
+        return Next::Wait;
+    }
+    // A view finished before: shown again at once.
+    if w.pending_maps.is_none() {
+        match send_kept(w, &req, t0, tx) {
+            Some(false) => return Next::Quit,
+            Some(true) => return Next::Wait,
+            None => {}
+        }
+    }
+    let mut r = Refine {
+        req,
+        frames: 0,
+        prev: None,
+        since: t0,
+        coarse_done: false,
+        truth_of: None,
+        tiles: TilesState::default(),
+    };
+    if w.pending_maps.is_some() {
+        // The head first, with neutral maps; then the same view with
+        // its skin maps, refined from there. The ground truth of a head
+        // about to change would be seconds thrown away: a preview.
+        let sent = if r.req.has_truth() {
+            send_frame(w, &r.req, Pass::Preview(1.0), t0, tx, |_| {
+                Quality::Preview { divisor: 1.0 }
+            })
+        } else {
+            send_frame(w, &r.req, Pass::Refine(0), t0, tx, |_| Quality::Refining {
+                frames: 1,
+            })
+        };
+        if !sent {
+            return Next::Quit;
         }
         wake();
+        if let Err(e) = w.apply_pending_maps() {
+            let _ = tx.send(Reply::Error(e));
+            return Next::Wait;
+        }
+    }
+    if refine_step(w, &mut r, tx) {
+        Next::Refine(Box::new(r))
+    } else {
+        Next::Wait
     }
 }
 
@@ -385,25 +405,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
     // the whole view first (a new request in between is taken before the
     // full frame).
     if r.frames == 0 && !r.coarse_done && r.req.has_truth() {
-        r.coarse_done = true;
-        let divisor = COARSE_TRUTH_DIVISOR;
-        let reply = match w.frame(&r.req, Pass::Coarse(divisor)) {
-            Ok(rendered) => Reply::Frame {
-                difference_scale: rendered.difference_scale,
-                image: rendered.image,
-                stats: Box::new(rendered.stats),
-                wall_ms: r.since.elapsed().as_secs_f64() * 1e3,
-                note: with_truth_note(&r.truth_of, rendered.note),
-                seq: r.req.seq,
-                quality: Quality::Coarse { divisor },
-            },
-            Err(e) if is_cancelled(&e) => return true,
-            Err(e) => {
-                let _ = tx.send(Reply::Error(e));
-                return false;
-            }
-        };
-        return tx.send(reply).is_ok();
+        return coarse_truth_step(w, r, tx);
     }
     let frame = r.frames;
     let t1 = Instant::now();
@@ -448,27 +450,17 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
         && r.truth_of.is_none()
         && !r.req.has_truth()
         && r.req.b.is_none();
-    if done {
-        let key = r
-            .truth_of
-            .as_ref()
-            .map_or_else(|| r.req.key(), |(k, _)| k.key());
-        if !to_truth {
-            w.finished.retain(|(k, _)| *k != key);
-            w.finished.insert(
-                0,
-                (
-                    key,
-                    Finished {
-                        image: rendered.image.clone(),
-                        stats: rendered.stats.clone(),
-                        note: note.clone(),
-                        difference_scale: rendered.difference_scale,
-                    },
-                ),
-            );
-            w.finished.truncate(KEPT_FRAMES);
-        }
+    if done && !to_truth {
+        keep_finished(
+            w,
+            r,
+            Finished {
+                image: rendered.image.clone(),
+                stats: rendered.stats.clone(),
+                note: note.clone(),
+                difference_scale: rendered.difference_scale,
+            },
+        );
     }
     let under = to_truth.then(|| (rendered.image.clone(), rendered.stats.clone()));
     let reply = Reply::Frame {
@@ -482,39 +474,86 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
     };
     let sent = tx.send(reply).is_ok();
     if sent && to_truth {
-        let from = r.req.a.rendering.method;
-        let mut truth = r.req.clone();
-        truth.a.rendering.method = MethodId::ground_truth();
-        truth.show_b = false;
-        r.truth_of = Some((r.req.clone(), from));
-        r.req = truth;
-        r.frames = 0;
-        r.prev = None;
-        r.coarse_done = false;
-        // Said at once: the converged frame stays, the tiles come next.
-        if let Some((image, stats)) = &under {
-            let next = Reply::Frame {
-                difference_scale: None,
-                image: image.clone(),
-                stats: Box::new(stats.clone()),
-                wall_ms: 0.0,
-                note: with_truth_note(&r.truth_of, None),
-                seq: r.req.seq,
-                quality: Quality::Truth {
-                    done: 0,
-                    tiles: 0,
-                    left_s: None,
-                    under: from,
-                },
-            };
-            if tx.send(next).is_err() {
-                return false;
-            }
-        }
-        r.tiles = under.map_or_else(TilesState::default, |(i, _)| TilesState::over(i, from));
-        return true;
+        return start_truth_tiles(r, under, tx);
     }
     sent && !done
+}
+
+/// The coarse ground truth over the whole view, shown before the full
+/// frame of a comparison with it; false when the thread should wait.
+fn coarse_truth_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    r.coarse_done = true;
+    let divisor = COARSE_TRUTH_DIVISOR;
+    let reply = match w.frame(&r.req, Pass::Coarse(divisor)) {
+        Ok(rendered) => Reply::Frame {
+            difference_scale: rendered.difference_scale,
+            image: rendered.image,
+            stats: Box::new(rendered.stats),
+            wall_ms: r.since.elapsed().as_secs_f64() * 1e3,
+            note: with_truth_note(&r.truth_of, rendered.note),
+            seq: r.req.seq,
+            quality: Quality::Coarse { divisor },
+        },
+        Err(e) if is_cancelled(&e) => return true,
+        Err(e) => {
+            let _ = tx.send(Reply::Error(e));
+            return false;
+        }
+    };
+    tx.send(reply).is_ok()
+}
+
+/// Keeps a converged frame as its view's finished frame (the view the
+/// artist asked for, when it is that view's ground truth), newest first.
+fn keep_finished(w: &mut Worker, r: &Refine, frame: Finished) {
+    let key = r
+        .truth_of
+        .as_ref()
+        .map_or_else(|| r.req.key(), |(k, _)| k.key());
+    w.finished.retain(|(k, _)| *k != key);
+    w.finished.insert(0, (key, frame));
+    w.finished.truncate(KEPT_FRAMES);
+}
+
+/// "Refine to the truth": the request becomes its ground truth, which
+/// follows in tiles over `under` (the method's converged frame and its
+/// statistics), said at once; false when the UI has gone.
+fn start_truth_tiles(
+    r: &mut Refine,
+    under: Option<(image::RgbaImage, FrameStats)>,
+    tx: &Sender<Reply>,
+) -> bool {
+    let from = r.req.a.rendering.method;
+    let mut truth = r.req.clone();
+    truth.a.rendering.method = MethodId::ground_truth();
+    truth.show_b = false;
+    r.truth_of = Some((r.req.clone(), from));
+    r.req = truth;
+    r.frames = 0;
+    r.prev = None;
+    r.coarse_done = false;
+    // Said at once: the converged frame stays, the tiles come next.
+    if let Some((image, stats)) = &under {
+        let next = Reply::Frame {
+            difference_scale: None,
+            image: image.clone(),
+            stats: Box::new(stats.clone()),
+            wall_ms: 0.0,
+            note: with_truth_note(&r.truth_of, None),
+            seq: r.req.seq,
+            quality: Quality::Truth {
+                done: 0,
+                tiles: 0,
+                left_s: None,
+                under: from,
+            },
+        };
+        if tx.send(next).is_err() {
+            return false;
+        }
+    }
+    r.tiles = under.map_or_else(TilesState::default, |(i, _)| TilesState::over(i, from));
+    true
 }
 
 /// One step of the ground truth in tiles (A alone): first, where there is
@@ -526,34 +565,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
 fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
     let t1 = Instant::now();
     let Some((under, under_method)) = &r.tiles.under else {
-        let method = r.req.a.rendering.method.preview();
-        let rendered = match w.frame(&r.req, Pass::Preview(1.0)) {
-            Ok(x) => x,
-            Err(e) if is_cancelled(&e) => return false,
-            Err(e) => {
-                let _ = tx.send(Reply::Error(e));
-                return false;
-            }
-        };
-        r.tiles = TilesState::over(rendered.image.clone(), method);
-        let reply = Reply::Frame {
-            difference_scale: None,
-            image: rendered.image,
-            stats: Box::new(rendered.stats),
-            wall_ms: t1.elapsed().as_secs_f64() * 1e3,
-            note: Some(format!(
-                "{} stands in where the ground truth's tiles are not done",
-                method.id()
-            )),
-            seq: r.req.seq,
-            quality: Quality::Truth {
-                done: 0,
-                tiles: 0,
-                left_s: None,
-                under: method,
-            },
-        };
-        return tx.send(reply).is_ok();
+        return truth_stand_in_step(w, r, tx);
     };
     let (under, under_method) = (under.clone(), *under_method);
     let budget_ms = match r.tiles.frames {
@@ -609,24 +621,16 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
     };
     let note = with_truth_note(&r.truth_of, rendered.note);
     if finished {
-        let key = r
-            .truth_of
-            .as_ref()
-            .map_or_else(|| r.req.key(), |(k, _)| k.key());
-        w.finished.retain(|(k, _)| *k != key);
-        w.finished.insert(
-            0,
-            (
-                key,
-                Finished {
-                    image: image.clone(),
-                    stats: rendered.stats.clone(),
-                    note: note.clone(),
-                    difference_scale: None,
-                },
-            ),
+        keep_finished(
+            w,
+            r,
+            Finished {
+                image: image.clone(),
+                stats: rendered.stats.clone(),
+                note: note.clone(),
+                difference_scale: None,
+            },
         );
-        w.finished.truncate(KEPT_FRAMES);
     }
     let reply = Reply::Frame {
         difference_scale: None,
@@ -638,6 +642,40 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
         quality,
     };
     tx.send(reply).is_ok() && !finished
+}
+
+/// The first step of a ground truth in tiles with nothing under them: the
+/// method's preview at full size stands in where tiles are not done.
+fn truth_stand_in_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool {
+    let t1 = Instant::now();
+    let method = r.req.a.rendering.method.preview();
+    let rendered = match w.frame(&r.req, Pass::Preview(1.0)) {
+        Ok(x) => x,
+        Err(e) if is_cancelled(&e) => return false,
+        Err(e) => {
+            let _ = tx.send(Reply::Error(e));
+            return false;
+        }
+    };
+    r.tiles = TilesState::over(rendered.image.clone(), method);
+    let reply = Reply::Frame {
+        difference_scale: None,
+        image: rendered.image,
+        stats: Box::new(rendered.stats),
+        wall_ms: t1.elapsed().as_secs_f64() * 1e3,
+        note: Some(format!(
+            "{} stands in where the ground truth's tiles are not done",
+            method.id()
+        )),
+        seq: r.req.seq,
+        quality: Quality::Truth {
+            done: 0,
+            tiles: 0,
+            left_s: None,
+            under: method,
+        },
+    };
+    tx.send(reply).is_ok()
 }
 
 /// A frame's note, led by "the ground truth, refined from …" when it is
