@@ -54,7 +54,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("render/ground_truth/gpu.rs", "new", 163),
     ("export/gltf.rs", "gltf_document", 159),
     ("cli/convert.rs", "convert_files", 156),
-    ("export/gltf.rs", "read_material", 151),
     ("export/unreal/substrate.rs", "read", 139),
     ("export/unreal.rs", "unreal_python", 138),
     ("render/renderer.rs", "encode_and_read", 127),
@@ -64,10 +63,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
 ];
 
 /// Files in `src/` over 800 lines, each with the length it may not pass.
-const LONG_FILES: &[(&str, usize)] = &[
-    ("export/gltf.rs", 864),
-    ("app/state.rs", 887),
-];
+const LONG_FILES: &[(&str, usize)] = &[("app/state.rs", 887)];
 
 /// ARCHITECTURE.md, "Rules": no function over 120 lines and no file over
 /// 800 but those listed, none longer than listed, and none listed that is
