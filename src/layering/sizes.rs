@@ -62,8 +62,9 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("render/ground_truth/gather.rs", "integrate", 121),
 ];
 
-/// Files in `src/` over 800 lines, each with the length it may not pass.
-const LONG_FILES: &[(&str, usize)] = &[("app/state.rs", 887)];
+/// Files in `src/` over 800 lines, each with the length it may not pass
+/// (none now: the check stays for the next one).
+const LONG_FILES: &[(&str, usize)] = &[];
 
 /// ARCHITECTURE.md, "Rules": no function over 120 lines and no file over
 /// 800 but those listed, none longer than listed, and none listed that is
