@@ -1,7 +1,8 @@
 //! The file dialog (`egui_file`), what its OK does, the answers of the
 //! unsaved-changes and overwrite prompts (the prompts themselves are
-//! windows: `windows/unsaved.rs`, `windows/overwrite.rs`), and Escape's
-//! topmost window.
+//! windows: `windows/unsaved.rs`, `windows/overwrite.rs`), Escape's
+//! topmost window, and an HDR map chosen (or remembered, or dropped)
+//! loaded on its thread and taken in when it arrives.
 
 use super::windows::unsaved::Unsaved;
 use super::windows::Window;
@@ -251,6 +252,62 @@ impl EditorApp {
                         self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);
                     }
                 }
+            }
+        }
+    }
+
+    /// The HDR map remembered from the last run, for its background: its
+    /// lighting is remembered (SH), its picture is read again, quietly.
+    pub(super) fn reload_background(&mut self) {
+        if self.view.background_map.is_some() || self.jobs.loading_environment() {
+            return;
+        }
+        if let Some(p) = self
+            .ui_state
+            .environment_file
+            .clone()
+            .filter(|p| p.is_file())
+        {
+            // Loading makes the map the environment: keep the choice.
+            let keep = Some(self.ui_state.view.environment);
+            self.jobs.load_environment(p, keep, &self.waker);
+        }
+    }
+
+    /// Loads an equirectangular HDR map on its own thread and lights the
+    /// head with it once it arrives.
+    pub fn load_environment(&mut self, path: PathBuf) {
+        self.say(format!("Loading environment {} …", path.display()));
+        self.jobs.load_environment(path, None, &self.waker);
+    }
+
+    /// Takes in an environment map that finished loading: the background
+    /// and the lighting, or the error.
+    pub(super) fn poll_environment(&mut self) {
+        let Some(loaded) = self.jobs.finished_environment() else {
+            return;
+        };
+        match loaded.result {
+            Ok((path, sh, bg)) => {
+                self.view.background_map = bg.map(|m| viewport::SharedMap(std::sync::Arc::new(m)));
+                let v = &mut self.ui_state.view;
+                v.environment_map_sh = Some(sh);
+                match loaded.keep {
+                    // The remembered map read again at start-up: the
+                    // artist's choice stays, and nothing is said.
+                    Some(env) => v.environment = env,
+                    None => {
+                        v.environment = state::EnvironmentChoice::Map;
+                        self.say(format!("Environment {}", path.display()));
+                    }
+                }
+                self.ui_state.environment_file = Some(path);
+                self.environment_loaded();
+            }
+            Err(e) => {
+                self.say(format!("Error: {e}"));
+                // The HDR rig that asked for this map is off.
+                self.environment_not_loaded();
             }
         }
     }

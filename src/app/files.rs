@@ -295,42 +295,22 @@ impl EditorApp {
     /// Whether background work is under way (the status bar's spinner):
     /// exports, an environment map, the analysis.
     pub(super) fn busy(&self) -> bool {
-        !self.jobs.exports.is_empty()
-            || self.jobs.environment_load.is_some()
-            || self.analysis_busy()
+        self.jobs.busy() || self.analysis_busy()
     }
 
     /// Starts an export on its own thread (table bakes take seconds).
     pub fn export(&mut self, format: Format, out: PathBuf) {
-        let preset = self.doc.preset.clone();
-        let source = self.doc.path.clone();
-        let (tx, rx) = std::sync::mpsc::channel();
-        let waker = self.waker.clone();
-        std::thread::spawn(move || {
-            let r = crate::export::export(&preset, source.as_deref(), format, &out)
-                .map_err(|e| e.to_string());
-            let _ = tx.send(r);
-            waker.wake();
-        });
-        self.jobs.exports.push(rx);
+        let look = (self.doc.preset.clone(), self.doc.path.clone());
+        self.jobs.export(look, format, out, &self.waker);
         self.say(format!("Exporting {} …", format.id()));
     }
 
-    /// Loads an equirectangular HDR map on its own thread (decoding and
-    /// projecting a large map takes a while) and lights the head with it.
+    /// Takes in what the background threads finished: the analysis (fits,
+    /// tables, a slow model's curves), an environment map, exports.
     pub(super) fn poll_workers(&mut self) {
         self.poll_analysis();
         self.poll_environment();
-        let mut done = Vec::new();
-        self.jobs.exports.retain(|rx| match rx.try_recv() {
-            Ok(r) => {
-                done.push(r);
-                false
-            }
-            Err(std::sync::mpsc::TryRecvError::Empty) => true,
-            Err(_) => false,
-        });
-        for r in done {
+        for r in self.jobs.finished_exports() {
             self.say(match r {
                 Ok(paths) => format!(
                     "Exported {}",

@@ -9,8 +9,8 @@ mod autosave;
 mod colour_ui;
 pub mod compare;
 mod dialogs;
-mod environment;
 mod files;
+mod jobs;
 mod menu;
 pub mod menus;
 mod overlays;
@@ -29,7 +29,8 @@ pub mod windows;
 use crate::export::Format;
 use crate::settings::{library, Preset};
 use analysis::{Analysis, AnalysisKey, Background, Curves};
-use parts::{Dialogs, Jobs, Layout, MeshState, ProfileState, Report, ViewportState};
+use jobs::Jobs;
+use parts::{Dialogs, Layout, MeshState, ProfileState, Report, ViewportState};
 use state::{CompareB, CompareMode, Document, UiState};
 use std::path::{Path, PathBuf};
 
@@ -183,20 +184,6 @@ type BCurvesKey = (PathBuf, Option<u64>, String);
 /// channel, or why it cannot be overlaid.
 type BCurves = Result<(String, Curves, [f64; 3]), String>;
 
-/// A finished export, reported by its thread.
-type ExportResult = Result<Vec<PathBuf>, String>;
-
-/// A loaded HDR environment: its file and irradiance SH, or why not.
-/// A loaded HDR map: its file, irradiance SH and background image.
-type EnvironmentResult = Result<
-    (
-        PathBuf,
-        [[f32; 3]; 9],
-        Option<crate::render::environment::BackgroundMap>,
-    ),
-    String,
->;
-
 pub struct EditorApp {
     pub doc: Document,
     pub ui_state: UiState,
@@ -342,9 +329,9 @@ impl EditorApp {
         egui::Panel::top("menu")
             .frame(side)
             .show(ui, |ui| self.menu_bar_ui(ui));
-        egui::Panel::bottom("status")
-            .frame(side)
-            .show(ui, |ui| self.status_bar_ui(ui));
+        egui::Panel::bottom("status").frame(side).show(ui, |ui| {
+            self.report.status_bar_ui(ui, self.status_bar_view())
+        });
         let params = egui::Panel::left("params")
             .frame(side)
             .resizable(true)
@@ -376,7 +363,7 @@ impl EditorApp {
             .show(ui, |ui| self.viewport_panel_ui(ui));
         self.dialogs_ui(&ctx);
         self.windows_ui(&ctx);
-        self.notices_ui(&ctx);
+        self.report.notices_ui(&ctx, self.viewport_rect());
         if self.allow_close {
             // Quit answered (Save or Discard): close now, not at the next
             // frame, which may never come without input. A clean quit
@@ -390,7 +377,47 @@ impl EditorApp {
             self.doc.commit();
         }
         self.autosave_tick(Some(&ctx), false);
-        self.end_frame(&ctx, drawn, ui_ms);
+        // A reply, a prompt's answer or a finished job can change what the
+        // menu and status bars drew at the frame's start: draw it again
+        // now, not at the next input.
+        if self.drawn() != drawn {
+            ctx.request_repaint();
+        }
+        let has_frame = self.has_viewport_frame();
+        self.report
+            .end_frame(&ctx, (self.doc.title(), drawn), ui_ms, has_frame);
+    }
+
+    /// What the panels drawn first (menu, status bar, the look's fields)
+    /// show that code later in the frame may change.
+    fn drawn(&self) -> report::Drawn {
+        report::Drawn {
+            status: self.report.status.clone(),
+            frame_info: self.frame_info().to_owned(),
+            busy: self.busy(),
+            preset: self.doc.preset.clone(),
+            path: self.doc.path.clone(),
+        }
+    }
+
+    /// A line in the frame log ([`Report::log_line`]).
+    fn log_line(&mut self, line: std::fmt::Arguments) {
+        self.report.log_line(line);
+    }
+
+    /// Puts `text` in the status line ([`Report::say`]).
+    fn say(&mut self, text: impl Into<String>) {
+        self.report.say(text);
+    }
+
+    /// The status bar's message.
+    pub fn status(&self) -> &str {
+        &self.report.status
+    }
+
+    /// The notifications on screen (errors and warnings not yet dismissed).
+    pub fn notices(&self) -> &[String] {
+        &self.report.notices
     }
 }
 
@@ -616,7 +643,7 @@ fn start_editor(
     if let Some(dir) = eframe::storage_dir("scatterlab") {
         app = app.with_autosave(&dir);
     }
-    app = app.started_at(started);
+    app.report.started = started;
     if let Some(f) = &args.import {
         app.import_now(f);
     }

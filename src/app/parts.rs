@@ -45,9 +45,6 @@ pub(super) struct ViewportState {
     pub(super) adapter: String,
     /// The loaded HDR map, drawn behind the head when asked.
     pub(super) background_map: Option<viewport::SharedMap>,
-    /// A start-up reload of the remembered map: the environment chosen
-    /// then, kept when it arrives.
-    pub(super) keep_environment: Option<state::EnvironmentChoice>,
     pub(super) texture: Option<egui::TextureHandle>,
     pub(super) frame_info: String,
     /// The HDR light rig was chosen with no map loaded: apply it once the
@@ -97,14 +94,6 @@ pub(super) struct Dialogs {
     /// The windows open at the last frame (`dialogs_ui` brings a newly
     /// opened one to the front).
     pub(super) open_last_frame: Vec<&'static str>,
-}
-
-/// Work on other threads: exports, an environment map loading, a turntable.
-#[derive(Default)]
-pub(super) struct Jobs {
-    pub(super) exports: Vec<std::sync::mpsc::Receiver<ExportResult>>,
-    /// An HDR environment map loading on its own thread.
-    pub(super) environment_load: Option<std::sync::mpsc::Receiver<EnvironmentResult>>,
 }
 
 /// The status line, notifications, the frame log and timings.
@@ -178,7 +167,6 @@ impl ViewportState {
             difference_shown: None,
             last_frame: None,
             background_map: None,
-            keep_environment: None,
             show_mouse_hint: false,
             applied_scale: None,
             adapter: String::new(),

@@ -1,72 +1,52 @@
 //! The status line, the notifications, the window title, the frame log
-//! and the start-up timings: what the editor tells the artist (`Report`),
-//! and the one way to say something, [`EditorApp::say`].
+//! and the start-up timings: what the editor tells the artist, `Report`'s
+//! own, and the one way to say something, [`Report::say`].
 
 use super::*;
 
 /// What the first panels of a frame showed ([`EditorApp::drawn`]).
 #[derive(PartialEq)]
 pub(super) struct Drawn {
-    status: String,
-    frame_info: String,
-    busy: bool,
-    preset: Preset,
-    path: Option<PathBuf>,
+    pub(super) status: String,
+    pub(super) frame_info: String,
+    pub(super) busy: bool,
+    pub(super) preset: Preset,
+    pub(super) path: Option<PathBuf>,
 }
 
-impl EditorApp {
+/// What the status bar shows beside the status line.
+pub(super) struct StatusBarView<'a> {
+    /// A job or the viewport is working (the spinner).
+    pub(super) busy: bool,
+    /// The viewport's line: method, quality, size, times.
+    pub(super) frame_info: &'a str,
+    /// The GPU adapter and driver (on hover).
+    pub(super) adapter: &'a str,
+}
+
+impl Report {
     /// Puts `text` in the status line (an error or warning, starting so,
     /// also becomes a notification).
     pub(super) fn say(&mut self, text: impl Into<String>) {
-        self.report.status = text.into();
-    }
-
-    /// Start-up timings count from `started` (the process's start).
-    pub(super) fn started_at(mut self, started: std::time::Instant) -> Self {
-        self.report.started = started;
-        self
-    }
-
-    /// The status bar's message.
-    pub fn status(&self) -> &str {
-        &self.report.status
-    }
-
-    /// The notifications on screen (errors and warnings not yet dismissed).
-    pub fn notices(&self) -> &[String] {
-        &self.report.notices
-    }
-
-    /// What the panels drawn first (menu, status bar, the look's fields)
-    /// show that code later in the frame may change.
-    pub(super) fn drawn(&self) -> Drawn {
-        Drawn {
-            status: self.report.status.clone(),
-            frame_info: self.frame_info().to_owned(),
-            busy: self.busy(),
-            preset: self.doc.preset.clone(),
-            path: self.doc.path.clone(),
-        }
+        self.status = text.into();
     }
 
     /// Every new error or warning in the status line becomes a notification
     /// at the viewport's top right that stays until its × is clicked (the
     /// same message again is not stacked twice); at most five, oldest first
     /// dropped.
-    pub(super) fn notices_ui(&mut self, ctx: &egui::Context) {
-        if self.report.status != self.report.status_seen {
-            self.report.status_seen = self.report.status.clone();
-            let s = &self.report.status;
-            if (s.starts_with("Error") || s.starts_with("Warning"))
-                && !self.report.notices.contains(s)
-            {
-                self.report.notices.push(s.clone());
-                if self.report.notices.len() > 5 {
-                    self.report.notices.remove(0);
+    pub(super) fn notices_ui(&mut self, ctx: &egui::Context, viewport: Option<egui::Rect>) {
+        if self.status != self.status_seen {
+            self.status_seen = self.status.clone();
+            let s = &self.status;
+            if (s.starts_with("Error") || s.starts_with("Warning")) && !self.notices.contains(s) {
+                self.notices.push(s.clone());
+                if self.notices.len() > 5 {
+                    self.notices.remove(0);
                 }
             }
         }
-        let Some(rect) = self.viewport_rect() else {
+        let Some(rect) = viewport else {
             return;
         };
         let mut dismiss = None;
@@ -76,7 +56,7 @@ impl EditorApp {
             .fixed_pos(rect.right_top() + egui::vec2(-width - 8.0, 8.0))
             .show(ctx, |ui| {
                 ui.set_width(width);
-                for (i, n) in self.report.notices.iter().enumerate() {
+                for (i, n) in self.notices.iter().enumerate() {
                     egui::Frame::popup(ui.style()).show(ui, |ui| {
                         ui.set_width(width - 16.0);
                         ui.horizontal_top(|ui| {
@@ -102,49 +82,47 @@ impl EditorApp {
                 }
             });
         if let Some(i) = dismiss {
-            self.report.notices.remove(i);
+            self.notices.remove(i);
         }
     }
 
     /// Start-up and per-frame timings on stderr with SCATTERLAB_TIMINGS=1
     /// (the budgets: first frame < 3 s, UI < 8 ms a frame).
-    fn report_timings(&mut self) {
+    fn report_timings(&mut self, has_viewport_frame: bool) {
         if std::env::var_os("SCATTERLAB_TIMINGS").is_none() {
             return;
         }
-        let t = self.report.started.elapsed().as_secs_f64();
-        if !self.report.reported.0 {
-            self.report.reported.0 = true;
+        let t = self.started.elapsed().as_secs_f64();
+        if !self.reported.0 {
+            self.reported.0 = true;
             eprintln!(
                 "timing: first UI frame {t:.2} s after start-up (UI {:.2} ms)",
-                self.report.ui_ms
+                self.ui_ms
             );
         }
-        if !self.report.reported.1 && self.has_viewport_frame() {
-            self.report.reported.1 = true;
+        if !self.reported.1 && has_viewport_frame {
+            self.reported.1 = true;
             eprintln!("timing: first viewport frame {t:.2} s after start-up");
         }
-        eprintln!("timing: UI {:.2} ms", self.report.ui_ms);
+        eprintln!("timing: UI {:.2} ms", self.ui_ms);
     }
 
-    /// The frame's end: the window's title, another frame at once if
-    /// something drawn early changed since (`drawn` was taken before the
-    /// panels), the timings and the frame log.
-    pub(super) fn end_frame(&mut self, ctx: &egui::Context, drawn: Drawn, ui_ms: f64) {
-        let title = self.doc.title();
-        if title != self.report.last_title {
+    /// The frame's end: the window's `title`, the timings and the frame
+    /// log (`drawn` is what the frame's first panels showed).
+    pub(super) fn end_frame(
+        &mut self,
+        ctx: &egui::Context,
+        (title, drawn): (String, Drawn),
+        ui_ms: f64,
+        has_viewport_frame: bool,
+    ) {
+        if title != self.last_title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
-            self.report.last_title = title;
+            self.last_title = title;
         }
-        // A reply, a prompt's answer or a finished job can change what the
-        // menu and status bars drew at the frame's start: draw it again
-        // now, not at the next input.
-        if self.drawn() != drawn {
-            ctx.request_repaint();
-        }
-        self.report.ui_ms = ui_ms;
-        self.report_timings();
-        if let Some(log) = self.report.frame_log.as_mut() {
+        self.ui_ms = ui_ms;
+        self.report_timings(has_viewport_frame);
+        if let Some(log) = self.frame_log.as_mut() {
             use std::io::Write;
             let t = unix_seconds();
             // What asked for this frame (egui's record of the calls to
@@ -161,9 +139,9 @@ impl EditorApp {
             let _ = writeln!(log, "{t:.3} ui {ui_ms:.1} why={}", why.join(","));
             // The status line as this frame drew it, when it changed (a
             // test reads when a job's result reached the screen).
-            if drawn.status != self.report.logged_status {
+            if drawn.status != self.logged_status {
                 let _ = writeln!(log, "{t:.3} status {}", drawn.status);
-                self.report.logged_status = drawn.status;
+                self.logged_status = drawn.status;
             }
         }
     }
@@ -171,18 +149,20 @@ impl EditorApp {
     /// A line in the frame log (`SCATTERLAB_FRAME_LOG`), stamped with the
     /// time.
     pub(super) fn log_line(&mut self, line: std::fmt::Arguments) {
-        if let Some(log) = self.report.frame_log.as_mut() {
+        if let Some(log) = self.frame_log.as_mut() {
             use std::io::Write;
             let _ = writeln!(log, "{:.3} {line}", unix_seconds());
         }
     }
 
-    pub(super) fn status_bar_ui(&mut self, ui: &mut egui::Ui) {
+    /// The status bar: the spinner while `view.busy`, the status line (cut
+    /// short, whole on hover) and the viewport's line on the right.
+    pub(super) fn status_bar_ui(&self, ui: &mut egui::Ui, view: StatusBarView) {
         ui.horizontal(|ui| {
-            if self.busy() {
+            if view.busy {
                 spinner(ui);
             }
-            let color = if self.report.status.starts_with("Error") {
+            let color = if self.status.starts_with("Error") {
                 ui.visuals().error_fg_color
             } else {
                 ui.visuals().text_color()
@@ -192,16 +172,16 @@ impl EditorApp {
             // written over it in a narrow window.
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                 ui.add(
-                    egui::Label::new(format!("{} · UI {:.1} ms", self.frame_info(), self.report.ui_ms))
+                    egui::Label::new(format!("{} · UI {:.1} ms", view.frame_info, self.ui_ms))
                         .wrap_mode(egui::TextWrapMode::Extend),
                 )
-                    .on_hover_text(format!("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter ({}). UI: this frame's time in the panels and plots.", self.view.adapter));
+                    .on_hover_text(format!("Viewport: method, preview / refining / converged, size, render-thread wall time (GPU time of the SSS passes), adapter ({}). UI: this frame's time in the panels and plots.", view.adapter));
                 ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
                     ui.add(
-                        egui::Label::new(egui::RichText::new(&self.report.status).color(color))
+                        egui::Label::new(egui::RichText::new(&self.status).color(color))
                             .truncate(),
                     )
-                    .on_hover_text(&self.report.status);
+                    .on_hover_text(&self.status);
                 });
             });
         });

@@ -479,6 +479,15 @@ impl EditorApp {
         }
     }
 
+    /// What the status bar shows of the viewport and the work under way.
+    pub(super) fn status_bar_view(&self) -> report::StatusBarView<'_> {
+        report::StatusBarView {
+            busy: self.busy(),
+            frame_info: self.frame_info(),
+            adapter: &self.view.adapter,
+        }
+    }
+
     /// An HDR map has loaded: the HDR light rig that asked for it, if one
     /// did, lights the head now.
     pub(super) fn environment_loaded(&mut self) {

@@ -262,85 +262,14 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
     let mut failed = 0;
     let mut summary = Vec::new();
     for (i, (file, looks)) in read.iter().enumerate() {
-        let line = (|| -> Result<Value> {
-            let looks = match looks {
-                Ok(l) => l,
-                Err(e) => bail!("{e:#}"),
-            };
-            let stem = file
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "look".into());
-            let mut converted = Vec::new();
-            for (k, l) in looks.iter().enumerate() {
-                if !keep[i][k] {
-                    continue;
-                }
-                let name = if looks.len() == 1 {
-                    stem.clone()
-                } else {
-                    format!(
-                        "{stem}_{}",
-                        crate::export::import::file_stem_of(&l.preset.name)
-                    )
-                };
-                let target = out.join(format!("{name}.{}", args.to.extension()));
-                let planned = crate::export::planned_paths(args.to, &target);
-                if !args.force {
-                    if let Some(p) = planned.iter().find(|p| p.exists()) {
-                        bail!("{}: exists; pass --force to replace it", p.display());
-                    }
-                }
-                let written = crate::export::export(&l.preset, Some(file), args.to, &target)?;
-                converted.push(json!({
-                    "look": l.preset.name,
-                    "kind": l.kind,
-                    "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-                    "round_trip_relative_l2_error": (args.to.target().fidelity)(&l.preset),
-                }));
-            }
-            Ok(json!({
-                "file": file.display().to_string(),
-                "looks": converted,
-                "looks_read_from_other_files": repeated[i],
-            }))
-        })();
+        let line = looks
+            .as_ref()
+            .map_err(|e| anyhow::anyhow!("{e:#}"))
+            .and_then(|looks| convert_file(args, out, (file, looks), &keep[i], repeated[i]));
         match line {
             Ok(v) => {
                 if !args.json {
-                    for l in v["looks"].as_array().into_iter().flatten() {
-                        let err = l["round_trip_relative_l2_error"]
-                            .as_f64()
-                            .map(|e| {
-                                if e == 0.0 {
-                                    "; the format holds the look exactly".to_owned()
-                                } else {
-                                    format!("; the engine draws it {e:.4} from the look (relative L2 error of r·R(r))")
-                                }
-                            })
-                            .unwrap_or_default();
-                        println!(
-                            "{}: {} \"{}\" → {}{err}",
-                            file.display(),
-                            l["kind"].as_str().unwrap_or(""),
-                            l["look"].as_str().unwrap_or(""),
-                            l["written"]
-                                .as_array()
-                                .map(|w| w
-                                    .iter()
-                                    .filter_map(|p| p.as_str())
-                                    .collect::<Vec<_>>()
-                                    .join(", "))
-                                .unwrap_or_default()
-                        );
-                    }
-                    if repeated[i] > 0 {
-                        println!(
-                            "{}: {} look(s) it names were written from their own files",
-                            file.display(),
-                            repeated[i]
-                        );
-                    }
+                    print_converted(file, &v, repeated[i]);
                 }
                 summary.push(v);
             }
@@ -381,6 +310,95 @@ fn convert_files(args: &ConvertArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Converts the looks of one engine `file` that `keep` marks (the others
+/// were written from their own files: `repeated` of them) into `out`, as
+/// `args.to`; what was written, for the summary.
+fn convert_file(
+    args: &ConvertArgs,
+    out: &std::path::Path,
+    (file, looks): (&std::path::Path, &Vec<crate::export::ImportedLook>),
+    keep: &[bool],
+    repeated: usize,
+) -> Result<Value> {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "look".into());
+    let mut converted = Vec::new();
+    for (k, l) in looks.iter().enumerate() {
+        if !keep[k] {
+            continue;
+        }
+        let name = if looks.len() == 1 {
+            stem.clone()
+        } else {
+            format!(
+                "{stem}_{}",
+                crate::export::import::file_stem_of(&l.preset.name)
+            )
+        };
+        let target = out.join(format!("{name}.{}", args.to.extension()));
+        let planned = crate::export::planned_paths(args.to, &target);
+        if !args.force {
+            if let Some(p) = planned.iter().find(|p| p.exists()) {
+                bail!("{}: exists; pass --force to replace it", p.display());
+            }
+        }
+        let written = crate::export::export(&l.preset, Some(file), args.to, &target)?;
+        converted.push(json!({
+            "look": l.preset.name,
+            "kind": l.kind,
+            "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            "round_trip_relative_l2_error": (args.to.target().fidelity)(&l.preset),
+        }));
+    }
+    Ok(json!({
+        "file": file.display().to_string(),
+        "looks": converted,
+        "looks_read_from_other_files": repeated,
+    }))
+}
+
+/// The lines printed for a file converted: each look, what it was written
+/// to and how far the engine draws it from the look.
+fn print_converted(file: &std::path::Path, v: &Value, repeated: usize) {
+    for l in v["looks"].as_array().into_iter().flatten() {
+        let err = l["round_trip_relative_l2_error"]
+            .as_f64()
+            .map(|e| {
+                if e == 0.0 {
+                    "; the format holds the look exactly".to_owned()
+                } else {
+                    format!(
+                        "; the engine draws it {e:.4} from the look (relative L2 error of r·R(r))"
+                    )
+                }
+            })
+            .unwrap_or_default();
+        println!(
+            "{}: {} \"{}\" → {}{err}",
+            file.display(),
+            l["kind"].as_str().unwrap_or(""),
+            l["look"].as_str().unwrap_or(""),
+            l["written"]
+                .as_array()
+                .map(|w| w
+                    .iter()
+                    .filter_map(|p| p.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "))
+                .unwrap_or_default()
+        );
+    }
+    if repeated > 0 {
+        println!(
+            "{}: {} look(s) it names were written from their own files",
+            file.display(),
+            repeated
+        );
+    }
 }
 
 /// An error without the file name it starts with.
