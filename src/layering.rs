@@ -535,7 +535,6 @@ fn render_and_app_import_no_circle_and_render_none_upward() {
 
 /// `EditorApp`'s parts: the fields of the struct in `app/mod.rs` whose
 /// types `app/parts.rs` or `app/jobs.rs` declares.
-
 fn app_parts(root: &Path) -> Vec<String> {
     let read = |f: &str| std::fs::read_to_string(root.join("src/app").join(f)).unwrap();
     // The parts' types: parts.rs's, and those with files of their own.

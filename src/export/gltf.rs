@@ -175,48 +175,7 @@ pub fn gltf_readings(
             ),
         });
     }
-    let tint = preset
-        .rendering
-        .transmission_tint
-        .map(|t| t.clamp(0.0, 1.0));
-    // KHR_materials_volume's loader multiplies diffusionDistance (white)
-    // by attenuationColor and attenuationDistance when only diffuse
-    // transmission is on (pbrMaterialLoadingAdapter.ts, the
-    // transmissionColor and transmissionDepth setters). With the draft,
-    // its subsurfaceColor setter then takes that product as a colour at a
-    // depth of 0.001: σ = −ln(c·D)/0.001, and diffusionDistance =
-    // exp(−σ/max σ).
-    let product = v.attenuation_color.map(|c| c * v.attenuation_distance_m);
-    let diffusion_distance = if with_scatter {
-        let sigma = product.map(|p| -p.ln() / 0.001);
-        let max = sigma.into_iter().fold(0.0, f64::max);
-        if max > 0.0 {
-            sigma.map(|s| (-s / max).exp())
-        } else {
-            [1.0; 3]
-        }
-    } else {
-        product
-    };
-    out.push(Reading {
-        reader: "Babylon.js PBRMaterial (glTF loader's default)",
-        fields: vec![
-            ("subSurface.isTranslucencyEnabled", json!(true)),
-            ("subSurface.translucencyIntensity", json!(1.0)),
-            ("subSurface.tintColor", json!(tint)),
-            (
-                "subSurface.diffusionDistance",
-                json!(diffusion_distance),
-            ),
-            ("subSurface.maximumThickness", json!(thickness_m)),
-            ("subSurface.volumeIndexOfRefraction", json!(preset.rendering.ior)),
-            ("subSurface.isScatteringEnabled", json!(false)),
-        ],
-        // A profile that does not spread: r·R(r) is 0 for r > 0, a
-        // relative L2 error of exactly 1.
-        error: 1.0,
-        how: "diffuse transmission becomes translucency (light through thin parts); screen-space scattering stays off unless the application turns on its pre-pass, so reflected light does not spread".into(),
-    });
+    out.push(babylon_pbr_reading(preset, &v, thickness_m, with_scatter));
     // Blender 5.0's glTF importer (io_import_scene_gltf2, checked by
     // tests/clients/blender_gltf_volume.py): the volume as a Volume
     // Absorption node (Color = attenuationColor, Density =
@@ -254,6 +213,58 @@ pub fn gltf_readings(
         });
     }
     Ok(out)
+}
+
+/// What Babylon.js's default `PBRMaterial` draws from the file: its
+/// glTF loader turns diffuse transmission into translucency.
+fn babylon_pbr_reading(
+    preset: &Preset,
+    v: &GltfVolume,
+    thickness_m: f64,
+    with_scatter: bool,
+) -> Reading {
+    let tint = preset
+        .rendering
+        .transmission_tint
+        .map(|t| t.clamp(0.0, 1.0));
+    // KHR_materials_volume's loader multiplies diffusionDistance (white)
+    // by attenuationColor and attenuationDistance when only diffuse
+    // transmission is on (pbrMaterialLoadingAdapter.ts, the
+    // transmissionColor and transmissionDepth setters). With the draft,
+    // its subsurfaceColor setter then takes that product as a colour at a
+    // depth of 0.001: σ = −ln(c·D)/0.001, and diffusionDistance =
+    // exp(−σ/max σ).
+    let product = v.attenuation_color.map(|c| c * v.attenuation_distance_m);
+    let diffusion_distance = if with_scatter {
+        let sigma = product.map(|p| -p.ln() / 0.001);
+        let max = sigma.into_iter().fold(0.0, f64::max);
+        if max > 0.0 {
+            sigma.map(|s| (-s / max).exp())
+        } else {
+            [1.0; 3]
+        }
+    } else {
+        product
+    };
+    Reading {
+        reader: "Babylon.js PBRMaterial (glTF loader's default)",
+        fields: vec![
+            ("subSurface.isTranslucencyEnabled", json!(true)),
+            ("subSurface.translucencyIntensity", json!(1.0)),
+            ("subSurface.tintColor", json!(tint)),
+            (
+                "subSurface.diffusionDistance",
+                json!(diffusion_distance),
+            ),
+            ("subSurface.maximumThickness", json!(thickness_m)),
+            ("subSurface.volumeIndexOfRefraction", json!(preset.rendering.ior)),
+            ("subSurface.isScatteringEnabled", json!(false)),
+        ],
+        // A profile that does not spread: r·R(r) is 0 for r > 0, a
+        // relative L2 error of exactly 1.
+        error: 1.0,
+        how: "diffuse transmission becomes translucency (light through thin parts); screen-space scattering stays off unless the application turns on its pre-pass, so reflected light does not spread".into(),
+    }
 }
 
 /// One sentence per reading, for the export notes.
@@ -428,64 +439,14 @@ pub fn gltf_document(
     let nv = push_view(&mut bytes, f32s(&data.normals), 34962);
     accessors
         .push(json!({"bufferView": nv, "componentType": 5126, "count": count, "type": "VEC3"}));
-    let name = if preset.name.trim().is_empty() {
-        "look".to_owned()
-    } else {
-        preset.name.clone()
+    let skin = SkinMaterial {
+        volume: &v,
+        fit_error,
+        readings: &readings,
+        thickness_m: data.thickness_m,
+        with_scatter,
     };
-    let a = v.albedo;
-    let rendering = &preset.rendering;
-    let tint = rendering.transmission_tint.map(|t| t.clamp(0.0, 1.0));
-    let mut extensions = serde_json::Map::new();
-    extensions.insert(
-        VOLUME.into(),
-        json!({
-            "thicknessFactor": data.thickness_m,
-            "attenuationDistance": v.attenuation_distance_m,
-            "attenuationColor": v.attenuation_color,
-        }),
-    );
-    extensions.insert(
-        DIFFUSE_TRANSMISSION.into(),
-        json!({"diffuseTransmissionFactor": 1.0, "diffuseTransmissionColorFactor": tint}),
-    );
-    extensions.insert(IOR.into(), json!({"ior": rendering.ior}));
-    if with_scatter {
-        // README line 72 names it multiscatterColorFactor, the schema
-        // (line 8) and older readers multiscatterColor: both, the same.
-        extensions.insert(
-            VOLUME_SCATTER.into(),
-            json!({"multiscatterColorFactor": a, "multiscatterColor": a, "scatterAnisotropy": 0.0}),
-        );
-    }
-    let extras = json!({
-        "scatterlab": {
-            "written_by": prov.line(),
-            "look": name,
-            "burley": {
-                "albedo": a,
-                "mean_free_path_mm": v.mean_free_path_mm,
-                "fit": fit_note(fit_error),
-            },
-            "mapping": "multi-scatter colour = Burley's A; 1/σt = ℓ = d·s(A), Christensen & Burley 2015 eq. 5; attenuationDistance = max ℓ (m); attenuationColor = exp(−attenuationDistance/ℓ)",
-            "readings": readings.iter().map(|r| json!({
-                "reader": r.reader,
-                "fields": r.fields.iter().map(|(k, v)| (k.to_string(), v.clone())).collect::<serde_json::Map<_, _>>(),
-                "shape_error": r.error,
-                "how": r.how,
-            })).collect::<Vec<_>>(),
-        }
-    });
-    let mut materials = vec![json!({
-        "name": name,
-        "pbrMetallicRoughness": {
-            "baseColorFactor": [a[0], a[1], a[2], 1.0],
-            "metallicFactor": 0.0,
-            "roughnessFactor": rendering.specular.roughness,
-        },
-        "extensions": extensions,
-        "extras": extras,
-    })];
+    let mut materials = vec![skin.material(preset, prov)];
     let mut primitives = Vec::new();
     for (kind, idx) in &data.parts {
         let material = match kind {
@@ -541,6 +502,84 @@ pub fn gltf_document(
         path: "glTF".into(),
         message: e.to_string(),
     })
+}
+
+/// What the skin's material is made of: the look's volume and fit, each
+/// reader's reading, the mesh's thickness and whether the draft
+/// `KHR_materials_volume_scatter` is written.
+struct SkinMaterial<'a> {
+    volume: &'a GltfVolume,
+    fit_error: f64,
+    readings: &'a [Reading],
+    thickness_m: f64,
+    with_scatter: bool,
+}
+
+impl SkinMaterial<'_> {
+    /// The skin's glTF material: its extensions, and the mapping and the
+    /// readers' readings in its `extras`.
+    fn material(&self, preset: &Preset, prov: &Provenance) -> Value {
+        let (v, fit_error, readings) = (self.volume, self.fit_error, self.readings);
+        let with_scatter = self.with_scatter;
+        let name = if preset.name.trim().is_empty() {
+            "look".to_owned()
+        } else {
+            preset.name.clone()
+        };
+        let a = v.albedo;
+        let rendering = &preset.rendering;
+        let tint = rendering.transmission_tint.map(|t| t.clamp(0.0, 1.0));
+        let mut extensions = serde_json::Map::new();
+        extensions.insert(
+            VOLUME.into(),
+            json!({
+                "thicknessFactor": self.thickness_m,
+                "attenuationDistance": v.attenuation_distance_m,
+                "attenuationColor": v.attenuation_color,
+            }),
+        );
+        extensions.insert(
+            DIFFUSE_TRANSMISSION.into(),
+            json!({"diffuseTransmissionFactor": 1.0, "diffuseTransmissionColorFactor": tint}),
+        );
+        extensions.insert(IOR.into(), json!({"ior": rendering.ior}));
+        if with_scatter {
+            // README line 72 names it multiscatterColorFactor, the schema
+            // (line 8) and older readers multiscatterColor: both, the same.
+            extensions.insert(
+                VOLUME_SCATTER.into(),
+                json!({"multiscatterColorFactor": a, "multiscatterColor": a, "scatterAnisotropy": 0.0}),
+            );
+        }
+        let extras = json!({
+            "scatterlab": {
+                "written_by": prov.line(),
+                "look": name,
+                "burley": {
+                    "albedo": a,
+                    "mean_free_path_mm": v.mean_free_path_mm,
+                    "fit": fit_note(fit_error),
+                },
+                "mapping": "multi-scatter colour = Burley's A; 1/σt = ℓ = d·s(A), Christensen & Burley 2015 eq. 5; attenuationDistance = max ℓ (m); attenuationColor = exp(−attenuationDistance/ℓ)",
+                "readings": readings.iter().map(|r| json!({
+                    "reader": r.reader,
+                    "fields": r.fields.iter().map(|(k, v)| (k.to_string(), v.clone())).collect::<serde_json::Map<_, _>>(),
+                    "shape_error": r.error,
+                    "how": r.how,
+                })).collect::<Vec<_>>(),
+            }
+        });
+        json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [a[0], a[1], a[2], 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": rendering.specular.roughness,
+            },
+            "extensions": extensions,
+            "extras": extras,
+        })
+    }
 }
 
 /// The glTF parameters of a Burley profile for `convert --to gltf`.

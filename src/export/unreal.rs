@@ -146,7 +146,6 @@ pub fn unreal_python(
 ) -> Result<String, ModelError> {
     let (u, fit_error) = unreal_profile(preset)?;
     let (burley, _) = burley_of(&preset.profile)?;
-    let mfp_cm = substrate_mfp_cm(&burley);
     let m = unreal_material_fields(preset);
     let notes: String = unreal_notes_of(preset, &u, fit_error)
         .iter()
@@ -193,7 +192,37 @@ else:
 profile.set_editor_property("settings", settings)
 unreal.EditorAssetLibrary.save_loaded_asset(profile)
 
-# Substrate (UE 5.7 Python API; Project Settings > Rendering > Substrate on):
+{substrate}"#,
+        name = preset.name.replace(['\n', '\r'], " "),
+        line = prov.line(),
+        asset = asset_name(&preset.name),
+        albedo = col(u.surface_albedo),
+        mfp = col(u.mean_free_path_color),
+        dist = u.mean_free_path_distance_cm,
+        wus = u.world_unit_scale,
+        tint = col(m.transmission_tint),
+        ior = m.ior,
+        r0 = m.roughness0,
+        r1 = m.roughness1,
+        mix = m.lobe_mix,
+        substrate = substrate_python(preset, &burley, m.ior, substrate_diffusion),
+    ))
+}
+
+/// The Python script's second half: the Substrate material
+/// `/Game/M_{asset}` with one Slab BSDF, of type Diffusion with the
+/// profile plugged, or with SSS MFP in world centimetres
+/// (`substrate_diffusion`).
+fn substrate_python(
+    preset: &Preset,
+    burley: &crate::model::burley::Burley,
+    ior: f64,
+    substrate_diffusion: bool,
+) -> String {
+    let mfp_cm = substrate_mfp_cm(burley);
+    let col = |c: Rgb| format!("unreal.LinearColor({}, {}, {}, 1.0)", c[0], c[1], c[2]);
+    format!(
+        r#"# Substrate (UE 5.7 Python API; Project Settings > Rendering > Substrate on):
 # the material /Game/M_{asset} with one Slab BSDF on the Front Material.
 # {substrate_mode}
 # The Python enum has no DiffusionProfile member (it is hidden): a Slab of
@@ -251,18 +280,7 @@ else:
     lib.recompile_material(material)
     assets.save_loaded_asset(material)
 "#,
-        name = preset.name.replace(['\n', '\r'], " "),
-        line = prov.line(),
         asset = asset_name(&preset.name),
-        albedo = col(u.surface_albedo),
-        mfp = col(u.mean_free_path_color),
-        dist = u.mean_free_path_distance_cm,
-        wus = u.world_unit_scale,
-        tint = col(m.transmission_tint),
-        ior = m.ior,
-        r0 = m.roughness0,
-        r1 = m.roughness1,
-        mix = m.lobe_mix,
         substrate_mode = if substrate_diffusion {
             "Type Diffusion with SSS MFP in world centimetres (--substrate-diffusion): the profile asset is not used."
         } else {
@@ -274,8 +292,8 @@ else:
         mfp_cm_b = mfp_cm[2],
         slab_albedo = col(burley.albedo()),
         roughness = preset.rendering.specular.roughness,
-        f0 = ((m.ior - 1.0) / (m.ior + 1.0)).powi(2),
-    ))
+        f0 = ((ior - 1.0) / (ior + 1.0)).powi(2),
+    )
 }
 
 mod read;

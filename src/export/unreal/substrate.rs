@@ -197,130 +197,152 @@ pub fn read(text: &str, path: &Path) -> Result<Vec<ImportedLook>, ImportError> {
             "copied material nodes without a Substrate Slab (MaterialExpressionSubstrateSlabBSDF)",
         ));
     }
-    let mut looks = Vec::new();
-    for (name, slab) in slabs {
-        let f = &slab.fields;
-        let mut fields = Vec::new();
-        let mut notes = Vec::new();
-        match f.get("SubSurfaceType") {
-            None => notes
-                .push("SubSurfaceType is left out: UE's default for a Slab, MSS_Diffusion".into()),
-            Some(Value::Word(w)) if w == "MSS_Diffusion" || w == "MSS_DiffusionProfile" => {
-                fields.push(("SubSurfaceType".into(), w.clone()));
-            }
-            Some(other) => {
-                return Err(ImportError::field(
-                    path,
-                    format!("{name}.SubSurfaceType"),
-                    format!(
-                        "{} is not a diffusion profile (only MSS_Diffusion scatters by a profile)",
-                        match other {
-                            Value::Word(w) => w.clone(),
-                            _ => "a struct".into(),
-                        }
-                    ),
-                ))
-            }
-        }
-        if let Some(p) = f.get("SubsurfaceProfile") {
-            let which = match p {
-                Value::Word(w) => w.clone(),
-                _ => "a profile".into(),
-            };
-            if which != "None" {
-                return Err(ImportError::field(
-                    path,
-                    format!("{name}.SubsurfaceProfile"),
-                    format!("the Slab draws {which}, which the copied nodes do not hold: import that profile's struct text (its Details panel, Settings, Copy)"),
-                ));
-            }
-        }
-        let albedo = match constant(&objects, name, f, "DiffuseAlbedo", path)? {
-            Some(a) => a,
-            None => {
-                notes.push(format!(
-                    "DiffuseAlbedo is not plugged: the Slab's default, {DEFAULT_DIFFUSE_ALBEDO}"
-                ));
-                [DEFAULT_DIFFUSE_ALBEDO; 3]
-            }
-        };
-        if let Some(c) = (0..3).find(|&c| !(0.0..=1.0).contains(&albedo[c])) {
-            return Err(ImportError::field(
-                path,
-                format!("{name}.DiffuseAlbedo"),
-                format!("{} is outside 0–1", albedo[c]),
-            ));
-        }
-        let mfp = constant(&objects, name, f, "SSSMFP", path)?.ok_or_else(|| {
-            ImportError::field(
-                path,
-                format!("{name}.SSSMFP"),
-                "not plugged and no SubsurfaceProfile: Substrate draws no subsurface scattering",
-            )
-        })?;
-        let scale = constant(&objects, name, f, "SSSMFPScale", path)?
-            .map(|s| s[0])
-            .unwrap_or(1.0);
-        let scale_used = scale.clamp(0.0, 1.0);
-        if scale_used != scale {
+    slabs
+        .into_iter()
+        .map(|(name, slab)| read_slab(&objects, name, slab, path))
+        .collect()
+}
+
+/// One Substrate Slab `name` of the copied nodes as a look.
+fn read_slab(
+    objects: &[(String, Object)],
+    name: &str,
+    slab: &Object,
+    path: &Path,
+) -> Result<ImportedLook, ImportError> {
+    let f = &slab.fields;
+    let mut fields = Vec::new();
+    let mut notes = Vec::new();
+    subsurface_type(name, f, path, (&mut fields, &mut notes))?;
+    let albedo = match constant(objects, name, f, "DiffuseAlbedo", path)? {
+        Some(a) => a,
+        None => {
             notes.push(format!(
-                "SSSMFPScale {scale} is saturated to {scale_used}, as Substrate does"
+                "DiffuseAlbedo is not plugged: the Slab's default, {DEFAULT_DIFFUSE_ALBEDO}"
             ));
+            [DEFAULT_DIFFUSE_ALBEDO; 3]
         }
-        fields.push(("DiffuseAlbedo".into(), format!("{albedo:?}")));
-        fields.push(("SSSMFP (cm)".into(), format!("{mfp:?}")));
-        fields.push(("SSSMFPScale".into(), scale.to_string()));
-        let mfp_mm: Rgb = std::array::from_fn(|c| mfp[c] * scale_used * 10.0);
-        if let Some(c) = (0..3).find(|&c| !(mfp_mm[c] > 0.0)) {
+    };
+    if let Some(c) = (0..3).find(|&c| !(0.0..=1.0).contains(&albedo[c])) {
+        return Err(ImportError::field(
+            path,
+            format!("{name}.DiffuseAlbedo"),
+            format!("{} is outside 0–1", albedo[c]),
+        ));
+    }
+    let mfp = constant(objects, name, f, "SSSMFP", path)?.ok_or_else(|| {
+        ImportError::field(
+            path,
+            format!("{name}.SSSMFP"),
+            "not plugged and no SubsurfaceProfile: Substrate draws no subsurface scattering",
+        )
+    })?;
+    let scale = constant(objects, name, f, "SSSMFPScale", path)?
+        .map(|s| s[0])
+        .unwrap_or(1.0);
+    let scale_used = scale.clamp(0.0, 1.0);
+    if scale_used != scale {
+        notes.push(format!(
+            "SSSMFPScale {scale} is saturated to {scale_used}, as Substrate does"
+        ));
+    }
+    fields.push(("DiffuseAlbedo".into(), format!("{albedo:?}")));
+    fields.push(("SSSMFP (cm)".into(), format!("{mfp:?}")));
+    fields.push(("SSSMFPScale".into(), scale.to_string()));
+    let mfp_mm: Rgb = std::array::from_fn(|c| mfp[c] * scale_used * 10.0);
+    if let Some(c) = (0..3).find(|&c| !(mfp_mm[c] > 0.0)) {
+        return Err(ImportError::field(
+            path,
+            format!("{name}.SSSMFP"),
+            format!(
+                "{} cm in {} (× scale {scale_used}): not a distance light scatters",
+                mfp[c],
+                ["red", "green", "blue"][c]
+            ),
+        ));
+    }
+    // d = 10·MFP/(0.6·s(A)) mm: UE's mean free path is 0.6 × the
+    // physical one (its Dmfp2MfpMagicNumber).
+    let d: Rgb = std::array::from_fn(|c| {
+        mfp_mm[c] / (UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(albedo[c]))
+    });
+    notes.push("the SSS MFP is read as a SubsurfaceProfile's mean free path is (0.6 × the physical path): that Substrate's per-pixel path converts it the same way is assumed".into());
+    let mut rendering = RenderingSpec::default();
+    if let Some(r) = constant(objects, name, f, "Roughness", path)? {
+        rendering.specular.roughness = r[0].clamp(0.0, 1.0);
+    }
+    // The material the nodes were copied from, where the Slab says
+    // (`Material="…'/Path/M_Skin'"`), names the look.
+    let look_name = match f.get("Material") {
+        Some(Value::Word(m)) => m
+            .split('\'')
+            .nth(1)
+            .and_then(|p| p.rsplit(['.', '/']).next())
+            .filter(|n| !n.is_empty())
+            .unwrap_or(name)
+            .to_owned(),
+        _ => name.to_owned(),
+    };
+    let preset = crate::export::import::burley_preset(
+        path,
+        look_name,
+        "Read from a Substrate Slab copied from Unreal's material editor.",
+        albedo,
+        d,
+        rendering,
+    );
+    preset
+        .validate()
+        .map_err(|e| ImportError::field(path, format!("{name}.SSSMFP"), e.to_string()))?;
+    Ok(ImportedLook {
+        preset,
+        kind: "Unreal Substrate Slab (copied material nodes)",
+        fields,
+        notes,
+    })
+}
+
+/// The Slab's subsurface type, which must scatter by a diffusion profile,
+/// and no SubsurfaceProfile asset the copied nodes do not hold.
+fn subsurface_type(
+    name: &str,
+    f: &Fields,
+    path: &Path,
+    (fields, notes): (&mut Vec<(String, String)>, &mut Vec<String>),
+) -> Result<(), ImportError> {
+    match f.get("SubSurfaceType") {
+        None => {
+            notes.push("SubSurfaceType is left out: UE's default for a Slab, MSS_Diffusion".into())
+        }
+        Some(Value::Word(w)) if w == "MSS_Diffusion" || w == "MSS_DiffusionProfile" => {
+            fields.push(("SubSurfaceType".into(), w.clone()));
+        }
+        Some(other) => {
             return Err(ImportError::field(
                 path,
-                format!("{name}.SSSMFP"),
+                format!("{name}.SubSurfaceType"),
                 format!(
-                    "{} cm in {} (× scale {scale_used}): not a distance light scatters",
-                    mfp[c],
-                    ["red", "green", "blue"][c]
+                    "{} is not a diffusion profile (only MSS_Diffusion scatters by a profile)",
+                    match other {
+                        Value::Word(w) => w.clone(),
+                        _ => "a struct".into(),
+                    }
                 ),
+            ))
+        }
+    }
+    if let Some(p) = f.get("SubsurfaceProfile") {
+        let which = match p {
+            Value::Word(w) => w.clone(),
+            _ => "a profile".into(),
+        };
+        if which != "None" {
+            return Err(ImportError::field(
+                path,
+                format!("{name}.SubsurfaceProfile"),
+                format!("the Slab draws {which}, which the copied nodes do not hold: import that profile's struct text (its Details panel, Settings, Copy)"),
             ));
         }
-        // d = 10·MFP/(0.6·s(A)) mm: UE's mean free path is 0.6 × the
-        // physical one (its Dmfp2MfpMagicNumber).
-        let d: Rgb = std::array::from_fn(|c| {
-            mfp_mm[c] / (UNREAL_DMFP_TO_MFP * ScalingFit::Perpendicular.scale(albedo[c]))
-        });
-        notes.push("the SSS MFP is read as a SubsurfaceProfile's mean free path is (0.6 × the physical path): that Substrate's per-pixel path converts it the same way is assumed".into());
-        let mut rendering = RenderingSpec::default();
-        if let Some(r) = constant(&objects, name, f, "Roughness", path)? {
-            rendering.specular.roughness = r[0].clamp(0.0, 1.0);
-        }
-        // The material the nodes were copied from, where the Slab says
-        // (`Material="…'/Path/M_Skin'"`), names the look.
-        let look_name = match f.get("Material") {
-            Some(Value::Word(m)) => m
-                .split('\'')
-                .nth(1)
-                .and_then(|p| p.rsplit(['.', '/']).next())
-                .filter(|n| !n.is_empty())
-                .unwrap_or(name)
-                .to_owned(),
-            _ => name.clone(),
-        };
-        let preset = crate::export::import::burley_preset(
-            path,
-            look_name,
-            "Read from a Substrate Slab copied from Unreal's material editor.",
-            albedo,
-            d,
-            rendering,
-        );
-        preset
-            .validate()
-            .map_err(|e| ImportError::field(path, format!("{name}.SSSMFP"), e.to_string()))?;
-        looks.push(ImportedLook {
-            preset,
-            kind: "Unreal Substrate Slab (copied material nodes)",
-            fields,
-            notes,
-        });
     }
-    Ok(looks)
+    Ok(())
 }
