@@ -49,13 +49,9 @@ fn function_lengths(code: &str) -> Vec<(String, usize)> {
 }
 
 /// Functions in `src/` over 120 lines, each with the length it may not
-/// pass (ARCHITECTURE.md, "Rules"): the list may only shrink.
-const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
-    ("render/ground_truth/gpu.rs", "new", 163),
-    ("render/renderer.rs", "encode_and_read", 127),
-    ("render/sss/texture_space.rs", "new", 122),
-    ("render/ground_truth/gather.rs", "integrate", 121),
-];
+/// pass (ARCHITECTURE.md, "Rules"): the list may only shrink. None now:
+/// the check stays for the next one.
+const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[];
 
 /// Files in `src/` over 800 lines, each with the length it may not pass
 /// (none now: the check stays for the next one).

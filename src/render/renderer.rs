@@ -402,18 +402,7 @@ impl Renderer {
         f.encoder
             .copy_buffer_to_buffer(&counters, 0, &counters_read, 0, 16);
         let (exposure, target) = (s.view.exposure, scattered.target);
-        let rotation_only = {
-            let mut v = camera.view;
-            v.w_axis = glam::Vec4::W;
-            v
-        };
-        let background = super::passes::composite::BackgroundTerms {
-            on: s.background.is_some() && self.has_background,
-            blur: s.background.map_or(0.0, |b| b.blur),
-            turn_rad: s.background.map_or(0.0, |b| b.turn_rad),
-            intensity: s.background.map_or(1.0, |b| b.intensity),
-            direction_from_clip: (camera.projection * rotation_only).inverse(),
-        };
+        let background = background_terms(s, self.has_background, &camera);
         let shown = self.composite.finish(
             &mut f,
             t,
@@ -479,5 +468,26 @@ fn sss_uniforms(s: &RenderSettings, metres_per_unit: f32) -> SssUniforms {
         pad1: 0,
         pad2: 0,
         weight: [1.0; 4],
+    }
+}
+
+/// What the composite draws behind the head: the HDR map where asked and
+/// loaded, turned and blurred, seen through the camera's rotation alone.
+fn background_terms(
+    s: &RenderSettings,
+    has_background: bool,
+    camera: &super::framing::CameraLight,
+) -> super::passes::composite::BackgroundTerms {
+    let rotation_only = {
+        let mut v = camera.view;
+        v.w_axis = glam::Vec4::W;
+        v
+    };
+    super::passes::composite::BackgroundTerms {
+        on: s.background.is_some() && has_background,
+        blur: s.background.map_or(0.0, |b| b.blur),
+        turn_rad: s.background.map_or(0.0, |b| b.turn_rad),
+        intensity: s.background.map_or(1.0, |b| b.intensity),
+        direction_from_clip: (camera.projection * rotation_only).inverse(),
     }
 }

@@ -467,22 +467,7 @@ impl Cloud {
             }
             return;
         }
-        let bary = split(node.bary);
-        let pieces = split(corners);
-        for k in 0..4 {
-            let child = Node {
-                bary: bary[k],
-                corners: pieces[k],
-                level: node.level + 1,
-                index: if node.level < root.levels {
-                    4 * node.index + k
-                } else {
-                    0
-                },
-                side_mm: 0.5 * node.side_mm,
-                reach_mm: 0.5 * node.reach_mm,
-                area_mm2: 0.25 * node.area_mm2,
-            };
+        for child in node.children(root.levels) {
             self.integrate(q, root, child, irradiance, acc);
         }
     }
@@ -517,6 +502,26 @@ struct Node {
 }
 
 impl Node {
+    /// The node's four pieces (midpoint subdivision); below the cells'
+    /// `levels` they have no index of their own.
+    fn children(&self, levels: u32) -> [Node; 4] {
+        let bary = split(self.bary);
+        let pieces = split(self.corners);
+        std::array::from_fn(|k| Node {
+            bary: bary[k],
+            corners: pieces[k],
+            level: self.level + 1,
+            index: if self.level < levels {
+                4 * self.index + k
+            } else {
+                0
+            },
+            side_mm: 0.5 * self.side_mm,
+            reach_mm: 0.5 * self.reach_mm,
+            area_mm2: 0.25 * self.area_mm2,
+        })
+    }
+
     fn root(r: &Root) -> Self {
         Self {
             bary: [Vec3::X, Vec3::Y, Vec3::Z],

@@ -75,6 +75,71 @@ fn table_entries(t: &ProfileTable) -> Vec<u32> {
     out
 }
 
+/// The cells' tree as the shader reads it, in 32-bit words: the clusters
+/// (5 vec4s each), the roots (4 vec4s each) from vec4 `roots_at`, the leaf
+/// order from vec4 `order_at`, padded to whole vec4s.
+fn tree_words(cells: &super::Cells) -> (Vec<u32>, u32, u32) {
+    // Clusters (5 vec4s), roots (4 vec4s), the leaf order (4 a vec4).
+    let mut tree: Vec<u32> = Vec::with_capacity(
+        20 * cells.clusters.len() + 16 * cells.roots.len() + cells.order.len() + 4,
+    );
+    for cl in &cells.clusters {
+        let (leaf, a, b) = match cl.kind {
+            super::cluster::ClusterKind::Inner(left) => (0u32, left, 0u32),
+            super::cluster::ClusterKind::Leaf { first, count } => (1, first, count),
+        };
+        let f = |v: f32| v.to_bits();
+        tree.extend([cl.centre.x, cl.centre.y, cl.centre.z, cl.radius].map(f));
+        tree.extend(cl.power.map(f));
+        tree.push(leaf);
+        tree.extend(cl.dipole[0].to_array().map(f));
+        tree.push(a);
+        tree.extend(cl.dipole[1].to_array().map(f));
+        tree.push(b);
+        tree.extend(cl.dipole[2].to_array().map(f));
+        tree.push(0);
+    }
+    let roots_at = (tree.len() / 4) as u32;
+    for r in &cells.roots {
+        for (k, extra) in [r.side_mm, r.reach_mm, r.area_mm2].into_iter().enumerate() {
+            tree.extend(r.corners[k].to_array().map(f32::to_bits));
+            tree.push(extra.to_bits());
+        }
+        tree.extend([r.tri, r.levels, r.offset, 0]);
+    }
+    let order_at = (tree.len() / 4) as u32;
+    tree.extend(&cells.order);
+    while !tree.len().is_multiple_of(4) || tree.is_empty() {
+        tree.push(0);
+    }
+    (tree, roots_at, order_at)
+}
+
+/// The gather's parameters: the profile table's axis, the cloud's reach,
+/// where the roots and the leaf order start, and Gauss–Legendre's nodes.
+fn gather_params(cloud: &Cloud, roots_at: u32, order_at: u32) -> GatherParams {
+    let t = cloud.table();
+    let cells = &**cloud.cells();
+    let (nodes, weights) = crate::model::quad::gl8();
+    GatherParams {
+        ln_r0: t.ln_r0 as f32,
+        inv_step: t.inv_step as f32,
+        r0_mm: t.r0_mm as f32,
+        r_max_mm: t.r_max_mm as f32,
+        epsilon_mm: t.epsilon_mm as f32,
+        reach_mm: cloud.reach_mm as f32,
+        count: 0,
+        first: 0,
+        cdf_zero: [t.cdf_zero[0], t.cdf_zero[1], t.cdf_zero[2], 0.0],
+        roots_at,
+        order_at,
+        clusters: cells.clusters.len() as u32,
+        uneven: t.uneven,
+        gl_nodes: std::array::from_fn(|r| std::array::from_fn(|c| nodes[4 * r + c] as f32)),
+        gl_weights: std::array::from_fn(|r| std::array::from_fn(|c| weights[4 * r + c] as f32)),
+    }
+}
+
 impl GpuCloud {
     /// Uploads `cloud` and builds the gather with `irradiance_wgsl`, the
     /// module that defines `surface_irradiance` (see the shader's head),
@@ -88,39 +153,7 @@ impl GpuCloud {
     ) -> Result<Self, GpuError> {
         let cells = &**cloud.cells();
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
-        // Clusters (5 vec4s), roots (4 vec4s), the leaf order (4 a vec4).
-        let mut tree: Vec<u32> = Vec::with_capacity(
-            20 * cells.clusters.len() + 16 * cells.roots.len() + cells.order.len() + 4,
-        );
-        for cl in &cells.clusters {
-            let (leaf, a, b) = match cl.kind {
-                super::cluster::ClusterKind::Inner(left) => (0u32, left, 0u32),
-                super::cluster::ClusterKind::Leaf { first, count } => (1, first, count),
-            };
-            let f = |v: f32| v.to_bits();
-            tree.extend([cl.centre.x, cl.centre.y, cl.centre.z, cl.radius].map(f));
-            tree.extend(cl.power.map(f));
-            tree.push(leaf);
-            tree.extend(cl.dipole[0].to_array().map(f));
-            tree.push(a);
-            tree.extend(cl.dipole[1].to_array().map(f));
-            tree.push(b);
-            tree.extend(cl.dipole[2].to_array().map(f));
-            tree.push(0);
-        }
-        let roots_at = (tree.len() / 4) as u32;
-        for r in &cells.roots {
-            for (k, extra) in [r.side_mm, r.reach_mm, r.area_mm2].into_iter().enumerate() {
-                tree.extend(r.corners[k].to_array().map(f32::to_bits));
-                tree.push(extra.to_bits());
-            }
-            tree.extend([r.tri, r.levels, r.offset, 0]);
-        }
-        let order_at = (tree.len() / 4) as u32;
-        tree.extend(&cells.order);
-        while !tree.len().is_multiple_of(4) || tree.is_empty() {
-            tree.push(0);
-        }
+        let (tree, roots_at, order_at) = tree_words(cells);
         let node_e: Vec<f32> = if cells.node_e.is_empty() {
             vec![0.0; 4]
         } else {
@@ -135,24 +168,7 @@ impl GpuCloud {
             }
         }
         let t = cloud.table();
-        let (nodes, weights) = crate::model::quad::gl8();
-        let params = GatherParams {
-            ln_r0: t.ln_r0 as f32,
-            inv_step: t.inv_step as f32,
-            r0_mm: t.r0_mm as f32,
-            r_max_mm: t.r_max_mm as f32,
-            epsilon_mm: t.epsilon_mm as f32,
-            reach_mm: cloud.reach_mm as f32,
-            count: 0,
-            first: 0,
-            cdf_zero: [t.cdf_zero[0], t.cdf_zero[1], t.cdf_zero[2], 0.0],
-            roots_at,
-            order_at,
-            clusters: cells.clusters.len() as u32,
-            uneven: t.uneven,
-            gl_nodes: std::array::from_fn(|r| std::array::from_fn(|c| nodes[4 * r + c] as f32)),
-            gl_weights: std::array::from_fn(|r| std::array::from_fn(|c| weights[4 * r + c] as f32)),
-        };
+        let params = gather_params(cloud, roots_at, order_at);
         let device = &ctx.device;
         let storage = |label: &str, contents: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -308,61 +308,77 @@ impl MeshPasses {
             multiview_mask: None,
             cache: None,
         });
-        let sss_pixels = wgpu::StencilFaceState {
-            compare: wgpu::CompareFunction::Equal,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Keep,
-        };
         let gather_pl = layout(
             "texture-space gather",
             &[Some(scene_layout), Some(&gather_layout)],
         );
-        let gather = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("texture-space gather"),
-            layout: Some(&gather_pl),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &vertices,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_gather"),
-                compilation_options: Default::default(),
-                targets: &[target(HDR)],
-            }),
-            // The scene pass's culling, and its depth: only the fragment
-            // the scene pass kept passes Equal (same vertex shader, same
-            // mesh, same uniforms); and only on SSS pixels (stencil 1, as
-            // the screen-space passes).
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_STENCIL,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Equal),
-                stencil: wgpu::StencilState {
-                    front: sss_pixels,
-                    back: sss_pixels,
-                    read_mask: 0xff,
-                    write_mask: 0,
-                },
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+        let gather = gather_pipeline(device, module, &gather_pl, &vertices);
         Self {
             atlas,
             gather,
             gather_layout,
         }
     }
+}
+
+/// The gather pass's pipeline: the scene's vertex shader and culling, and
+/// only where the scene pass kept its fragment (depth Equal) on SSS pixels
+/// (stencil 1).
+fn gather_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    vertices: &[Option<wgpu::VertexBufferLayout>],
+) -> wgpu::RenderPipeline {
+    let sss_pixels = wgpu::StencilFaceState {
+        compare: wgpu::CompareFunction::Equal,
+        fail_op: wgpu::StencilOperation::Keep,
+        depth_fail_op: wgpu::StencilOperation::Keep,
+        pass_op: wgpu::StencilOperation::Keep,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("texture-space gather"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: vertices,
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_gather"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: HDR,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        // The scene pass's culling, and its depth: only the fragment
+        // the scene pass kept passes Equal (same vertex shader, same
+        // mesh, same uniforms); and only on SSS pixels (stencil 1, as
+        // the screen-space passes).
+        primitive: wgpu::PrimitiveState {
+            cull_mode: Some(wgpu::Face::Back),
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_STENCIL,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            stencil: wgpu::StencilState {
+                front: sss_pixels,
+                back: sss_pixels,
+                read_mask: 0xff,
+                write_mask: 0,
+            },
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
 /// The atlas side a frame of `frame` pixels draws: `--atlas-size`, but
