@@ -105,7 +105,7 @@ impl EditorApp {
             meshes: &self.ui_state.meshes,
             waker: &self.waker,
             look_name: &self.doc.preset.name,
-            colour_map_mean: self.colour_map_mean(),
+            colour_map_mean: self.meshes.colour_map_mean(),
             viewport_rect: self.layout.viewport_rect,
         };
         let actions = self.windows.show(ctx, &view);
@@ -114,7 +114,7 @@ impl EditorApp {
 
     /// Starts the still to `out` from the viewport's current request.
     pub(super) fn start_still(&mut self, out: PathBuf) {
-        match self.viewport_request() {
+        match self.viewport().request() {
             Some(base) => {
                 self.windows
                     .still
@@ -130,7 +130,7 @@ impl EditorApp {
     /// Starts a turntable to `gif` from the viewport's current request
     /// (its window polls it while it runs).
     pub(super) fn start_turntable(&mut self, gif: PathBuf) {
-        match self.viewport_request() {
+        match self.viewport().request() {
             Some(base) => {
                 self.windows
                     .turntable

@@ -44,11 +44,6 @@ impl EditorApp {
         }
     }
 
-    /// The loaded mesh's colour map's mean colour, if it has one.
-    pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
-        self.meshes.mesh_info.and_then(|i| i.colour_map_mean)
-    }
-
     /// B as drawn ([`b_as_drawn`]) with the editor's choices.
     pub(super) fn b_drawn(&self, b: Preset) -> (Preset, MapColour, Option<String>) {
         b_as_drawn(
@@ -56,7 +51,7 @@ impl EditorApp {
             self.a_albedo(),
             self.ui_state.b_material_albedo,
             self.ui_state.map_colour,
-            self.colour_map_mean(),
+            self.meshes.colour_map_mean(),
         )
     }
 
@@ -122,7 +117,7 @@ impl EditorApp {
 
     /// Applies the prompt's answer.
     pub(super) fn answer_albedo_prompt(&mut self, p: AlbedoPrompt) {
-        let map_mean = self.colour_map_mean();
+        let map_mean = self.meshes.colour_map_mean();
         match p.target {
             PromptFor::CompareB => {
                 self.ui_state.b_material_albedo = p.choice;
@@ -201,7 +196,7 @@ impl EditorApp {
     /// the map sets the surface colour, and the choice of the map tinted
     /// by the look's albedo or the look's albedo alone.
     pub(super) fn map_colour_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(mean) = self.colour_map_mean() else {
+        let Some(mean) = self.meshes.colour_map_mean() else {
             return;
         };
         let mc = &mut self.ui_state.map_colour;

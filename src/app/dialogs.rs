@@ -30,12 +30,7 @@ impl EditorApp {
         // (egui keeps a reopened window where it was in the stack), so
         // that Escape closes what the artist opened last.
         let open = self.open_windows();
-        for t in &open {
-            if !self.dialogs.open_last_frame.contains(t) {
-                ctx.move_to_top(egui::LayerId::new(egui::Order::Middle, window_id(t)));
-            }
-        }
-        self.dialogs.open_last_frame = open;
+        self.dialogs.bring_new_to_front(ctx, open);
         self.file_dialog_ui(ctx);
     }
 
@@ -315,6 +310,6 @@ impl EditorApp {
 
 /// The id egui gives a window of this title (`Window::new`:
 /// `Id::unique(title.text())`, the title's text as an `Option<Cow<str>>`).
-fn window_id(title: &str) -> egui::Id {
+pub(super) fn window_id(title: &str) -> egui::Id {
     egui::Id::unique(Some(std::borrow::Cow::Borrowed(title)))
 }

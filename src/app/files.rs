@@ -197,19 +197,12 @@ impl EditorApp {
             ),
             _ => String::new(),
         };
-        self.dialogs.export_notes = None;
-        if let DialogKind::Export(format) = kind {
-            let preset = self.doc.preset.clone();
-            let (tx, rx) = std::sync::mpsc::channel();
-            let waker = self.waker.clone();
-            std::thread::spawn(move || {
-                let notes = crate::export::export_notes(&preset, format)
-                    .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
-                let _ = tx.send(notes);
-                waker.wake();
-            });
-            self.dialogs.export_notes = Some(rx);
-        }
+        let format = match kind {
+            DialogKind::Export(format) => Some(format),
+            _ => None,
+        };
+        self.dialogs
+            .work_out_export_notes(&self.doc.preset, format, &self.waker);
         self.show_dialog(kind, &dir, &name);
     }
 

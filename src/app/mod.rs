@@ -30,7 +30,8 @@ use crate::export::Format;
 use crate::settings::{library, Preset};
 use analysis::{Analysis, AnalysisKey, Background, Curves};
 use jobs::Jobs;
-use parts::{Dialogs, Layout, MeshState, ProfileState, Report, ViewportState};
+pub use parts::ViewportState;
+use parts::{Dialogs, Layout, MeshState, ProfileState, Report};
 use state::{CompareB, CompareMode, Document, UiState};
 use std::path::{Path, PathBuf};
 
@@ -383,7 +384,7 @@ impl EditorApp {
         if self.drawn() != drawn {
             ctx.request_repaint();
         }
-        let has_frame = self.has_viewport_frame();
+        let has_frame = self.viewport().has_frame();
         self.report
             .end_frame(&ctx, (self.doc.title(), drawn), ui_ms, has_frame);
     }
@@ -393,7 +394,7 @@ impl EditorApp {
     fn drawn(&self) -> report::Drawn {
         report::Drawn {
             status: self.report.status.clone(),
-            frame_info: self.frame_info().to_owned(),
+            frame_info: self.viewport().frame_info().to_owned(),
             busy: self.busy(),
             preset: self.doc.preset.clone(),
             path: self.doc.path.clone(),
@@ -461,7 +462,7 @@ impl eframe::App for EframeApp {
 
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let app = &mut self.app;
-        if self.exit_after_first_frame && app.has_viewport_frame() {
+        if self.exit_after_first_frame && app.viewport().has_frame() {
             app.allow_close = true;
         }
         if ui.ctx().input(|i| i.viewport().close_requested())

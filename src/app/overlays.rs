@@ -4,33 +4,13 @@
 
 use super::*;
 
-/// Viewport frames kept in [`EditorApp::viewport_history`].
+/// Viewport frames kept in [`ViewportState::history`].
 pub(super) const FRAME_HISTORY: usize = 256;
 
 impl EditorApp {
-    /// While comparing: both sides, or A or B alone.
-    pub fn ab(&self) -> AbView {
-        self.view.ab
-    }
-
-    /// Whether the viewport shows the look before the last edit.
-    pub fn show_before(&self) -> bool {
-        self.view.show_before
-    }
-
-    /// The status bar's viewport readout (method, size, time, adapter).
-    pub fn frame_info(&self) -> &str {
-        &self.view.frame_info
-    }
-
-    /// Whether the viewport has shown a rendered frame.
-    pub fn has_viewport_frame(&self) -> bool {
-        self.view.texture.is_some()
-    }
-
-    /// The last viewport frame and the number of frames received so far.
-    pub fn viewport_frame(&self) -> Option<(&image::RgbaImage, u64)> {
-        self.view.last_frame.as_ref().map(|(i, n)| (i, *n))
+    /// The viewport: its frames, how far they got, what it shows.
+    pub fn viewport(&self) -> &ViewportState {
+        &self.view
     }
 
     /// Where the viewport was last drawn.
@@ -41,56 +21,7 @@ impl EditorApp {
     /// The viewport's rect, the compare labels drawn on it (text, rect),
     /// and the left and right panels' rects, as last drawn.
     pub fn viewport_layout(&self) -> ViewportLayout {
-        ViewportLayout {
-            viewport: self.layout.viewport_rect,
-            labels: self.layout.compare_labels.clone(),
-            params: self.layout.panel_rects[0],
-            plots: self.layout.panel_rects[1],
-        }
-    }
-
-    /// How far the last viewport frame had got.
-    pub fn viewport_quality(&self) -> Option<viewport::Quality> {
-        self.view.quality
-    }
-
-    /// The newest viewport frames (up to [`FRAME_HISTORY`]) as they
-    /// arrived: quality, size and the status line each set.
-    pub fn viewport_history(
-        &self,
-    ) -> impl Iterator<Item = &(viewport::Quality, (u32, u32), String)> + '_ {
-        self.view.history.iter()
-    }
-
-    /// Whether the viewport has rendered everything asked of it.
-    pub fn viewport_idle(&self) -> bool {
-        self.view
-            .viewport
-            .as_ref()
-            .is_none_or(|v| v.busy_since.is_none())
-    }
-
-    /// The viewport's last request (what a turntable turns).
-    pub(super) fn viewport_request(&self) -> Option<viewport::Request> {
-        self.view
-            .viewport
-            .as_ref()
-            .and_then(|v| v.last_request())
-            .cloned()
-    }
-
-    /// The scale (white, |ΔL*|) of the difference view on screen, if any.
-    pub fn difference_scale_shown(&self) -> Option<f32> {
-        self.view.difference_shown
-    }
-
-    /// Makes the render thread fail on its next request (tests of the
-    /// recovery; nothing in the editor calls it).
-    #[doc(hidden)]
-    pub fn inject_render_fault(&self, fault: viewport::Fault) {
-        if let Some(v) = &self.view.viewport {
-            v.inject_fault(fault);
-        }
+        self.layout.viewport_layout()
     }
 
     /// Writes the viewport's frame, as shown (a comparison with both sides,

@@ -33,7 +33,7 @@ pub(super) struct ProfileState {
 }
 
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
-pub(super) struct ViewportState {
+pub struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
     /// The interface scale set on the context last frame.
     pub(super) applied_scale: Option<f32>,
@@ -131,7 +131,97 @@ pub(super) struct Layout {
     pub(super) plot_rect: Option<egui::Rect>,
 }
 
+impl Dialogs {
+    /// A window opened (again) since the last frame comes to the front
+    /// (egui keeps a reopened window where it was in the stack), so that
+    /// Escape closes what the artist opened last; `open` is every open
+    /// window's title.
+    pub(super) fn bring_new_to_front(&mut self, ctx: &egui::Context, open: Vec<&'static str>) {
+        for t in &open {
+            if !self.open_last_frame.contains(t) {
+                ctx.move_to_top(egui::LayerId::new(
+                    egui::Order::Middle,
+                    dialogs::window_id(t),
+                ));
+            }
+        }
+        self.open_last_frame = open;
+    }
+
+    /// Works out the export's notes for `format` on a thread (a table
+    /// bake's fit takes a while), for the export dialog; none without a
+    /// format.
+    pub(super) fn work_out_export_notes(
+        &mut self,
+        preset: &Preset,
+        format: Option<Format>,
+        waker: &wake::Waker,
+    ) {
+        self.export_notes = None;
+        let Some(format) = format else {
+            return;
+        };
+        let preset = preset.clone();
+        let (tx, rx) = std::sync::mpsc::channel();
+        let waker = waker.clone();
+        std::thread::spawn(move || {
+            let notes = crate::export::export_notes(&preset, format)
+                .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
+            let _ = tx.send(notes);
+            waker.wake();
+        });
+        self.export_notes = Some(rx);
+    }
+}
+
+impl Layout {
+    /// The viewport's rect, the compare labels drawn on it (text, rect),
+    /// and the left and right panels' rects, as last drawn.
+    pub(super) fn viewport_layout(&self) -> ViewportLayout {
+        ViewportLayout {
+            viewport: self.viewport_rect,
+            labels: self.compare_labels.clone(),
+            params: self.panel_rects[0],
+            plots: self.panel_rects[1],
+        }
+    }
+}
+
+impl MeshState {
+    /// The loaded mesh's colour map's mean colour, if it has one.
+    pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
+        self.mesh_info.and_then(|i| i.colour_map_mean)
+    }
+}
+
 impl ProfileState {
+    /// Takes in the analysis thread's result, if one came: the latest
+    /// analysis, and a slow model's curves or the error when it is of
+    /// `current` (the look's profile now). `Err`: the thread survived a
+    /// panic, which is worth a notice.
+    pub(super) fn take_analysis(
+        &mut self,
+        current: &crate::settings::ProfileSpec,
+    ) -> Option<Result<(), String>> {
+        let (key, result) = self.analysis.poll()?;
+        match result {
+            Ok(a) => {
+                if analysis::is_slow(&key.profile) && key.profile == *current {
+                    self.curves = Some(Ok(a.curves.clone()));
+                }
+                self.latest = Some(a);
+                Some(Ok(()))
+            }
+            Err(e) => {
+                let failed = e.contains("thread failed").then(|| e.clone());
+                if key.profile == *current {
+                    self.curves = Some(Err(e));
+                }
+                Some(failed.map_or(Ok(()), Err))
+            }
+        }
+    }
+
     /// No analysis yet; its thread started, waking the UI with `waker`.
     pub(super) fn new(waker: &wake::Waker) -> Self {
         Self {
@@ -203,5 +293,74 @@ impl Report {
         started: std::time::Instant::now(),
         reported: (false, false),
         last_title: String::new(),}
+    }
+}
+
+/// What the viewport shows and how far it got (the editor's tests read
+/// these through [`EditorApp::viewport`]).
+impl ViewportState {
+    /// While comparing: both sides, or A or B alone.
+    pub fn ab(&self) -> AbView {
+        self.ab
+    }
+
+    /// Whether the viewport shows the look before the last edit.
+    pub fn show_before(&self) -> bool {
+        self.show_before
+    }
+
+    /// The status bar's viewport readout (method, size, time, adapter).
+    pub fn frame_info(&self) -> &str {
+        &self.frame_info
+    }
+
+    /// Whether the viewport has shown a rendered frame.
+    pub fn has_frame(&self) -> bool {
+        self.texture.is_some()
+    }
+
+    /// The last viewport frame and the number of frames received so far.
+    pub fn frame(&self) -> Option<(&image::RgbaImage, u64)> {
+        self.last_frame.as_ref().map(|(i, n)| (i, *n))
+    }
+
+    /// How far the last viewport frame had got.
+    pub fn quality(&self) -> Option<viewport::Quality> {
+        self.quality
+    }
+
+    /// The newest viewport frames (up to [`overlays::FRAME_HISTORY`]) as they
+    /// arrived: quality, size and the status line each set.
+    pub fn history(&self) -> impl Iterator<Item = &(viewport::Quality, (u32, u32), String)> + '_ {
+        self.history.iter()
+    }
+
+    /// Whether the viewport has rendered everything asked of it.
+    pub fn idle(&self) -> bool {
+        self.viewport
+            .as_ref()
+            .is_none_or(|v| v.busy_since.is_none())
+    }
+
+    /// The viewport's last request (what a turntable turns).
+    pub(super) fn request(&self) -> Option<viewport::Request> {
+        self.viewport
+            .as_ref()
+            .and_then(|v| v.last_request())
+            .cloned()
+    }
+
+    /// The scale (white, |ΔL*|) of the difference view on screen, if any.
+    pub fn difference_scale_shown(&self) -> Option<f32> {
+        self.difference_shown
+    }
+
+    /// Makes the render thread fail on its next request (tests of the
+    /// recovery; nothing in the editor calls it).
+    #[doc(hidden)]
+    pub fn inject_fault(&self, fault: viewport::Fault) {
+        if let Some(v) = &self.viewport {
+            v.inject_fault(fault);
+        }
     }
 }

@@ -400,7 +400,7 @@ fn compared_preset_series(
                 format!(
                     "{a_spec:?} {:?} {:?}",
                     app.ui_state.b_material_albedo,
-                    app.colour_map_mean()
+                    app.meshes.colour_map_mean()
                 ),
             );
             if app.profile.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
@@ -636,29 +636,15 @@ impl EditorApp {
     /// Takes in the analysis thread's result (fits, tables, a slow
     /// model's curves).
     pub(super) fn poll_analysis(&mut self) {
-        if let Some((key, result)) = self.profile.analysis.poll() {
-            self.log_line(format_args!("analysis result"));
-            match result {
-                Ok(a) => {
-                    if super::analysis::is_slow(&key.profile)
-                        && key.profile == self.doc.preset.profile
-                    {
-                        self.profile.curves = Some(Ok(a.curves.clone()));
-                    }
-                    self.profile.latest = Some(a);
-                }
-                Err(e) => {
-                    // A panic the thread survived (`Background`): said
-                    // as a notice as well as in the plot.
-                    if e.contains("thread failed") {
-                        eprintln!("warning: {e}");
-                        self.say(format!("Warning: {e}"));
-                    }
-                    if key.profile == self.doc.preset.profile {
-                        self.profile.curves = Some(Err(e));
-                    }
-                }
-            }
+        let Some(taken) = self.profile.take_analysis(&self.doc.preset.profile) else {
+            return;
+        };
+        self.log_line(format_args!("analysis result"));
+        // A panic the thread survived (`Background`): said as a notice as
+        // well as in the plot.
+        if let Err(e) = taken {
+            eprintln!("warning: {e}");
+            self.say(format!("Warning: {e}"));
         }
     }
 

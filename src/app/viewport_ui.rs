@@ -117,7 +117,7 @@ impl EditorApp {
             names: self.side_names(),
             has_before: self.doc.before_last_edit().is_some(),
             b_albedo_in_material: b_file.is_some_and(|b| b.rendering.albedo_in_material),
-            has_map: self.colour_map_mean().is_some(),
+            has_map: self.meshes.colour_map_mean().is_some(),
             readout,
         };
         let actions = bar.ui(ui);
@@ -483,7 +483,7 @@ impl EditorApp {
     pub(super) fn status_bar_view(&self) -> report::StatusBarView<'_> {
         report::StatusBarView {
             busy: self.busy(),
-            frame_info: self.frame_info(),
+            frame_info: self.viewport().frame_info(),
             adapter: &self.view.adapter,
         }
     }

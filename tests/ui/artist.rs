@@ -19,18 +19,18 @@ pub(super) fn settle(h: &mut Harness<'_, EditorApp>) {
     step_until(h, "the analysis", EditorApp::analysis_done);
     loop {
         step_until(h, "a converged frame", |a| {
-            a.viewport_idle()
+            a.viewport().idle()
                 && matches!(
-                    a.viewport_quality(),
+                    a.viewport().quality(),
                     Some(scatterlab::app::viewport::Quality::Converged { .. })
                 )
         });
-        let n = h.state().viewport_frame().map(|f| f.1);
+        let n = h.state().viewport().frame().map(|f| f.1);
         for _ in 0..5 {
             std::thread::sleep(std::time::Duration::from_millis(50));
             h.step();
         }
-        if h.state().viewport_frame().map(|f| f.1) == n && h.state().viewport_idle() {
+        if h.state().viewport().frame().map(|f| f.1) == n && h.state().viewport().idle() {
             return;
         }
     }
@@ -224,7 +224,7 @@ fn f12_saves_the_frame_shown_and_a_folder_is_never_a_file() {
         h.state().status()
     );
     let saved = image::open(&out).unwrap().to_rgba8();
-    let (shown, _) = h.state().viewport_frame().unwrap();
+    let (shown, _) = h.state().viewport().frame().unwrap();
     assert_eq!(saved.dimensions(), shown.dimensions());
     assert!(
         saved.as_raw() == shown.as_raw(),
@@ -291,7 +291,7 @@ fn turntable_writes_a_gif_and_pngs_and_cancel_writes_nothing() {
     .unwrap();
     let frames = gif.into_frames().collect_frames().unwrap();
     assert_eq!(frames.len(), 4);
-    let (shown, _) = h.state().viewport_frame().unwrap();
+    let (shown, _) = h.state().viewport().frame().unwrap();
     let first = frames[0].buffer();
     assert_eq!(first.dimensions(), shown.dimensions());
     // GIF's 256-colour palette costs a little; the view is the viewport's.
@@ -709,20 +709,20 @@ fn sss_only_shows_what_scattering_adds_on_a_fixed_labelled_scale() {
         CompareB::Method(MethodId::None)
     );
     step_until(&mut h, "the difference view", |a| {
-        a.difference_scale_shown().is_some() && a.viewport_idle()
+        a.viewport().difference_scale_shown().is_some() && a.viewport().idle()
     });
-    assert_eq!(h.state().difference_scale_shown(), Some(5.0));
+    assert_eq!(h.state().viewport().difference_scale_shown(), Some(5.0));
     // Another pair, the same scale.
     h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::Separable);
     h.run_steps(2);
-    step_until(&mut h, "the second pair", |a| a.viewport_idle());
-    assert_eq!(h.state().difference_scale_shown(), Some(5.0));
+    step_until(&mut h, "the second pair", |a| a.viewport().idle());
+    assert_eq!(h.state().viewport().difference_scale_shown(), Some(5.0));
     h.get_by_label("auto").click_accesskit();
     h.run_steps(2);
     step_until(&mut h, "the auto-scaled view", |a| {
-        a.viewport_idle() && a.difference_scale_shown() != Some(5.0)
+        a.viewport().idle() && a.viewport().difference_scale_shown() != Some(5.0)
     });
-    let auto = h.state().difference_scale_shown().unwrap();
+    let auto = h.state().viewport().difference_scale_shown().unwrap();
     assert!(auto > 0.0 && auto <= 100.0, "{auto}");
     // Clicked again, SSS only goes back to no comparison.
     h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::None);
@@ -746,9 +746,9 @@ fn side_by_side_frames_the_whole_head_in_each_half() {
     let mut h = harness_of(EditorApp::new(None, state, None, true), [1280.0, 720.0]);
     h.step();
     step_until(&mut h, "the side-by-side frame", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some()
+        a.viewport().idle() && a.viewport().frame().is_some()
     });
-    let (frame, _) = h.state().viewport_frame().unwrap();
+    let (frame, _) = h.state().viewport().frame().unwrap();
     let (w, fh) = frame.dimensions();
     let half = w / 2;
     // Skin: warm and bright, unlike the grey-blue background.
@@ -787,22 +787,22 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     let mut h = viewport_harness([900.0, 560.0]);
     h.step();
     settle(&mut h);
-    let original = h.state().viewport_frame().unwrap().0.clone();
+    let original = h.state().viewport().frame().unwrap().0.clone();
     h.key_press(Key::Backslash);
     h.run_steps(2);
     assert!(
-        !h.state().show_before(),
+        !h.state().viewport().show_before(),
         "no edit yet: nothing to flicker to"
     );
     // An edit: red scattering distance 3 mm.
     h.get_by_label("R: mm").set_value_accesskit(3.0);
     h.run_steps(2);
     settle(&mut h);
-    let edited = h.state().viewport_frame().unwrap().0.clone();
+    let edited = h.state().viewport().frame().unwrap().0.clone();
     assert!(edited != original, "the edit changed nothing on screen");
     h.key_press(Key::Backslash);
     h.run_steps(2);
-    assert!(h.state().show_before());
+    assert!(h.state().viewport().show_before());
     settle(&mut h);
     // With a tolerance (the refinement's noise may differ when the frame
     // is rendered again rather than kept): far nearer the old frame than
@@ -816,7 +816,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
             .sum::<f64>()
             / a.as_raw().len() as f64
     };
-    let shown = h.state().viewport_frame().unwrap().0.clone();
+    let shown = h.state().viewport().frame().unwrap().0.clone();
     let (to_old, edit) = (mean_diff(&shown, &original), mean_diff(&edited, &original));
     eprintln!("before vs original {to_old:.3}, edited vs original {edit:.3} (8-bit levels)");
     assert!(
@@ -827,7 +827,7 @@ fn before_flickers_to_the_look_before_the_last_edit() {
     assert_eq!(scattering_distance(h.state())[0], 3.0);
     h.get_by_label("before").click_accesskit();
     h.run_steps(2);
-    assert!(!h.state().show_before());
+    assert!(!h.state().viewport().show_before());
 }
 
 /// File → Browse presets… shows every shipped preset as a thumbnail that
@@ -952,7 +952,7 @@ fn cie_lightness(p: &image::Rgba<u8>) -> f64 {
 fn the_probe_reads_the_pixel_and_both_sides() {
     use scatterlab::app::state::CompareMode;
     let mut h = viewport_harness([1500.0, 900.0]);
-    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
     settle(&mut h);
     let rect = h.state().viewport_layout().viewport.unwrap();
     let at = rect.center();
@@ -963,7 +963,7 @@ fn the_probe_reads_the_pixel_and_both_sides() {
         .probe_text()
         .expect("no probe over the head")
         .to_owned();
-    let img = h.state().viewport_frame().unwrap().0.clone();
+    let img = h.state().viewport().frame().unwrap().0.clone();
     let x = ((at.x - rect.left()) / rect.width() * img.width() as f32) as u32;
     let y = ((at.y - rect.top()) / rect.height() * img.height() as f32) as u32;
     let p = img.get_pixel(x, y);
@@ -976,9 +976,9 @@ fn the_probe_reads_the_pixel_and_both_sides() {
     );
     // Side by side: both sides' L* and ΔL*.
     h.state_mut().ui_state.compare = CompareMode::SideBySide;
-    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "the side-by-side frame", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
     });
     h.input_mut().events.push(egui::Event::PointerMoved(
         rect.center() - egui::vec2(rect.width() / 4.0, 0.0),
@@ -991,9 +991,9 @@ fn the_probe_reads_the_pixel_and_both_sides() {
     );
     // The difference view's note: mean and max ΔL* over the head.
     h.state_mut().ui_state.compare = CompareMode::Difference;
-    let n1 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n1 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "the difference frame", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n1)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n1)
     });
     h.run_steps(2);
     assert!(

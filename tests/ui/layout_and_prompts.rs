@@ -15,7 +15,9 @@ fn compare_fits_the_viewport_down_to_1280x720() {
     for size in [[1280.0, 720.0], [1500.0, 900.0]] {
         let mut h = harness_of(EditorApp::new(None, UiState::default(), None, true), size);
         h.step();
-        step_until(&mut h, "the first frame", EditorApp::has_viewport_frame);
+        step_until(&mut h, "the first frame", |a: &EditorApp| {
+            a.viewport().has_frame()
+        });
         h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::None);
         for mode in [
             CompareMode::Split,
@@ -25,8 +27,9 @@ fn compare_fits_the_viewport_down_to_1280x720() {
             h.state_mut().ui_state.compare = mode;
             h.run_steps(2);
             step_until(&mut h, "the compared frame", |a| {
-                a.viewport_idle()
-                    && (mode != CompareMode::Difference || a.frame_info().contains("heat map"))
+                a.viewport().idle()
+                    && (mode != CompareMode::Difference
+                        || a.viewport().frame_info().contains("heat map"))
             });
             let l = h.state().viewport_layout();
             let (vp, params, plots) = (l.viewport.unwrap(), l.params.unwrap(), l.plots.unwrap());
@@ -41,7 +44,7 @@ fn compare_fits_the_viewport_down_to_1280x720() {
             for (text, r) in &l.labels {
                 assert!(vp.contains_rect(*r), "{what}: label {text} at {r:?}");
             }
-            let (img, _) = h.state().viewport_frame().unwrap();
+            let (img, _) = h.state().viewport().frame().unwrap();
             assert!(
                 (img.width() as f32 - vp.width()).abs() <= 1.5,
                 "{what}: frame {}×{}",
@@ -95,7 +98,7 @@ fn space_flips_a_and_b_in_every_mode() {
     // Not comparing: Space does nothing.
     h.key_press(Key::Space);
     h.step();
-    assert_eq!(h.state().ab(), AbView::Both);
+    assert_eq!(h.state().viewport().ab(), AbView::Both);
     let shown = |h: &Harness<'_, EditorApp>| -> Vec<String> {
         let l = h.state().viewport_layout();
         l.labels.iter().map(|(t, _)| t[..1].to_string()).collect()
@@ -111,13 +114,13 @@ fn space_flips_a_and_b_in_every_mode() {
         for expected in [AbView::B, AbView::A, AbView::B, AbView::A] {
             h.key_press(Key::Space);
             h.run_steps(2);
-            assert_eq!(h.state().ab(), expected, "{mode:?}");
+            assert_eq!(h.state().viewport().ab(), expected, "{mode:?}");
             let tag = if expected == AbView::A { "A" } else { "B" };
             assert_eq!(shown(&h), vec![tag.to_string()], "{mode:?}");
         }
         h.key_press(Key::Escape);
         h.run_steps(2);
-        assert_eq!(h.state().ab(), AbView::Both, "{mode:?}");
+        assert_eq!(h.state().viewport().ab(), AbView::Both, "{mode:?}");
         assert_eq!(shown(&h), both, "{mode:?}");
     }
 }
@@ -380,10 +383,10 @@ fn the_viewport_previews_while_dragging_and_converges_after() {
     let mut h = harness(true);
     h.step();
     step_until(&mut h, "the first converged frame", |a| {
-        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+        matches!(a.viewport().quality(), Some(Quality::Converged { .. }))
     });
     let vp = h.state().viewport_layout().viewport.unwrap();
-    let full = h.state().viewport_frame().unwrap().0.width();
+    let full = h.state().viewport().frame().unwrap().0.width();
     let c = vp.center();
     h.hover_at(c);
     h.step();
@@ -397,20 +400,20 @@ fn the_viewport_previews_while_dragging_and_converges_after() {
     }
     // Still held: previews until it is released.
     step_until(&mut h, "a preview", |a| {
-        matches!(a.viewport_quality(), Some(Quality::Preview { .. }))
+        matches!(a.viewport().quality(), Some(Quality::Preview { .. }))
     });
-    let preview = h.state().viewport_frame().unwrap().0.width();
+    let preview = h.state().viewport().frame().unwrap().0.width();
     assert!(preview < full, "preview {preview} px wide, full {full}");
     h.drop_at(egui::pos2(x, c.y));
     h.step();
     step_until(&mut h, "convergence", |a| {
-        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
+        matches!(a.viewport().quality(), Some(Quality::Converged { .. }))
     });
-    let Some(Quality::Converged { frames, .. }) = h.state().viewport_quality() else {
+    let Some(Quality::Converged { frames, .. }) = h.state().viewport().quality() else {
         unreachable!()
     };
     assert!(frames > 1, "burley converged after {frames} frame(s)");
-    assert_eq!(h.state().viewport_frame().unwrap().0.width(), full);
+    assert_eq!(h.state().viewport().frame().unwrap().0.width(), full);
 }
 
 /// "Refine to the truth" (issues 23 and 38): the method's converged frame
@@ -434,12 +437,12 @@ fn refine_to_the_truth_fills_tiles_over_the_converged_frame_and_keeps_it() {
     // thread runs at a lower priority than the viewport's).
     step_until(&mut h, "the analysis", |a| a.analysis_done());
     step_until(&mut h, "the full ground truth", |a| {
-        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
-            && a.frame_info().starts_with("reference")
+        matches!(a.viewport().quality(), Some(Quality::Converged { .. }))
+            && a.viewport().frame_info().starts_with("reference")
     });
     // Every frame after burley's converged one: its quality, size and
     // status line.
-    let history: Vec<_> = h.state().viewport_history().cloned().collect();
+    let history: Vec<_> = h.state().viewport().history().cloned().collect();
     // The last converged frame of burley's: a resize before it starts a
     // new view.
     let start = history
@@ -481,24 +484,25 @@ fn refine_to_the_truth_fills_tiles_over_the_converged_frame_and_keeps_it() {
         .iter()
         .any(|(q, _, info)| matches!(q, Quality::Truth { tiles: 0, .. })
             && info.contains("burley's frame, the ground truth's tiles next")));
-    let info = h.state().frame_info().to_string();
+    let info = h.state().viewport().frame_info().to_string();
     assert!(
         info.contains("the ground truth, refined from burley"),
         "status: {info}"
     );
-    let truth = h.state().viewport_frame().unwrap().0.clone();
+    let truth = h.state().viewport().frame().unwrap().0.clone();
     // Off: the method's own frame (another request).
     h.state_mut().ui_state.refine_to_truth = false;
     step_until(&mut h, "burley converged", |a| {
-        matches!(a.viewport_quality(), Some(Quality::Converged { .. }))
-            && a.frame_info().starts_with("burley")
+        matches!(a.viewport().quality(), Some(Quality::Converged { .. }))
+            && a.viewport().frame_info().starts_with("burley")
     });
     // On again: the same view's finished ground truth, kept.
     h.state_mut().ui_state.refine_to_truth = true;
     step_until(&mut h, "the kept ground truth", |a| {
-        a.frame_info().starts_with("reference") && a.frame_info().contains("kept from before")
+        a.viewport().frame_info().starts_with("reference")
+            && a.viewport().frame_info().contains("kept from before")
     });
-    assert_eq!(h.state().viewport_frame().unwrap().0, &truth);
+    assert_eq!(h.state().viewport().frame().unwrap().0, &truth);
 }
 
 /// File names and folders (issue 41):

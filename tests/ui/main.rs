@@ -285,17 +285,15 @@ fn panels_snapshot() {
 fn viewport_renders_the_head() {
     let mut h = harness(true);
     h.step();
-    step_until(
-        &mut h,
-        "the first viewport frame",
-        EditorApp::has_viewport_frame,
-    );
+    step_until(&mut h, "the first viewport frame", |a: &EditorApp| {
+        a.viewport().has_frame()
+    });
     assert!(
         !h.state().status().starts_with("Error"),
         "{}",
         h.state().status()
     );
-    let (img, _) = h.state().viewport_frame().unwrap();
+    let (img, _) = h.state().viewport().frame().unwrap();
     let bg = *img.get_pixel(0, 0);
     let differs = |p: &image::Rgba<u8>| (0..3).any(|c| (p[c] as i32 - bg[c] as i32).abs() > 12);
     let covered =
@@ -347,11 +345,11 @@ fn a_scan_in_other_units_is_framed_and_its_map_flipped() {
     );
     assert!((h.state().ui_state.view.orbit.camera_distance_m - want).abs() < 1e-4);
     let frame_after = |h: &mut Harness<'_, EditorApp>, what: &str| -> image::RgbaImage {
-        let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+        let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
         step_until(h, what, |a| {
-            a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+            a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
         });
-        h.state().viewport_frame().unwrap().0.clone()
+        h.state().viewport().frame().unwrap().0.clone()
     };
     // Red minus blue at the square's top and bottom (a third and seven
     // ninths down the frame: the focus is 62 % up the square).
@@ -455,11 +453,11 @@ fn a_photogrammetry_scan_with_its_own_maps() {
     assert_eq!(settings.maps[0].path, Some(scan.join("Map-COL.jpg")));
     assert!(settings.maps[0].flip_v && settings.maps[1].flip_v);
     assert!(settings.maps[0].srgb && !settings.maps[1].srgb);
-    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "a frame with the maps", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
     });
-    let img = h.state().viewport_frame().unwrap().0.clone();
+    let img = h.state().viewport().frame().unwrap().0.clone();
     let bg = *img.get_pixel(img.width() - 1, 0);
     let is_head = |p: &image::Rgba<u8>| (0..3).any(|c| (p[c] as i32 - bg[c] as i32).abs() > 12);
     let crown = (0..img.height())
@@ -492,7 +490,7 @@ fn load_with_suggested_units(
 ) -> Harness<'static, EditorApp> {
     let mut h = harness(true);
     h.step();
-    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
     h.input_mut()
         .dropped_files
         .push(std::sync::Arc::new(Dropped(mesh.to_path_buf())));
@@ -519,17 +517,17 @@ fn compare_toggle_and_export_from_the_ui() {
     let mut h = harness(true);
     h.step();
     step_until(&mut h, "the first viewport frame", |a| {
-        a.frame_info().starts_with("burley")
+        a.viewport().frame_info().starts_with("burley")
     });
     h.get_by_label("difference").click_accesskit();
     h.step();
     step_until(&mut h, "the difference view", |a| {
-        a.frame_info().contains("heat map")
+        a.viewport().frame_info().contains("heat map")
     });
     h.key_press(Key::Space);
     h.step();
     step_until(&mut h, "B alone", |a| {
-        a.frame_info().starts_with("separable")
+        a.viewport().frame_info().starts_with("separable")
     });
 
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-export-{}", std::process::id()));
@@ -823,7 +821,7 @@ fn an_hdrp_profile_as_b_is_drawn_with_a_material_albedo() {
     let asset = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/hdrp/Skin Diffusion Profile.asset");
     let mut h = viewport_harness([1500.0, 900.0]);
-    step_until(&mut h, "the head", EditorApp::has_viewport_frame);
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
     h.state_mut().ui_state.compare = CompareMode::SideBySide;
     h.run_steps(2);
     h.get_all_by_role(egui::accesskit::Role::Button)
@@ -869,9 +867,9 @@ fn an_hdrp_profile_as_b_is_drawn_with_a_material_albedo() {
         .expect("no list of the fields that differ");
     assert!(differs.contains("transmission"), "{differs}");
     // The frame: both halves' faces are skin coloured, B not white.
-    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "the side-by-side frame", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
     });
     let half_mean = |img: &image::RgbaImage, right: bool| {
         let (w, hh) = (img.width() / 2, img.height());
@@ -889,7 +887,7 @@ fn an_hdrp_profile_as_b_is_drawn_with_a_material_albedo() {
         }
         s.map(|v| v / n)
     };
-    let img = h.state().viewport_frame().unwrap().0.clone();
+    let img = h.state().viewport().frame().unwrap().0.clone();
     let (a, b) = (half_mean(&img, false), half_mean(&img, true));
     assert!(
         b[0] - b[2] > 25.0,
@@ -901,11 +899,11 @@ fn an_hdrp_profile_as_b_is_drawn_with_a_material_albedo() {
     );
     // A typed albedo (green) turns B green.
     h.state_mut().ui_state.b_material_albedo = MaterialAlbedo::Typed([0.1, 0.5, 0.1]);
-    let n1 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n1 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "B with the typed albedo", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n1)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n1)
     });
-    let img = h.state().viewport_frame().unwrap().0.clone();
+    let img = h.state().viewport().frame().unwrap().0.clone();
     let g = half_mean(&img, true);
     assert!(g[1] > g[0], "B with a green albedo is {g:?}");
     wait_for_combo(&mut h, "B's albedo: typed 0.100/0.500/0.100");
@@ -944,14 +942,14 @@ fn the_scan_tinted_by_ketchup_is_red() {
         metres_per_unit: Some(0.0462),
     });
     step_until(&mut h, "the scan with its map", |a| {
-        a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some()) && a.viewport_idle()
+        a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some()) && a.viewport().idle()
     });
     wait_for_combo(&mut h, "the map's colour");
     assert!(h
         .query_by_label_contains("The mesh's colour map sets the surface colour")
         .is_some());
     let face = |h: &Harness<'_, EditorApp>| {
-        let img = &h.state().viewport_frame().unwrap().0;
+        let img = &h.state().viewport().frame().unwrap().0;
         let (w, hh) = (img.width(), img.height());
         let mut s = [0.0f64; 3];
         for y in hh * 2 / 5..hh * 3 / 5 {
@@ -966,9 +964,9 @@ fn the_scan_tinted_by_ketchup_is_red() {
     };
     let as_map = face(&h);
     h.state_mut().ui_state.map_colour = MapColour::Tinted;
-    let n0 = h.state().viewport_frame().map_or(0, |f| f.1);
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
     step_until(&mut h, "the tinted frame", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > n0)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
     });
     let tinted = face(&h);
     let ratio = |s: [f64; 3]| s[0] / s[1].max(1.0);

@@ -32,11 +32,15 @@ fn work_intact(h: &mut Harness<'static, EditorApp>, edit: &Preset) {
 /// frame after it.
 fn survive(fault: Fault, said: &str) {
     let mut h = viewport_harness([1000.0, 640.0]);
-    step_until(&mut h, "the first frame", EditorApp::has_viewport_frame);
-    step_until(&mut h, "a settled view", EditorApp::viewport_idle);
+    step_until(&mut h, "the first frame", |a: &EditorApp| {
+        a.viewport().has_frame()
+    });
+    step_until(&mut h, "a settled view", |a: &EditorApp| {
+        a.viewport().idle()
+    });
     let edit = edited(&mut h);
-    let frames = h.state().viewport_frame().map_or(0, |f| f.1);
-    h.state().inject_render_fault(fault);
+    let frames = h.state().viewport().frame().map_or(0, |f| f.1);
+    h.state().viewport().inject_fault(fault);
     h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.2;
     step_until(&mut h, said, |a| {
         a.notices().iter().any(|n| n.contains(said))
@@ -48,10 +52,10 @@ fn survive(fault: Fault, said: &str) {
         .find(|n| n.contains(said))
         .cloned();
     step_until(&mut h, "a frame after the failure", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > frames)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > frames)
     });
     // The frame is the head, not an empty one.
-    let (image, _) = h.state().viewport_frame().unwrap();
+    let (image, _) = h.state().viewport().frame().unwrap();
     let lit = image.pixels().filter(|p| p.0[0] > 40).count();
     assert!(
         lit * 20 > image.pixels().len(),
@@ -81,22 +85,28 @@ fn a_lost_gpu_device_is_rebuilt() {
 #[test]
 fn a_view_that_always_fails_is_not_retried_for_ever() {
     let mut h = viewport_harness([1000.0, 640.0]);
-    step_until(&mut h, "the first frame", EditorApp::has_viewport_frame);
-    step_until(&mut h, "a settled view", EditorApp::viewport_idle);
+    step_until(&mut h, "the first frame", |a: &EditorApp| {
+        a.viewport().has_frame()
+    });
+    step_until(&mut h, "a settled view", |a: &EditorApp| {
+        a.viewport().idle()
+    });
     let edit = edited(&mut h);
     for _ in 0..3 {
-        h.state().inject_render_fault(Fault::Panic);
+        h.state().viewport().inject_fault(Fault::Panic);
     }
     h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.2;
     let said = "failed on this view every time";
     step_until(&mut h, said, |a| {
         a.notices().iter().any(|n| n.contains(said))
     });
-    step_until(&mut h, "an idle viewport", EditorApp::viewport_idle);
-    let frames = h.state().viewport_frame().map_or(0, |f| f.1);
+    step_until(&mut h, "an idle viewport", |a: &EditorApp| {
+        a.viewport().idle()
+    });
+    let frames = h.state().viewport().frame().map_or(0, |f| f.1);
     h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.2;
     step_until(&mut h, "a frame of the next view", |a| {
-        a.viewport_idle() && a.viewport_frame().is_some_and(|f| f.1 > frames)
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > frames)
     });
     work_intact(&mut h, &edit);
 }
