@@ -57,9 +57,10 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[];
 /// (none now: the check stays for the next one).
 const LONG_FILES: &[(&str, usize)] = &[];
 
-/// ARCHITECTURE.md, "Rules": no function over 120 lines and no file over
-/// 800 but those listed, none longer than listed, and none listed that is
-/// no longer long (so the lists shrink as the code does).
+/// ARCHITECTURE.md, "Rules": no function over 120 lines (100 in `app/`)
+/// and no file over 800 but those listed, none longer than listed, and
+/// none listed that is no longer long (so the lists shrink as the code
+/// does).
 #[test]
 fn functions_and_files_stay_short() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
@@ -81,6 +82,12 @@ fn functions_and_files_stay_short() {
             }
         }
         for (name, len) in function_lengths(&code) {
+            // The editor's functions, 100 at most (issue 51): none listed.
+            if rel.starts_with("app/") && len > 100 {
+                wrong.push(format!(
+                    "{rel}: fn {name}: {len} lines (over 100 in app/): split it"
+                ));
+            }
             if len <= 120 {
                 continue;
             }

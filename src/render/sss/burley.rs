@@ -212,16 +212,43 @@ impl Default for BurleySampling {
 /// `burley`'s share of the profile on the GPU.
 pub(in crate::render) struct Buffers {
     /// The main pattern followed by the LOD's short one.
-    pub(super) samples: wgpu::Buffer,
+    samples: wgpu::Buffer,
     /// r·R_N(r) per channel (the weights), then the CDF.
-    pub(super) profile_lut: wgpu::Buffer,
+    profile_lut: wgpu::Buffer,
     /// Samples of the main pattern.
-    pub(super) count: u32,
+    count: u32,
     /// Low-LOD count, filter radius (the widest channel's 0.997-energy
     /// radius, mm) and sampling flags; `lod_on` is set per frame.
     uniforms: BurleyUniforms,
     /// The radius (mm) the profile table reaches.
-    pub(super) lut_radius_mm: f32,
+    lut_radius_mm: f32,
+}
+
+/// The importance-sampled disk and the profile table on the GPU, as a
+/// gather reads them: burley's own, and the only per-profile data
+/// `texture-space` reads (it uploads none of its own, so the two methods
+/// gather the same samples through the same table).
+pub(in crate::render) struct Disk<'a> {
+    /// The main pattern followed by the LOD's short one.
+    pub samples: &'a wgpu::Buffer,
+    /// r·R_N(r) per channel (the weights), then the CDF.
+    pub profile_lut: &'a wgpu::Buffer,
+    /// Samples of the main pattern.
+    pub count: u32,
+    /// The radius (mm) the profile table reaches.
+    pub lut_radius_mm: f32,
+}
+
+impl Buffers {
+    /// The disk and table ([`Disk`]) these buffers hold.
+    pub(in crate::render) fn disk(&self) -> Disk<'_> {
+        Disk {
+            samples: &self.samples,
+            profile_lut: &self.profile_lut,
+            count: self.count,
+            lut_radius_mm: self.lut_radius_mm,
+        }
+    }
 }
 
 impl super::MethodBuffers<Inputs> for Buffers {
@@ -291,9 +318,10 @@ fn encode(
     _: &mut super::State,
 ) -> Result<Scattered, GpuError> {
     let gpu = &io.profile.methods.burley;
-    let (samples, n, label) = (&gpu.samples, gpu.count, "sss burley");
+    let disk = gpu.disk();
+    let (n, label) = (disk.count, "sss burley");
     let uniforms = SssUniforms {
-        lut_radius_mm: gpu.lut_radius_mm,
+        lut_radius_mm: disk.lut_radius_mm,
         lut_entries: LUT_SIZE as u32,
         ..io.uniforms(n)
     };
@@ -313,8 +341,8 @@ fn encode(
             buf(0, &u),
             tex(1, t.view(HdrTarget::Diffuse)),
             tex(2, &t.linear_depth),
-            buf(3, samples),
-            buf(4, &gpu.profile_lut),
+            buf(3, disk.samples),
+            buf(4, disk.profile_lut),
             buf(5, io.counters),
             buf(6, &lod),
         ],

@@ -127,8 +127,8 @@ impl Default for Options {
     }
 }
 
-/// `texture-space`'s CPU inputs: the atlas size (its samples and table
-/// are burley's, uploaded with burley's buffers).
+/// `texture-space`'s CPU inputs: the atlas size and near field (its
+/// samples and table are burley's, read through `burley::Buffers::disk`).
 #[derive(Debug, Clone)]
 pub struct Inputs {
     pub atlas_size: u32,
@@ -165,7 +165,8 @@ impl MethodInputs for Inputs {
     }
 }
 
-/// Nothing of its own on the GPU per profile (burley's buffers serve).
+/// Nothing of its own on the GPU per profile: it gathers burley's disk
+/// through burley's table (`burley::Disk`), the one table both read.
 pub(in crate::render) type Buffers = ();
 
 /// The module of its two passes (scene.wgsl, then
@@ -441,13 +442,14 @@ fn encode(
         io.drawn.draw_with(&mut pass, &passes.atlas, &[io.scene_bind]);
     }
     // 2. The gather at each SSS pixel, into the ping target.
-    let burley = &io.profile.methods.burley;
-    let n = burley.count;
+    // burley's disk and table (texture-space has none of its own).
+    let disk = io.profile.methods.burley.disk();
+    let n = disk.count;
     {
         let label = "sss texture-space gather";
         let t = io.targets;
         let uniforms = SssUniforms {
-            lut_radius_mm: burley.lut_radius_mm,
+            lut_radius_mm: disk.lut_radius_mm,
             lut_entries: LUT_SIZE as u32,
             ..io.uniforms(n)
         };
@@ -470,8 +472,8 @@ fn encode(
                 tex(2, &atlas.position),
                 tex(3, &atlas.position_lo),
                 tex(4, t.view(HdrTarget::Diffuse)),
-                buf(5, &burley.samples),
-                buf(6, &burley.profile_lut),
+                buf(5, disk.samples),
+                buf(6, disk.profile_lut),
                 tex(7, &t.linear_depth),
                 buf(8, &near),
             ],
