@@ -806,3 +806,42 @@ fn the_edit_menu_and_the_unsaved_prompt_are_used_with_a_pointer() {
         s.wait_title("Jade's", |t| t.contains("Jade"));
     }
 }
+
+/// The Export menu: a format's item opens the file dialog, whose file
+/// field takes the path typed (all of it: egui_file joins the folder and
+/// the name, and an absolute name replaces the folder) and Enter; the look
+/// is written there and the status line says so.
+#[test]
+fn an_export_goes_through_the_file_dialog_with_a_pointer() {
+    let _one = one_at_a_time();
+    for (w, h) in SIZES {
+        let s = Session::start("export", w, h);
+        let m = s.find("the Export menu", |c| {
+            c.role == "Button" && c.label == "Export"
+        });
+        s.click(&m);
+        let gltf = s.find("glTF 2.0 in Export", |c| {
+            c.role == "Button" && c.label.starts_with("glTF 2.0 (volume extensions)")
+        });
+        s.click(&gltf);
+        let title = "💾  Export: glTF 2.0 (volume extensions) (.gltf)";
+        let field = s.find_in(title, "the file name field", |c| {
+            c.role == "TextInput" && c.value.ends_with(".gltf")
+        });
+        s.click(&field);
+        let out = s.dir.join("look.gltf");
+        s.type_into_focused(out.to_str().unwrap());
+        s.wait_log("the export's status line", 60, |l| {
+            l.contains(" status Exported ") && l.contains("look.gltf")
+        });
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            text.contains("KHR_materials_volume"),
+            "at {w}×{h}: {} is not the look's glTF",
+            out.display()
+        );
+        s.gone("the file dialog after its Enter", |c| {
+            c.role == "Window" && c.label == title
+        });
+    }
+}
