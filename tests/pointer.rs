@@ -845,3 +845,67 @@ fn an_export_goes_through_the_file_dialog_with_a_pointer() {
         });
     }
 }
+
+/// File → Reference image…: a photo chosen in the file dialog (its path
+/// typed into the file field, Enter) opens the Reference window; there the
+/// "over the render" checkbox is ticked, the eyedropper's combo box set to
+/// the transmission tint, and a click on the photo picks its colour into
+/// the look: the status line gives the linear value, which is the photo's
+/// sRGB (200, 100, 50) through IEC 61966-2-1's decoding, and the look is
+/// unsaved.
+#[test]
+fn a_reference_photo_is_opened_and_picked_from_with_a_pointer() {
+    let _one = one_at_a_time();
+    let linear = |c: f64| {
+        let c = c / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let said = format!(
+        "Transmission tint picked: {:.4} / {:.4} / {:.4}",
+        linear(200.0),
+        linear(100.0),
+        linear(50.0)
+    );
+    for (w, h) in SIZES {
+        let s = Session::start("reference", w, h);
+        let photo = s.dir.join("photo.png");
+        image::RgbImage::from_pixel(64, 48, image::Rgb([200, 100, 50]))
+            .save(&photo)
+            .unwrap();
+        s.menu_item("File", "Reference image…");
+        let dialog = "📂  Reference image (.png, .jpg)";
+        let field = s.find_in(dialog, "the file name field", |c| c.role == "TextInput");
+        s.click(&field);
+        s.type_into_focused(photo.to_str().unwrap());
+        let reference = "Reference";
+        let over = s.find_in(reference, "the over-the-render checkbox", |c| {
+            c.role == "CheckBox" && c.label == "over the render"
+        });
+        let was = over.value.clone();
+        s.click(&over);
+        s.find_in(reference, "the over-the-render checkbox toggled", |c| {
+            c.role == "CheckBox" && c.label == "over the render" && c.value != was
+        });
+        let combo = s.find_in(reference, "the pick-into combo box", |c| {
+            c.role == "ComboBox" && c.value == "Albedo"
+        });
+        s.click(&combo);
+        let tint = s.find("Transmission tint in the list", |c| {
+            c.label == "Transmission tint" && c.role != "ComboBox"
+        });
+        s.click(&tint);
+        s.find_in(reference, "the combo box showing the tint", |c| {
+            c.role == "ComboBox" && c.value == "Transmission tint"
+        });
+        let picture = s.find_in(reference, "the photo", |c| c.role == "Image");
+        s.click(&picture);
+        s.wait_log("the picked colour's status line", 30, |l| {
+            l.contains(" status ") && l.contains(&said)
+        });
+        s.wait_title("unsaved (\"* \")", |t| t.starts_with("* "));
+    }
+}
