@@ -810,7 +810,8 @@ fn the_edit_menu_and_the_unsaved_prompt_are_used_with_a_pointer() {
 /// The Export menu: a format's item opens the file dialog, whose file
 /// field takes the path typed (all of it: egui_file joins the folder and
 /// the name, and an absolute name replaces the folder) and Enter; the look
-/// is written there and the status line says so.
+/// is written there and the status line says so. The same again asks
+/// before replacing the file (the overwrite prompt, answered by a click).
 #[test]
 fn an_export_goes_through_the_file_dialog_with_a_pointer() {
     let _one = one_at_a_time();
@@ -843,6 +844,42 @@ fn an_export_goes_through_the_file_dialog_with_a_pointer() {
         s.gone("the file dialog after its Enter", |c| {
             c.role == "Window" && c.label == title
         });
+        // Again to the same file: the overwrite prompt, answered Replace
+        // with a click, and a second export.
+        s.click(&s.find("the Export menu", |c| {
+            c.role == "Button" && c.label == "Export"
+        }));
+        s.click(&s.find("glTF 2.0 in Export", |c| {
+            c.role == "Button" && c.label.starts_with("glTF 2.0 (volume extensions)")
+        }));
+        let field = s.find_in(title, "the file name field", |c| {
+            c.role == "TextInput" && c.value.ends_with(".gltf")
+        });
+        s.click(&field);
+        s.type_into_focused(out.to_str().unwrap());
+        // A modal (egui's Modal: no title bar), asking by the file's name.
+        s.find("the prompt naming the file", |c| {
+            c.role == "Label" && c.value.ends_with("look.gltf exists.")
+        });
+        let replace = s.find("the prompt's Replace button", |c| {
+            c.role == "Button" && c.label == "Replace"
+        });
+        s.click(&replace);
+        let exported = || {
+            std::fs::read_to_string(s.dir.join("frames.log"))
+                .unwrap_or_default()
+                .lines()
+                .filter(|l| l.contains(" status Exported ") && l.contains("look.gltf"))
+                .count()
+        };
+        let t0 = Instant::now();
+        while exported() < 2 {
+            assert!(
+                t0.elapsed() < Duration::from_secs(60),
+                "at {w}×{h}: no second export after Replace"
+            );
+            std::thread::sleep(Duration::from_millis(200));
+        }
     }
 }
 
