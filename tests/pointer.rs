@@ -946,3 +946,51 @@ fn a_reference_photo_is_opened_and_picked_from_with_a_pointer() {
         s.wait_title("unsaved (\"* \")", |t| t.starts_with("* "));
     }
 }
+
+/// File → Import engine file…: an HDRP diffusion profile (its engine
+/// keeps the albedo in the material, and the file has none) typed into
+/// the file dialog opens the material-albedo prompt; its "this colour"
+/// radio button clicked and OK, the look is drawn with the colour shown
+/// beside it, as the status line says.
+#[test]
+fn the_material_albedo_prompt_is_answered_with_a_pointer() {
+    let _one = one_at_a_time();
+    let asset = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/hdrp/Skin Diffusion Profile.asset");
+    for (w, h) in SIZES {
+        let s = Session::start("albedo", w, h);
+        s.menu_item("File", "Import engine file…");
+        let dialog = "📂  Import an engine's file";
+        let field = s.find_in(dialog, "the file name field", |c| c.role == "TextInput");
+        s.click(&field);
+        s.type_into_focused(asset.to_str().unwrap());
+        let typed = s.find("the prompt's 'this colour' radio button", |c| {
+            c.role == "RadioButton" && c.label == "this colour"
+        });
+        assert_eq!(typed.value, "unchecked", "A's albedo is the default");
+        s.click(&typed);
+        s.find("'this colour' checked", |c| {
+            c.role == "RadioButton" && c.label == "this colour" && c.value == "checked"
+        });
+        // The colour beside the radio button, as the prompt shows it.
+        let shown = s.find("the typed colour's numbers", |c| {
+            c.role == "Label" && c.value.matches(" / ").count() == 2 && !c.value.contains('(')
+        });
+        let ok = s.find("the prompt's OK", |c| c.role == "Button" && c.label == "OK");
+        s.click(&ok);
+        let said = s.wait_log("the answer's status line", 30, |l| {
+            l.contains(" status ") && l.contains("(typed at import)")
+        });
+        assert!(
+            said.contains(&format!(
+                "drawn with albedo {}",
+                shown.value.replace(" / ", "/")
+            )),
+            "at {w}×{h}: the prompt showed {} and the editor said: {said}",
+            shown.value
+        );
+        s.gone("the prompt after OK", |c| {
+            c.role == "RadioButton" && c.label == "this colour"
+        });
+    }
+}
