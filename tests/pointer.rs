@@ -994,3 +994,69 @@ fn the_material_albedo_prompt_is_answered_with_a_pointer() {
         });
     }
 }
+
+/// `edit --budget DIR`: the Budget merges window, opened with the report
+/// that `scatterlab budget` wrote for the test project; the first
+/// profile's "A | B" clicked opens that profile as the look (the title
+/// names it) to compare with its merge.
+#[test]
+fn the_budget_merges_window_is_used_with_a_pointer() {
+    let _one = one_at_a_time();
+    let report = std::env::temp_dir().join(format!(
+        "scatterlab-pointer-budget-report-{}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&report);
+    let project = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/unity_budget/project");
+    let made = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(["budget", "--no-renders", "--slots", "4", "--out"])
+        .arg(&report)
+        .arg(&project)
+        .output()
+        .unwrap();
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    for (w, h) in SIZES {
+        let s = Session::start_with(
+            "budget",
+            w,
+            h,
+            &["--procedural-head", "--budget", report.to_str().unwrap()],
+        );
+        let window = "Budget merges";
+        let ab = |c: &Widget| c.role == "Button" && c.label == "A | B";
+        // The topmost "A | B" and the profile named on its row.
+        let first = s.find_in(window, "the first A | B", |c| {
+            ab(c) && c.rect[1] <= 1.0 + s.lowest_y(ab)
+        });
+        let row = (first.rect[1] + first.rect[3]) / 2.0;
+        let name = s
+            .find_in(window, "the first row's profile", |c| {
+                // The row's one word that is not a figure or "—".
+                c.role == "Label"
+                    && ((c.rect[1] + c.rect[3]) / 2.0 - row).abs() < 4.0
+                    && c.value.starts_with(|ch: char| ch.is_alphabetic())
+            })
+            .value;
+        s.click(&first);
+        s.wait_title(&format!("{name}'s"), |t| {
+            t.contains(&format!(" — {name} — "))
+        });
+    }
+    let _ = std::fs::remove_dir_all(&report);
+}
+
+impl Session {
+    /// The top edge of the highest control `pick` chooses in the map now.
+    fn lowest_y(&self, pick: impl Fn(&Widget) -> bool) -> f32 {
+        self.widgets_since(SystemTime::UNIX_EPOCH, true)
+            .unwrap_or_default()
+            .iter()
+            .filter(|c| pick(c))
+            .map(|c| c.rect[1])
+            .fold(f32::INFINITY, f32::min)
+    }
+}
