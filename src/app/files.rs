@@ -298,6 +298,21 @@ impl EditorApp {
         self.say(format!("Exporting {} …", format.id()));
     }
 
+    /// Takes in the analysis thread's result (fits, tables, a slow
+    /// model's curves).
+    pub(super) fn poll_analysis(&mut self) {
+        let Some(taken) = self.profile.take_analysis(&self.doc.preset.profile) else {
+            return;
+        };
+        self.log_line(format_args!("analysis result"));
+        // A panic the thread survived (`Background`): said as a notice as
+        // well as in the plot.
+        if let Err(e) = taken {
+            eprintln!("warning: {e}");
+            self.say(format!("Warning: {e}"));
+        }
+    }
+
     /// Takes in what the background threads finished: the analysis (fits,
     /// tables, a slow model's curves), an environment map, exports.
     pub(super) fn poll_workers(&mut self) {

@@ -420,6 +420,81 @@ impl EditorApp {
     pub fn notices(&self) -> &[String] {
         &self.report.notices
     }
+
+    /// Where the profile plot was drawn (UI tests).
+    pub fn plot_rect(&self) -> Option<egui::Rect> {
+        self.layout.plot_rect
+    }
+
+    /// The latest finished analysis of the look (fits, tables), if any.
+    pub fn latest_analysis(&self) -> Option<&analysis::Analysis> {
+        self.profile.latest.as_ref()
+    }
+
+    /// Whether the plot's radius axis is logarithmic now (set, or
+    /// automatic for these curves).
+    pub fn plot_log_radius(&self) -> bool {
+        self.ui_state
+            .log_radius
+            .unwrap_or_else(|| self.plot_auto_log_radius())
+    }
+
+    /// The automatic radius axis: logarithmic where any curve drawn needs
+    /// it ([`plots::auto_log_radius`]): the look's, the overlay fit's (when its
+    /// numbers are sane enough to draw) and B's (a narrow B or fit is a
+    /// spike at 0 on a linear axis too).
+    fn plot_auto_log_radius(&self) -> bool {
+        let overlay = self
+            .profile
+            .latest
+            .as_ref()
+            .filter(|a| {
+                a.key.profile == self.doc.preset.profile && a.key.overlay == self.ui_state.overlay
+            })
+            .and_then(|a| a.overlay.as_ref());
+        let b_shown = self.ui_state.compare != CompareMode::Off
+            && matches!(self.ui_state.compare_b, CompareB::Preset(_));
+        matches!(&self.profile.curves, Some(Ok(c)) if plots::auto_log_radius(c))
+            || matches!(overlay, Some(Ok(o)) if plots::overlay_is_sane(o) && plots::auto_log_radius(&o.curves))
+            || (b_shown
+                && matches!(
+                    self.profile.b_curves.as_ref().map(|b| &b.1),
+                    Some(Ok((_, c, _))) if plots::auto_log_radius(c)
+                ))
+    }
+
+    /// What the main plot draws now, per channel (for tests).
+    pub fn plot_series(&self) -> Option<[Vec<[f64; 2]>; 3]> {
+        match &self.profile.curves {
+            Some(Ok(c)) => Some(plots::series(
+                c,
+                self.ui_state.plot_quantity,
+                self.ui_state.log_y,
+            )),
+            _ => None,
+        }
+    }
+
+    /// Whether the background analysis (fits, taps, tables) is current.
+    pub fn analysis_done(&self) -> bool {
+        !self.profile.analysis.busy()
+            && self
+                .profile
+                .latest
+                .as_ref()
+                .is_some_and(|a| a.key == self.analysis_key())
+    }
+
+    /// Whether the analysis thread is working.
+    pub(super) fn analysis_busy(&self) -> bool {
+        self.profile.analysis.busy()
+    }
+
+    /// Makes the next analysis panic (tests of the recovery).
+    #[doc(hidden)]
+    pub fn inject_analysis_panic(&self) {
+        self.profile.analysis.inject_panic();
+    }
 }
 
 /// Seconds since the Unix epoch (the frame log's clock, which
