@@ -72,6 +72,7 @@ impl EditorApp {
                 Action::SetMeshSettings(mesh, settings) => {
                     self.ui_state.meshes.insert(mesh, settings);
                 }
+                Action::SetLook(p) => self.doc.replace(*p),
                 Action::ComparePair([a, b]) => {
                     self.guarded(Pending::Open(a));
                     self.ui_state.compare_b = state::CompareB::Preset(b);

@@ -44,6 +44,12 @@ impl EditorApp {
         }
     }
 
+    /// What B's albedo is resolved with besides the editor's choices:
+    /// look A's albedo and the mesh's colour map's mean.
+    pub(super) fn b_albedo_inputs(&self) -> (Rgb, Option<[f32; 3]>) {
+        (self.a_albedo(), self.meshes.colour_map_mean())
+    }
+
     /// B as drawn ([`b_as_drawn`]) with the editor's choices.
     pub(super) fn b_drawn(&self, b: Preset) -> (Preset, MapColour, Option<String>) {
         b_as_drawn(

@@ -355,9 +355,14 @@ impl EditorApp {
             .show(ui, |ui| {
                 // Vertical only: the plot takes the panel's width (its rows
                 // wrap rather than widen it).
-                egui::ScrollArea::vertical().show(ui, |ui| plots::plots_panel_ui(ui, self));
+                egui::ScrollArea::vertical()
+                    .show(ui, |ui| self.plots_panel().ui(ui))
+                    .inner
             });
         self.layout.panel_rects[1] = Some(plots.response.rect);
+        let (plot_rect, asked) = plots.inner;
+        self.layout.plot_rect = plot_rect;
+        self.apply(asked);
         let ui_ms = t0.elapsed().as_secs_f64() * 1e3;
         egui::CentralPanel::default()
             .frame(bare(egui::Frame::central_panel(&style)))
@@ -387,6 +392,21 @@ impl EditorApp {
         let has_frame = self.viewport().has_frame();
         self.report
             .end_frame(&ctx, (self.doc.title(), drawn), ui_ms, has_frame);
+    }
+
+    /// The right panel over the look, the plot's settings and the
+    /// analysis, with what B is drawn with.
+    fn plots_panel(&mut self) -> plots::PlotsPanel<'_> {
+        let (a_albedo, colour_map_mean) = self.b_albedo_inputs();
+        let auto_log_radius = self.plot_auto_log_radius();
+        plots::PlotsPanel {
+            doc: &self.doc,
+            ui_state: &mut self.ui_state,
+            profile: &mut self.profile,
+            a_albedo,
+            colour_map_mean,
+            auto_log_radius,
+        }
     }
 
     /// What the panels drawn first (menu, status bar, the look's fields)

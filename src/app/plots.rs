@@ -3,8 +3,10 @@
 //! pre-integrated table and the transmittance strip.
 
 use super::analysis::Curves;
+use super::parts::ProfileState;
 use super::state::{CompareB, CompareMode, OverlayModel, PlotQuantity};
-use super::EditorApp;
+use super::state::{Document, UiState};
+use super::windows::Action;
 use egui::Color32;
 use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
 
@@ -191,64 +193,226 @@ pub fn overlay_is_sane(o: &super::analysis::Overlay) -> bool {
     (0..3).all(|c| o.error[c] < 1.0 && o.energy_change[c].abs() < 1.0)
 }
 
-pub fn plots_panel_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
-    let chosen = app.ui_state.overlay;
-    let overlay = app
-        .profile
-        .latest
-        .as_ref()
-        .filter(|a| a.key.profile == app.doc.preset.profile && a.key.overlay == chosen)
-        .and_then(|a| a.overlay.clone());
-    let auto = app.plot_auto_log_radius();
-    controls_ui(ui, &mut app.ui_state, auto);
-    let s = &app.ui_state;
-    let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
-    let log_r = s.log_radius.unwrap_or(auto);
-    let unit = match q {
-        PlotQuantity::R => "1/mm²",
-        PlotQuantity::RTimesR => "1/mm",
-    };
-    let apply = overlay_status_ui(ui, &overlay, s.overlay);
-    // An overlay whose numbers are not sane is named above, not drawn.
-    let overlay = overlay.filter(|o| o.as_ref().map_or(true, overlay_is_sane));
-    let b_series = compared_preset_series(ui, app, q, log);
-    let plot_rect = match &app.profile.curves {
-        Some(Ok(curves)) => Some(profile_plot_ui(
-            ui,
-            app,
-            curves,
-            (&overlay, &b_series),
-            (q, log, show_taps, unit),
-            log_r,
-        )),
-        Some(Err(e)) => {
-            ui.colored_label(ui.visuals().error_fg_color, e);
-            None
+/// The right panel: the plot's controls, the profile plot with the fit
+/// and B, and the table previews. It writes only the plot's settings and
+/// its own caches; a change of the look ("Use fit") is an [`Action`].
+pub(super) struct PlotsPanel<'a> {
+    /// The look (read).
+    pub(super) doc: &'a Document,
+    /// The plot's settings (its controls write them) and B's choices.
+    pub(super) ui_state: &'a mut UiState,
+    /// The analysis and the panel's caches (B's curves, the previews).
+    pub(super) profile: &'a mut ProfileState,
+    /// Look A's albedo ([`EditorApp::a_albedo`]), for B as drawn.
+    pub(super) a_albedo: crate::model::Rgb,
+    /// The loaded mesh's colour map's mean, if any.
+    pub(super) colour_map_mean: Option<[f32; 3]>,
+    /// The radius axis is logarithmic when automatic.
+    pub(super) auto_log_radius: bool,
+}
+
+impl PlotsPanel<'_> {
+    /// Draws the panel; where the plot went, and what it asks.
+    pub(super) fn ui(mut self, ui: &mut egui::Ui) -> (Option<egui::Rect>, Vec<Action>) {
+        let chosen = self.ui_state.overlay;
+        let overlay = self
+            .profile
+            .latest
+            .as_ref()
+            .filter(|a| a.key.profile == self.doc.preset.profile && a.key.overlay == chosen)
+            .and_then(|a| a.overlay.clone());
+        let auto = self.auto_log_radius;
+        controls_ui(ui, self.ui_state, auto);
+        let s = &self.ui_state;
+        let (q, log, show_taps) = (s.plot_quantity, s.log_y, s.show_taps);
+        let log_r = s.log_radius.unwrap_or(auto);
+        let unit = match q {
+            PlotQuantity::R => "1/mm²",
+            PlotQuantity::RTimesR => "1/mm",
+        };
+        let apply = overlay_status_ui(ui, &overlay, s.overlay);
+        // An overlay whose numbers are not sane is named above, not drawn.
+        let overlay = overlay.filter(|o| o.as_ref().map_or(true, overlay_is_sane));
+        let b_series = self.compared_preset_series(ui, q, log);
+        let plot_rect = match &self.profile.curves {
+            Some(Ok(curves)) => Some(profile_plot_ui(
+                ui,
+                &self.taps(),
+                curves,
+                (&overlay, &b_series),
+                (q, log, show_taps, unit),
+                log_r,
+            )),
+            Some(Err(e)) => {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+                None
+            }
+            None => {
+                ui.horizontal(|ui| {
+                    super::report::spinner(ui);
+                    ui.label("computing the layered profile …");
+                });
+                None
+            }
+        };
+        let mut actions = Vec::new();
+        if let Some((spec, what)) = apply {
+            let mut p = self.doc.preset.clone();
+            // The description follows the model: what the look is now, and
+            // what it was fitted to.
+            p.description = format!(
+                "{what} of \"{}\". Before the fit: {}",
+                p.name, p.description
+            )
+            .trim()
+            .to_owned();
+            p.profile = spec;
+            actions.push(Action::SetLook(Box::new(p)));
         }
-        None => {
+        ui.separator();
+        self.previews_ui(ui);
+        (plot_rect, actions)
+    }
+
+    /// The separable taps of the look's latest analysis, if it is of the
+    /// look now.
+    fn taps(&self) -> Vec<crate::model::separable::Tap> {
+        self.profile
+            .latest
+            .as_ref()
+            .filter(|a| a.key.profile == self.doc.preset.profile)
+            .map(|a| a.taps.clone())
+            .unwrap_or_default()
+    }
+
+    /// B's curves when B is a preset file (dotted on the plot), cached by its
+    /// file and the plot range; a warning where it cannot be overlaid.
+    fn compared_preset_series(
+        &mut self,
+        ui: &mut egui::Ui,
+        q: PlotQuantity,
+        log: bool,
+    ) -> Option<NamedSeries> {
+        match (
+            &self.ui_state.compare,
+            &self.ui_state.compare_b,
+            &self.profile.curves,
+        ) {
+            (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
+            (_, CompareB::Preset(path), Some(Ok(curves))) => {
+                let r_max = curves.radius_mm.last().copied();
+                let a_spec = &self.doc.preset.profile;
+                // B's material albedo (`albedo.rs`) is part of what it draws.
+                let key = (
+                    path.clone(),
+                    r_max.map(f64::to_bits),
+                    format!(
+                        "{a_spec:?} {:?} {:?}",
+                        self.ui_state.b_material_albedo, self.colour_map_mean
+                    ),
+                );
+                if self.profile.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
+                    let loaded = super::viewport::load_look(path).and_then(|p| {
+                        let (p, _, albedo) = crate::settings::albedo::b_as_drawn(
+                            p,
+                            self.a_albedo,
+                            self.ui_state.b_material_albedo,
+                            self.ui_state.map_colour,
+                            self.colour_map_mean,
+                        );
+                        let name = match albedo {
+                            Some(a) => format!("{} ({a} albedo)", p.name),
+                            None => p.name.clone(),
+                        };
+                        if super::analysis::is_slow(&p.profile) || super::analysis::is_slow(a_spec)
+                        {
+                            return Err("layered stacks are not overlaid".into());
+                        }
+                        let m = p.profile.build().map_err(|e| e.to_string())?;
+                        let a = a_spec.build().map_err(|e| e.to_string())?;
+                        // How far B's r·R(r) is from A's, to A's 99.7 % radius.
+                        let reach = a.radius_for_energy(0.997);
+                        let d = crate::model::relative_l2_rr(a.as_ref(), m.as_ref(), reach);
+                        Ok((name, Curves::of(m.as_ref(), r_max), d))
+                    });
+                    self.profile.b_curves = Some((key, loaded));
+                }
+                match self.profile.b_curves.as_ref().map(|b| &b.1) {
+                    Some(Ok((name, c, _))) => Some((format!("B: {name}"), series(c, q, log))),
+                    Some(Err(e)) => {
+                        ui.colored_label(ui.visuals().warn_fg_color, format!("B overlay: {e}"));
+                        None
+                    }
+                    None => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// The pre-integrated table and the transmittance strip of the last
+    /// analysis (uploaded once per result).
+    fn previews_ui(&mut self, ui: &mut egui::Ui) {
+        // Borrowed, not cloned per frame: only `preview_textures` changes below.
+        let Some(a) = self
+            .profile
+            .latest
+            .as_ref()
+            .filter(|a| a.key.profile == self.doc.preset.profile)
+        else {
             ui.horizontal(|ui| {
                 super::report::spinner(ui);
-                ui.label("computing the layered profile …");
+                ui.label("baking tables …");
             });
-            None
+            return;
+        };
+        ui.label("Pre-integrated table D(N·L, 1/r)")
+            .on_hover_text("Penner 2011: x = N·L from −1 to 1, y = curvature 1/r from 1/100 to 1/1 mm⁻¹ (top to bottom). Linear D shown in sRGB.");
+        // Uploaded once per analysis result, not per frame.
+        if self.profile.preview_textures.as_ref().map(|t| &t.0) != Some(&a.key) {
+            let n = a.lut_size;
+            let rgba: Vec<u8> = a
+                .lut_preview
+                .iter()
+                .flat_map(|p| [p[0], p[1], p[2], 255])
+                .collect();
+            let lut = (a.lut_preview.len() == n * n).then(|| {
+                let img = egui::ColorImage::from_rgba_unmultiplied([n, n], &rgba);
+                ui.ctx()
+                    .load_texture("lut_preview", img, egui::TextureOptions::NEAREST)
+            });
+            let strip: Vec<u8> = a
+                .transmittance
+                .iter()
+                .flat_map(|t| {
+                    let c = t.map(super::analysis::linear_to_srgb8);
+                    [c[0], c[1], c[2], 255]
+                })
+                .collect();
+            let img = egui::ColorImage::from_rgba_unmultiplied([a.transmittance.len(), 1], &strip);
+            let strip = ui
+                .ctx()
+                .load_texture("transmittance", img, egui::TextureOptions::LINEAR);
+            self.profile.preview_textures = Some((a.key.clone(), lut, strip));
         }
-    };
-    app.layout.plot_rect = plot_rect;
-    if let Some((spec, what)) = apply {
-        let mut p = app.doc.preset.clone();
-        // The description follows the model: what the look is now, and
-        // what it was fitted to.
-        p.description = format!(
-            "{what} of \"{}\". Before the fit: {}",
-            p.name, p.description
-        )
-        .trim()
-        .to_owned();
-        p.profile = spec;
-        app.doc.replace(p);
+        let Some((_, lut, strip)) = &self.profile.preview_textures else {
+            return;
+        };
+        if let Some(lut) = lut {
+            ui.image((lut.id(), egui::vec2(192.0, 192.0)));
+        }
+        // Seconds to one decimal: a width that does not change with load (the
+        // panels snapshot failed once when the bake passed 1000 ms).
+        ui.small(format!("background bake {:.1} s", a.seconds));
+        ui.label(format!(
+            "Transmittance T(d), d = 0 … {:.1} mm",
+            a.key.thickness_max_mm
+        ))
+        .on_hover_text(
+            "Light through a slab of thickness d (left thin, right thick), shown in sRGB.",
+        );
+        ui.image((strip.id(), egui::vec2(384.0, 24.0)));
     }
-    ui.separator();
-    previews_ui(ui, app);
 }
 
 /// The plot's controls: r·R(r) or R(r), log, taps, the fitted overlay.
@@ -376,65 +540,6 @@ fn overlay_status_ui(
     apply
 }
 
-/// B's curves when B is a preset file (dotted on the plot), cached by its
-/// file and the plot range; a warning where it cannot be overlaid.
-fn compared_preset_series(
-    ui: &mut egui::Ui,
-    app: &mut EditorApp,
-    q: PlotQuantity,
-    log: bool,
-) -> Option<NamedSeries> {
-    match (
-        &app.ui_state.compare,
-        &app.ui_state.compare_b,
-        &app.profile.curves,
-    ) {
-        (CompareMode::Off, ..) | (_, CompareB::Method(_), _) => None,
-        (_, CompareB::Preset(path), Some(Ok(curves))) => {
-            let r_max = curves.radius_mm.last().copied();
-            let a_spec = &app.doc.preset.profile;
-            // B's material albedo (`albedo.rs`) is part of what it draws.
-            let key = (
-                path.clone(),
-                r_max.map(f64::to_bits),
-                format!(
-                    "{a_spec:?} {:?} {:?}",
-                    app.ui_state.b_material_albedo,
-                    app.meshes.colour_map_mean()
-                ),
-            );
-            if app.profile.b_curves.as_ref().map(|b| &b.0) != Some(&key) {
-                let loaded = super::viewport::load_look(path).and_then(|p| {
-                    let (p, _, albedo) = app.b_drawn(p);
-                    let name = match albedo {
-                        Some(a) => format!("{} ({a} albedo)", p.name),
-                        None => p.name.clone(),
-                    };
-                    if super::analysis::is_slow(&p.profile) || super::analysis::is_slow(a_spec) {
-                        return Err("layered stacks are not overlaid".into());
-                    }
-                    let m = p.profile.build().map_err(|e| e.to_string())?;
-                    let a = a_spec.build().map_err(|e| e.to_string())?;
-                    // How far B's r·R(r) is from A's, to A's 99.7 % radius.
-                    let reach = a.radius_for_energy(0.997);
-                    let d = crate::model::relative_l2_rr(a.as_ref(), m.as_ref(), reach);
-                    Ok((name, Curves::of(m.as_ref(), r_max), d))
-                });
-                app.profile.b_curves = Some((key, loaded));
-            }
-            match app.profile.b_curves.as_ref().map(|b| &b.1) {
-                Some(Ok((name, c, _))) => Some((format!("B: {name}"), series(c, q, log))),
-                Some(Err(e)) => {
-                    ui.colored_label(ui.visuals().warn_fg_color, format!("B overlay: {e}"));
-                    None
-                }
-                None => None,
-            }
-        }
-        _ => None,
-    }
-}
-
 /// The profile plot with its 99.7 % radii, the overlay, B and the taps,
 /// the legend under it and the totals; returns where the plot went.
 /// A radius axis mark in mm: on a log axis the mark is log10(r).
@@ -452,7 +557,7 @@ fn radius_mark(value: f64, log_r: bool) -> String {
 
 fn profile_plot_ui(
     ui: &mut egui::Ui,
-    app: &EditorApp,
+    taps: &[crate::model::separable::Tap],
     curves: &Curves,
     (overlay, b_series): (&FitOverlay, &Option<NamedSeries>),
     (q, log, show_taps, unit): (PlotQuantity, bool, bool, &str),
@@ -462,13 +567,6 @@ fn profile_plot_ui(
     let x = |pts: &[[f64; 2]]| if log_r { log_radius(pts) } else { pts.to_vec() };
     let xr = |r: f64| if log_r { r.max(1e-12).log10() } else { r };
     let lines = series(curves, q, log).map(|s| x(&s));
-    let taps = app
-        .profile
-        .latest
-        .as_ref()
-        .filter(|a| a.key.profile == app.doc.preset.profile)
-        .map(|a| a.taps.clone())
-        .unwrap_or_default();
     let r997 = curves.radius_997_mm;
     let plot = Plot::new("profile_plot")
         .height(280.0)
@@ -518,7 +616,7 @@ fn profile_plot_ui(
             }
             if show_taps && !log && !taps.is_empty() {
                 let peak = lines.iter().flatten().map(|p| p[1]).fold(0.0, f64::max);
-                for (c, pts) in scaled_taps(&taps, peak).iter().enumerate() {
+                for (c, pts) in scaled_taps(taps, peak).iter().enumerate() {
                     plot.points(
                         Points::new("separable taps (scaled)", PlotPoints::from(x(pts)))
                             .stems(0.0)
@@ -568,68 +666,6 @@ fn legend_ui(ui: &mut egui::Ui, overlay: &FitOverlay, b_series: &Option<NamedSer
             legend_entry_ui(ui, Color32::GRAY, Stroke::Stem, "separable taps (scaled)");
         }
     });
-}
-
-/// The pre-integrated table and the transmittance strip of the last
-/// analysis (uploaded once per result).
-fn previews_ui(ui: &mut egui::Ui, app: &mut EditorApp) {
-    // Borrowed, not cloned per frame: only `preview_textures` changes below.
-    let Some(a) = app
-        .profile
-        .latest
-        .as_ref()
-        .filter(|a| a.key.profile == app.doc.preset.profile)
-    else {
-        ui.horizontal(|ui| {
-            super::report::spinner(ui);
-            ui.label("baking tables …");
-        });
-        return;
-    };
-    ui.label("Pre-integrated table D(N·L, 1/r)")
-        .on_hover_text("Penner 2011: x = N·L from −1 to 1, y = curvature 1/r from 1/100 to 1/1 mm⁻¹ (top to bottom). Linear D shown in sRGB.");
-    // Uploaded once per analysis result, not per frame.
-    if app.profile.preview_textures.as_ref().map(|t| &t.0) != Some(&a.key) {
-        let n = a.lut_size;
-        let rgba: Vec<u8> = a
-            .lut_preview
-            .iter()
-            .flat_map(|p| [p[0], p[1], p[2], 255])
-            .collect();
-        let lut = (a.lut_preview.len() == n * n).then(|| {
-            let img = egui::ColorImage::from_rgba_unmultiplied([n, n], &rgba);
-            ui.ctx()
-                .load_texture("lut_preview", img, egui::TextureOptions::NEAREST)
-        });
-        let strip: Vec<u8> = a
-            .transmittance
-            .iter()
-            .flat_map(|t| {
-                let c = t.map(super::analysis::linear_to_srgb8);
-                [c[0], c[1], c[2], 255]
-            })
-            .collect();
-        let img = egui::ColorImage::from_rgba_unmultiplied([a.transmittance.len(), 1], &strip);
-        let strip = ui
-            .ctx()
-            .load_texture("transmittance", img, egui::TextureOptions::LINEAR);
-        app.profile.preview_textures = Some((a.key.clone(), lut, strip));
-    }
-    let Some((_, lut, strip)) = &app.profile.preview_textures else {
-        return;
-    };
-    if let Some(lut) = lut {
-        ui.image((lut.id(), egui::vec2(192.0, 192.0)));
-    }
-    // Seconds to one decimal: a width that does not change with load (the
-    // panels snapshot failed once when the bake passed 1000 ms).
-    ui.small(format!("background bake {:.1} s", a.seconds));
-    ui.label(format!(
-        "Transmittance T(d), d = 0 … {:.1} mm",
-        a.key.thickness_max_mm
-    ))
-    .on_hover_text("Light through a slab of thickness d (left thin, right thick), shown in sRGB.");
-    ui.image((strip.id(), egui::vec2(384.0, 24.0)));
 }
 
 #[cfg(test)]

@@ -49,6 +49,8 @@ pub enum Action {
     /// Starts a new look from this one (asking first about unsaved
     /// changes).
     NewLook(Box<crate::settings::Preset>),
+    /// The look as an edit left it, one undo step (a fit applied).
+    SetLook(Box<crate::settings::Preset>),
     /// A mesh's units and maps as a window left them (remembered for the
     /// file; the mesh reloads with them).
     SetMeshSettings(PathBuf, state::MeshSettings),
