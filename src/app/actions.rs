@@ -73,6 +73,7 @@ impl EditorApp {
                     self.ui_state.meshes.insert(mesh, settings);
                 }
                 Action::SetLook(p) => self.doc.replace(*p),
+                Action::EditLook(p) => self.doc.preset = *p,
                 Action::ComparePair([a, b]) => {
                     self.guarded(Pending::Open(a));
                     self.ui_state.compare_b = state::CompareB::Preset(b);

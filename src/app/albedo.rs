@@ -18,10 +18,8 @@
 use super::windows::albedo::{AlbedoPrompt, PromptFor};
 use super::EditorApp;
 use crate::model::Rgb;
-use crate::settings::albedo::{
-    b_as_drawn, look_albedo, resolve, set_albedo, MapColour, MaterialAlbedo,
-};
-use crate::settings::{Preset, ProfileSpec};
+use crate::settings::albedo::{b_as_drawn, resolve, set_albedo, MapColour, MaterialAlbedo};
+use crate::settings::Preset;
 
 impl EditorApp {
     /// Look A's albedo without building a slow model each frame: Burley's
@@ -30,24 +28,12 @@ impl EditorApp {
     /// colour draw the default skin's, as `look_albedo` says), else
     /// [`look_albedo`] where the model is quick to build.
     pub(super) fn a_albedo(&self) -> Rgb {
-        let p = &self.doc.preset;
-        if matches!(
-            p.profile,
-            ProfileSpec::Burley(_) | ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)
-        ) || !super::analysis::is_slow(&p.profile)
-        {
-            return look_albedo(p);
-        }
-        match (&self.profile.curves, &self.profile.curves_for) {
-            (Some(Ok(c)), Some(spec)) if *spec == p.profile => c.total.map(|t| t.clamp(0.0, 1.0)),
-            _ => crate::settings::albedo::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
-        }
+        self.profile.a_albedo(&self.doc.preset)
     }
 
-    /// What B's albedo is resolved with besides the editor's choices:
-    /// look A's albedo and the mesh's colour map's mean.
-    pub(super) fn b_albedo_inputs(&self) -> (Rgb, Option<[f32; 3]>) {
-        (self.a_albedo(), self.meshes.colour_map_mean())
+    /// The loaded mesh's colour map's mean colour, if it has one.
+    pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
+        self.meshes.colour_map_mean()
     }
 
     /// B as drawn ([`b_as_drawn`]) with the editor's choices.
@@ -196,36 +182,5 @@ impl EditorApp {
         if let Some(p) = self.windows.albedo.prompt.as_mut() {
             p.choice = MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
         }
-    }
-
-    /// Under the look's parameters, with a colour map on the mesh: that
-    /// the map sets the surface colour, and the choice of the map tinted
-    /// by the look's albedo or the look's albedo alone.
-    pub(super) fn map_colour_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(mean) = self.meshes.colour_map_mean() else {
-            return;
-        };
-        let mc = &mut self.ui_state.map_colour;
-        if *mc == MapColour::Map {
-            ui.colored_label(
-                ui.visuals().warn_fg_color,
-                "The mesh's colour map sets the surface colour: the Albedo above changes the profile's shape, not the head's colour.",
-            );
-        }
-        ui.horizontal(|ui| {
-            ui.label("Surface colour");
-            egui::ComboBox::from_id_salt("map_colour")
-                .selected_text(mc.label())
-                .show_ui(ui, |ui| {
-                    for m in MapColour::ALL {
-                        ui.selectable_value(mc, m, m.label());
-                    }
-                })
-                .response
-                .on_hover_text(format!(
-                    "The map's colour: as engines draw a material whose base colour is the map. Tinted: the map's detail with its mean (linear {:.3} / {:.3} / {:.3}) scaled to the look's albedo, albedo = A · map / mean, so that looks compared on a scan differ as their albedos do. The look's albedo: the map's colour not used.",
-                    mean[0], mean[1], mean[2]
-                ));
-        });
     }
 }

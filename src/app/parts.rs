@@ -195,6 +195,26 @@ impl MeshState {
 }
 
 impl ProfileState {
+    /// Look A's (`p`'s) albedo without building a slow model each frame:
+    /// Burley's A, else the total reflectance of the curves the analysis
+    /// thread computed for the look (clamped to [0, 1]; the kernels without
+    /// a colour draw the default skin's, as `look_albedo` says), else
+    /// `look_albedo` where the model is quick to build.
+    pub(super) fn a_albedo(&self, p: &Preset) -> crate::model::Rgb {
+        use crate::settings::ProfileSpec;
+        if matches!(
+            p.profile,
+            ProfileSpec::Burley(_) | ProfileSpec::Jimenez2012(_) | ProfileSpec::Artist(_)
+        ) || !analysis::is_slow(&p.profile)
+        {
+            return crate::settings::albedo::look_albedo(p);
+        }
+        match (&self.curves, &self.curves_for) {
+            (Some(Ok(c)), Some(spec)) if *spec == p.profile => c.total.map(|t| t.clamp(0.0, 1.0)),
+            _ => crate::settings::albedo::KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
+        }
+    }
+
     /// Takes in the analysis thread's result, if one came: the latest
     /// analysis, and a slow model's curves or the error when it is of
     /// `current` (the look's profile now). `Err`: the thread survived a

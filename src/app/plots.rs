@@ -203,8 +203,6 @@ pub(super) struct PlotsPanel<'a> {
     pub(super) ui_state: &'a mut UiState,
     /// The analysis and the panel's caches (B's curves, the previews).
     pub(super) profile: &'a mut ProfileState,
-    /// Look A's albedo ([`EditorApp::a_albedo`]), for B as drawn.
-    pub(super) a_albedo: crate::model::Rgb,
     /// The loaded mesh's colour map's mean, if any.
     pub(super) colour_map_mean: Option<[f32; 3]>,
     /// The radius axis is logarithmic when automatic.
@@ -315,7 +313,7 @@ impl PlotsPanel<'_> {
                     let loaded = super::viewport::load_look(path).and_then(|p| {
                         let (p, _, albedo) = crate::settings::albedo::b_as_drawn(
                             p,
-                            self.a_albedo,
+                            self.profile.a_albedo(&self.doc.preset),
                             self.ui_state.b_material_albedo,
                             self.ui_state.map_colour,
                             self.colour_map_mean,

@@ -51,6 +51,9 @@ pub enum Action {
     NewLook(Box<crate::settings::Preset>),
     /// The look as an edit left it, one undo step (a fit applied).
     SetLook(Box<crate::settings::Preset>),
+    /// The look as a control being used left it: the undo step is
+    /// committed when the gesture ends (no button held, no field typed in).
+    EditLook(Box<crate::settings::Preset>),
     /// A mesh's units and maps as a window left them (remembered for the
     /// file; the mesh reloads with them).
     SetMeshSettings(PathBuf, state::MeshSettings),
