@@ -964,7 +964,8 @@ fn a_reference_photo_is_opened_and_picked_from_with_a_pointer() {
 /// keeps the albedo in the material, and the file has none) typed into
 /// the file dialog opens the material-albedo prompt; its "this colour"
 /// radio button clicked and OK, the look is drawn with the colour shown
-/// beside it, as the status line says.
+/// beside it, as the status line says: the look open before's albedo,
+/// Unreal's default SurfaceAlbedo.
 #[test]
 fn the_material_albedo_prompt_is_answered_with_a_pointer() {
     let _one = one_at_a_time();
@@ -1001,6 +1002,13 @@ fn the_material_albedo_prompt_is_answered_with_a_pointer() {
             )),
             "at {w}×{h}: the prompt showed {} and the editor said: {said}",
             shown.value
+        );
+        // The colour offered is the look open before: the default skin's
+        // albedo, Unreal Engine's default SurfaceAlbedo (0.91058, 0.338275,
+        // 0.2718; presets/skin_default.ron cites it), to three places.
+        assert!(
+            said.contains("drawn with albedo 0.911/0.338/0.272"),
+            "at {w}×{h}: not Unreal's default SurfaceAlbedo: {said}"
         );
         s.gone("the prompt after OK", |c| {
             c.role == "RadioButton" && c.label == "this colour"
