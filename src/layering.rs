@@ -600,6 +600,58 @@ fn no_app_file_reaches_into_more_than_three_parts() {
     assert!(parts_reached("self.viewport_rect(); self.views", &parts).is_empty());
 }
 
+/// The files that extend `EditorApp` (`impl EditorApp` or
+/// `impl super::EditorApp`), sorted.
+fn editor_app_files(sources: &[(PathBuf, String)]) -> Vec<String> {
+    let mut files: Vec<String> = sources
+        .iter()
+        .filter(|(_, code)| {
+            code.lines().any(|l| {
+                let l = l.trim_start();
+                l.starts_with("impl ") && {
+                    let ty = l["impl ".len()..].trim_start_matches("super::");
+                    ty.starts_with("EditorApp ") || ty.starts_with("EditorApp<")
+                }
+            })
+        })
+        .map(|(p, _)| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    files
+}
+
+/// ARCHITECTURE.md, "The editor": `EditorApp` is extended in at most four
+/// files (issue 51): its state, start and frame (`mod.rs`), what the
+/// panels are lent and what they return applied (`actions.rs`), the
+/// look's files (`files.rs`) and the dialogs and keys (`dialogs.rs`);
+/// everything else is a part, a panel or a window with methods of its own.
+#[test]
+fn editor_app_is_extended_in_at_most_four_files() {
+    let root = source_root();
+    let files = editor_app_files(&sources("app"));
+    eprintln!("impl EditorApp in {files:?}");
+    assert!(
+        files.len() <= 4,
+        "impl EditorApp in {} files: {files:?}",
+        files.len()
+    );
+    assert!(
+        files.contains(&"mod.rs".to_string()),
+        "{}: {files:?}",
+        root.display()
+    );
+    // The check can fail: both spellings are seen, a panel's impl is not.
+    let seen = editor_app_files(&[
+        ("a.rs".into(), "impl EditorApp {\n}".into()),
+        ("b.rs".into(), "  impl super::EditorApp {}".into()),
+        (
+            "c.rs".into(),
+            "impl ViewportPanel<'_> {}\nimpl EditorAppView {}".into(),
+        ),
+    ]);
+    assert_eq!(seen, ["a.rs", "b.rs"]);
+}
+
 /// The graph sees what it must: a known circle written out is found, as
 /// is an upward import, a re-export followed to where the item is, and
 /// an ancestor's item is no edge.

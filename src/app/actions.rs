@@ -1,6 +1,8 @@
-//! `EditorApp::apply`: every [`Action`] a window, toolbar or menu returns
-//! is performed here, in one place (issue 51), so that no window writes
-//! the document or another window's state.
+//! `EditorApp::apply`: every [`Action`] a window, toolbar, panel or key
+//! returns is performed here, in one place (issue 51), so that no window
+//! writes the document or another window's state; and what the menu bar,
+//! the toolbars, the viewport panel and the windows are lent to draw, with
+//! what they return applied (a loaded mesh framed, B as it is drawn).
 
 use super::windows::reference::PickInto;
 use super::windows::Action;
@@ -79,6 +81,23 @@ impl EditorApp {
                     self.ui_state.compare_b = state::CompareB::Preset(b);
                     self.ui_state.compare = state::CompareMode::SideBySide;
                 }
+                Action::Import(path) => self.import_now(&path),
+                Action::LoadMesh(path) => self.load_mesh(Some(path)),
+                Action::ToggleWindow(title) => {
+                    if !self.windows.close(title) {
+                        self.windows.open(title);
+                    }
+                }
+                Action::FrameMesh => {
+                    let o = &mut self.ui_state.view.orbit;
+                    o.camera_distance_m = self.meshes.framing_distance_m();
+                    o.camera_pan_m = crate::settings::OrbitView::default().camera_pan_m;
+                    self.say("Framed the mesh (F)");
+                }
+                Action::ToggleBefore => self.view.show_before = !self.view.show_before,
+                Action::SetAb(ab) => self.view.ab = ab,
+                Action::Log(line) => self.log_line(format_args!("{line}")),
+                Action::MeshLoaded(p, info) => self.mesh_loaded(p, info),
                 Action::PickColour(rgb, into) => {
                     let said = match self.pick_colour(rgb, into) {
                         Ok(s) => {
@@ -91,6 +110,166 @@ impl EditorApp {
                 }
             }
         }
+    }
+
+    /// The menu bar ([`menus::MenuBar`]).
+    pub(super) fn menu_bar_ui(&mut self, ui: &mut egui::Ui) {
+        use windows::Menu;
+        let bar = menus::MenuBar {
+            name: self.doc.preset.name.clone(),
+            dirty: self.doc.is_dirty(),
+            can_undo: self.doc.can_undo(),
+            can_redo: self.doc.can_redo(),
+            recent: self.ui_state.recent.clone(),
+            presets_items: self.windows.items(Menu::FilePresets),
+            images_items: self.windows.items(Menu::FileImages),
+            view_items: self.windows.items(Menu::View),
+            help_items: self.windows.items(Menu::Help),
+            ui_scale: self.ui_state.ui_scale,
+            light_theme: self.ui_state.light_theme,
+            start_on_scan: self.ui_state.start_on_scan,
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
+    }
+
+    /// The viewport's panel: its two toolbars, then the viewport
+    /// ([`viewport_ui::ViewportPanel`]); what each asks is applied before
+    /// the next is drawn, as a click in a toolbar changes what the
+    /// viewport asks of the render thread in the same frame.
+    pub(super) fn viewport_panel_ui(&mut self, ui: &mut egui::Ui) {
+        self.compare_toolbar_ui(ui);
+        self.view_toolbar_ui(ui);
+        let panel = viewport_ui::ViewportPanel {
+            camera: self.ui_state.view,
+            a_albedo: self.a_albedo(),
+            valid: self.doc.preset.rendering.validate().is_ok() && !self.curves_failed(),
+            status: self.status().to_owned(),
+            names: self.side_names(),
+            view: &mut self.view,
+            ui_state: &self.ui_state,
+            doc: &self.doc,
+            meshes: &self.meshes,
+            layout: &mut self.layout,
+            reference: &self.windows.reference,
+            actions: Vec::new(),
+        };
+        let actions = panel.show(ui);
+        self.apply(actions);
+    }
+
+    /// The render thread's replies that have arrived, handled before the
+    /// panels are drawn so that the status bar shows them in the same UI
+    /// frame. Polled only in the viewport's panel, after the status bar,
+    /// each reply changed what the bar had drawn and the frame was drawn
+    /// again: two UI frames a viewport frame, each costing lavapipe
+    /// 10–20 ms of CPU beside the render thread's.
+    pub(super) fn poll_viewport(&mut self, ctx: &egui::Context) {
+        let replies = self.view.viewport.as_mut().map(|vp| vp.poll());
+        for reply in replies.unwrap_or_default() {
+            let actions = self.view.receive(ctx, reply);
+            self.apply(actions);
+        }
+    }
+
+    /// The compare toolbar ([`toolbars::CompareBar`]).
+    pub(super) fn compare_toolbar_ui(&mut self, ui: &mut egui::Ui) {
+        let b_file = match &self.view.b_look {
+            Some((_, _, Ok(b))) if matches!(self.ui_state.compare_b, CompareB::Preset(_)) => {
+                Some(b)
+            }
+            _ => None,
+        };
+        let readout = match (&self.ui_state.compare_b, self.b_difference()) {
+            (CompareB::Preset(_), Some(d)) => Some(toolbars::BReadout {
+                difference: d,
+                albedo_note: self.b_albedo_note(),
+                others: b_file.map_or_else(Vec::new, |b| {
+                    crate::settings::albedo::differing_fields(&self.doc.preset, b)
+                }),
+            }),
+            _ => None,
+        };
+        let u = &self.ui_state;
+        let bar = toolbars::CompareBar {
+            settings: compare::CompareSettings {
+                mode: u.compare,
+                b: u.compare_b.clone(),
+                ab: self.view.ab,
+                show_before: self.view.show_before,
+                difference_scale: u.difference_scale,
+                difference_auto: u.difference_auto,
+                split: u.split,
+                b_albedo: u.b_material_albedo,
+            },
+            names: self.side_names(),
+            has_before: self.doc.before_last_edit().is_some(),
+            b_albedo_in_material: b_file.is_some_and(|b| b.rendering.albedo_in_material),
+            has_map: self.meshes.colour_map_mean().is_some(),
+            readout,
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
+    }
+
+    /// The view toolbar ([`toolbars::ViewBar`]).
+    pub(super) fn view_toolbar_ui(&mut self, ui: &mut egui::Ui) {
+        let bar = toolbars::ViewBar {
+            view: self.ui_state.view,
+            environment_file: self.ui_state.environment_file.as_deref(),
+            refine_to_truth: self.ui_state.refine_to_truth,
+            framing: self.meshes.framing_distance_m(),
+            mesh_items: if self.meshes.mesh.is_some() {
+                self.windows.items(windows::Menu::Mesh)
+            } else {
+                Vec::new()
+            },
+        };
+        let actions = bar.ui(ui);
+        self.apply(actions);
+    }
+
+    /// What the status bar shows of the viewport and the work under way.
+    pub(super) fn status_bar_view(&self) -> report::StatusBarView<'_> {
+        report::StatusBarView {
+            busy: self.busy(),
+            frame_info: self.viewport().frame_info(),
+            adapter: &self.view.adapter,
+        }
+    }
+
+    /// A restored look's mesh (the default head if none), framed as it
+    /// was: the restored view is kept, not reframed.
+    pub(super) fn restore_mesh(&mut self, mesh: Option<(PathBuf, state::MeshSettings)>) {
+        match mesh {
+            Some((path, settings)) => {
+                self.view.framed_for = Some((Some(path.clone()), settings.metres_per_unit));
+                self.ui_state.meshes.insert(path.clone(), settings);
+                self.meshes.mesh = Some(path);
+            }
+            None => self.meshes.mesh = None,
+        }
+    }
+
+    /// The viewport: its frames, how far they got, what it shows.
+    pub fn viewport(&self) -> &ViewportState {
+        &self.view
+    }
+
+    /// Where the viewport was last drawn.
+    pub(super) fn viewport_rect(&self) -> Option<egui::Rect> {
+        self.layout.viewport_rect
+    }
+
+    /// The viewport's rect, the compare labels drawn on it (text, rect),
+    /// and the left and right panels' rects, as last drawn.
+    pub fn viewport_layout(&self) -> ViewportLayout {
+        self.layout.viewport_layout()
+    }
+
+    /// The probe's text as last drawn (UI tests).
+    pub fn probe_text(&self) -> Option<&str> {
+        self.layout.probe.as_deref()
     }
 
     /// Draws the windows of [`windows::Windows`] and applies what they ask.
@@ -276,5 +455,132 @@ impl EditorApp {
                 .metres_per_unit = m;
         }
         self.load_mesh(Some(mesh.path));
+    }
+}
+
+/// B as it is drawn, and the material albedos asked of it.
+impl EditorApp {
+    /// The loaded mesh's colour map's mean colour, if it has one.
+    pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
+        self.meshes.colour_map_mean()
+    }
+
+    /// B as drawn ([`crate::settings::albedo::b_as_drawn`]) with the editor's choices.
+    pub(super) fn b_drawn(
+        &self,
+        b: Preset,
+    ) -> (Preset, crate::settings::albedo::MapColour, Option<String>) {
+        crate::settings::albedo::b_as_drawn(
+            b,
+            self.a_albedo(),
+            self.ui_state.b_material_albedo,
+            self.ui_state.map_colour,
+            self.meshes.colour_map_mean(),
+        )
+    }
+
+    /// "drawn with A's albedo" when B's engine keeps the albedo in the
+    /// material (the compare row and the difference readout say it).
+    pub(super) fn b_albedo_note(&self) -> Option<String> {
+        match &self.view.b_look {
+            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => self
+                .b_drawn(b.clone())
+                .2
+                .map(|label| format!("drawn with {label} albedo")),
+            _ => None,
+        }
+    }
+
+    /// Asks, the first time, which material albedo B is drawn with when
+    /// B's engine keeps it in the material.
+    pub(super) fn ask_b_albedo(&mut self, b: &Preset) {
+        if self.ui_state.b_material_albedo_asked {
+            return;
+        }
+        let a_albedo = self.a_albedo();
+        (self.windows.albedo).ask_b(b, self.ui_state.b_material_albedo, a_albedo);
+    }
+
+    /// The material-albedo prompt for B, on a typed colour ("a colour…"
+    /// beside B).
+    pub(super) fn ask_b_albedo_colour(&mut self) {
+        let b = match &self.view.b_look {
+            Some((_, _, Ok(b))) if b.rendering.albedo_in_material => b.clone(),
+            _ => return,
+        };
+        self.ui_state.b_material_albedo_asked = false;
+        self.ask_b_albedo(&b);
+        if let Some(p) = self.windows.albedo.prompt.as_mut() {
+            p.choice = crate::settings::albedo::MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
+        }
+    }
+
+    /// The render thread loaded a mesh (`None`: the default head): frame
+    /// it (a mesh the artist loads, or new units of it; the default head at
+    /// start-up keeps the remembered view), ask its units if new, say it.
+    fn mesh_loaded(&mut self, p: Option<PathBuf>, info: viewport::MeshInfo) {
+        self.log_line(format_args!(
+            "mesh {} metres_per_unit={}",
+            p.as_ref()
+                .map_or("default head".into(), |p| p.display().to_string()),
+            info.metres_per_unit
+        ));
+        // The default head the render thread sets up at start,
+        // arriving after a mesh was asked for (`edit --mesh`, a
+        // restored look, a file dropped at once): that mesh
+        // follows, so there is nothing to frame, size or say. (A
+        // mesh that failed to load is replaced by the head after
+        // an error, which the arms below handle.)
+        if p.is_none() && self.meshes.mesh.is_some() && !self.status().starts_with("Error") {
+            return;
+        }
+        self.meshes.mesh_info = Some(info);
+        // Frame a mesh the artist loads, or new units of
+        // it; the default head at start-up keeps the
+        // remembered view.
+        let key = (p.clone(), info.metres_per_unit);
+        let first_head = self.view.framed_for.is_none() && p.is_none();
+        if self.view.framed_for.as_ref() != Some(&key) && !first_head {
+            self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
+            self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
+        } else if first_head {
+            // A remembered view that shows under a fifth of the
+            // head (an extreme close-up, panned away) is no way to
+            // start: frame the head, keep the angles and the light.
+            let seen = self
+                .ui_state
+                .view
+                .orbit
+                .visible_fraction(info.framing_distance_m);
+            if seen < 0.2 {
+                let o = &mut self.ui_state.view.orbit;
+                o.camera_distance_m = info.framing_distance_m;
+                o.camera_pan_m = [0.0; 2];
+                self.say(format!(
+                    "The remembered view showed about {:.0} % of the head: framed the whole head (Reset view does the same)",
+                    100.0 * seen
+                ));
+            }
+        }
+        self.view.framed_for = Some(key);
+        if let Some(p) = &p {
+            if !self.ui_state.meshes.contains_key(p) {
+                self.windows.units.set_open(true);
+            }
+        }
+        match &p {
+            Some(p) => self.say(format!("Mesh {}", p.display())),
+            // The first load of the default head is not news.
+            // After a failed load the error stays readable.
+            None if self.status().starts_with("Error") => {
+                let said = format!("{} (showing the default head)", self.status());
+                self.say(said);
+                self.meshes.mesh = None;
+            }
+            None if self.status().starts_with("Loading") => {
+                self.say("Procedural head");
+            }
+            None => {}
+        }
     }
 }

@@ -1,8 +1,9 @@
 //! The file dialog (`egui_file`), what its OK does, the answers of the
 //! unsaved-changes and overwrite prompts (the prompts themselves are
-//! windows: `windows/unsaved.rs`, `windows/overwrite.rs`), Escape's
-//! topmost window, and an HDR map chosen (or remembered, or dropped)
-//! loaded on its thread and taken in when it arrives.
+//! windows: `windows/unsaved.rs`, `windows/overwrite.rs`), the keyboard
+//! (Escape's topmost window, then `keys.rs`'s shortcuts), the viewport's
+//! frame saved as an image, and an HDR map chosen (or remembered, or
+//! dropped) loaded on its thread and taken in when it arrives.
 
 use super::windows::unsaved::Unsaved;
 use super::windows::Window;
@@ -51,6 +52,81 @@ impl EditorApp {
             .find_map(|l| open.iter().find(|t| l.id == window_id(t)).copied())
             .unwrap_or(open[open.len() - 1]);
         self.windows.close(top)
+    }
+
+    /// Writes the viewport's frame, as shown (a comparison with both sides,
+    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
+    pub fn save_image(&mut self, path: &Path) {
+        let Some((frame, _)) = &self.view.last_frame else {
+            self.say(format!(
+                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
+                path.display()
+            ));
+            return;
+        };
+        let mut png = Vec::new();
+        let written = frame
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .map_err(|e| e.to_string())
+            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
+        self.say(match written {
+            Ok(()) => {
+                let state = match self.view.quality {
+                    Some(viewport::Quality::Converged { .. }) => "converged",
+                    _ => "not converged yet: a preview",
+                };
+                format!(
+                    "Saved image {} ({}×{}, {}, {state})",
+                    path.display(),
+                    frame.width(),
+                    frame.height(),
+                    self.view.frame_info.split(" · ").next().unwrap_or("")
+                )
+            }
+            Err(e) => format!("Error: {}: {e}", path.display()),
+        });
+    }
+
+    /// An HDR map has loaded: the HDR light rig that asked for it, if one
+    /// did, lights the head now.
+    pub(super) fn environment_loaded(&mut self) {
+        if std::mem::take(&mut self.view.hdr_rig_pending) {
+            state::LightRig::Hdr.apply(&mut self.ui_state.view);
+        }
+    }
+
+    /// No HDR map came (the dialog cancelled, the map refused): the HDR
+    /// light rig that asked for one is off.
+    pub(super) fn environment_not_loaded(&mut self) {
+        self.view.hdr_rig_pending = false;
+    }
+
+    /// The keyboard ([`keys::shortcuts`]), none while a modal prompt is
+    /// up: it asked about the look as it is, so no key may change the look
+    /// under it. Escape in a field being typed into or in an open list is
+    /// theirs (it cancels the edit, closes the list); otherwise it closes
+    /// the topmost window, and only with none open goes back to the
+    /// compare mode's view.
+    pub(super) fn keys(&mut self, ctx: &egui::Context) {
+        use egui::{Key, Modifiers};
+        if self.modal_prompt_open() {
+            return;
+        }
+        let free = ctx.memory(|m| m.focused().is_none());
+        if ctx.input(|i| i.key_pressed(Key::Escape))
+            && free
+            && !egui::Popup::is_any_open(ctx)
+            && self.close_topmost_window(ctx)
+        {
+            ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape));
+        }
+        let view = keys::KeysView {
+            has_before: self.doc.before_last_edit().is_some(),
+            comparing: self.ui_state.compare != CompareMode::Off,
+            ab: self.view.ab,
+        };
+        let actions = keys::shortcuts(ctx, &view);
+        self.apply(actions);
     }
 
     /// The unsaved-changes prompt's answer for `pending`: Save (Save As

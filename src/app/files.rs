@@ -1,7 +1,9 @@
-//! The look's files: open, save, save as, import, export, save image, the
+//! The look's files: open, save, save as, import, export, the
 //! unsaved-changes guard, where each file dialog starts and what it shows,
-//! and the results of the background jobs (analysis, environment loads,
-//! exports) as they come in.
+//! the results of the background jobs (analysis, environment loads,
+//! exports) as they come in, the material-albedo prompt's answers for a
+//! look opened or imported, and the autosave and its recovery
+//! (`autosave.rs` writes and finds the files).
 
 use super::*;
 
@@ -44,7 +46,7 @@ impl EditorApp {
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
                 self.say(format!("Opened {}", path.display()));
-                self.ask_document_albedo(before);
+                self.windows.albedo.ask_look(&self.doc.preset, before);
             }
             Err(e) => self.say(format!("Error: {e}")),
         }
@@ -98,7 +100,7 @@ impl EditorApp {
                 self.say(format!("New look from \"{}\"", p.name));
                 let before = self.a_albedo();
                 self.doc = Document::new(*p, None);
-                self.ask_document_albedo(before);
+                self.windows.albedo.ask_look(&self.doc.preset, before);
             }
             Pending::Quit => self.allow_close = true,
         }
@@ -331,6 +333,196 @@ impl EditorApp {
                 Err(e) => format!("Error: {e}"),
             });
         }
+    }
+}
+
+/// The material-albedo prompt's answers ([`windows::albedo`]).
+impl EditorApp {
+    /// The prompt's other button: "Use A's for now" for B (A's, asked),
+    /// "Keep albedo 1" for a document (said).
+    pub(super) fn decline_albedo_prompt(&mut self, p: windows::albedo::AlbedoPrompt) {
+        if p.target == windows::albedo::PromptFor::CompareB {
+            self.ui_state.b_material_albedo = crate::settings::albedo::MaterialAlbedo::LookA;
+            self.ui_state.b_material_albedo_asked = true;
+        } else {
+            self.say(format!(
+                "\"{}\" keeps its file's albedo 1 (a white head): set Albedo to the material's",
+                p.name
+            ));
+        }
+    }
+
+    /// Applies the prompt's answer.
+    pub(super) fn answer_albedo_prompt(&mut self, p: windows::albedo::AlbedoPrompt) {
+        let map_mean = self.colour_map_mean();
+        match p.target {
+            windows::albedo::PromptFor::CompareB => {
+                self.ui_state.b_material_albedo = p.choice;
+                self.ui_state.b_material_albedo_asked = true;
+                self.say(format!(
+                    "B \"{}\" is drawn with {} albedo (its engine keeps the albedo in the material); change it beside B",
+                    p.name,
+                    p.choice.label()
+                ));
+            }
+            windows::albedo::PromptFor::Look => {
+                let rgb = crate::settings::albedo::resolve(p.choice, p.a_albedo, map_mean);
+                let as_read = self.doc.preset.clone();
+                let preset = &mut self.doc.preset;
+                if !crate::settings::albedo::set_albedo(preset, rgb) {
+                    return;
+                }
+                preset.rendering.albedo_in_material = false;
+                let what = match (p.choice, map_mean) {
+                    (crate::settings::albedo::MaterialAlbedo::LookA, _) => {
+                        "the look open before it".to_string()
+                    }
+                    (crate::settings::albedo::MaterialAlbedo::Map, Some(_)) => {
+                        "the head's colour map's mean".to_string()
+                    }
+                    (crate::settings::albedo::MaterialAlbedo::Map, None) => {
+                        "the look open before it (no colour map)".to_string()
+                    }
+                    (crate::settings::albedo::MaterialAlbedo::Typed(_), _) => {
+                        "typed at import".to_string()
+                    }
+                };
+                preset.description = format!(
+                    "{} Albedo {:.4}/{:.4}/{:.4} from the material ({what}): its engine keeps the albedo in the material, and the file has none.",
+                    preset.description, rgb[0], rgb[1], rgb[2]
+                )
+                .trim()
+                .to_owned();
+                if p.choice == crate::settings::albedo::MaterialAlbedo::Map && map_mean.is_some() {
+                    self.ui_state.map_colour = crate::settings::albedo::MapColour::Map;
+                }
+                // An import (no file yet) starts as what was chosen; a
+                // preset file that says "albedo in the material" keeps its
+                // own as the undo step and shows as changed.
+                let undo = if self.doc.path.is_none() {
+                    self.doc = Document::new(self.doc.preset.clone(), None);
+                    "Keep albedo 1 in the prompt draws the file's white"
+                } else {
+                    self.doc.commit();
+                    "undo gives back the file's albedo 1"
+                };
+                // The Engines panel's readout of the file stays: this is
+                // the look imported, with its material's albedo.
+                if let Some((_, look)) = &mut self.profile.imported {
+                    if look.preset == as_read {
+                        look.preset = self.doc.preset.clone();
+                    }
+                }
+                self.say(format!(
+                    "\"{}\" drawn with albedo {:.3}/{:.3}/{:.3} ({what}); {undo}",
+                    p.name, rgb[0], rgb[1], rgb[2]
+                ));
+            }
+        }
+    }
+}
+
+/// Autosave and recovery ([`autosave`]).
+impl EditorApp {
+    /// Autosaves the look into `data_dir` from now on, and offers back
+    /// what an editor killed or crashed there left.
+    pub fn with_autosave(mut self, data_dir: &Path) -> Self {
+        let autosave = autosave::Autosave::new(data_dir);
+        if let Some(first) = autosave.unreadable.first() {
+            self.say(format!(
+                "Warning: {} recovery file(s) an earlier editor left cannot be read and were left in place (open them in a text editor; the look is the preset inside): {first}",
+                autosave.unreadable.len()
+            ));
+        }
+        let mut autosave = autosave;
+        self.windows.recovery.found = autosave.found.take();
+        self.autosave = Some(autosave);
+        self
+    }
+
+    /// This editor's autosave file, if autosave is on.
+    pub fn autosave_file(&self) -> Option<PathBuf> {
+        self.autosave.as_ref().map(|a| a.file().to_owned())
+    }
+
+    /// Writes the autosave now if anything unsaved changed (tests; the
+    /// editor itself calls it every frame and writes at most every
+    /// [`autosave::AUTOSAVE_SECONDS`]).
+    pub fn autosave_now(&mut self) {
+        self.autosave_tick(None, true);
+    }
+
+    /// The frame's autosave check; with `ctx`, a frame is asked for at the
+    /// next deadline while something is left to write, so the write does
+    /// not wait for input.
+    pub(super) fn autosave_tick(&mut self, ctx: Option<&egui::Context>, force: bool) {
+        let mesh = self.mesh_path().map(Path::to_path_buf);
+        let Some(a) = self.autosave.as_mut() else {
+            return;
+        };
+        let now = autosave::Snapshot {
+            doc: &self.doc,
+            ui: &self.ui_state,
+            mesh: mesh.as_deref(),
+        };
+        let ticked = a.tick(now, force);
+        if let Some(message) = ticked.message {
+            self.say(message);
+        }
+        if let (Some(ctx), Some(after)) = (ctx, ticked.wake_in) {
+            ctx.request_repaint_after(after);
+        }
+    }
+
+    /// A clean quit: nothing to recover.
+    pub(super) fn autosave_clear(&mut self) {
+        if let Some(a) = self.autosave.as_mut() {
+            a.clear();
+        }
+    }
+
+    /// Puts a recovered look back: the document as it was with its undo
+    /// history (what it differs from is what was saved, so it shows as
+    /// unsaved), the mesh with its units and maps, and the view and
+    /// compare state.
+    fn restore(&mut self, r: autosave::Recovery) {
+        let mut history = r.history;
+        if history.undo.is_empty() && history.saved.is_none() {
+            // An older recovery file: one step back to the preset file
+            // (or the default), as those restored.
+            history.undo.push(
+                r.path
+                    .as_deref()
+                    .and_then(|p| Preset::load(p).ok())
+                    .unwrap_or_default(),
+            );
+        }
+        self.doc = Document::restored(r.preset, r.path, history);
+        self.restore_mesh(r.mesh.map(|m| (m.path, m.settings)));
+        self.ui_state.view = r.view;
+        self.ui_state.compare = r.compare;
+        self.ui_state.compare_b = r.compare_b;
+        self.ui_state.split = r.split;
+        self.say(format!(
+            "Restored \"{}\" as it was when the editor stopped; save it to keep it",
+            self.doc.preset.name
+        ));
+    }
+
+    /// The recovery prompt's answer: restore the look an earlier editor
+    /// left (and write it under this editor's name before the old file
+    /// goes: a crash in between loses nothing), or discard its file.
+    pub(super) fn answer_recovery(
+        &mut self,
+        ctx: Option<&egui::Context>,
+        found: autosave::Found,
+        restore: bool,
+    ) {
+        if restore {
+            self.restore(found.recovery);
+            self.autosave_tick(ctx, true);
+        }
+        let _ = std::fs::remove_file(&found.file);
     }
 }
 

@@ -3,7 +3,6 @@
 //! undo, compare and export from the menu bar.
 
 mod actions;
-mod albedo;
 pub mod analysis;
 mod autosave;
 mod colour_ui;
@@ -11,8 +10,8 @@ pub mod compare;
 mod dialogs;
 mod files;
 mod jobs;
+mod keys;
 mod look_panel;
-mod menu;
 pub mod menus;
 mod overlays;
 mod params_ui;
@@ -250,6 +249,30 @@ impl EditorApp {
         app
     }
 
+    /// Look A's albedo without building a slow model each frame: Burley's
+    /// A, else the total reflectance of the curves the analysis thread
+    /// computed for the look (clamped to [0, 1]; the kernels without a
+    /// colour draw the default skin's, as `look_albedo` says), else
+    /// [`crate::settings::albedo::look_albedo`] where the model is quick to build.
+    pub(super) fn a_albedo(&self) -> crate::model::Rgb {
+        self.profile.a_albedo(&self.doc.preset)
+    }
+
+    /// The relative L2 distance of B's r·R(r) from A's per channel, when
+    /// B is a file whose curves are overlaid.
+    fn b_difference(&self) -> Option<[f64; 3]> {
+        match &self.profile.b_curves {
+            Some((_, Ok((_, _, d)))) => Some(*d),
+            _ => None,
+        }
+    }
+
+    /// The look's curves could not be computed (the viewport does not draw
+    /// it).
+    fn curves_failed(&self) -> bool {
+        matches!(self.profile.curves, Some(Err(_)))
+    }
+
     /// The names of A (the look's method) and B (a method or a preset).
     fn side_names(&self) -> (String, String) {
         let a = self.doc.preset.rendering.method.label().to_string();
@@ -378,10 +401,11 @@ impl EditorApp {
                 s.visuals.numeric_color_space = egui::style::NumericColorSpace::Linear
             });
         }
-        self.apply_interface(ctx);
+        run::apply_interface(ctx, &mut self.ui_state, &mut self.layout.applied_scale);
         self.waker.attach(ctx);
-        self.handle_drops(ctx);
-        self.shortcuts(ctx);
+        let dropped = keys::dropped(ctx);
+        self.apply(dropped);
+        self.keys(ctx);
         self.poll_workers();
         self.poll_viewport(ctx);
     }

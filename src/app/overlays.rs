@@ -2,64 +2,13 @@
 //! progress bars, the compare labels and the rendering note, the
 //! difference view's scale, the light gizmo).
 
+use super::viewport_ui::ViewportPanel;
 use super::*;
 
-/// Viewport frames kept in [`ViewportState::history`].
-pub(super) const FRAME_HISTORY: usize = 256;
-
-impl EditorApp {
-    /// The viewport: its frames, how far they got, what it shows.
-    pub fn viewport(&self) -> &ViewportState {
-        &self.view
-    }
-
-    /// Where the viewport was last drawn.
-    pub(super) fn viewport_rect(&self) -> Option<egui::Rect> {
-        self.layout.viewport_rect
-    }
-
-    /// The viewport's rect, the compare labels drawn on it (text, rect),
-    /// and the left and right panels' rects, as last drawn.
-    pub fn viewport_layout(&self) -> ViewportLayout {
-        self.layout.viewport_layout()
-    }
-
-    /// Writes the viewport's frame, as shown (a comparison with both sides,
-    /// the tonemapped 8-bit pixels), to `path` as a PNG, atomically.
-    pub fn save_image(&mut self, path: &Path) {
-        let Some((frame, _)) = &self.view.last_frame else {
-            self.say(format!(
-                "Error: {}: no viewport frame to save yet (wait for the head to appear)",
-                path.display()
-            ));
-            return;
-        };
-        let mut png = Vec::new();
-        let written = frame
-            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-            .map_err(|e| e.to_string())
-            .and_then(|()| crate::fsutil::write_atomic(path, &png).map_err(|e| e.to_string()));
-        self.say(match written {
-            Ok(()) => {
-                let state = match self.view.quality {
-                    Some(viewport::Quality::Converged { .. }) => "converged",
-                    _ => "not converged yet: a preview",
-                };
-                format!(
-                    "Saved image {} ({}×{}, {}, {state})",
-                    path.display(),
-                    frame.width(),
-                    frame.height(),
-                    self.view.frame_info.split(" · ").next().unwrap_or("")
-                )
-            }
-            Err(e) => format!("Error: {}: {e}", path.display()),
-        });
-    }
-
+impl ViewportPanel<'_> {
     /// What is drawn over the viewport: the frame, progress bars, the
     /// compare labels and the rendering note.
-    pub(super) fn viewport_overlays_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
+    pub(super) fn overlays_ui(&mut self, ui: &mut egui::Ui, rect: egui::Rect) {
         let painter = ui.painter_at(rect);
         if self.view.texture.is_none() {
             painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
@@ -86,7 +35,7 @@ impl EditorApp {
             }
             _ => None,
         };
-        self.windows.reference.overlay_ui(&painter, rect);
+        self.reference.overlay_ui(&painter, rect);
         self.compare_labels_ui(&painter, rect);
         self.difference_scale_ui(&painter, rect);
         if self.view.show_before {
@@ -136,7 +85,7 @@ impl EditorApp {
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
         };
-        if self.status().starts_with("Loading mesh") {
+        if self.status.starts_with("Loading mesh") {
             // The mesh loads and bakes thickness and curvature on the
             // render thread; show how far the bake has got.
             let done = crate::render::mesh::bake_fraction();
@@ -295,7 +244,7 @@ impl EditorApp {
         let centre = rect.right_bottom() - egui::vec2(radius + 28.0, radius + 14.0);
         let area = egui::Rect::from_center_size(centre, egui::Vec2::splat(2.0 * radius + 8.0));
         let response = ui.interact(area, ui.scope_id().with("light gizmo"), egui::Sense::drag());
-        let o = &mut self.ui_state.view.orbit;
+        let o = &mut self.camera.orbit;
         if response.dragged() {
             let d = response.drag_delta();
             o.light_azimuth_rad -= d.x * 0.02;
@@ -450,15 +399,10 @@ impl EditorApp {
         self.layout.probe = Some(text);
     }
 
-    /// The probe's text as last drawn (UI tests).
-    pub fn probe_text(&self) -> Option<&str> {
-        self.layout.probe.as_deref()
-    }
-
     pub(super) fn compare_labels_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
         self.layout.compare_labels.clear();
         if self.ui_state.compare != CompareMode::Off {
-            let (a_name, b_name) = self.side_names();
+            let (a_name, b_name) = self.names.clone();
             let (a, b) = (format!("A · {a_name}"), format!("B · {b_name}"));
             let top = rect.top() + 8.0;
             let labels: Vec<(String, egui::Pos2, egui::Align2)> =

@@ -13,14 +13,6 @@ pub(super) struct ProfileState {
     pub(super) curves_for: Option<crate::settings::ProfileSpec>,
     /// Curves of a compared preset (B), keyed by its file and the plot range.
     pub(super) b_curves: Option<(BCurvesKey, BCurves)>,
-    /// B's look from its file, by path and modification time: read again
-    /// only when the file changes, not on every UI frame (an engine file's
-    /// import measures its round trip, `godot::read::round_trip_note`).
-    pub(super) b_look_cache: Option<(
-        PathBuf,
-        Option<std::time::SystemTime>,
-        Result<Preset, String>,
-    )>,
     /// The engine file the look was last imported from, with its own
     /// fields (the Engines readout shows them).
     pub(super) imported: Option<(PathBuf, crate::export::ImportedLook)>,
@@ -35,8 +27,6 @@ pub(super) struct ProfileState {
 /// The viewport: its render thread, the frame shown and how far it got, and what it shows (A/B, before).
 pub struct ViewportState {
     pub(super) viewport: Option<viewport::Viewport>,
-    /// The interface scale set on the context last frame.
-    pub(super) applied_scale: Option<f32>,
     /// The pointer rests over the viewport: its mouse hint is shown.
     pub(super) show_mouse_hint: bool,
     /// The GPU adapter's whole name and its driver with the driver's
@@ -69,6 +59,14 @@ pub struct ViewportState {
     /// first saw it, the fraction then and the last fraction seen (for the
     /// time left).
     pub(super) truth_phase: Option<((u32, u32), std::time::Instant, f32, f32)>,
+    /// B's look from its file, by path and modification time: read again
+    /// only when the file changes, not on every UI frame (an engine file's
+    /// import measures its round trip, `godot::read::round_trip_note`).
+    pub(super) b_look: Option<(
+        PathBuf,
+        Option<std::time::SystemTime>,
+        Result<Preset, String>,
+    )>,
     /// When the mouse wheel last zoomed (zooming is live input too).
     pub(super) last_wheel: Option<std::time::Instant>,
 }
@@ -129,6 +127,8 @@ pub(super) struct Layout {
     pub(super) panel_rects: [Option<egui::Rect>; 2],
     /// Where the profile plot was drawn (its legend goes under it).
     pub(super) plot_rect: Option<egui::Rect>,
+    /// The interface scale set on the context last frame.
+    pub(super) applied_scale: Option<f32>,
 }
 
 impl Dialogs {
@@ -191,6 +191,15 @@ impl MeshState {
     /// The loaded mesh's colour map's mean colour, if it has one.
     pub(super) fn colour_map_mean(&self) -> Option<[f32; 3]> {
         self.mesh_info.and_then(|i| i.colour_map_mean)
+    }
+
+    /// The camera distance that frames the loaded mesh (m): Reset view,
+    /// F and the zoom's limits.
+    pub(super) fn framing_distance_m(&self) -> f32 {
+        self.mesh_info.map_or(
+            crate::settings::OrbitView::default().camera_distance_m,
+            |i| i.framing_distance_m,
+        )
     }
 }
 
@@ -256,7 +265,6 @@ impl ProfileState {
             curves_for: None,
             preview_textures: None,
             b_curves: None,
-            b_look_cache: None,
             imported: None,
         }
     }
@@ -278,12 +286,12 @@ impl ViewportState {
             last_frame: None,
             background_map: None,
             show_mouse_hint: false,
-            applied_scale: None,
             adapter: String::new(),
             quality: None,
             history: Default::default(),
             truth_phase: None,
             last_wheel: None,
+            b_look: None,
         }
     }
 }

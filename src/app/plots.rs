@@ -300,7 +300,7 @@ impl PlotsPanel<'_> {
             (_, CompareB::Preset(path), Some(Ok(curves))) => {
                 let r_max = curves.radius_mm.last().copied();
                 let a_spec = &self.doc.preset.profile;
-                // B's material albedo (`albedo.rs`) is part of what it draws.
+                // B's material albedo (`settings::albedo::b_as_drawn`) is part of what it draws.
                 let key = (
                     path.clone(),
                     r_max.map(f64::to_bits),

@@ -230,3 +230,34 @@ fn start_editor(
     }
     app
 }
+
+/// The View menu's interface scale and theme, set on `ctx` where
+/// changed (`applied_scale`: the scale set last frame).
+pub(super) fn apply_interface(
+    ctx: &egui::Context,
+    ui_state: &mut state::UiState,
+    applied_scale: &mut Option<f32>,
+) {
+    // The interface's scale and theme (View menu), where changed; a
+    // zoom by keyboard (egui's Ctrl+plus/minus) is taken as the scale.
+    if let Some(applied) = *applied_scale {
+        if (ctx.zoom_factor() - applied).abs() > 1e-4 {
+            ui_state.ui_scale = ctx.zoom_factor();
+        }
+    }
+    let scale = ui_state
+        .ui_scale
+        .clamp(*state::UI_SCALE_RANGE.start(), *state::UI_SCALE_RANGE.end());
+    if (ctx.zoom_factor() - scale).abs() > 1e-4 {
+        ctx.set_zoom_factor(scale);
+    }
+    *applied_scale = Some(scale);
+    let theme = if ui_state.light_theme {
+        egui::Theme::Light
+    } else {
+        egui::Theme::Dark
+    };
+    if ctx.theme() != theme {
+        ctx.set_theme(theme);
+    }
+}

@@ -4,6 +4,20 @@
 //! default), the head's colour map or a typed colour. A modal: it decides
 //! what the next frame draws. Its answer is an [`Action::AnswerAlbedo`],
 //! which `EditorApp::apply` writes into the look or B's choice.
+//!
+//! HDRP keeps the albedo in the material: a diffusion profile's filter is
+//! normalised and its file has no colour, so its import has albedo 1 and
+//! draws a white head (`export/unity/read.rs` sets
+//! `RenderingSpec::albedo_in_material`). Such a look is drawn and compared
+//! with a *material albedo*: look A's (the default), the head's colour map
+//! or a typed one. Opening one as the look asks once and writes the choice
+//! into its albedo; as B the choice is the compare row's "B's albedo",
+//! asked the first time.
+//!
+//! A mesh's own colour map is the surface colour as the engines draw it,
+//! whatever the look's albedo; the Look panel says so and offers the map
+//! tinted by the look's albedo, or the look's albedo alone
+//! ([`MapColour`]).
 
 use super::{Action, Window, WindowView};
 use crate::model::Rgb;
@@ -40,6 +54,42 @@ pub struct AlbedoWindow {
     /// frame on (the Enter that confirmed a file dialog in the frame the
     /// prompt opened is not its OK).
     drawn: bool,
+}
+
+impl AlbedoWindow {
+    /// Asks for the look's material albedo if its engine keeps it in the
+    /// material; `a_albedo` is the look open before it.
+    pub fn ask_look(&mut self, look: &crate::settings::Preset, a_albedo: Rgb) {
+        if !look.rendering.albedo_in_material {
+            return;
+        }
+        self.prompt = Some(AlbedoPrompt {
+            target: PromptFor::Look,
+            name: look.name.clone(),
+            choice: MaterialAlbedo::LookA,
+            typed: a_albedo.map(|c| c as f32),
+            a_albedo,
+        });
+    }
+
+    /// Asks which material albedo B is drawn with when B's engine keeps it
+    /// in the material, `current` being the choice so far (the typed
+    /// colour starts from it).
+    pub fn ask_b(&mut self, b: &crate::settings::Preset, current: MaterialAlbedo, a_albedo: Rgb) {
+        if !b.rendering.albedo_in_material {
+            return;
+        }
+        self.prompt = Some(AlbedoPrompt {
+            target: PromptFor::CompareB,
+            name: b.name.clone(),
+            choice: current,
+            typed: match current {
+                MaterialAlbedo::Typed(c) => c.map(|v| v as f32),
+                _ => a_albedo.map(|c| c as f32),
+            },
+            a_albedo,
+        });
+    }
 }
 
 impl AlbedoPrompt {

@@ -92,6 +92,24 @@ pub enum Action {
     AnswerRecovery(Box<super::autosave::Found>, bool),
     /// The material-albedo prompt's answer: OK (true) or the other button.
     AnswerAlbedo(albedo::AlbedoPrompt, bool),
+    /// Imports an engine's file as a new, unsaved look (a file dropped).
+    Import(PathBuf),
+    /// Loads this mesh (a file dropped).
+    LoadMesh(PathBuf),
+    /// Opens the window of this title when closed, closes it when open
+    /// (F1: Shortcuts).
+    ToggleWindow(&'static str),
+    /// Frames the mesh: the camera's distance and pan reset, its
+    /// direction kept (F).
+    FrameMesh,
+    /// Shows the look before the last edit, or the look again (Backslash).
+    ToggleBefore,
+    /// What the viewport shows while comparing (Space, Escape).
+    SetAb(super::AbView),
+    /// A line in the frame log (`Report::log_line`).
+    Log(String),
+    /// The render thread loaded a mesh (`None`: the default head).
+    MeshLoaded(Option<PathBuf>, super::viewport::MeshInfo),
     /// The reference image's eyedropper: a linear colour into a field of
     /// the look, as an undoable edit.
     PickColour([f64; 3], reference::PickInto),

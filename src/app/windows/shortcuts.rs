@@ -9,13 +9,6 @@ pub struct ShortcutsWindow {
     open: bool,
 }
 
-impl ShortcutsWindow {
-    /// F1: open when closed, closed when open.
-    pub fn toggle(&mut self) {
-        self.open = !self.open;
-    }
-}
-
 impl Window for ShortcutsWindow {
     fn title(&self) -> &'static str {
         "Shortcuts"
