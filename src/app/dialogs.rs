@@ -113,17 +113,18 @@ impl EditorApp {
             return;
         }
         let free = ctx.memory(|m| m.focused().is_none());
-        if ctx.input(|i| i.key_pressed(Key::Escape))
+        let escape_taken = ctx.input(|i| i.key_pressed(Key::Escape))
             && free
             && !egui::Popup::is_any_open(ctx)
-            && self.close_topmost_window(ctx)
-        {
+            && self.close_topmost_window(ctx);
+        if escape_taken {
             ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape));
         }
         let view = keys::KeysView {
             has_before: self.doc.before_last_edit().is_some(),
             comparing: self.ui_state.compare != CompareMode::Off,
             ab: self.view.ab,
+            escape_taken,
         };
         let actions = keys::shortcuts(ctx, &view);
         self.apply(actions);

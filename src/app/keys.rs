@@ -14,6 +14,8 @@ pub(super) struct KeysView {
     pub comparing: bool,
     /// What the viewport shows while comparing.
     pub ab: AbView,
+    /// This frame's Escape closed a window (it goes no further).
+    pub escape_taken: bool,
 }
 
 /// The shortcuts pressed this frame: Ctrl+Z / Ctrl+Shift+Z / Ctrl+Y undo
@@ -66,7 +68,7 @@ pub(super) fn shortcuts(ctx: &egui::Context, view: &KeysView) -> Vec<Action> {
         free && key(Key::Backslash) && view.has_before,
         Action::ToggleBefore,
     );
-    if free && view.comparing {
+    if free && view.comparing && !view.escape_taken {
         if toggle {
             actions.push(Action::SetAb(match view.ab {
                 AbView::B => AbView::A,

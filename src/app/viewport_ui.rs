@@ -33,7 +33,9 @@ pub(super) struct ViewportPanel<'a> {
     /// The look can be drawn: its rendering settings are valid and its
     /// curves did not fail.
     pub valid: bool,
-    /// The status line (a mesh loading shows the bake's progress).
+    /// The status line as the frame began (a mesh loading shows the
+    /// bake's progress; a mesh that arrives in this frame replaces it when
+    /// its reply is applied, and the frame is drawn again then).
     pub status: String,
     /// The names of A and B, for the compare labels.
     pub names: (String, String),

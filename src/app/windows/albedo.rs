@@ -13,11 +13,6 @@
 //! or a typed one. Opening one as the look asks once and writes the choice
 //! into its albedo; as B the choice is the compare row's "B's albedo",
 //! asked the first time.
-//!
-//! A mesh's own colour map is the surface colour as the engines draw it,
-//! whatever the look's albedo; the Look panel says so and offers the map
-//! tinted by the look's albedo, or the look's albedo alone
-//! ([`MapColour`]).
 
 use super::{Action, Window, WindowView};
 use crate::model::Rgb;

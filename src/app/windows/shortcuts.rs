@@ -49,7 +49,8 @@ impl Window for ShortcutsWindow {
 }
 
 /// Every shortcut, as Help → Shortcuts (F1) lists them. The keys are
-/// handled in `EditorApp::shortcuts` and `viewport_input`.
+/// read in `app/keys.rs` (Escape's topmost window in `EditorApp::keys`),
+/// the mouse in `ViewportPanel::input`.
 pub const SHORTCUTS: &[(&str, &str)] = &[
     ("F1", "this list"),
     ("Ctrl+O", "open a preset"),
