@@ -981,7 +981,10 @@ fn the_material_albedo_prompt_is_answered_with_a_pointer() {
         let typed = s.find("the prompt's 'this colour' radio button", |c| {
             c.role == "RadioButton" && c.label == "this colour"
         });
-        assert_eq!(typed.value, "unchecked", "A's albedo is the default");
+        assert_eq!(
+            typed.value, "unchecked",
+            "the map or the default skin is the default"
+        );
         s.click(&typed);
         s.find("'this colour' checked", |c| {
             c.role == "RadioButton" && c.label == "this colour" && c.value == "checked"

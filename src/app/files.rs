@@ -46,7 +46,10 @@ impl EditorApp {
                 self.doc = Document::new(p, Some(path.to_owned()));
                 self.ui_state.add_recent(path);
                 self.say(format!("Opened {}", path.display()));
-                self.windows.albedo.ask_look(&self.doc.preset, before);
+                let map_mean = self.colour_map_mean();
+                self.windows
+                    .albedo
+                    .ask_look(&self.doc.preset, before, map_mean);
             }
             Err(e) => self.say(format!("Error: {e}")),
         }
@@ -100,7 +103,10 @@ impl EditorApp {
                 self.say(format!("New look from \"{}\"", p.name));
                 let before = self.a_albedo();
                 self.doc = Document::new(*p, None);
-                self.windows.albedo.ask_look(&self.doc.preset, before);
+                let map_mean = self.colour_map_mean();
+                self.windows
+                    .albedo
+                    .ask_look(&self.doc.preset, before, map_mean);
             }
             Pending::Quit => self.allow_close = true,
         }
@@ -374,6 +380,9 @@ impl EditorApp {
                 }
                 preset.rendering.albedo_in_material = false;
                 let what = match (p.choice, map_mean) {
+                    (crate::settings::albedo::MaterialAlbedo::DefaultSkin, _) => {
+                        "the default skin's, Unreal's default SurfaceAlbedo".to_string()
+                    }
                     (crate::settings::albedo::MaterialAlbedo::LookA, _) => {
                         "the look open before it".to_string()
                     }

@@ -66,6 +66,9 @@ pub enum MaterialAlbedo {
     /// The head's colour map as the engine's material would use it (the
     /// map's mean colour stands for it in the plots).
     Map,
+    /// The default skin's albedo ([`KERNEL_SURFACE_ALBEDO`], Unreal's
+    /// default SurfaceAlbedo): a skin colour whatever look was open.
+    DefaultSkin,
     /// A colour the artist typed (linear RGB).
     Typed([f64; 3]),
 }
@@ -76,6 +79,7 @@ impl MaterialAlbedo {
         match self {
             MaterialAlbedo::LookA => "A's".into(),
             MaterialAlbedo::Map => "the head's map".into(),
+            MaterialAlbedo::DefaultSkin => "the default skin's".into(),
             MaterialAlbedo::Typed(c) => format!("typed {:.3}/{:.3}/{:.3}", c[0], c[1], c[2]),
         }
     }
@@ -122,11 +126,12 @@ pub fn set_albedo(p: &mut Preset, rgb: Rgb) -> bool {
 }
 
 /// The colour a material-albedo choice stands for: A's, the map's mean
-/// (A's without a colour map), or the typed one.
+/// (A's without a colour map), the default skin's, or the typed one.
 pub fn resolve(choice: MaterialAlbedo, a_albedo: Rgb, map_mean: Option<[f32; 3]>) -> Rgb {
     match choice {
         MaterialAlbedo::LookA => a_albedo,
         MaterialAlbedo::Map => map_mean.map_or(a_albedo, |m| m.map(|c| c as f64)),
+        MaterialAlbedo::DefaultSkin => KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
         MaterialAlbedo::Typed(c) => c,
     }
 }

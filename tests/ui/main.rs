@@ -19,6 +19,7 @@ mod budget;
 mod common;
 mod layout_and_prompts;
 mod recovery;
+mod trial52;
 mod wakes;
 
 fn harness(viewport: bool) -> Harness<'static, EditorApp> {

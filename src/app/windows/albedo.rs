@@ -53,15 +53,27 @@ pub struct AlbedoWindow {
 
 impl AlbedoWindow {
     /// Asks for the look's material albedo if its engine keeps it in the
-    /// material; `a_albedo` is the look open before it.
-    pub fn ask_look(&mut self, look: &crate::settings::Preset, a_albedo: Rgb) {
+    /// material; `a_albedo` is the look open before it, `map_mean` the
+    /// head's colour map's mean colour if it has one. The safe answer is
+    /// the default: the head's map where there is one (the colour the
+    /// engine's material takes from it), else the default skin's albedo,
+    /// never the look open before, which may be jade or ketchup.
+    pub fn ask_look(
+        &mut self,
+        look: &crate::settings::Preset,
+        a_albedo: Rgb,
+        map_mean: Option<[f32; 3]>,
+    ) {
         if !look.rendering.albedo_in_material {
             return;
         }
         self.prompt = Some(AlbedoPrompt {
             target: PromptFor::Look,
             name: look.name.clone(),
-            choice: MaterialAlbedo::LookA,
+            choice: match map_mean {
+                Some(_) => MaterialAlbedo::Map,
+                None => MaterialAlbedo::DefaultSkin,
+            },
             typed: a_albedo.map(|c| c as f32),
             a_albedo,
         });
@@ -88,7 +100,8 @@ impl AlbedoWindow {
 }
 
 impl AlbedoPrompt {
-    /// The three choices: A's albedo, the head's map, a typed colour.
+    /// The four choices: A's albedo, the head's map, the default skin's, a
+    /// typed colour.
     fn choices_ui(&mut self, ui: &mut egui::Ui, has_map: bool) {
         let a = self.a_albedo;
         let before = if self.target == PromptFor::Look {
@@ -107,6 +120,16 @@ impl AlbedoPrompt {
                 .on_hover_text("The loaded mesh's colour map as the engine's material uses it (its mean colour in the plots).")
                 .on_disabled_hover_text("The head has no colour map of its own (the default head's map only varies the look's colour): load a mesh with one.");
         });
+        let skin = crate::settings::albedo::KERNEL_SURFACE_ALBEDO;
+        ui.radio_value(
+            &mut self.choice,
+            MaterialAlbedo::DefaultSkin,
+            format!(
+                "the default skin's ({:.3} / {:.3} / {:.3})",
+                skin[0], skin[1], skin[2]
+            ),
+        )
+        .on_hover_text("Unreal Engine's default SurfaceAlbedo, the default skin's: a skin colour whatever look was open.");
         ui.horizontal(|ui| {
             let typed = matches!(self.choice, MaterialAlbedo::Typed(_));
             if ui.radio(typed, "this colour").clicked() || typed {
