@@ -98,6 +98,11 @@ impl EditorApp {
                 Action::SetAb(ab) => self.view.ab = ab,
                 Action::Log(line) => self.log_line(format_args!("{line}")),
                 Action::MeshLoaded(p, info) => self.mesh_loaded(p, info),
+                Action::MeshFailed {
+                    error,
+                    kept,
+                    kept_settings,
+                } => self.mesh_failed(error, kept, kept_settings),
                 Action::PickColour(rgb, into) => {
                     let said = match self.pick_colour(rgb, into) {
                         Ok(s) => {
@@ -513,6 +518,29 @@ impl EditorApp {
         if let Some(p) = self.windows.albedo.prompt.as_mut() {
             p.choice = crate::settings::albedo::MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
         }
+    }
+
+    /// A mesh or its maps failed to load: the mesh on screen stays, with
+    /// the settings it was loaded with (so the next request does not ask
+    /// for the failed one again), and the error is said once, naming what
+    /// is still shown.
+    fn mesh_failed(
+        &mut self,
+        error: String,
+        kept: Option<PathBuf>,
+        kept_settings: state::MeshSettings,
+    ) {
+        let shown = kept
+            .as_ref()
+            .map_or("the procedural head".to_string(), |p| {
+                p.file_name()
+                    .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+            });
+        self.say(format!("Error: {error} (kept {shown} on screen)"));
+        if let Some(p) = &kept {
+            self.ui_state.meshes.insert(p.clone(), kept_settings);
+        }
+        self.meshes.mesh = kept;
     }
 
     /// The render thread loaded a mesh (`None`: the default head): frame

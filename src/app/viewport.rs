@@ -278,6 +278,14 @@ pub enum Reply {
     Error(String),
     /// The mesh in the request was loaded (`None`: the default head).
     MeshLoaded(Option<PathBuf>, MeshInfo),
+    /// The request's mesh or its maps failed to load: the mesh on screen
+    /// (`kept`, `None`: the default head) stays, with the settings it was
+    /// loaded with, and the frame is drawn with it.
+    MeshFailed {
+        error: String,
+        kept: Option<PathBuf>,
+        kept_settings: crate::app::state::MeshSettings,
+    },
     /// The render thread recovered from a failure of its own (a panic, a
     /// lost GPU device): what happened, for the artist. `resend`: the
     /// request in hand was lost with it and must be sent again.
@@ -513,7 +521,7 @@ impl Viewport {
         let done = replies.iter().any(|r| match r {
             Reply::Frame { seq, .. } => *seq == self.seq,
             Reply::Error(_) => true,
-            Reply::MeshLoaded(..) | Reply::Recovered { .. } => false,
+            Reply::MeshLoaded(..) | Reply::MeshFailed { .. } | Reply::Recovered { .. } => false,
         });
         if done {
             self.busy_since = None;

@@ -333,6 +333,15 @@ impl ViewportState {
                 actions.push(Action::Say(format!("Warning: {message}")))
             }
             viewport::Reply::MeshLoaded(p, info) => actions.push(Action::MeshLoaded(p, info)),
+            viewport::Reply::MeshFailed {
+                error,
+                kept,
+                kept_settings,
+            } => actions.push(Action::MeshFailed {
+                error,
+                kept,
+                kept_settings,
+            }),
         }
         actions
     }

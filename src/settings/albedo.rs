@@ -131,7 +131,8 @@ pub fn resolve(choice: MaterialAlbedo, a_albedo: Rgb, map_mean: Option<[f32; 3]>
     match choice {
         MaterialAlbedo::LookA => a_albedo,
         MaterialAlbedo::Map => map_mean.map_or(a_albedo, |m| m.map(|c| c as f64)),
-        MaterialAlbedo::DefaultSkin => KERNEL_SURFACE_ALBEDO.map(|c| c as f64),
+        // The preset's own numbers (f64), not KERNEL_SURFACE_ALBEDO's f32.
+        MaterialAlbedo::DefaultSkin => look_albedo(&Preset::default_skin()),
         MaterialAlbedo::Typed(c) => c,
     }
 }

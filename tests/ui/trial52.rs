@@ -104,3 +104,48 @@ fn an_hdrp_import_on_the_scan_takes_the_maps_colour_on_enter() {
         "the head is drawn in its map's colour"
     );
 }
+
+/// Item 2: a text file renamed `.glb` replaced the loaded mesh with the
+/// procedural head, and its error was posted twice. The mesh on screen
+/// now stays (the frames after the error are still of it), and the error
+/// is said once, naming the file and what is still shown.
+#[test]
+fn a_failed_mesh_load_keeps_the_mesh_on_screen_and_says_so_once() {
+    let obj = repo("assets/head/head.obj");
+    let mut h = harness(true);
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: obj.clone(),
+        metres_per_unit: Some(0.01),
+    });
+    step_until(&mut h, "head.obj on screen", |a| {
+        a.mesh_info().is_some_and(|i| i.metres_per_unit == 0.01) && a.viewport().idle()
+    });
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-badglb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("not_a_mesh.glb");
+    std::fs::write(&bad, "These are notes, not a mesh.\n").unwrap();
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: bad.clone(),
+        metres_per_unit: Some(0.01),
+    });
+    step_until(&mut h, "the error", |a| a.status().starts_with("Error"));
+    // Frames keep coming of the mesh that was there.
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
+    h.state_mut().ui_state.view.orbit.camera_yaw_rad += 0.3;
+    step_until(&mut h, "a frame after the error", |a| {
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
+    });
+    let status = h.state().status().to_string();
+    assert!(status.contains("not_a_mesh.glb"), "{status}");
+    assert!(status.contains("kept head.obj on screen"), "{status}");
+    assert_eq!(h.state().mesh_path(), Some(obj.as_path()), "{status}");
+    assert_eq!(h.state().mesh_info().unwrap().metres_per_unit, 0.01);
+    let errors = h
+        .state()
+        .notices()
+        .iter()
+        .filter(|n| n.contains("not_a_mesh.glb"))
+        .count();
+    assert_eq!(errors, 1, "{:#?}", h.state().notices());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -285,8 +285,10 @@ impl Worker {
 }
 
 /// Loads the request's mesh and maps if they changed (replying with the
-/// mesh's framing); on an error, falls back to the head so the viewport
-/// keeps working. False when there is no renderer to draw with.
+/// mesh's framing). On an error the mesh on screen stays and draws this
+/// request (`Reply::MeshFailed`, said once); with none yet, the default
+/// head stands in so the viewport keeps working. False when there is no
+/// renderer to draw with.
 fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>, faults: &Faults) -> bool {
     match faults.take() {
         Some(Fault::Panic) => panic!("a failure injected by a test"),
@@ -311,6 +313,17 @@ fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>, faults: &
     }
     let range = req.a.rendering.thickness_remap_mm.1 as f32;
     match w.ensure_renderer(&req.mesh, &req.mesh_settings, range) {
+        // A file that is not a mesh, or a map that will not load: the
+        // artist's mesh on screen is kept, not thrown away.
+        Err(error) if w.renderer.is_some() => {
+            req.mesh = w.mesh_path.clone();
+            req.mesh_settings = w.mesh_settings.clone();
+            let _ = tx.send(Reply::MeshFailed {
+                error,
+                kept: req.mesh.clone(),
+                kept_settings: req.mesh_settings.clone(),
+            });
+        }
         Err(e) => {
             // Fall back to the head so the viewport keeps working.
             let _ = tx.send(Reply::Error(e));

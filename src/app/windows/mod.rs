@@ -110,6 +110,13 @@ pub enum Action {
     Log(String),
     /// The render thread loaded a mesh (`None`: the default head).
     MeshLoaded(Option<PathBuf>, super::viewport::MeshInfo),
+    /// A mesh or its maps failed to load on the render thread, which kept
+    /// the mesh on screen (`None`: the default head) with its settings.
+    MeshFailed {
+        error: String,
+        kept: Option<PathBuf>,
+        kept_settings: state::MeshSettings,
+    },
     /// The reference image's eyedropper: a linear colour into a field of
     /// the look, as an undoable edit.
     PickColour([f64; 3], reference::PickInto),
