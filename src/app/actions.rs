@@ -88,12 +88,7 @@ impl EditorApp {
                         self.windows.open(title);
                     }
                 }
-                Action::FrameMesh => {
-                    let o = &mut self.ui_state.view.orbit;
-                    o.camera_distance_m = self.meshes.framing_distance_m();
-                    o.camera_pan_m = crate::settings::OrbitView::default().camera_pan_m;
-                    self.say("Framed the mesh (F)");
-                }
+                Action::FrameMesh => self.frame_mesh(),
                 Action::ToggleBefore => self.view.show_before = !self.view.show_before,
                 Action::SetAb(ab) => self.view.ab = ab,
                 Action::Log(line) => self.log_line(format_args!("{line}")),
@@ -520,6 +515,24 @@ impl EditorApp {
         }
     }
 
+    /// F: the whole mesh in view from where the camera is, whatever its
+    /// shape ([`crate::settings::OrbitView::framing_whole`]: the sphere
+    /// that holds it fits the viewport's narrower side).
+    fn frame_mesh(&mut self) {
+        let o = &mut self.ui_state.view.orbit;
+        match (self.meshes.mesh_info, self.layout.viewport_rect) {
+            (Some(info), Some(rect)) => {
+                let aspect = rect.width() / rect.height().max(1.0);
+                *o = o.framing_whole(info.bounds_centre_m, info.bounds_radius_m, aspect);
+            }
+            _ => {
+                o.camera_distance_m = self.meshes.framing_distance_m();
+                o.camera_pan_m = crate::settings::OrbitView::default().camera_pan_m;
+            }
+        }
+        self.say("Framed the mesh (F)");
+    }
+
     /// A mesh or its maps failed to load: the mesh on screen stays, with
     /// the settings it was loaded with (so the next request does not ask
     /// for the failed one again), and the error is said once, naming what
@@ -563,11 +576,17 @@ impl EditorApp {
             return;
         }
         self.meshes.mesh_info = Some(info);
-        // Frame a mesh the artist loads, or new units of
-        // it; the default head at start-up keeps the
-        // remembered view.
+        // Frame a mesh the artist loads, or new units of it; the first
+        // mesh at start-up keeps the remembered view of it.
         let key = (p.clone(), info.metres_per_unit);
-        let first_head = self.view.framed_for.is_none() && p.is_none();
+        // The remembered view is kept only for the mesh it was of (a view
+        // of a small mesh would crop the head); states that do not say
+        // keep it for the procedural head only.
+        let first_head = self.view.framed_for.is_none()
+            && match &self.ui_state.view_framed_for {
+                Some(of) => *of == p,
+                None => p.is_none(),
+            };
         if self.view.framed_for.as_ref() != Some(&key) && !first_head {
             self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
             self.ui_state.view.orbit.camera_pan_m = [0.0; 2];
@@ -591,6 +610,7 @@ impl EditorApp {
             }
         }
         self.view.framed_for = Some(key);
+        self.ui_state.view_framed_for = Some(p.clone());
         if let Some(p) = &p {
             if !self.ui_state.meshes.contains_key(p) {
                 self.windows.units.set_open(true);

@@ -442,6 +442,10 @@ pub struct UiState {
     /// Open on the shipped head scan (with its maps, units and flip) when
     /// no mesh is asked for; off: the procedural head.
     pub start_on_scan: bool,
+    /// The mesh the remembered view was framed for (`Some(None)`: the
+    /// procedural head; `None`: not known, states before 2026-12-06). A
+    /// start on another mesh frames it rather than keep a view of this one.
+    pub view_framed_for: Option<Option<std::path::PathBuf>>,
     /// The interface's scale (egui's zoom factor: 1 = 100 %).
     pub ui_scale: f32,
     /// A light interface instead of the dark one.
@@ -480,6 +484,7 @@ impl Default for UiState {
             map_colour: Default::default(),
             still: Default::default(),
             start_on_scan: true,
+            view_framed_for: None,
             ui_scale: 1.0,
             light_theme: false,
             preset_folders: Vec::new(),

@@ -254,6 +254,10 @@ pub struct MeshInfo {
     pub metres_per_unit: f32,
     /// Camera distance (m) at which the mesh fills the view.
     pub framing_distance_m: f32,
+    /// The centre of the mesh's bounding box from the camera's focus, and
+    /// the radius about it that holds every vertex (m): what F frames.
+    pub bounds_centre_m: [f32; 3],
+    pub bounds_radius_m: f32,
     /// The mean linear colour of the mesh's own colour map
     /// ([`crate::render::textures::albedo_map_mean`]); `None` without one
     /// (the default head's map only modulates the look's colour).

@@ -293,21 +293,7 @@ impl ViewportState {
                             Some(ctx.load_texture("viewport", ci, egui::TextureOptions::LINEAR))
                     }
                 }
-                self.frame_info = format!(
-                    "{} · {} · {}×{} · {:.0} ms{}{} · {}",
-                    stats.method,
-                    quality.describe(),
-                    stats.width,
-                    stats.height,
-                    wall_ms,
-                    stats
-                        .sss_gpu_ms
-                        .map(|m| format!(" (SSS {m:.1} ms)"))
-                        .unwrap_or_default(),
-                    note.map(|n| format!(" · {n}")).unwrap_or_default(),
-                    // The adapter's first words (its whole name on hover).
-                    stats.adapter.split(" (").next().unwrap_or(&stats.adapter)
-                );
+                self.frame_info = frame_info(&stats, quality, wall_ms, note);
                 // The driver in the frame log, and an old lavapipe named
                 // once, with its upgrade.
                 if self.adapter.is_empty() {
@@ -345,4 +331,29 @@ impl ViewportState {
         }
         actions
     }
+}
+
+/// The status bar's line for a frame: method, how far it got, size, time
+/// (the SSS pass's too), the note, and the adapter's first words (its
+/// whole name on hover).
+fn frame_info(
+    stats: &crate::render::FrameStats,
+    quality: viewport::Quality,
+    wall_ms: f64,
+    note: Option<String>,
+) -> String {
+    format!(
+        "{} · {} · {}×{} · {:.0} ms{}{} · {}",
+        stats.method,
+        quality.describe(),
+        stats.width,
+        stats.height,
+        wall_ms,
+        stats
+            .sss_gpu_ms
+            .map(|m| format!(" (SSS {m:.1} ms)"))
+            .unwrap_or_default(),
+        note.map(|n| format!(" · {n}")).unwrap_or_default(),
+        stats.adapter.split(" (").next().unwrap_or(&stats.adapter)
+    )
 }

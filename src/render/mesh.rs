@@ -468,6 +468,24 @@ impl Mesh {
         framing_distance_m(self.height_m(), fov_y)
     }
 
+    /// A sphere that holds every vertex, in metres: its centre (the
+    /// bounding box's) from the focus, and its radius (the farthest vertex
+    /// from that centre). What the editor's F frames whole.
+    pub fn bounds_sphere_m(&self) -> ([f32; 3], f32) {
+        let (lo, hi) = self.bounds();
+        if lo.x > hi.x {
+            return ([0.0; 3], 0.0);
+        }
+        let c = 0.5 * (lo + hi);
+        let r = self
+            .vertices
+            .iter()
+            .map(|v| Vec3::from(v.position).distance(c))
+            .fold(0.0f32, f32::max);
+        let m = self.metres_per_unit;
+        (((c - Vec3::from(self.focus)) * m).to_array(), r * m)
+    }
+
     /// Axis-aligned bounds (min, max) in mesh units.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.vertices.iter().fold(

@@ -40,7 +40,14 @@ impl OrbitView {
     /// light's direction is the same orbit formula at its azimuth and
     /// elevation. Tested by `light_in_view_follows_the_camera`.
     pub fn light_in_view(&self) -> [f32; 3] {
-        let orbit = |az: f32, el: f32| [az.sin() * el.cos(), el.sin(), az.cos() * el.cos()];
+        let (dir, right, up) = self.camera_frame();
+        let light = orbit(self.light_azimuth_rad, self.light_elevation_rad);
+        [dot(light, right), dot(light, up), dot(light, dir)]
+    }
+
+    /// The camera's frame (unit vectors): towards the eye from the
+    /// target, right and up, as `render::framing` makes it.
+    fn camera_frame(&self) -> ([f32; 3], [f32; 3], [f32; 3]) {
         let cross = |a: [f32; 3], b: [f32; 3]| {
             [
                 a[1] * b[2] - a[2] * b[1],
@@ -48,14 +55,33 @@ impl OrbitView {
                 a[0] * b[1] - a[1] * b[0],
             ]
         };
-        let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let dir = orbit(self.camera_yaw_rad, self.camera_pitch_rad);
         let r = cross([0.0, 1.0, 0.0], dir);
         let n = dot(r, r).sqrt().max(1e-12);
         let right = r.map(|x| x / n);
-        let up = cross(dir, right);
-        let light = orbit(self.light_azimuth_rad, self.light_elevation_rad);
-        [dot(light, right), dot(light, up), dot(light, dir)]
+        (dir, right, cross(dir, right))
+    }
+
+    /// This view moved to frame a mesh whole, from where the camera is (as
+    /// Blender's View Selected does): the target on the centre of a sphere
+    /// that holds the mesh (`centre_m` from the focus, `radius_m`), the
+    /// camera just far enough for the sphere's outline to fit the
+    /// narrower field of view of a viewport `aspect` wide (width / height),
+    /// with [`FRAMING_ROOM`] to spare. The outline of a sphere of radius r
+    /// seen from d is a cone of half angle asin(r / d), so d = r / sin(half
+    /// angle). Direction, light and field of view are kept. Tested by
+    /// `framing_whole_fits_a_sphere`.
+    pub fn framing_whole(&self, centre_m: [f32; 3], radius_m: f32, aspect: f32) -> OrbitView {
+        let (dir, right, up) = self.camera_frame();
+        let half_y = 0.5 * self.fov_y_rad;
+        let half_x = (aspect.max(1e-3) * half_y.tan()).atan();
+        let half = half_y.min(half_x);
+        OrbitView {
+            camera_pan_m: [dot(centre_m, right), dot(centre_m, up)],
+            // The sphere's centre lies off the target plane by c·dir.
+            camera_distance_m: FRAMING_ROOM * radius_m.max(1e-4) / half.sin() + dot(centre_m, dir),
+            ..*self
+        }
     }
 }
 
@@ -95,6 +121,21 @@ impl Default for OrbitView {
             exposure: 1.0,
         }
     }
+}
+
+/// How much farther than a tight fit [`OrbitView::framing_whole`] puts the
+/// camera: the outline then spans about 1 / 1.08 = 93 % of the narrower
+/// side, a margin as the DCC tools' "frame selected" leave.
+pub const FRAMING_ROOM: f32 = 1.08;
+
+/// The unit direction of an orbit's azimuth (about +y, 0 = +z) and
+/// elevation.
+fn orbit(az: f32, el: f32) -> [f32; 3] {
+    [az.sin() * el.cos(), el.sin(), az.cos() * el.cos()]
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[cfg(test)]
@@ -150,5 +191,64 @@ mod framing_tests {
         assert_eq!(at(framing, [window, 0.0]), 0.0);
         // Half a window across: half of it.
         assert!((at(framing, [0.5 * window, 0.0]) - 0.5).abs() < 1e-4);
+    }
+}
+
+#[cfg(test)]
+mod framing_whole_tests {
+    use super::OrbitView;
+    use glam::{Mat4, Vec3};
+
+    /// Judged by glam's camera (the renderer's: `look_at_rh` from the eye
+    /// along the orbit, `perspective_rh`): every point of the sphere lands
+    /// inside the viewport and the outline touches its narrower edges, for
+    /// a portrait and a landscape viewport, an off-centre sphere and an
+    /// orbit from above.
+    #[test]
+    fn framing_whole_fits_a_sphere() {
+        for (aspect, yaw, pitch, centre) in [
+            (0.8f32, 0.35f32, 0.05f32, [0.0f32, -0.02, 0.0]),
+            (1.6, -1.0, 0.6, [0.03, 0.05, -0.04]),
+        ] {
+            let radius = 0.09;
+            let v = OrbitView {
+                camera_yaw_rad: yaw,
+                camera_pitch_rad: pitch,
+                camera_pan_m: [0.2, -0.1],
+                camera_distance_m: 0.05,
+                ..OrbitView::default()
+            }
+            .framing_whole(centre, radius, aspect);
+            let (dir, right, up) = v.camera_frame();
+            let (dir, right, up) = (Vec3::from(dir), Vec3::from(right), Vec3::from(up));
+            let target = right * v.camera_pan_m[0] + up * v.camera_pan_m[1];
+            let eye = target + dir * v.camera_distance_m;
+            let clip = Mat4::perspective_rh(v.fov_y_rad, aspect, 0.01, 100.0)
+                * Mat4::look_at_rh(eye, target, Vec3::Y);
+            let mut widest = [0.0f32; 2];
+            for i in 0..64 {
+                for j in 0..=32 {
+                    let (a, b) = (
+                        i as f32 / 64.0 * std::f32::consts::TAU,
+                        j as f32 / 32.0 * std::f32::consts::PI,
+                    );
+                    let p = Vec3::from(centre)
+                        + radius * Vec3::new(b.sin() * a.cos(), b.cos(), b.sin() * a.sin());
+                    let ndc = clip.project_point3(p);
+                    widest = [widest[0].max(ndc.x.abs()), widest[1].max(ndc.y.abs())];
+                }
+            }
+            let narrow = if aspect < 1.0 { widest[0] } else { widest[1] };
+            assert!(
+                widest[0] <= 1.0 + 1e-3 && widest[1] <= 1.0 + 1e-3,
+                "{widest:?}"
+            );
+            // sin(a) / 1.08 against sin(a) for the outline: 0.90–0.93 of
+            // the narrower half-side.
+            assert!(
+                narrow > 0.88 && narrow < 0.95,
+                "the outline should nearly touch the narrower edges: {widest:?}"
+            );
+        }
     }
 }

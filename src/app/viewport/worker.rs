@@ -140,6 +140,8 @@ impl Worker {
             metres_per_unit: mesh_data.metres_per_unit,
             framing_distance_m: mesh_data
                 .framing_distance_m(crate::settings::OrbitView::default().fov_y_rad),
+            bounds_centre_m: mesh_data.bounds_sphere_m().0,
+            bounds_radius_m: mesh_data.bounds_sphere_m().1,
             colour_map_mean: (mesh_data.textures.albedo_mode
                 == crate::render::textures::AlbedoMode::Absolute)
                 .then(|| crate::render::textures::albedo_map_mean(&mesh_data.textures.albedo))
