@@ -612,11 +612,16 @@ impl EditorApp {
         self.view.framed_for = Some(key);
         self.ui_state.view_framed_for = Some(p.clone());
         if let Some(p) = &p {
-            if !self.ui_state.meshes.contains_key(p) {
+            if !self.ui_state.meshes.contains_key(p) || info.facing.inside_out() {
                 self.windows.units.set_open(true);
             }
         }
         match &p {
+            Some(p) if info.facing.inside_out() => self.say(format!(
+                "Warning: {}: the file is inside out ({} point inward), so it draws dark: Turn outward in the Mesh menu's Units…",
+                p.display(),
+                info.facing.describe().unwrap_or("its faces")
+            )),
             Some(p) => self.say(format!("Mesh {}", p.display())),
             // The first load of the default head is not news.
             // After a failed load the error stays readable.

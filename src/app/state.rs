@@ -334,6 +334,9 @@ pub struct MeshSettings {
     /// Albedo, normal, roughness, SSS mask and thickness
     /// (`render::textures::SLOTS` order).
     pub maps: [crate::render::textures::MapSlot; 5],
+    /// The file is inside out: turn its faces and normals outward on
+    /// load (`Mesh::turn_outward`).
+    pub turn_outward: bool,
 }
 
 impl Default for MeshSettings {
@@ -341,6 +344,7 @@ impl Default for MeshSettings {
         Self {
             metres_per_unit: 1.0,
             maps: crate::render::textures::SLOTS.map(crate::render::textures::MapSlot::default_for),
+            turn_outward: false,
         }
     }
 }

@@ -258,6 +258,8 @@ pub struct MeshInfo {
     /// the radius about it that holds every vertex (m): what F frames.
     pub bounds_centre_m: [f32; 3],
     pub bounds_radius_m: f32,
+    /// Which way the mesh faces as drawn (inside out: a dark disc).
+    pub facing: crate::render::mesh::Facing,
     /// The mean linear colour of the mesh's own colour map
     /// ([`crate::render::textures::albedo_map_mean`]); `None` without one
     /// (the default head's map only modulates the look's colour).

@@ -97,6 +97,10 @@ pub struct ViewArgs {
     /// (OpenGL's bottom-left origin) on a glTF, or the other way round.
     #[arg(long)]
     pub flip_v: bool,
+    /// Turn a mesh exported inside out (its triangles clockwise seen from
+    /// outside, or its normals pointing in: it draws dark) outward.
+    #[arg(long)]
+    pub turn_outward: bool,
     /// Thickness (mm) that a white texel of --thickness stands for
     /// (default: the look's `rendering.thickness_remap_mm`, 5 mm).
     #[arg(long, allow_negative_numbers = true)]
@@ -131,9 +135,17 @@ impl ViewArgs {
         }
         let mut mesh = match &self.mesh {
             Some(path) => {
-                let mesh = Mesh::load(path, self.metres_per_unit)?;
+                let mut mesh = Mesh::load(path, self.metres_per_unit)?;
                 if let Some(w) = mesh.head_size().scale_warning(self.metres_per_unit) {
                     eprintln!("warning: {}: {w}", path.display());
+                }
+                if self.turn_outward {
+                    mesh.turn_outward();
+                } else if let Some(what) = mesh.facing().describe() {
+                    eprintln!(
+                        "warning: {}: the file is inside out ({what} point inward), so it draws dark: add --turn-outward",
+                        path.display()
+                    );
                 }
                 mesh
             }

@@ -499,6 +499,9 @@ impl Mesh {
 }
 
 mod geometry;
+/// Which way a mesh faces, and a file inside out turned outward.
+mod orientation;
+pub use orientation::Facing;
 /// glTF 2.0 meshes (.gltf/.glb) with their buffers and textures.
 mod gltf;
 /// The default head's UV-space bake (its procedural maps).

@@ -839,3 +839,98 @@ fn render_supersample_runs_the_truths_check_on_any_view() {
     assert!(err.contains("--supersample"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 52 item 3 on the command line: an OBJ exported inside out (a UV
+/// sphere 18 cm across whose triangles run clockwise seen from outside)
+/// drew dark without a word. `render` now warns in one line naming the
+/// file and `--turn-outward`, which draws it lit: its middle brighter than
+/// the inside-out frame's, as bright as the sphere written the right way
+/// round.
+#[test]
+fn an_inside_out_mesh_is_named_and_turned_outward() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-inside-out-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let sphere = |name: &str, inside_out: bool| {
+        let (n_lat, n_lon, r) = (24usize, 48usize, 0.09f32);
+        let mut text = String::new();
+        for i in 0..=n_lat {
+            let t = i as f32 / n_lat as f32 * std::f32::consts::PI;
+            for j in 0..n_lon {
+                let p = j as f32 / n_lon as f32 * std::f32::consts::TAU;
+                let n = [t.sin() * p.cos(), t.cos(), t.sin() * p.sin()];
+                text += &format!(
+                    "v {} {} {}\nvt {} {}\n",
+                    r * n[0],
+                    r * n[1],
+                    r * n[2],
+                    j as f32 / n_lon as f32,
+                    1.0 - i as f32 / n_lat as f32
+                );
+            }
+        }
+        let at = |i: usize, j: usize| i * n_lon + j % n_lon + 1;
+        for i in 0..n_lat {
+            for j in 0..n_lon {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                let [a, b, c, d] = if inside_out {
+                    [a, d, c, b]
+                } else {
+                    [a, b, c, d]
+                };
+                text += &format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n");
+            }
+        }
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let png = dir.join("sphere.png");
+    let render = |mesh: &std::path::Path, turn: bool| {
+        let mut args = vec![
+            "render",
+            "--mesh",
+            mesh.to_str().unwrap(),
+            "--metres-per-unit",
+            "1",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        if turn {
+            args.push("--turn-outward");
+        }
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 0, "{err}");
+        let img = image::open(&png).unwrap().to_luma8();
+        let mid: f64 = (24..40)
+            .flat_map(|y| (24..40).map(move |x| (x, y)))
+            .map(|(x, y)| img.get_pixel(x, y)[0] as f64)
+            .sum::<f64>()
+            / 256.0;
+        (mid, err)
+    };
+    let (right, err) = render(&sphere("right.obj", false), false);
+    assert!(!err.contains("inside out"), "{err}");
+    let inside = sphere("inside_out.obj", true);
+    let (dark, err) = render(&inside, false);
+    assert!(
+        err.contains("inside_out.obj")
+            && err.contains("inside out")
+            && err.contains("--turn-outward"),
+        "{err}"
+    );
+    let (turned, err) = render(&inside, true);
+    assert!(!err.contains("inside out"), "{err}");
+    assert!(
+        turned > dark + 10.0,
+        "turned {turned:.1}, inside out {dark:.1}"
+    );
+    assert!(
+        (turned - right).abs() < 3.0,
+        "turned {turned:.1}, built outward {right:.1}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

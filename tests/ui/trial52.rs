@@ -221,7 +221,7 @@ fn a_remembered_view_of_another_mesh_does_not_crop_the_head() {
 
 /// A UV sphere `diameter_m` across as an OBJ (metres), with UVs and
 /// normals.
-fn sphere_obj(path: &std::path::Path, diameter_m: f32) {
+fn sphere_obj(path: &std::path::Path, diameter_m: f32, inside_out: bool) {
     let (n_lat, n_lon) = (24, 48);
     let r = 0.5 * diameter_m;
     let mut text = String::new();
@@ -247,7 +247,14 @@ fn sphere_obj(path: &std::path::Path, diameter_m: f32) {
     for i in 0..n_lat {
         for j in 0..n_lon {
             let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-            // Counter-clockwise seen from outside (glTF's and OBJ's front).
+            // Counter-clockwise seen from outside (glTF's and OBJ's front),
+            // or clockwise for a file exported inside out.
+            let q = if inside_out {
+                [a, d, c, b]
+            } else {
+                [a, b, c, d]
+            };
+            let [a, b, c, d] = q;
             text += &format!("f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c} {d}/{d}/{d}\n");
         }
     }
@@ -264,7 +271,7 @@ fn f_frames_a_sphere_whole() {
     let dir = std::env::temp_dir().join(format!("scatterlab-ui-sphere-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let obj = dir.join("sphere.obj");
-    sphere_obj(&obj, 0.18);
+    sphere_obj(&obj, 0.18, false);
     let mut h = harness(true);
     h.state_mut().open_mesh(scatterlab::app::MeshArg {
         path: obj.clone(),
@@ -312,6 +319,87 @@ fn f_frames_a_sphere_whole() {
     assert!(
         span[0].max(span[1]) > 0.8,
         "the sphere spans {span:?} of the frame: framed too far"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The mean of the frame's middle ninth, per channel (0–255).
+fn middle_mean(img: &image::RgbaImage) -> [f64; 3] {
+    let (w, h) = img.dimensions();
+    let mut s = [0.0; 3];
+    let mut n = 0.0;
+    for y in h / 3..2 * h / 3 {
+        for x in w / 3..2 * w / 3 {
+            let p = img.get_pixel(x, y);
+            for c in 0..3 {
+                s[c] += p[c] as f64;
+            }
+            n += 1.0;
+        }
+    }
+    s.map(|v| v / n)
+}
+
+/// Item 3: an OBJ exported inside out (its triangles clockwise seen from
+/// outside: the rasteriser keeps the far side's inner faces, whose normals,
+/// made from the winding, point away) drew as a flat dark disc with no
+/// word. It is now named in the status line, Mesh units opens offering to
+/// turn it outward, and after "Turn outward" the sphere is lit: brighter
+/// in the middle than the inside-out one, as bright as the same sphere
+/// built the right way round.
+#[test]
+fn an_inside_out_mesh_is_named_and_turned_outward() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-inside-out-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(true);
+    let mut frames = Vec::new();
+    for (name, inside_out) in [("right.obj", false), ("inside_out.obj", true)] {
+        let obj = dir.join(name);
+        sphere_obj(&obj, 0.18, inside_out);
+        h.state_mut().open_mesh(scatterlab::app::MeshArg {
+            path: obj.clone(),
+            metres_per_unit: Some(1.0),
+        });
+        step_until(&mut h, name, |a| {
+            a.mesh_path() == Some(obj.as_path())
+                && a.mesh_info()
+                    .is_some_and(|i| i.facing.inside_out() == inside_out)
+                && a.viewport().idle()
+        });
+        let img = &h.state().viewport().frame().unwrap().0;
+        if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+            img.save(dir.join(format!("{name}.png"))).unwrap();
+        }
+        frames.push(middle_mean(img));
+    }
+    let status = h.state().status().to_string();
+    assert!(
+        status.contains("inside_out.obj") && status.contains("inside out"),
+        "{status}"
+    );
+    h.run_steps(2);
+    h.get_by_label("Turn outward").click_accesskit();
+    step_until(&mut h, "the sphere turned outward", |a| {
+        a.mesh_info().is_some_and(|i| !i.facing.inside_out()) && a.viewport().idle()
+    });
+    h.run_steps(2);
+    let img = &h.state().viewport().frame().unwrap().0;
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+        img.save(dir.join("turned.png")).unwrap();
+        return;
+    }
+    let turned = middle_mean(img);
+    let luma = |m: [f64; 3]| 0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2];
+    let [right, inside] = [luma(frames[0]), luma(frames[1])];
+    assert!(
+        luma(turned) > inside + 10.0,
+        "turned {:.1} against inside out {inside:.1}",
+        luma(turned)
+    );
+    assert!(
+        (luma(turned) - right).abs() < 3.0,
+        "turned {:.1} against the sphere built outward {right:.1}",
+        luma(turned)
     );
     std::fs::remove_dir_all(&dir).ok();
 }

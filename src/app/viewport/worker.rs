@@ -109,6 +109,9 @@ impl Worker {
                 Some(p) => Mesh::load(p, mpu)
                     .map_err(|e| e.to_string())
                     .and_then(|mut m| {
+                        if settings.turn_outward {
+                            m.turn_outward();
+                        }
                         crate::render::textures::apply_slots(
                             std::sync::Arc::make_mut(&mut m.textures),
                             &settings.maps,
@@ -140,6 +143,7 @@ impl Worker {
             metres_per_unit: mesh_data.metres_per_unit,
             framing_distance_m: mesh_data
                 .framing_distance_m(crate::settings::OrbitView::default().fov_y_rad),
+            facing: mesh_data.facing(),
             bounds_centre_m: mesh_data.bounds_sphere_m().0,
             bounds_radius_m: mesh_data.bounds_sphere_m().1,
             colour_map_mean: (mesh_data.textures.albedo_mode

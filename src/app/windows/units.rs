@@ -98,6 +98,30 @@ fn units_ui(ui: &mut egui::Ui, path: &Path, info: MeshInfo, mpu: &mut f32) -> bo
     done
 }
 
+/// A mesh inside out (its faces or normals pointing in: it draws as a
+/// dark disc) is named, with the offer to turn it outward; one turned is
+/// said so, and can be drawn as the file has it again.
+fn facing_ui(ui: &mut egui::Ui, info: MeshInfo, turn: &mut bool) {
+    if let Some(what) = info.facing.describe() {
+        ui.colored_label(
+            egui::Color32::from_rgb(240, 170, 60),
+            format!("The file is inside out: {what} point inward, so it draws dark."),
+        );
+        if ui
+            .button("Turn outward")
+            .on_hover_text("Reverse the triangles' winding and the normals that point inward, as the file should have them (remembered for this file).")
+            .clicked()
+        {
+            *turn = true;
+        }
+        ui.separator();
+    } else if *turn {
+        ui.checkbox(turn, "Turned outward (the file is inside out)")
+            .on_hover_text("Untick to draw the mesh as the file has it.");
+        ui.separator();
+    }
+}
+
 impl Window for UnitsWindow {
     fn title(&self) -> &'static str {
         "Mesh units"
@@ -126,21 +150,30 @@ impl Window for UnitsWindow {
         let (Some(path), Some(info)) = (view.mesh.filter(|_| self.open), view.mesh_info) else {
             return Vec::new();
         };
-        let current = view.meshes.get(path).map_or(1.0, |m| m.metres_per_unit);
-        let mut mpu = current;
+        let current = view.meshes.get(path).cloned().unwrap_or_default();
+        let (mut mpu, mut turn) = (current.metres_per_unit, current.turn_outward);
         let mut done = false;
         egui::Window::new(self.title())
             .collapsible(false)
             .resizable(false)
             .anchor(egui::Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
             .open(&mut self.open)
-            .show(ctx, |ui| done = units_ui(ui, path, info, &mut mpu));
+            .show(ctx, |ui| {
+                facing_ui(ui, info, &mut turn);
+                done = units_ui(ui, path, info, &mut mpu);
+            });
         if done {
             self.open = false;
         }
-        if mpu != current || !view.meshes.contains_key(path) {
-            let mut settings = view.meshes.get(path).cloned().unwrap_or_default();
-            settings.metres_per_unit = mpu;
+        if mpu != current.metres_per_unit
+            || turn != current.turn_outward
+            || !view.meshes.contains_key(path)
+        {
+            let settings = crate::app::state::MeshSettings {
+                metres_per_unit: mpu,
+                turn_outward: turn,
+                ..current
+            };
             return vec![Action::SetMeshSettings(path.to_path_buf(), settings)];
         }
         Vec::new()
