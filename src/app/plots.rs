@@ -474,10 +474,19 @@ fn overlay_status_ui(
         Some(Ok(o)) => {
             ui.horizontal_wrapped(|ui| {
                 if !overlay_is_sane(o) {
+                    // Its numbers mean nothing, and using it would wreck
+                    // the look: named, with nothing to use.
                     ui.colored_label(
                         ui.visuals().warn_fg_color,
                         format!("{} cannot hold this look: not drawn (choose another overlay).", o.label),
-                    );
+                    )
+                    .on_hover_text(format!(
+                        "Its shape error or colour change passes 100 % (colour change R {:+.0} %, G {:+.0} %, B {:+.0} %): no fit to use.",
+                        100.0 * o.energy_change[0],
+                        100.0 * o.energy_change[1],
+                        100.0 * o.energy_change[2]
+                    ));
+                    return;
                 }
                 ui.label(format!(
                     "{}: shape error (relative L2 of r·R(r)/total) R {:.2} %, G {:.2} %, B {:.2} %",

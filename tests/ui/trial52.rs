@@ -403,3 +403,35 @@ fn an_inside_out_mesh_is_named_and_turned_outward() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 6: Ketchup (Jensen et al. 2001) opened on the Jimenez overlay was
+/// marked "cannot hold this look", yet still showed an orange colour
+/// change of thousands of per cent and an active "Use fit". A fit that
+/// cannot hold the look now offers nothing to use and shows no numbers.
+#[test]
+fn an_overlay_that_cannot_hold_the_look_offers_nothing_to_use() {
+    use scatterlab::app::state::OverlayModel;
+    let ketchup = scatterlab::settings::library::load("ketchup_jensen2001.ron").unwrap();
+    let state = UiState {
+        overlay: OverlayModel::Jimenez,
+        ..Default::default()
+    };
+    let mut h = harness_of(
+        EditorApp::new(None, state, Some((ketchup, None)), false),
+        [1500.0, 900.0],
+    );
+    step_until(&mut h, "Ketchup's Jimenez fit", EditorApp::analysis_done);
+    h.run_steps(2);
+    assert!(h
+        .query_by_label_contains("cannot hold this look: not drawn")
+        .is_some());
+    assert!(
+        h.query_by_label("Use fit").is_none(),
+        "'Use fit' is offered"
+    );
+    assert!(
+        h.query_by_label_contains("colour changes").is_none(),
+        "the colour change is still shown"
+    );
+    assert!(h.query_by_label_contains("shape error").is_none());
+}
