@@ -249,6 +249,11 @@ pub enum DecodeError {
     TooWide { width: u32, height: u32 },
     #[error("{width}×{height} is over the 64-megapixel limit")]
     TooLarge { width: u32, height: u32 },
+    /// The pixels stop before the image its header names is complete (a
+    /// download cut short): said in the file's terms, not the I/O call's
+    /// ("failed to fill whole buffer").
+    #[error("ends early: its {len} bytes stop before the {width}×{height} pixels its header names are all there (cut short: download or copy it again)")]
+    EndsEarly { len: u64, width: u32, height: u32 },
     #[error("{0}")]
     Image(#[from] image::ImageError),
 }
@@ -280,7 +285,12 @@ pub fn decode_bounded(path: &Path) -> Result<image::DynamicImage, DecodeError> {
     }
     let mut reader = image::ImageReader::open(path)?.with_guessed_format()?;
     reader.limits(bounded_limits());
-    Ok(reader.decode()?)
+    reader.decode().map_err(|e| match e {
+        image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            DecodeError::EndsEarly { len, width, height }
+        }
+        e => e.into(),
+    })
 }
 
 fn bounded_limits() -> image::Limits {

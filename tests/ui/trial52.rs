@@ -435,3 +435,38 @@ fn an_overlay_that_cannot_hold_the_look_offers_nothing_to_use() {
     );
     assert!(h.query_by_label_contains("shape error").is_none());
 }
+
+/// Item 8: an HDR map cut short (a download that stopped half-way) was
+/// refused with the I/O call's words, "failed to fill whole buffer". It is
+/// now refused in the file's terms: it ends early, how many bytes it has,
+/// and the size its header names.
+#[test]
+fn a_cut_short_hdr_map_is_said_to_end_early() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-cut-hdr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let whole = dir.join("whole.hdr");
+    uniform_hdr(&whole, [0.5, 0.25, 0.125]);
+    let bytes = std::fs::read(&whole).unwrap();
+    let cut = dir.join("cut.hdr");
+    let half = bytes.len() / 2;
+    std::fs::write(&cut, &bytes[..half]).unwrap();
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().load_environment(cut.clone());
+    step_until(&mut h, "the refusal", |a| {
+        !a.status().starts_with("Loading environment")
+    });
+    let status = h.state().status().to_string();
+    assert!(
+        status.starts_with("Error") && status.contains("cut.hdr"),
+        "{status}"
+    );
+    assert!(!status.contains("failed to fill"), "{status}");
+    assert!(
+        status.contains("ends early")
+            && status.contains(&format!("{half} bytes"))
+            && status.contains("64×32"),
+        "{status}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
