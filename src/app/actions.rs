@@ -14,9 +14,16 @@ impl EditorApp {
     pub(super) fn apply(&mut self, actions: Vec<Action>) {
         for action in actions {
             match action {
-                Action::SetView(v) => self.ui_state.view = v,
+                Action::SetView(v) => {
+                    let before = self.ui_state.view.environment;
+                    self.ui_state.view = v;
+                    self.environment_switched(before);
+                }
                 Action::ApplyRig(rig) => {
-                    if !rig.apply(&mut self.ui_state.view) {
+                    let before = self.ui_state.view.environment;
+                    let applied = rig.apply(&mut self.ui_state.view);
+                    self.environment_switched(before);
+                    if !applied {
                         // The HDR rig with no map loaded: ask for one; the
                         // map lights the head once it has loaded.
                         self.view.hdr_rig_pending = true;
@@ -512,6 +519,20 @@ impl EditorApp {
         self.ask_b_albedo(&b);
         if let Some(p) = self.windows.albedo.prompt.as_mut() {
             p.choice = crate::settings::albedo::MaterialAlbedo::Typed(p.typed.map(|c| c as f64));
+        }
+    }
+
+    /// The status line no longer names an HDR map that stopped lighting
+    /// the head: once the environment is switched away from the map, it
+    /// says what lights it now.
+    fn environment_switched(&mut self, before: state::EnvironmentChoice) {
+        use state::EnvironmentChoice as E;
+        let now = self.ui_state.view.environment;
+        if before == E::Map && now != E::Map && self.status().starts_with("Environment ") {
+            self.say(match now {
+                E::Studio => "Environment: the studio sky (the HDR map is off)",
+                _ => "Environment: black, the key light alone (the HDR map is off)",
+            });
         }
     }
 

@@ -470,3 +470,34 @@ fn a_cut_short_hdr_map_is_said_to_end_early() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 8: the status line kept naming the HDR map after the environment
+/// was switched back to the studio sky. It now says what lights the head.
+#[test]
+fn the_status_line_stops_naming_a_map_switched_away() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-env-away-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = dir.join("uniform.hdr");
+    uniform_hdr(&map, [0.5, 0.25, 0.125]);
+    let mut h = harness(false);
+    h.step();
+    h.state_mut().load_environment(map.clone());
+    step_until(&mut h, "the map", |a| {
+        a.status().starts_with("Environment ")
+    });
+    assert!(h.state().status().contains("uniform.hdr"));
+    h.get_by_label("Environment").click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("studio sky").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        scatterlab::app::state::EnvironmentChoice::Studio
+    );
+    let status = h.state().status();
+    assert!(
+        !status.contains("uniform.hdr") && status.contains("studio sky"),
+        "{status}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
