@@ -501,3 +501,19 @@ fn the_status_line_stops_naming_a_map_switched_away() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 9: Help → Shortcuts (F1) listed Escape twice ("Esc" and
+/// "Escape"). Each key is listed once.
+#[test]
+fn the_shortcuts_list_names_each_key_once() {
+    let mut h = harness(false);
+    h.step();
+    h.key_press(Key::F1);
+    h.run_steps(2);
+    assert!(h.query_by_label("Shortcuts").is_some(), "F1 opened nothing");
+    let escapes = ["Esc", "Escape"]
+        .iter()
+        .map(|k| h.query_all_by_label(k).count())
+        .sum::<usize>();
+    assert_eq!(escapes, 1, "Escape is listed {escapes} times");
+}

@@ -61,7 +61,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Ctrl+Shift+Z, Ctrl+Y", "redo"),
     (
         "F",
-        "frame the mesh (distance and pan; the direction is kept)",
+        "frame the whole mesh from where the camera is",
     ),
     ("\\", "flicker: the look before the last edit, and back"),
     (
@@ -69,7 +69,6 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "close the topmost window; while comparing, back to the mode's view",
     ),
     ("Space", "while comparing: A alone / B alone"),
-    ("Escape", "while comparing: both sides again"),
     ("left drag", "orbit the camera"),
     (
         "right or Shift+left drag",
