@@ -517,3 +517,39 @@ fn the_shortcuts_list_names_each_key_once() {
         .sum::<usize>();
     assert_eq!(escapes, 1, "Escape is listed {escapes} times");
 }
+
+/// Item 9: the artist's own presets were listed by look name, so a copy
+/// of the shipped Skin1 saved as `hero_skin.ron` showed as "Skin1 (Jensen
+/// 2001)" beside the shipped one. Where names collide, the artist's file
+/// now shows its file name too; a name of its own is left as it is.
+#[test]
+fn a_preset_whose_name_collides_shows_its_file_name() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-collide-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let skin1 = scatterlab::settings::library::load("skin1_jensen2001.ron").unwrap();
+    skin1.save(&dir.join("hero_skin.ron")).unwrap();
+    let mut mine = Preset::default_skin();
+    mine.name = "My pale skin".into();
+    mine.save(&dir.join("pale.ron")).unwrap();
+    let state = UiState {
+        preset_folders: vec![dir.clone()],
+        ..Default::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1500.0, 900.0]);
+    h.state_mut().set_thumbnail_dir(dir.join("thumbs"));
+    menu_item(&mut h, "File", "Browse presets…");
+    h.run_steps(2);
+    let hero = format!("{} (hero_skin.ron)", skin1.name);
+    assert!(
+        h.query_by_label(&hero).is_some(),
+        "no '{hero}' in the browser"
+    );
+    assert_eq!(
+        h.query_all_by_label(&skin1.name).count(),
+        1,
+        "the shipped one"
+    );
+    assert!(h.query_by_label("My pale skin").is_some());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -48,6 +48,28 @@ pub struct PresetBrowser {
     pub skipped: Vec<String>,
 }
 
+/// Each entry's label: its look's name, and for one of the artist's
+/// files whose name another entry has too (a copy of a shipped preset
+/// saved as `hero_skin.ron` is still "Skin1 (Jensen 2001)"), its file's
+/// name after it.
+fn labels(entries: &[Entry]) -> Vec<String> {
+    let count = |name: &str| entries.iter().filter(|e| e.preset.name == name).count();
+    entries
+        .iter()
+        .map(|e| match (&e.path, count(&e.preset.name)) {
+            (Some(p), n) if n > 1 => format!(
+                "{} ({})",
+                e.preset.name,
+                p.file_name().map_or_else(
+                    || p.display().to_string(),
+                    |f| f.to_string_lossy().into_owned()
+                )
+            ),
+            _ => e.preset.name.clone(),
+        })
+        .collect()
+}
+
 /// FNV-1a, 64-bit: a hash that stays the same across runs and builds (the
 /// cache's file names).
 fn fnv1a(bytes: &[u8]) -> u64 {
@@ -399,6 +421,7 @@ impl PresetBrowser {
                     .show(ui, |ui| {
                         let mut group = String::new();
                         let mut in_row = 0;
+                        let labels = labels(&self.entries);
                         for (k, e) in self.entries.iter_mut().enumerate() {
                             if e.group != group {
                                 if in_row > 0 {
@@ -451,7 +474,7 @@ impl PresetBrowser {
                                 let name_clicked = ui
                                     .add(
                                         egui::Button::new(
-                                            egui::RichText::new(&e.preset.name).small(),
+                                            egui::RichText::new(&labels[k]).small(),
                                         )
                                         .frame(false)
                                         .wrap(),
