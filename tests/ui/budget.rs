@@ -19,6 +19,7 @@ fn budget_dir(name: &str) -> std::path::PathBuf {
     m.name = "Merged Skin_Villager_A + Skin_Villager_B".into();
     m.save(&dir.join("pairs/1_merged.ron")).unwrap();
     let json = serde_json::json!({
+        "dropped": ["Unused_Wax_Test"],
         "merges": [{
             "merged": {"name": m.name, "guid": "d7a40e0306ba8dd0684474b2cfad7bc3"},
             "members": [{
@@ -32,7 +33,8 @@ fn budget_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
-/// The window lists the merge and its profile's figures; Compare opens
+/// The window lists the merge and its profile's figures, and the unused
+/// profiles dropped before merging; Compare opens
 /// the profile as A and its merge as B, side by side.
 #[test]
 fn budget_merges_open_as_compare_pairs() {
@@ -43,6 +45,8 @@ fn budget_merges_open_as_compare_pairs() {
     h.run_steps(4);
     h.get_by_label_contains("Merged Skin_Villager_A + Skin_Villager_B");
     h.get_by_label("0.0123");
+    // Issue 52: the profiles no material uses were dropped, and it says so.
+    h.get_by_label("Dropped (no material uses them): Unused_Wax_Test");
     h.get_by_label("A | B").click();
     h.run_steps(4);
     let app = h.state();

@@ -122,6 +122,13 @@ impl Window for BudgetWindow {
             .default_pos(pos)
             .show(ctx, |ui| {
                 ui.label(pairs.dir.display().to_string());
+                if !pairs.report.dropped.is_empty() {
+                    ui.label(format!(
+                        "Dropped (no material uses them): {}",
+                        pairs.report.dropped.join(", ")
+                    ))
+                    .on_hover_text("Left out of the list before any merge: they took a slot for nothing. Their assets stay in the project.");
+                }
                 egui::ScrollArea::vertical()
                     .max_height(420.0)
                     .show(ui, |ui| {

@@ -448,6 +448,9 @@ pub struct BudgetReport {
     pub slots: usize,
     pub profiles_before: usize,
     pub profiles_after: usize,
+    /// The profiles no material used, left out of the list before any
+    /// merge (their file stems).
+    pub dropped: Vec<String>,
     /// None where the cost was not finite (JSON has no NaN: null).
     pub weighted_cost: Option<f64>,
     pub merges: Vec<ReportMerge>,

@@ -125,13 +125,14 @@ impl BudgetOptions {
                 report_path.display()
             );
         }
-        let scan = project::scan(&self.project)?;
+        let mut scan = project::scan(&self.project)?;
         if scan.profiles.is_empty() {
             bail!(
                 "{}: no HDRP diffusion profile (a DiffusionProfileSettings .asset with a .meta) in the project",
                 self.project.display()
             );
         }
+        let dropped = drop_unused(&mut scan);
         let (users, candidates) = candidates(&scan);
         let mut costs = Costs::new(&candidates)?;
         let groups = crate::export::unity_budget::plan(&mut costs, self.slots);
@@ -144,7 +145,15 @@ impl BudgetOptions {
         let remapped = self.write_remap(&scan, &candidates, &users, &merges)?;
         // Pairs for the editor, curves and renders.
         self.pairs_and_pictures(&mut merges, &candidates)?;
-        let summary = self.report(&scan, &candidates, &users, &groups, &merges, total)?;
+        let summary = self.report(
+            &scan,
+            &candidates,
+            &users,
+            &groups,
+            &merges,
+            total,
+            &dropped,
+        )?;
         // As it happens: the project changed, then what the report says.
         let applied = match self.apply {
             true => format!(
@@ -282,10 +291,16 @@ impl BudgetOptions {
         groups: &[Vec<usize>],
         merges: &[Merge],
         total: f64,
+        dropped: &[String],
     ) -> Result<String> {
         let mut md = String::new();
+        let unused = match dropped.len() {
+            0 => String::new(),
+            n => format!(" ({n} used by no material: dropped)"),
+        };
         let summary = format!(
-            "{} profiles used by {} of {} materials; {} slots: {} profiles after {} merge{} (weighted cost {:.3})",
+            "{} profiles{unused}, {} used by {} of {} materials; {} slots: {} profiles after {} merge{} (weighted cost {:.3})",
+            scan.profiles.len() + dropped.len(),
             scan.profiles.len(),
             users.iter().flatten().map(|u| &u.material).collect::<std::collections::BTreeSet<_>>().len(),
             scan.materials,
@@ -306,6 +321,20 @@ impl BudgetOptions {
             " HDRP keeps the albedo in the material, so the heads are rendered with the default skin's albedo, old profile on the left, merged on the right, the difference's |ΔL*| (CIE lightness) on the far right.\n\n"
         });
         md += &self.left_out_md(scan);
+        if !dropped.is_empty() {
+            md.push_str("## Dropped: no material uses them
+
+Left out of the list before any merge (they would take a slot, or pull a merge towards themselves, for nothing); their assets are left in the project:
+
+");
+            for name in dropped {
+                md.push_str(&format!(
+                    "- {name}
+"
+                ));
+            }
+            md.push('\n');
+        }
         for (k, m) in merges.iter().enumerate() {
             md += &self.merge_md(k, m, candidates);
         }
@@ -326,8 +355,9 @@ impl BudgetOptions {
         let report = BudgetReport {
             project: self.project.clone(),
             slots: self.slots,
-            profiles_before: scan.profiles.len(),
+            profiles_before: scan.profiles.len() + dropped.len(),
             profiles_after: groups.len(),
+            dropped: dropped.to_vec(),
             weighted_cost: total.is_finite().then_some(total),
             merges: merges
                 .iter()
@@ -521,6 +551,29 @@ impl BudgetOptions {
 
 /// The materials that use each profile (a material once per profile),
 /// and each profile as a merge candidate weighted by them.
+/// Leaves out of the scan the profiles no material uses, when some are
+/// used: dropping one frees a slot at no cost to any material, where a
+/// merge would spend one and pull the merged profile. Their names (file
+/// stems), in the project's order.
+fn drop_unused(scan: &mut project::Project) -> Vec<String> {
+    let used = |p: &project::ProjectProfile| scan.uses.iter().any(|u| u.guid == p.guid);
+    if !scan.profiles.iter().any(used) {
+        return Vec::new();
+    }
+    let (kept, dropped): (Vec<_>, Vec<_>) = std::mem::take(&mut scan.profiles)
+        .into_iter()
+        .partition(|p| scan.uses.iter().any(|u| u.guid == p.guid));
+    scan.profiles = kept;
+    dropped
+        .iter()
+        .map(|p| {
+            p.path
+                .file_stem()
+                .map_or_else(|| p.guid.clone(), |s| s.to_string_lossy().into_owned())
+        })
+        .collect()
+}
+
 fn candidates(scan: &project::Project) -> (Vec<Vec<&MaterialUse>>, Vec<Candidate>) {
     let mut users: Vec<Vec<&MaterialUse>> = vec![Vec::new(); scan.profiles.len()];
     for u in &scan.uses {
