@@ -142,13 +142,28 @@ impl MenuBar {
     fn view_ui(&mut self, ui: &mut egui::Ui) -> Vec<Action> {
         let actions = items_ui(ui, &self.view_items);
         ui.separator();
-        ui.add(
-            egui::Slider::new(&mut self.ui_scale, super::state::UI_SCALE_RANGE)
-                .step_by(0.05)
-                .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
-                .text("interface scale"),
-        )
-        .on_hover_text("The size of text and controls (Ctrl+plus and Ctrl+minus too); remembered.");
+        // Applied when the drag ends, not on the way: the menu rescales
+        // with the interface, so the slider would move under the pointer
+        // (aiming at 130 % gave 95 %). The value dragged to waits in egui's
+        // memory meanwhile; a click or the keyboard applies at once.
+        let pending = ui.make_persistent_id("interface scale being dragged");
+        let mut scale = ui
+            .data(|d| d.get_temp::<f32>(pending))
+            .unwrap_or(self.ui_scale);
+        let slider = ui
+            .add(
+                egui::Slider::new(&mut scale, super::state::UI_SCALE_RANGE)
+                    .step_by(0.05)
+                    .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
+                    .text("interface scale"),
+            )
+            .on_hover_text("The size of text and controls (Ctrl+plus and Ctrl+minus too), applied when you let go; remembered.");
+        if slider.dragged() {
+            ui.data_mut(|d| d.insert_temp(pending, scale));
+        } else {
+            ui.data_mut(|d| d.remove::<f32>(pending));
+            self.ui_scale = scale;
+        }
         ui.horizontal(|ui| {
             ui.label("Theme");
             ui.selectable_value(&mut self.light_theme, false, "dark");
