@@ -465,6 +465,18 @@ impl Viewport {
         req: Request,
         cancelled: &dyn Fn() -> bool,
     ) -> Result<Option<image::RgbaImage>, String> {
+        self.render_converged_with(req, cancelled, &|_, _| {})
+    }
+
+    /// [`Viewport::render_converged`], telling `on_frame` each frame of the
+    /// request that is not yet the last (its quality, and its render time
+    /// in ms): a still's progress.
+    pub fn render_converged_with(
+        &mut self,
+        req: Request,
+        cancelled: &dyn Fn() -> bool,
+        on_frame: &dyn Fn(Quality, f64),
+    ) -> Result<Option<image::RgbaImage>, String> {
         self.request(req);
         let want = self.seq;
         loop {
@@ -480,6 +492,12 @@ impl Viewport {
                         quality: Quality::Converged { .. },
                         ..
                     } if seq == want => return Ok(Some(image)),
+                    Reply::Frame {
+                        seq,
+                        quality,
+                        wall_ms,
+                        ..
+                    } if seq == want => on_frame(quality, wall_ms),
                     Reply::Error(e) => return Err(e),
                     _ => {}
                 }

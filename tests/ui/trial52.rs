@@ -553,3 +553,58 @@ fn a_preset_whose_name_collides_shows_its_file_name() {
     assert!(h.query_by_label("My pale skin").is_some());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 4: Save image at size showed only the time spent while it
+/// rendered, and nothing in the window when it was done. While it renders
+/// it now shows a progress bar with how many frames of at most 64 and the
+/// most time left (before the first frame: that it is on the first); once
+/// done the window says what was saved.
+#[test]
+fn save_image_at_size_says_how_far_it_got_and_when_it_is_done() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-still52-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = viewport_harness([900.0, 560.0]);
+    h.step();
+    super::artist::settle(&mut h);
+    menu_item(&mut h, "File", "Save image at size…");
+    h.state_mut().ui_state.still = scatterlab::app::state::StillSettings {
+        width: 320,
+        height: 200,
+        supersample: 2,
+    };
+    h.run_steps(2);
+    h.get_by_label("Save image as PNG…").click_accesskit();
+    wait_for_file_dialog(&mut h);
+    let out = dir.join("still.png");
+    choose(&mut h, &out);
+    let mut seen = Vec::new();
+    let t0 = Instant::now();
+    while h.state().still_running() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(180),
+            "the still did not end"
+        );
+        for text in ["the first frame", "of at most 64"] {
+            if h.query_by_label_contains(text).is_some() && !seen.contains(&text) {
+                seen.push(text);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    assert!(!seen.is_empty(), "no progress was shown while it rendered");
+    h.run_steps(2);
+    let done = h
+        .query_by_label_contains("Done: Saved image")
+        .and_then(|n| {
+            use egui_kittest::kittest::NodeT;
+            n.accesskit_node().value().map(|l| l.to_string())
+        })
+        .unwrap_or_default();
+    assert!(
+        done.contains("still.png") && done.contains("320×200"),
+        "the window says: {done:?} (progress seen: {seen:?})"
+    );
+    assert!(out.is_file());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -9,7 +9,7 @@
 
 use super::{Action, Menu, Window, WindowView};
 pub use crate::app::state::StillSettings;
-use crate::app::viewport::{Request, Viewport};
+use crate::app::viewport::{Request, Viewport, MAX_REFINE_FRAMES};
 use crate::app::DialogKind;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -37,6 +37,29 @@ pub struct StillJob {
     pub out: PathBuf,
     settings: StillSettings,
     started: Instant,
+    /// The frames rendered so far and their mean time (ms), from the
+    /// render thread.
+    progress: Arc<std::sync::Mutex<(u32, f64)>>,
+}
+
+/// How far a still has got, for its window: the fraction of the most
+/// frames it may take ([`MAX_REFINE_FRAMES`]: it stops as soon as the
+/// frame stops changing, often far sooner) and a line with the frame, the
+/// time a frame and the most time left. `frames` done, `frame_ms` their
+/// mean time, `elapsed_s` since it started.
+pub fn progress_text(frames: u32, frame_ms: f64, elapsed_s: f64) -> (f32, String) {
+    if frames == 0 {
+        return (0.0, format!("the first frame … {elapsed_s:.0} s"));
+    }
+    let most = MAX_REFINE_FRAMES;
+    let left_s = (most.saturating_sub(frames)) as f64 * frame_ms / 1e3;
+    (
+        frames as f32 / most as f32,
+        format!(
+            "frame {frames} of at most {most} · {:.1} s a frame · at most {left_s:.0} s left (it stops once the frame stops changing) · {elapsed_s:.0} s",
+            frame_ms / 1e3
+        ),
+    )
 }
 
 const CANCELLED: &str = "cancelled: nothing written";
@@ -50,10 +73,17 @@ impl StillJob {
         wake: impl Fn() + Send + 'static,
     ) -> Self {
         let cancel = Arc::new(AtomicBool::new(false));
+        let progress = Arc::new(std::sync::Mutex::new((0u32, 0.0f64)));
         let (tx, rx) = std::sync::mpsc::channel();
-        let (theirs, path) = (cancel.clone(), out.clone());
+        let (theirs, path, told) = (cancel.clone(), out.clone(), progress.clone());
         std::thread::spawn(move || {
-            let r = render_still(base, settings, &theirs, &path);
+            let on_frame = |_: crate::app::viewport::Quality, ms: f64| {
+                if let Ok(mut p) = told.lock() {
+                    p.1 = (p.1 * p.0 as f64 + ms) / (p.0 + 1) as f64;
+                    p.0 += 1;
+                }
+            };
+            let r = render_still(base, settings, &theirs, &path, &on_frame);
             let _ = tx.send(r);
             wake();
         });
@@ -63,6 +93,7 @@ impl StillJob {
             out,
             settings,
             started: Instant::now(),
+            progress,
         }
     }
 }
@@ -73,6 +104,7 @@ fn render_still(
     s: StillSettings,
     cancel: &AtomicBool,
     out: &Path,
+    on_frame: &dyn Fn(crate::app::viewport::Quality, f64),
 ) -> Result<(u32, u32), String> {
     let k = s.supersample.max(1);
     let mut req = base;
@@ -80,7 +112,7 @@ fn render_still(
     req.size = (s.width * k, s.height * k);
     let mut viewport = Viewport::start(|| {});
     let image = viewport
-        .render_converged(req, &|| cancel.load(Ordering::Relaxed))?
+        .render_converged_with(req, &|| cancel.load(Ordering::Relaxed), on_frame)?
         .ok_or_else(|| CANCELLED.to_string())?;
     let still = crate::export::frames::box_downsample(&image, k);
     let mut png = Vec::new();
@@ -96,6 +128,9 @@ fn render_still(
 pub struct StillWindow {
     open: bool,
     job: Option<StillJob>,
+    /// What the last still came to (saved, cancelled or its error), shown
+    /// in the window until the next one starts.
+    last: Option<String>,
 }
 
 impl StillWindow {
@@ -113,6 +148,7 @@ impl StillWindow {
         wake: impl Fn() + Send + 'static,
     ) {
         self.job = Some(StillJob::start(base, settings, out, wake));
+        self.last = None;
         self.open = true;
     }
 
@@ -213,7 +249,11 @@ impl Window for StillWindow {
 
     /// Size, presets, supersampling, Save…, then progress with Cancel.
     fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
-        let mut actions: Vec<Action> = self.poll(ctx).into_iter().map(Action::Say).collect();
+        let finished = self.poll(ctx);
+        if let Some(line) = &finished {
+            self.last = Some(line.clone());
+        }
+        let mut actions: Vec<Action> = finished.into_iter().map(Action::Say).collect();
         if !self.open && self.job.is_none() {
             return actions;
         }
@@ -228,20 +268,24 @@ impl Window for StillWindow {
                 ui.add_enabled_ui(self.job.is_none(), |ui| settings_ui(ui, &mut settings));
                 match self.job.as_ref() {
                     Some(job) => {
-                        ui.horizontal(|ui| {
-                            crate::app::report::spinner(ui);
-                            ui.label(format!(
-                                "rendering {}×{} until it converges … {:.0} s",
-                                job.settings.width * job.settings.supersample,
-                                job.settings.height * job.settings.supersample,
-                                job.started.elapsed().as_secs_f64()
-                            ));
-                        });
+                        let (frames, ms) = job.progress.lock().map_or((0, 0.0), |p| *p);
+                        let (done, text) =
+                            progress_text(frames, ms, job.started.elapsed().as_secs_f64());
+                        ui.label(format!(
+                            "rendering {}×{} until it converges:",
+                            job.settings.width * job.settings.supersample,
+                            job.settings.height * job.settings.supersample,
+                        ));
+                        ui.add(egui::ProgressBar::new(done).show_percentage().animate(true));
+                        ui.label(text);
                         if ui.button("Cancel image").clicked() {
                             self.cancel();
                         }
                     }
                     None => {
+                        if let Some(last) = &self.last {
+                            ui.label(format!("Done: {last}"));
+                        }
                         if ui.button("Save image as PNG…").clicked() {
                             actions.push(Action::OpenDialog(DialogKind::SaveStill));
                         }
@@ -262,6 +306,16 @@ impl Window for StillWindow {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The progress line's numbers, worked by hand: 4 frames of 2 s of at
+    /// most 64 is 4/64 = 6.25 % with at most 60 × 2 = 120 s left.
+    #[test]
+    fn progress_says_the_frame_and_the_most_time_left() {
+        let (f, text) = progress_text(4, 2000.0, 9.0);
+        assert!((f - 0.0625).abs() < 1e-6);
+        assert!(text.starts_with("frame 4 of at most 64 · 2.0 s a frame · at most 120 s left"), "{text}");
+        assert_eq!(progress_text(0, 0.0, 3.0), (0.0, "the first frame … 3 s".to_string()));
+    }
 
     /// Supersampling never renders past 8192 a side.
     #[test]
