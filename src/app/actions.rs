@@ -14,22 +14,14 @@ impl EditorApp {
     pub(super) fn apply(&mut self, actions: Vec<Action>) {
         for action in actions {
             match action {
-                Action::SetView(v) => {
-                    let before = self.ui_state.view.environment;
-                    self.ui_state.view = v;
-                    self.environment_switched(before);
-                }
-                Action::ApplyRig(rig) => {
-                    let before = self.ui_state.view.environment;
-                    let applied = rig.apply(&mut self.ui_state.view);
-                    self.environment_switched(before);
-                    if !applied {
-                        // The HDR rig with no map loaded: ask for one; the
-                        // map lights the head once it has loaded.
-                        self.view.hdr_rig_pending = true;
-                        self.open_dialog(DialogKind::Environment);
-                    }
-                }
+                a @ (Action::SetView(_)
+                | Action::ApplyRig(_)
+                | Action::FrameMesh
+                | Action::ToggleBefore
+                | Action::SetAb(_)
+                | Action::Log(_)
+                | Action::MeshLoaded(..)
+                | Action::MeshFailed { .. }) => self.apply_to_view(a),
                 Action::ChooseEnvironmentFile => self.open_dialog(DialogKind::Environment),
                 Action::LoadEnvironment(path) => self.load_environment(path),
                 Action::OpenWindow(title) => {
@@ -95,16 +87,6 @@ impl EditorApp {
                         self.windows.open(title);
                     }
                 }
-                Action::FrameMesh => self.frame_mesh(),
-                Action::ToggleBefore => self.view.show_before = !self.view.show_before,
-                Action::SetAb(ab) => self.view.ab = ab,
-                Action::Log(line) => self.log_line(format_args!("{line}")),
-                Action::MeshLoaded(p, info) => self.mesh_loaded(p, info),
-                Action::MeshFailed {
-                    error,
-                    kept,
-                    kept_settings,
-                } => self.mesh_failed(error, kept, kept_settings),
                 Action::PickColour(rgb, into) => {
                     let said = match self.pick_colour(rgb, into) {
                         Ok(s) => {
@@ -116,6 +98,41 @@ impl EditorApp {
                     self.say(said);
                 }
             }
+        }
+    }
+
+    /// The actions on what the viewport shows: the camera and light, the
+    /// environment, A/B and "before", the frame log, a mesh loaded or not.
+    fn apply_to_view(&mut self, action: Action) {
+        match action {
+            Action::SetView(v) => {
+                let before = self.ui_state.view.environment;
+                self.ui_state.view = v;
+                self.environment_switched(before);
+            }
+            Action::ApplyRig(rig) => {
+                let before = self.ui_state.view.environment;
+                let applied = rig.apply(&mut self.ui_state.view);
+                self.environment_switched(before);
+                if !applied {
+                    // The HDR rig with no map loaded: ask for one; the
+                    // map lights the head once it has loaded.
+                    self.view.hdr_rig_pending = true;
+                    self.open_dialog(DialogKind::Environment);
+                }
+            }
+            Action::FrameMesh => self.frame_mesh(),
+            Action::ToggleBefore => self.view.show_before = !self.view.show_before,
+            Action::SetAb(ab) => self.view.ab = ab,
+            Action::Log(line) => self.log_line(format_args!("{line}")),
+            Action::MeshLoaded(p, info) => self.mesh_loaded(p, info),
+            Action::MeshFailed {
+                error,
+                kept,
+                kept_settings,
+            } => self.mesh_failed(error, kept, kept_settings),
+            // `apply` routes only the arms above here.
+            other => unreachable!("not a view action: {other:?}"),
         }
     }
 

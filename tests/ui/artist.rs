@@ -451,7 +451,7 @@ fn f_frames_the_mesh_and_keeps_the_direction() {
     assert_eq!(o.camera_yaw_rad, 0.7);
     h.key_press(Key::F1);
     h.run_steps(2);
-    assert!(h.query_by_label_contains("frame the mesh").is_some());
+    assert!(h.query_by_label_contains("frame the whole mesh").is_some());
     assert!(h.query_by_label_contains("flicker").is_some());
 }
 
