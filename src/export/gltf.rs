@@ -277,14 +277,37 @@ fn reading_line(r: &Reading) -> String {
 /// `--gltf-volume-scatter` writes it).
 pub fn gltf_notes(preset: &Preset) -> Result<Vec<String>, ModelError> {
     let (_, fit_error) = burley_of(&preset.profile)?;
-    let mut notes = vec![fit_note(fit_error)];
+    let readings = gltf_readings(preset, SPHERE_RADIUS_M * 2.0, true)?;
+    let mut notes = vec![who_draws_it(&readings), fit_note(fit_error)];
     notes.push(format!(
         "{VOLUME_SCATTER} is a draft (KhronosGroup/glTF PR #2453): written only with --gltf-volume-scatter; without it readers get no albedo for the volume"
     ));
-    for r in gltf_readings(preset, SPHERE_RADIUS_M * 2.0, true)? {
-        notes.push(reading_line(&r));
+    for r in &readings {
+        notes.push(reading_line(r));
     }
     Ok(notes)
+}
+
+/// The notes' first line: which readers draw the scattering the file
+/// holds and which draw none (a shape error of 1: nothing spreads), so
+/// that "error 1.0" reads as what those readers do, not as a broken file.
+fn who_draws_it(readings: &[Reading]) -> String {
+    let names = |draws: bool| {
+        readings
+            .iter()
+            .filter(|r| (r.error < 0.999) == draws)
+            .map(|r| r.reader)
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let (some, none) = (names(true), names(false));
+    match (some.is_empty(), none.is_empty()) {
+        (false, false) => format!(
+            "Who draws the scattering: {some}. Who draws none, whatever the file holds (their glTF materials do not spread light under the surface): {none}. The file is the same for all."
+        ),
+        (false, true) => format!("Who draws the scattering: {some}."),
+        _ => format!("No known reader draws this file's scattering: {none}."),
+    }
 }
 
 /// The mesh as glTF wants it: positions (m), unit normals, and one index

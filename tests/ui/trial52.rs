@@ -608,3 +608,44 @@ fn save_image_at_size_says_how_far_it_got_and_when_it_is_done() {
     assert!(out.is_file());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 7 (the notes): the glTF export's notes said two of three known
+/// readers show no scattering with "error 1.0", which read as "the export
+/// is broken". Their first line now says plainly which readers draw the
+/// scattering and which draw none whatever the file holds.
+#[test]
+fn the_gltf_exports_notes_say_who_draws_the_scattering() {
+    use scatterlab::export::Format;
+    let mut h = harness(false);
+    h.step();
+    h.get_by_label("Export").click_accesskit();
+    h.run_steps(2);
+    h.get_by_label_contains(Format::Gltf.name())
+        .click_accesskit();
+    step_until(&mut h, "the notes", |_| true);
+    let t0 = Instant::now();
+    while h
+        .query_by_label_contains("Who draws the scattering")
+        .is_none()
+    {
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "no 'Who draws' line in the notes"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+        h.step();
+    }
+    let line = h
+        .query_by_label_contains("Who draws the scattering")
+        .and_then(|n| {
+            use egui_kittest::kittest::NodeT;
+            n.accesskit_node().value().map(|l| l.to_string())
+        })
+        .unwrap();
+    assert!(
+        line.contains("scatterlab's reader")
+            && line.contains("Who draws none")
+            && line.contains("Babylon.js"),
+        "{line}"
+    );
+}
