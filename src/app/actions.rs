@@ -56,6 +56,7 @@ impl EditorApp {
                 Action::SetStill(s) => self.ui_state.still = s,
                 Action::SetTurntable(s) => self.ui_state.turntable = s,
                 Action::BrowsePresets => {
+                    self.windows.browser.head = self.thumbnail_head();
                     let wake = self.waker.as_fn();
                     self.windows
                         .browser
@@ -63,6 +64,7 @@ impl EditorApp {
                 }
                 Action::SetPresetFolders(folders) => {
                     self.ui_state.preset_folders = folders;
+                    self.windows.browser.head = self.thumbnail_head();
                     let wake = self.waker.as_fn();
                     self.windows
                         .browser
@@ -551,6 +553,18 @@ impl EditorApp {
                 _ => "Environment: black, the key light alone (the HDR map is off)",
             });
         }
+    }
+
+    /// The head the preset browser draws its thumbnails on: the mesh on
+    /// screen with its units and maps (the scan, or the artist's), or the
+    /// procedural head (`None`).
+    fn thumbnail_head(&self) -> Option<windows::browser::ThumbnailHead> {
+        let mesh = self.meshes.mesh.clone()?;
+        Some(windows::browser::ThumbnailHead {
+            settings: self.ui_state.meshes.get(&mesh).cloned().unwrap_or_default(),
+            framing_m: self.meshes.framing_distance_m(),
+            mesh,
+        })
     }
 
     /// F: the whole mesh in view from where the camera is, whatever its

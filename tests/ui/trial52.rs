@@ -649,3 +649,90 @@ fn the_gltf_exports_notes_say_who_draws_the_scattering() {
         "{line}"
     );
 }
+
+/// Item 9: the preset browser drew its thumbnails on the procedural head
+/// while the editor showed the scan. They are now drawn on the head on
+/// screen: with the scan loaded, the default skin's thumbnail is not the
+/// procedural head's (rendered by an editor on the procedural head into
+/// the same cache, under its own key), and each look's colour still shows
+/// on the scan's map.
+#[test]
+fn preset_thumbnails_are_drawn_on_the_head_on_screen() {
+    let cache = std::env::temp_dir().join(format!("scatterlab-ui-thumbs52-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&cache);
+    let thumb = |h: &mut Harness<'_, EditorApp>| {
+        h.state_mut().set_thumbnail_dir(cache.clone());
+        menu_item(h, "File", "Browse presets…");
+        step_until(h, "the default skin's thumbnail", |a| {
+            a.preset_browser()
+                .is_some_and(|b| b.thumbnail("Skin (default)").is_some())
+        });
+        step_until(h, "Ketchup's thumbnail", |a| {
+            a.preset_browser()
+                .is_some_and(|b| b.thumbnail("Ketchup (Jensen 2001)").is_some())
+        });
+        let b = h.state().preset_browser().unwrap();
+        (
+            b.thumbnail("Skin (default)").unwrap().clone(),
+            b.thumbnail("Ketchup (Jensen 2001)").unwrap().clone(),
+        )
+    };
+    let scan = repo("assets/scan");
+    let mesh = scan.join("LeePerrySmith.glb");
+    let mut ui_state = UiState::default();
+    let settings = ui_state.meshes.entry(mesh.clone()).or_default();
+    settings.metres_per_unit = 0.0462;
+    settings.maps[0].path = Some(scan.join("Map-COL.jpg"));
+    settings.maps[0].flip_v = true;
+    let mut h = harness_of(EditorApp::new(None, ui_state, None, true), [1500.0, 900.0]);
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: mesh.clone(),
+        metres_per_unit: Some(0.0462),
+    });
+    step_until(&mut h, "the scan", |a| {
+        a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some())
+    });
+    let (on_scan, ketchup) = thumb(&mut h);
+    let mut p = harness(false);
+    p.step();
+    let (on_head, _) = thumb(&mut p);
+    if std::env::var_os("SCATTERLAB_KEEP_UI_OUTPUT").is_some() {
+        on_scan
+            .save(std::env::temp_dir().join("thumb_scan.png"))
+            .unwrap();
+        on_head
+            .save(std::env::temp_dir().join("thumb_head.png"))
+            .unwrap();
+        ketchup
+            .save(std::env::temp_dir().join("thumb_ketchup.png"))
+            .unwrap();
+    }
+    let diff = on_scan
+        .pixels()
+        .zip(on_head.pixels())
+        .map(|(a, b)| (0..3).map(|c| a[c].abs_diff(b[c]) as f64).sum::<f64>() / 3.0)
+        .sum::<f64>()
+        / on_scan.pixels().count() as f64;
+    assert!(
+        diff > 10.0,
+        "the scan's thumbnail is the procedural head's (mean difference {diff:.1})"
+    );
+    // Each look's own colour still shows on the scan's map (tinted):
+    // Ketchup (Jensen et al. 2001) is far redder than the default skin in
+    // the middle of the face.
+    let redness = |img: &image::RgbaImage| {
+        let p = img.get_pixel(img.width() / 2, img.height() / 2);
+        p[0] as f64 / (p[1] as f64).max(1.0)
+    };
+    assert!(
+        redness(&ketchup) > 1.5 * redness(&on_scan),
+        "ketchup {:.2} against skin {:.2} (R/G)",
+        redness(&ketchup),
+        redness(&on_scan)
+    );
+    assert!(
+        std::fs::read_dir(&cache).unwrap().count() >= 2,
+        "each head's thumbnail is cached under its own key"
+    );
+    std::fs::remove_dir_all(&cache).ok();
+}

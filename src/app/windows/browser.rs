@@ -78,18 +78,33 @@ fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
-/// The cache file of `preset`'s thumbnail: its look, the thumbnail size
-/// and [`THUMBNAIL_VERSION`] name it.
-fn cache_path(dir: &Path, preset: &Preset) -> PathBuf {
+/// The head the thumbnails are drawn on: the mesh the editor shows (its
+/// file, units and maps) and the camera distance that frames it; `None`
+/// in [`PresetBrowser::open`] is the procedural head.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThumbnailHead {
+    pub mesh: PathBuf,
+    pub settings: state::MeshSettings,
+    pub framing_m: f32,
+}
+
+/// The cache file of `preset`'s thumbnail: its look, the head it is drawn
+/// on (none: the procedural head, as before there was a choice), the
+/// thumbnail size and [`THUMBNAIL_VERSION`] name it.
+fn cache_path(dir: &Path, preset: &Preset, head: Option<&ThumbnailHead>) -> PathBuf {
     let look = ron::to_string(&(&preset.profile, &preset.rendering)).unwrap_or_default();
-    let key = format!("{THUMBNAIL_VERSION} {}x{} {look}", THUMB.0, THUMB.1);
+    let mut key = format!("{THUMBNAIL_VERSION} {}x{} {look}", THUMB.0, THUMB.1);
+    if let Some(h) = head {
+        let settings = ron::to_string(&h.settings).unwrap_or_default();
+        key += &format!(" on {} {settings}", h.mesh.display());
+    }
     dir.join(format!("{:016x}.png", fnv1a(key.as_bytes())))
 }
 
 /// The request for a preset's thumbnail: the default head from the front
 /// under the studio sky, its own method (burley stands in for the ground
 /// truth, which takes minutes).
-fn thumbnail_request(preset: &Preset) -> Request {
+fn thumbnail_request(preset: &Preset, head: Option<&ThumbnailHead>) -> Request {
     // A look whose albedo is the material's (HDRP's) is drawn with the
     // default skin's, as the editor draws it as B by default; white
     // otherwise.
@@ -101,11 +116,14 @@ fn thumbnail_request(preset: &Preset) -> Request {
         Default::default(),
         None,
     );
-    let mut look = Look::of(&preset);
+    // On a mesh with a colour map of its own, the map tinted by each
+    // look's albedo: the map alone would draw every look in the scan's
+    // colour.
+    let mut look = Look::of(&preset).with_map_colour(crate::render::textures::MapColour::Tinted);
     look.rendering.method = look.rendering.method.preview();
     let mut view = state::ViewState::default();
     // Closer than the framing of the whole head: the face fills it.
-    view.orbit.camera_distance_m *= 0.7;
+    view.orbit.camera_distance_m = 0.7 * head.map_or(view.orbit.camera_distance_m, |h| h.framing_m);
     Request {
         a: look,
         b: None,
@@ -113,8 +131,8 @@ fn thumbnail_request(preset: &Preset) -> Request {
         show_b: false,
         view,
         size: THUMB,
-        mesh: None,
-        mesh_settings: Default::default(),
+        mesh: head.map(|h| h.mesh.clone()),
+        mesh_settings: head.map(|h| h.settings.clone()).unwrap_or_default(),
         interactive: false,
         refine_to_truth: false,
         seq: 0,
@@ -129,6 +147,7 @@ impl PresetBrowser {
     pub fn open(
         cache: Option<PathBuf>,
         folders: &[PathBuf],
+        head: Option<ThumbnailHead>,
         wake: impl Fn() + Send + 'static,
     ) -> Self {
         let mut entries: Vec<Entry> = library::PRESETS
@@ -173,8 +192,18 @@ impl PresetBrowser {
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let mut viewport: Option<Viewport> = None;
+            // The render thread frames the first frame of a mesh it loads
+            // whole: load the head on screen with a frame that is not kept,
+            // so that every thumbnail is framed alike.
+            let warm_up = |vp: &mut Viewport| {
+                if let (Some(h), Some(p)) = (head.as_ref(), presets.first()) {
+                    let mut req = thumbnail_request(p, Some(h));
+                    req.size = (16, 16);
+                    let _ = vp.render_converged(req, &|| false);
+                }
+            };
             for (k, preset) in presets.iter().enumerate() {
-                let cached = cache.as_deref().map(|d| cache_path(d, preset));
+                let cached = cache.as_deref().map(|d| cache_path(d, preset, head.as_ref()));
                 if let Some(img) = cached
                     .as_deref()
                     .and_then(|p| image::open(p).ok())
@@ -187,8 +216,13 @@ impl PresetBrowser {
                     wake();
                     continue;
                 }
-                let vp = viewport.get_or_insert_with(|| Viewport::start(|| {}));
-                let img = match vp.render_converged(thumbnail_request(preset), &|| false) {
+                let vp = viewport.get_or_insert_with(|| {
+                    let mut vp = Viewport::start(|| {});
+                    warm_up(&mut vp);
+                    vp
+                });
+                let img = match vp.render_converged(thumbnail_request(preset, head.as_ref()), &|| false)
+                {
                     Ok(Some(img)) => img,
                     Ok(None) => return,
                     Err(e) => {
@@ -274,6 +308,9 @@ impl PresetBrowser {
 /// thumbnails are cached.
 pub struct BrowserWindow {
     browser: Option<PresetBrowser>,
+    /// The head the editor shows, set before it opens: the thumbnails
+    /// are drawn on it.
+    pub head: Option<ThumbnailHead>,
     /// The thumbnails' cache folder (beside the editor's remembered
     /// state; UI tests set their own).
     pub thumbnail_dir: Option<PathBuf>,
@@ -283,6 +320,7 @@ impl Default for BrowserWindow {
     fn default() -> Self {
         Self {
             browser: None,
+            head: None,
             thumbnail_dir: eframe::storage_dir("scatterlab").map(|d| d.join("thumbnails")),
         }
     }
@@ -294,6 +332,7 @@ impl BrowserWindow {
         self.browser = Some(PresetBrowser::open(
             self.thumbnail_dir.clone(),
             folders,
+            self.head.clone(),
             wake,
         ));
     }
@@ -542,7 +581,7 @@ impl Window for BrowserWindow {
             .open(&mut open)
             .show(ctx, |ui| {
                 browser.progress_ui(ui);
-                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The default head from the front under the studio sky, drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
+                ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The head on screen from the front under the studio sky (the procedural head close up, or your mesh framed whole), drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
                 if let Some(f) = browser.folders_ui(ui, view.preset_folders, view.doc_path) {
                     actions.push(Action::SetPresetFolders(f));
                 }
