@@ -140,6 +140,75 @@ fn thumbnail_request(preset: &Preset, head: Option<&ThumbnailHead>) -> Request {
     }
 }
 
+/// The browser's thread: each preset's thumbnail from the cache, or
+/// rendered (on `head`, the procedural head when `None`) and cached, sent
+/// as it comes with `wake` after each.
+fn fill_thumbnails(
+    presets: &[Preset],
+    cache: Option<PathBuf>,
+    head: Option<ThumbnailHead>,
+    tx: &std::sync::mpsc::Sender<Message>,
+    wake: impl Fn(),
+) {
+    let mut viewport: Option<Viewport> = None;
+    // The render thread frames the first frame of a mesh it loads
+    // whole: load the head on screen with a frame that is not kept,
+    // so that every thumbnail is framed alike.
+    let warm_up = |vp: &mut Viewport| {
+        if let (Some(h), Some(p)) = (head.as_ref(), presets.first()) {
+            let mut req = thumbnail_request(p, Some(h));
+            req.size = (16, 16);
+            let _ = vp.render_converged(req, &|| false);
+        }
+    };
+    for (k, preset) in presets.iter().enumerate() {
+        let cached = cache.as_deref().map(|d| cache_path(d, preset, head.as_ref()));
+        if let Some(img) = cached
+            .as_deref()
+            .and_then(|p| image::open(p).ok())
+            .map(|i| i.to_rgba8())
+            .filter(|i| i.dimensions() == THUMB)
+        {
+            if tx.send(Message::Thumb(k, img, false)).is_err() {
+                return;
+            }
+            wake();
+            continue;
+        }
+        let vp = viewport.get_or_insert_with(|| {
+            let mut vp = Viewport::start(|| {});
+            warm_up(&mut vp);
+            vp
+        });
+        let img = match vp.render_converged(thumbnail_request(preset, head.as_ref()), &|| false)
+        {
+            Ok(Some(img)) => img,
+            Ok(None) => return,
+            Err(e) => {
+                let _ = tx.send(Message::Failed(format!("{}: {e}", preset.name)));
+                wake();
+                return;
+            }
+        };
+        if let Some(p) = &cached {
+            // A cache that cannot be written costs a render next
+            // time, nothing else.
+            let mut png = Vec::new();
+            if img
+                .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                .is_ok()
+            {
+                let _ = p.parent().map(std::fs::create_dir_all);
+                let _ = crate::fsutil::write_atomic(p, &png);
+            }
+        }
+        if tx.send(Message::Thumb(k, img, true)).is_err() {
+            return;
+        }
+        wake();
+    }
+}
+
 impl PresetBrowser {
     /// Lists the shipped presets and starts filling in their thumbnails
     /// from `cache` (rendering and storing the missing ones).
@@ -190,65 +259,7 @@ impl PresetBrowser {
         }
         let presets: Vec<Preset> = entries.iter().map(|e| e.preset.clone()).collect();
         let (tx, rx) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            let mut viewport: Option<Viewport> = None;
-            // The render thread frames the first frame of a mesh it loads
-            // whole: load the head on screen with a frame that is not kept,
-            // so that every thumbnail is framed alike.
-            let warm_up = |vp: &mut Viewport| {
-                if let (Some(h), Some(p)) = (head.as_ref(), presets.first()) {
-                    let mut req = thumbnail_request(p, Some(h));
-                    req.size = (16, 16);
-                    let _ = vp.render_converged(req, &|| false);
-                }
-            };
-            for (k, preset) in presets.iter().enumerate() {
-                let cached = cache.as_deref().map(|d| cache_path(d, preset, head.as_ref()));
-                if let Some(img) = cached
-                    .as_deref()
-                    .and_then(|p| image::open(p).ok())
-                    .map(|i| i.to_rgba8())
-                    .filter(|i| i.dimensions() == THUMB)
-                {
-                    if tx.send(Message::Thumb(k, img, false)).is_err() {
-                        return;
-                    }
-                    wake();
-                    continue;
-                }
-                let vp = viewport.get_or_insert_with(|| {
-                    let mut vp = Viewport::start(|| {});
-                    warm_up(&mut vp);
-                    vp
-                });
-                let img = match vp.render_converged(thumbnail_request(preset, head.as_ref()), &|| false)
-                {
-                    Ok(Some(img)) => img,
-                    Ok(None) => return,
-                    Err(e) => {
-                        let _ = tx.send(Message::Failed(format!("{}: {e}", preset.name)));
-                        wake();
-                        return;
-                    }
-                };
-                if let Some(p) = &cached {
-                    // A cache that cannot be written costs a render next
-                    // time, nothing else.
-                    let mut png = Vec::new();
-                    if img
-                        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-                        .is_ok()
-                    {
-                        let _ = p.parent().map(std::fs::create_dir_all);
-                        let _ = crate::fsutil::write_atomic(p, &png);
-                    }
-                }
-                if tx.send(Message::Thumb(k, img, true)).is_err() {
-                    return;
-                }
-                wake();
-            }
-        });
+        std::thread::spawn(move || fill_thumbnails(&presets, cache, head, &tx, wake));
         Self {
             entries,
             rx: Some(rx),
