@@ -35,6 +35,19 @@ fn scalar_ui(
     .inner
 }
 
+/// The size of a drag value showing `text` (the button's padding around
+/// the body font's width of it).
+fn field_size(ui: &Ui, text: &str) -> egui::Vec2 {
+    let font = egui::TextStyle::Button.resolve(ui.style());
+    let width = ui.fonts_mut(|f| {
+        f.layout_no_wrap(text.to_owned(), font, egui::Color32::WHITE)
+            .size()
+            .x
+    });
+    let pad = ui.spacing().button_padding;
+    egui::vec2(width + 2.0 * pad.x, ui.spacing().interact_size.y)
+}
+
 /// Three numbers (R, G, B) with a unit and a swatch when they are a colour.
 #[allow(clippy::too_many_arguments)]
 fn rgb_ui(
@@ -47,14 +60,21 @@ fn rgb_ui(
     speed: f64,
     swatch: bool,
 ) -> bool {
-    // Wraps in a narrow panel rather than widening it.
+    // Wraps in a narrow panel rather than widening it. Each field is as
+    // wide as its widest value (5 decimals, the range's whole digits), so
+    // that typing a value does not reflow the row and move the swatch (and
+    // its open picker) to another line.
+    let whole = (range.end().abs().max(1.0).log10().floor() as usize) + 1;
+    let widest = format!("R: {}.88888{unit}", "8".repeat(whole));
+    let field = field_size(ui, &widest);
     let changed = ui
         .horizontal_wrapped(|ui| {
             ui.label(label).on_hover_text(tip);
             let mut changed = false;
             for (c, x) in v.iter_mut().enumerate() {
                 changed |= ui
-                    .add(
+                    .add_sized(
+                        field,
                         DragValue::new(x)
                             .range(range.clone())
                             .speed(speed)

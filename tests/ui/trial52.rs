@@ -736,3 +736,25 @@ fn preset_thumbnails_are_drawn_on_the_head_on_screen() {
     );
     std::fs::remove_dir_all(&cache).ok();
 }
+
+/// Item 9: the albedo row reflowed when a value took 5 decimals, and its
+/// swatch (with the picker open on it) jumped from x ≈ 310 to x ≈ 10. The
+/// fields are now as wide as their widest value: the swatch stays where
+/// it is whatever the values, at 1280×720 and 1500×900.
+#[test]
+fn the_albedo_row_keeps_its_swatch_in_place() {
+    for size in [[1280.0, 720.0], [1500.0, 900.0]] {
+        let mut h = harness_of(EditorApp::new(None, UiState::default(), None, false), size);
+        let mut swatch_at = |h: &mut Harness<'_, EditorApp>, albedo: [f64; 3]| {
+            if let ProfileSpec::Burley(b) = &mut h.state_mut().doc.preset.profile {
+                b.albedo = albedo;
+            }
+            h.run_steps(3);
+            let r = h.get_by_label("Albedo colour").rect();
+            (r.min.x, r.min.y)
+        };
+        let round = swatch_at(&mut h, [0.5, 0.25, 0.125]);
+        let long = swatch_at(&mut h, [0.91058, 0.33827, 0.27181]);
+        assert_eq!(round, long, "at {size:?} the swatch moved");
+    }
+}
