@@ -745,7 +745,7 @@ fn preset_thumbnails_are_drawn_on_the_head_on_screen() {
 fn the_albedo_row_keeps_its_swatch_in_place() {
     for size in [[1280.0, 720.0], [1500.0, 900.0]] {
         let mut h = harness_of(EditorApp::new(None, UiState::default(), None, false), size);
-        let mut swatch_at = |h: &mut Harness<'_, EditorApp>, albedo: [f64; 3]| {
+        let swatch_at = |h: &mut Harness<'_, EditorApp>, albedo: [f64; 3]| {
             if let ProfileSpec::Burley(b) = &mut h.state_mut().doc.preset.profile {
                 b.albedo = albedo;
             }
