@@ -168,6 +168,8 @@ pub struct ViewportLayout {
     pub viewport: Option<egui::Rect>,
     /// Compare labels: text and plate.
     pub labels: Vec<(String, egui::Rect)>,
+    /// The difference scale's number plates, top first.
+    pub scale_plates: Vec<egui::Rect>,
     pub params: Option<egui::Rect>,
     pub plots: Option<egui::Rect>,
 }

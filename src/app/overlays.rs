@@ -167,28 +167,17 @@ impl ViewportPanel<'_> {
     /// Numbers beside the difference view's colour bar (the frame's right
     /// 12 pixels, `compare::difference_view`): 0 at the bottom, the scale at
     /// the top and half-way, in ΔL* (CIE lightness).
-    pub(super) fn difference_scale_ui(&self, painter: &egui::Painter, rect: egui::Rect) {
-        let Some(scale) = self.view.difference_shown else {
+    pub(super) fn difference_scale_ui(&mut self, painter: &egui::Painter, rect: egui::Rect) {
+        self.layout.scale_plates.clear();
+        let Some(top) = self.scale_top_text() else {
             return;
         };
-        if self.ui_state.compare != CompareMode::Difference || self.view.ab != AbView::Both {
-            return;
-        }
+        let scale = self.view.difference_shown.unwrap_or(0.0);
         let ppp = painter.ctx().pixels_per_point();
         let bar = 12.0 / ppp;
         let x = rect.right() - bar - 4.0;
         for (t, text) in [
-            (
-                1.0,
-                format!(
-                    "{scale:.1} ΔL*{}",
-                    if self.ui_state.difference_auto {
-                        " (auto)"
-                    } else {
-                        ""
-                    }
-                ),
-            ),
+            (1.0, top),
             (0.5, format!("{:.1}", 0.5 * scale)),
             (0.0, "0".to_owned()),
         ] {
@@ -220,6 +209,7 @@ impl ViewportPanel<'_> {
                 2.0,
                 egui::Color32::from_black_alpha(160),
             );
+            self.layout.scale_plates.push(galley_rect.expand(2.0));
             painter.text(
                 galley_rect.min,
                 egui::Align2::LEFT_TOP,
@@ -228,6 +218,21 @@ impl ViewportPanel<'_> {
                 egui::Color32::WHITE,
             );
         }
+    }
+
+    /// The difference view's top number ("5.0 ΔL* (auto)"), when its
+    /// scale is on screen.
+    fn scale_top_text(&self) -> Option<String> {
+        let scale = self.view.difference_shown?;
+        if self.ui_state.compare != CompareMode::Difference || self.view.ab != AbView::Both {
+            return None;
+        }
+        let auto = if self.ui_state.difference_auto {
+            " (auto)"
+        } else {
+            ""
+        };
+        Some(format!("{scale:.1} ΔL*{auto}"))
     }
 
     /// The key light's direction as seen from the camera, at the
@@ -442,11 +447,23 @@ impl ViewportPanel<'_> {
                         egui::Align2::LEFT_TOP,
                     )],
                 };
+            // Wrapped clear of the difference scale's top number (and its
+            // colour bar) at the viewport's top right.
+            let beside_scale = self.scale_top_text().map_or(16.0, |t| {
+                let ppp = painter.ctx().pixels_per_point();
+                let number = painter
+                    .layout_no_wrap(t, egui::FontId::proportional(12.0), egui::Color32::WHITE)
+                    .size()
+                    .x;
+                12.0 / ppp + 4.0 + number + 24.0
+            });
+            let wrap = (rect.width() - beside_scale).max(80.0);
             for (text, pos, align) in labels {
-                let galley = painter.layout_no_wrap(
+                let galley = painter.layout(
                     text.clone(),
                     egui::FontId::proportional(15.0),
                     egui::Color32::WHITE,
+                    wrap,
                 );
                 let mut r = align.anchor_size(pos, galley.size()).expand(4.0);
                 // Keep the plate inside the viewport.

@@ -129,6 +129,8 @@ pub(super) struct Layout {
     pub(super) plot_rect: Option<egui::Rect>,
     /// The interface scale set on the context last frame.
     pub(super) applied_scale: Option<f32>,
+    /// The difference scale's number plates, top first.
+    pub(super) scale_plates: Vec<egui::Rect>,
 }
 
 impl Dialogs {
@@ -181,6 +183,7 @@ impl Layout {
         ViewportLayout {
             viewport: self.viewport_rect,
             labels: self.compare_labels.clone(),
+            scale_plates: self.scale_plates.clone(),
             params: self.panel_rects[0],
             plots: self.panel_rects[1],
         }

@@ -758,3 +758,29 @@ fn the_albedo_row_keeps_its_swatch_in_place() {
         assert_eq!(round, long, "at {size:?} the swatch moved");
     }
 }
+
+/// Item 5: at 1280×720 the difference view's title ("|A − B| · A … · B
+/// …") ran into its colour bar's top number. It now wraps clear of it.
+#[test]
+fn the_difference_title_stays_clear_of_its_scale() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    use scatterlab::settings::rendering::MethodId;
+    let mut h = viewport_harness([1280.0, 720.0]);
+    h.step();
+    h.state_mut().ui_state.compare = CompareMode::Difference;
+    h.state_mut().ui_state.compare_b = CompareB::Method(MethodId::Separable);
+    step_until(&mut h, "the difference's scale", |a| {
+        !a.viewport_layout().scale_plates.is_empty() && a.viewport().idle()
+    });
+    h.run_steps(2);
+    let layout = h.state().viewport_layout();
+    let (title, plate) = layout.labels[0].clone();
+    let number = layout.scale_plates[0];
+    assert!(title.starts_with("|A − B|"), "{title}");
+    assert!(
+        !plate.intersects(number),
+        "the title {plate:?} runs into the scale's number {number:?} (viewport {:?})",
+        layout.viewport
+    );
+    assert!(plate.right() <= layout.viewport.unwrap().right());
+}
