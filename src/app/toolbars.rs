@@ -110,7 +110,18 @@ impl CompareBar {
     fn b_ui(&mut self, ui: &mut egui::Ui) -> Vec<Action> {
         let mut actions = Vec::new();
         let s = &mut self.settings;
-        ui.menu_button(format!("B: {}", self.names.1), |ui| {
+        // A long file name is cut in the middle (whole on hover): the row
+        // stays one line at 1280×720.
+        let name = &self.names.1;
+        let short = match name.chars().count() {
+            n if n > 18 => {
+                let head: String = name.chars().take(9).collect();
+                let tail: String = name.chars().skip(n - 7).collect();
+                format!("{head}…{tail}")
+            }
+            _ => name.clone(),
+        };
+        ui.menu_button(format!("B: {short}"), |ui| {
             for &m in MethodId::all() {
                 if ui.button(m.label()).clicked() {
                     s.b = CompareB::Method(m);
@@ -154,12 +165,14 @@ impl CompareBar {
     fn readout_ui(&self, ui: &mut egui::Ui) {
         let Some(r) = &self.readout else { return };
         let d = r.difference;
+        // Short, so the row stays one line at 1280×720: the albedo B is
+        // drawn with is the combo box's beside it, and the fields that also
+        // differ are counted here and named on hover.
         ui.label(format!(
-            "B − A: {:.1} / {:.1} / {:.1} %{}",
+            "B − A {:.1}/{:.1}/{:.1} %",
             100.0 * d[0],
             100.0 * d[1],
             100.0 * d[2],
-            r.albedo_note.as_ref().map_or(String::new(), |a| format!(" ({a})"))
         ))
         .on_hover_text(format!("Relative L2 difference of r·R(r) between B's look and A's, per channel (to A's 99.7 % radius): for a file exported from A, the round-trip error of that engine.{}", match &r.albedo_note {
             Some(a) => format!(" B's engine keeps the albedo in the material, so B is {a}: what differs is the profile's shape and B's other fields (its world scale and transmission mode in the Engines panel)."),
@@ -168,8 +181,9 @@ impl CompareBar {
         if !r.others.is_empty() {
             let names: Vec<&str> = r.others.iter().map(|(n, _)| *n).collect();
             let details: Vec<&str> = r.others.iter().map(|(_, d)| d.as_str()).collect();
-            ui.label(format!("also differs: {}", names.join(", ")))
-                .on_hover_text(format!("B's engine-side fields that differ from A's, which the r·R(r) difference does not show:\n{}", details.join("\n")));
+            let n = names.len();
+            ui.label(format!("+{n} field{}", if n == 1 { "" } else { "s" }))
+                .on_hover_text(format!("Also differs: {}. B's engine-side fields that differ from A's, which the r·R(r) difference does not show:\n{}", names.join(", "), details.join("\n")));
         }
     }
 

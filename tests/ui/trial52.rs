@@ -784,3 +784,36 @@ fn the_difference_title_stays_clear_of_its_scale() {
     );
     assert!(plate.right() <= layout.viewport.unwrap().right());
 }
+
+/// Item 5: at 1280×720, with an engine file as B, the compare row took
+/// three lines (the readout repeated B's albedo and listed every field
+/// that also differs), and the viewport shrank to 484×550. The readout and
+/// the count of the fields that also differ now sit on the row of B's
+/// button, and the viewport starts higher.
+#[test]
+fn the_compare_row_with_a_file_as_b_fits_at_1280() {
+    use scatterlab::app::state::{CompareB, CompareMode};
+    let state = UiState {
+        compare: CompareMode::SideBySide,
+        compare_b: CompareB::Preset(repo("tests/data/hdrp/Skin Diffusion Profile.asset")),
+        ..Default::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1280.0, 720.0]);
+    let t0 = Instant::now();
+    while h.query_by_label_contains("B − A ").is_none() {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no B − A readout");
+        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+    }
+    h.run_steps(3);
+    let y =
+        |h: &Harness<'_, EditorApp>, text: &str| h.get_by_label_contains(text).rect().center().y;
+    let row = y(&h, "B: Skin Diff…e.asset");
+    for text in ["B − A ", "+4 fields"] {
+        let at = y(&h, text);
+        assert!(
+            (at - row).abs() < 4.0,
+            "'{text}' at y {at}, B's button at {row}"
+        );
+    }
+}
