@@ -129,10 +129,11 @@ impl EditorApp {
             Action::Log(line) => self.log_line(format_args!("{line}")),
             Action::MeshLoaded(p, info) => self.mesh_loaded(p, info),
             Action::MeshFailed {
+                asked,
                 error,
                 kept,
                 kept_settings,
-            } => self.mesh_failed(error, kept, kept_settings),
+            } => self.mesh_failed(asked, error, kept, kept_settings),
             // `apply` routes only the arms above here.
             other => unreachable!("not a view action: {other:?}"),
         }
@@ -591,10 +592,17 @@ impl EditorApp {
     /// is still shown.
     fn mesh_failed(
         &mut self,
+        asked: Option<PathBuf>,
         error: String,
         kept: Option<PathBuf>,
         kept_settings: state::MeshSettings,
     ) {
+        // A request sent while the file was loading fails again, and the
+        // artist may have asked for another mesh since: only the failure of
+        // the mesh asked for now is said and undone.
+        if self.meshes.mesh != asked {
+            return;
+        }
         let shown = kept
             .as_ref()
             .map_or("the procedural head".to_string(), |p| {
@@ -609,8 +617,9 @@ impl EditorApp {
     }
 
     /// The render thread loaded a mesh (`None`: the default head): frame
-    /// it (a mesh the artist loads, or new units of it; the default head at
-    /// start-up keeps the remembered view), ask its units if new, say it.
+    /// it (a mesh the artist loads, or new units of it; the procedural head
+    /// at start-up keeps a remembered view of it), ask its units if new or
+    /// inside out, say it.
     fn mesh_loaded(&mut self, p: Option<PathBuf>, info: viewport::MeshInfo) {
         self.log_line(format_args!(
             "mesh {} metres_per_unit={}",
@@ -622,23 +631,27 @@ impl EditorApp {
         // arriving after a mesh was asked for (`edit --mesh`, a
         // restored look, a file dropped at once): that mesh
         // follows, so there is nothing to frame, size or say. (A
-        // mesh that failed to load is replaced by the head after
-        // an error, which the arms below handle.)
+        // mesh that failed to load before any renderer existed is
+        // replaced by the head after an error, which the arms below
+        // handle; later failures keep the mesh: `mesh_failed`.)
         if p.is_none() && self.meshes.mesh.is_some() && !self.status().starts_with("Error") {
             return;
         }
         self.meshes.mesh_info = Some(info);
-        // Frame a mesh the artist loads, or new units of it; the first
-        // mesh at start-up keeps the remembered view of it.
+        // Frame a mesh the artist loads, or new units of it; the procedural
+        // head at start-up keeps the remembered view of it.
         let key = (p.clone(), info.metres_per_unit);
-        // The remembered view is kept only for the mesh it was of (a view
-        // of a small mesh would crop the head); states that do not say
-        // keep it for the procedural head only.
+        // The remembered view is kept for the procedural head at start-up,
+        // and only if it was of it (a view of a small mesh would crop the
+        // head; states that do not say were of it). A file loaded at start
+        // is framed: the render thread draws its first frame framed.
         let first_head = self.view.framed_for.is_none()
-            && match &self.ui_state.view_framed_for {
-                Some(of) => *of == p,
-                None => p.is_none(),
-            };
+            && p.is_none()
+            && self
+                .ui_state
+                .view_framed_for
+                .as_ref()
+                .is_none_or(Option::is_none);
         if self.view.framed_for.as_ref() != Some(&key) && !first_head {
             self.ui_state.view.orbit.camera_distance_m = info.framing_distance_m;
             self.ui_state.view.orbit.camera_pan_m = [0.0; 2];

@@ -161,8 +161,13 @@ impl MenuBar {
         if slider.dragged() {
             ui.data_mut(|d| d.insert_temp(pending, scale));
         } else {
-            ui.data_mut(|d| d.remove::<f32>(pending));
-            self.ui_scale = scale;
+            // A drag that ended here applies; one left behind when the menu
+            // closed mid-drag does not (the menu opened again shows it once
+            // and forgets it); a click or a key applies at once.
+            let left = ui.data_mut(|d| d.remove_temp::<f32>(pending));
+            if slider.drag_stopped() || left.is_none() {
+                self.ui_scale = scale;
+            }
         }
         ui.horizontal(|ui| {
             ui.label("Theme");

@@ -64,7 +64,9 @@ fn rgb_ui(
     // wide as its widest value (5 decimals, the range's whole digits), so
     // that typing a value does not reflow the row and move the swatch (and
     // its open picker) to another line.
-    let whole = (range.end().abs().max(1.0).log10().floor() as usize) + 1;
+    // At most three whole digits: a field whose range runs to 1e6 mm (a
+    // mean free path) holds values near 1 and would wrap its row.
+    let whole = ((range.end().abs().clamp(1.0, 999.0).log10().floor() as usize) + 1).min(3);
     let widest = format!("R: {}.88888{unit}", "8".repeat(whole));
     let field = field_size(ui, &widest);
     let changed = ui

@@ -254,9 +254,10 @@ pub struct MeshInfo {
     pub metres_per_unit: f32,
     /// Camera distance (m) at which the mesh fills the view.
     pub framing_distance_m: f32,
-    /// The centre of the mesh's bounding box from the camera's focus, and
-    /// the radius about it that holds every vertex (m): what F frames.
+    /// The centre of the mesh's bounding box from the camera's focus (m):
+    /// what F frames.
     pub bounds_centre_m: [f32; 3],
+    /// The radius about that centre that holds every vertex (m).
     pub bounds_radius_m: f32,
     /// Which way the mesh faces as drawn (inside out: a dark disc).
     pub facing: crate::render::mesh::Facing,
@@ -288,6 +289,8 @@ pub enum Reply {
     /// (`kept`, `None`: the default head) stays, with the settings it was
     /// loaded with, and the frame is drawn with it.
     MeshFailed {
+        /// The mesh the failed request asked for.
+        asked: Option<PathBuf>,
         error: String,
         kept: Option<PathBuf>,
         kept_settings: crate::app::state::MeshSettings,

@@ -320,10 +320,12 @@ impl ViewportState {
             }
             viewport::Reply::MeshLoaded(p, info) => actions.push(Action::MeshLoaded(p, info)),
             viewport::Reply::MeshFailed {
+                asked,
                 error,
                 kept,
                 kept_settings,
             } => actions.push(Action::MeshFailed {
+                asked,
                 error,
                 kept,
                 kept_settings,

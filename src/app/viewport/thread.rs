@@ -316,9 +316,10 @@ fn prepare_mesh(w: &mut Worker, req: &mut Request, tx: &Sender<Reply>, faults: &
         // A file that is not a mesh, or a map that will not load: the
         // artist's mesh on screen is kept, not thrown away.
         Err(error) if w.renderer.is_some() => {
-            req.mesh = w.mesh_path.clone();
+            let asked = std::mem::replace(&mut req.mesh, w.mesh_path.clone());
             req.mesh_settings = w.mesh_settings.clone();
             let _ = tx.send(Reply::MeshFailed {
+                asked,
                 error,
                 kept: req.mesh.clone(),
                 kept_settings: req.mesh_settings.clone(),

@@ -101,8 +101,8 @@ fn cache_path(dir: &Path, preset: &Preset, head: Option<&ThumbnailHead>) -> Path
     dir.join(format!("{:016x}.png", fnv1a(key.as_bytes())))
 }
 
-/// The request for a preset's thumbnail: the default head from the front
-/// under the studio sky, its own method (burley stands in for the ground
+/// The request for a preset's thumbnail: the head on screen (`head`, else
+/// the procedural head) from the front under the studio sky, its own method (burley stands in for the ground
 /// truth, which takes minutes).
 fn thumbnail_request(preset: &Preset, head: Option<&ThumbnailHead>) -> Request {
     // A look whose albedo is the material's (HDRP's) is drawn with the

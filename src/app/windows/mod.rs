@@ -113,6 +113,7 @@ pub enum Action {
     /// A mesh or its maps failed to load on the render thread, which kept
     /// the mesh on screen (`None`: the default head) with its settings.
     MeshFailed {
+        asked: Option<PathBuf>,
         error: String,
         kept: Option<PathBuf>,
         kept_settings: state::MeshSettings,

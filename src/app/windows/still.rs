@@ -77,7 +77,12 @@ impl StillJob {
         let (tx, rx) = std::sync::mpsc::channel();
         let (theirs, path, told) = (cancel.clone(), out.clone(), progress.clone());
         std::thread::spawn(move || {
-            let on_frame = |_: crate::app::viewport::Quality, ms: f64| {
+            // Only the refining frames count (a ground truth's tiles and its
+            // coarse frame are not frames of the running mean).
+            let on_frame = |q: crate::app::viewport::Quality, ms: f64| {
+                if !matches!(q, crate::app::viewport::Quality::Refining { .. }) {
+                    return;
+                }
                 if let Ok(mut p) = told.lock() {
                     p.1 = (p.1 * p.0 as f64 + ms) / (p.0 + 1) as f64;
                     p.0 += 1;
@@ -283,8 +288,14 @@ impl Window for StillWindow {
                         }
                     }
                     None => {
-                        if let Some(last) = &self.last {
-                            ui.label(format!("Done: {last}"));
+                        match &self.last {
+                            Some(saved) if saved.starts_with("Saved") => {
+                                ui.label(format!("Done: {saved}"));
+                            }
+                            Some(other) => {
+                                ui.label(other);
+                            }
+                            None => {}
                         }
                         if ui.button("Save image as PNG…").clicked() {
                             actions.push(Action::OpenDialog(DialogKind::SaveStill));

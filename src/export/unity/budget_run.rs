@@ -301,7 +301,7 @@ impl BudgetOptions {
         let summary = format!(
             "{} profiles{unused}, {} used by {} of {} materials; {} slots: {} profiles after {} merge{} (weighted cost {:.3})",
             scan.profiles.len() + dropped.len(),
-            scan.profiles.len(),
+            users.iter().filter(|u| !u.is_empty()).count(),
             users.iter().flatten().map(|u| &u.material).collect::<std::collections::BTreeSet<_>>().len(),
             scan.materials,
             self.slots,
@@ -549,8 +549,6 @@ Left out of the list before any merge (they would take a slot, or pull a merge t
     }
 }
 
-/// The materials that use each profile (a material once per profile),
-/// and each profile as a merge candidate weighted by them.
 /// Leaves out of the scan the profiles no material uses, when some are
 /// used: dropping one frees a slot at no cost to any material, where a
 /// merge would spend one and pull the merged profile. Their names (file
@@ -574,6 +572,8 @@ fn drop_unused(scan: &mut project::Project) -> Vec<String> {
         .collect()
 }
 
+/// The materials that use each profile (a material once per profile),
+/// and each profile as a merge candidate weighted by them.
 fn candidates(scan: &project::Project) -> (Vec<Vec<&MaterialUse>>, Vec<Candidate>) {
     let mut users: Vec<Vec<&MaterialUse>> = vec![Vec::new(); scan.profiles.len()];
     for u in &scan.uses {

@@ -36,6 +36,11 @@ impl Facing {
     }
 }
 
+/// How much of the surface's outward test must point in for a mesh to be
+/// called inside out: a fifth of its largest possible size (a closed
+/// sphere inside out scores the whole, a flat sheet nothing).
+const INWARD_SHARE: f64 = 0.2;
+
 impl Mesh {
     /// Which way the mesh faces: the sum over triangles of their outward
     /// test (the triangle's own normal, by winding, against the direction
@@ -44,7 +49,10 @@ impl Mesh {
     pub fn facing(&self) -> Facing {
         let (lo, hi) = self.bounds();
         let centre = 0.5 * (lo + hi);
-        let (mut by_winding, mut by_normals) = (0.0f64, 0.0f64);
+        // Each sum beside the sum of its terms' sizes: a flat or nearly
+        // flat surface (a scanned skin sample) sums to about nothing either
+        // way, and is not called inward on float noise.
+        let (mut by_winding, mut by_normals, mut size) = (0.0f64, 0.0f64, 0.0f64);
         for t in self.indices.chunks_exact(3) {
             let v = |i: u32| &self.vertices[i as usize];
             let p = |i: u32| Vec3::from(v(i).position);
@@ -53,10 +61,12 @@ impl Mesh {
             by_winding += cross.dot(out) as f64;
             let n: Vec3 = t.iter().map(|&i| Vec3::from(v(i).normal)).sum();
             by_normals += (n.normalize_or_zero() * cross.length()).dot(out) as f64;
+            size += (cross.length() * out.length()) as f64;
         }
+        let inward = |sum: f64| sum < -INWARD_SHARE * size;
         Facing {
-            faces_inward: by_winding < 0.0,
-            normals_inward: by_normals < 0.0,
+            faces_inward: inward(by_winding),
+            normals_inward: inward(by_normals),
         }
     }
 
