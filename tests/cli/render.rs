@@ -851,37 +851,8 @@ fn an_inside_out_mesh_is_named_and_turned_outward() {
     let dir = std::env::temp_dir().join(format!("scatterlab-inside-out-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let sphere = |name: &str, inside_out: bool| {
-        let (n_lat, n_lon, r) = (24usize, 48usize, 0.09f32);
-        let mut text = String::new();
-        for i in 0..=n_lat {
-            let t = i as f32 / n_lat as f32 * std::f32::consts::PI;
-            for j in 0..n_lon {
-                let p = j as f32 / n_lon as f32 * std::f32::consts::TAU;
-                let n = [t.sin() * p.cos(), t.cos(), t.sin() * p.sin()];
-                text += &format!(
-                    "v {} {} {}\nvt {} {}\n",
-                    r * n[0],
-                    r * n[1],
-                    r * n[2],
-                    j as f32 / n_lon as f32,
-                    1.0 - i as f32 / n_lat as f32
-                );
-            }
-        }
-        let at = |i: usize, j: usize| i * n_lon + j % n_lon + 1;
-        for i in 0..n_lat {
-            for j in 0..n_lon {
-                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-                let [a, b, c, d] = if inside_out {
-                    [a, d, c, b]
-                } else {
-                    [a, b, c, d]
-                };
-                text += &format!("f {a}/{a} {b}/{b} {c}/{c} {d}/{d}\n");
-            }
-        }
         let path = dir.join(name);
-        std::fs::write(&path, text).unwrap();
+        std::fs::write(&path, common::uv_sphere_obj(0.18, inside_out)).unwrap();
         path
     };
     let png = dir.join("sphere.png");

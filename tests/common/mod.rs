@@ -79,3 +79,46 @@ pub fn quad_gltf_textured(half: f32, v_up: bool, uri: &str) -> String {
 }
 
 pub mod scan;
+
+/// A UV sphere `diameter_m` across as OBJ text (metres), with UVs and
+/// normals; `inside_out` winds its faces clockwise seen from outside (a
+/// file exported inside out). Written here, not by scatterlab.
+pub fn uv_sphere_obj(diameter_m: f32, inside_out: bool) -> String {
+    let (n_lat, n_lon) = (24, 48);
+    let r = 0.5 * diameter_m;
+    let mut text = String::new();
+    for i in 0..=n_lat {
+        let t = i as f32 / n_lat as f32 * std::f32::consts::PI;
+        for j in 0..n_lon {
+            let p = j as f32 / n_lon as f32 * std::f32::consts::TAU;
+            let n = [t.sin() * p.cos(), t.cos(), t.sin() * p.sin()];
+            text += &format!(
+                "v {} {} {}\nvt {} {}\nvn {} {} {}\n",
+                r * n[0],
+                r * n[1],
+                r * n[2],
+                j as f32 / n_lon as f32,
+                1.0 - i as f32 / n_lat as f32,
+                n[0],
+                n[1],
+                n[2]
+            );
+        }
+    }
+    let at = |i: usize, j: usize| i * n_lon + j % n_lon + 1;
+    for i in 0..n_lat {
+        for j in 0..n_lon {
+            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+            // Counter-clockwise seen from outside (glTF's and OBJ's front),
+            // or clockwise for a file exported inside out.
+            let q = if inside_out {
+                [a, d, c, b]
+            } else {
+                [a, b, c, d]
+            };
+            let [a, b, c, d] = q;
+            text += &format!("f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c} {d}/{d}/{d}\n");
+        }
+    }
+    text
+}

@@ -219,46 +219,9 @@ fn a_remembered_view_of_another_mesh_does_not_crop_the_head() {
     );
 }
 
-/// A UV sphere `diameter_m` across as an OBJ (metres), with UVs and
-/// normals.
+/// A UV sphere as an OBJ file ([`common::uv_sphere_obj`]).
 fn sphere_obj(path: &std::path::Path, diameter_m: f32, inside_out: bool) {
-    let (n_lat, n_lon) = (24, 48);
-    let r = 0.5 * diameter_m;
-    let mut text = String::new();
-    for i in 0..=n_lat {
-        let t = i as f32 / n_lat as f32 * std::f32::consts::PI;
-        for j in 0..n_lon {
-            let p = j as f32 / n_lon as f32 * std::f32::consts::TAU;
-            let n = [t.sin() * p.cos(), t.cos(), t.sin() * p.sin()];
-            text += &format!(
-                "v {} {} {}\nvt {} {}\nvn {} {} {}\n",
-                r * n[0],
-                r * n[1],
-                r * n[2],
-                j as f32 / n_lon as f32,
-                1.0 - i as f32 / n_lat as f32,
-                n[0],
-                n[1],
-                n[2]
-            );
-        }
-    }
-    let at = |i: usize, j: usize| i * n_lon + j % n_lon + 1;
-    for i in 0..n_lat {
-        for j in 0..n_lon {
-            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-            // Counter-clockwise seen from outside (glTF's and OBJ's front),
-            // or clockwise for a file exported inside out.
-            let q = if inside_out {
-                [a, d, c, b]
-            } else {
-                [a, b, c, d]
-            };
-            let [a, b, c, d] = q;
-            text += &format!("f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c} {d}/{d}/{d}\n");
-        }
-    }
-    std::fs::write(path, text).unwrap();
+    std::fs::write(path, common::uv_sphere_obj(diameter_m, inside_out)).unwrap();
 }
 
 /// Item 3: F left an 18 cm sphere overflowing the viewport (the camera
