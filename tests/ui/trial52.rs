@@ -90,6 +90,32 @@ fn an_hdrp_import_on_the_scan_takes_the_maps_colour_on_enter() {
         a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some())
     });
     let mean = h.state().mesh_info().unwrap().colour_map_mean.unwrap();
+    // The map's mean worked out here, outside scatterlab: Map-COL.jpg
+    // decoded, each byte linearised by IEC 61966-2-1's formula, near-black
+    // texels (the layout's gaps) left out, as the map's mean is defined.
+    let map = image::open(scan.join("Map-COL.jpg")).unwrap().to_rgb8();
+    let linear = |b: u8| {
+        let c = b as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let (mut sum, mut n) = ([0.0f64; 3], 0.0);
+    for p in map.pixels().filter(|p| (p[0] | p[1] | p[2]) >= 3) {
+        for c in 0..3 {
+            sum[c] += linear(p[c]);
+        }
+        n += 1.0;
+    }
+    for c in 0..3 {
+        assert!(
+            (sum[c] / n - mean[c] as f64).abs() < 2e-3,
+            "the map's mean {mean:?} against {:?} worked out here",
+            sum.map(|v| v / n)
+        );
+    }
     import_hdrp_skin_with_enter(&mut h);
     let got = albedo(&h);
     for c in 0..3 {
