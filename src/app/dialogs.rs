@@ -229,6 +229,10 @@ impl EditorApp {
         mut path: PathBuf,
         close: &mut bool,
     ) {
+        if dialog.kind == DialogKind::PresetFolder {
+            self.add_preset_folder(path);
+            return;
+        }
         if path.is_dir() {
             dialog.picker.set_path(&path);
             dialog.picker.open();
@@ -275,6 +279,29 @@ impl EditorApp {
         }
     }
 
+    /// A folder chosen in the folder dialog, listed in the preset browser
+    /// (once) and remembered.
+    fn add_preset_folder(&mut self, dir: PathBuf) {
+        if !dir.is_dir() {
+            self.say(format!(
+                "Error: {} is not a folder: choose a folder of .ron presets",
+                dir.display()
+            ));
+            return;
+        }
+        if let Some(parent) = dir.parent().filter(|d| d.is_dir()) {
+            self.ui_state
+                .folders
+                .insert(DialogKind::PresetFolder.folder_key().into(), parent.into());
+        }
+        if self.ui_state.preset_folders.contains(&dir) {
+            self.say(format!("{} is already listed", dir.display()));
+            return;
+        }
+        let folders = [self.ui_state.preset_folders.clone(), vec![dir]].concat();
+        self.apply(vec![super::windows::Action::SetPresetFolders(folders)]);
+    }
+
     /// The overwrite prompt's answer: write, or back to the dialog.
     pub(super) fn answer_overwrite(&mut self, o: Overwrite, replace: bool) {
         if replace {
@@ -319,6 +346,7 @@ impl EditorApp {
                 DialogKind::SaveStill => self.start_still(path),
                 DialogKind::Environment => self.load_environment(path),
                 DialogKind::Reference => self.load_reference(path),
+                DialogKind::PresetFolder => self.add_preset_folder(path),
                 DialogKind::Map(k) => {
                     if let Some(mesh) = self.mesh_path().map(Path::to_path_buf) {
                         self.ui_state.meshes.entry(mesh).or_default().maps[k].path = Some(path);

@@ -122,7 +122,9 @@ impl EditorApp {
     pub(super) fn dialog_folder(&self, kind: &DialogKind) -> PathBuf {
         let writes = kind.writes();
         let current: Option<PathBuf> = match kind {
-            DialogKind::Open | DialogKind::SaveAs => self.doc.path.clone(),
+            DialogKind::Open | DialogKind::SaveAs | DialogKind::PresetFolder => {
+                self.doc.path.clone()
+            }
             DialogKind::CompareB => match &self.ui_state.compare_b {
                 CompareB::Preset(p) => Some(p.clone()),
                 _ => self.doc.path.clone(),
@@ -218,7 +220,9 @@ impl EditorApp {
     /// field.
     pub(super) fn show_dialog(&mut self, kind: DialogKind, dir: &Path, name: &str) {
         let exts = kind.extensions();
-        let picker = if kind.writes() {
+        let picker = if kind == DialogKind::PresetFolder {
+            egui_file::FileDialog::select_folder()
+        } else if kind.writes() {
             egui_file::FileDialog::save_file()
         } else {
             egui_file::FileDialog::open_file()
@@ -244,7 +248,14 @@ impl EditorApp {
             .keep_on_top(true)
             .show_rename(false)
             .show_new_folder(kind.writes())
-            .open_button_text("Open".into())
+            .open_button_text(
+                if kind == DialogKind::PresetFolder {
+                    "Add this folder"
+                } else {
+                    "Open"
+                }
+                .into(),
+            )
             .file_label_text("File name:".into())
             .show_files_filter(Box::new(move |p: &Path| {
                 p.extension()

@@ -61,6 +61,9 @@ pub enum DialogKind {
     SaveStill,
     /// A reference photograph (File → Reference image).
     Reference,
+    /// A folder of the artist's presets for the browser (Presets window's
+    /// "+ choose folder…").
+    PresetFolder,
 }
 
 impl DialogKind {
@@ -74,6 +77,7 @@ impl DialogKind {
             DialogKind::Environment => "environment",
             DialogKind::Map(_) => "map",
             DialogKind::Reference => "reference",
+            DialogKind::PresetFolder => "preset_folder",
             DialogKind::SaveImage | DialogKind::SaveTurntable | DialogKind::SaveStill => "image",
         }
     }
@@ -91,7 +95,7 @@ impl DialogKind {
             // What the export targets' readers read (`Target::reader`).
             DialogKind::Import => return crate::export::importable_extensions(false),
             DialogKind::CompareB => return crate::export::importable_extensions(true),
-            DialogKind::Open | DialogKind::SaveAs => {
+            DialogKind::Open | DialogKind::SaveAs | DialogKind::PresetFolder => {
                 return vec![crate::settings::PRESET_EXTENSION]
             }
         };
@@ -111,6 +115,7 @@ impl DialogKind {
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
             DialogKind::SaveStill => "Save the image at size (.png)".into(),
             DialogKind::Reference => "Reference image (.png, .jpg)".into(),
+            DialogKind::PresetFolder => "Add a folder of your presets (.ron)".into(),
             DialogKind::SaveTurntable => "Save turntable (.gif)".into(),
             DialogKind::Map(k) => format!(
                 "{} map (.png, .jpg)",

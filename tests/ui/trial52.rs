@@ -806,3 +806,49 @@ fn the_compare_row_with_a_file_as_b_fits_at_1280() {
         );
     }
 }
+
+/// Item 9: a folder of presets was added to the browser only by typing its
+/// path. "+ choose folder…" opens a folder dialog; the folder chosen there
+/// is listed, its presets shown, and it is remembered.
+#[test]
+fn a_presets_folder_is_chosen_in_a_folder_dialog() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-choose-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mine = dir.join("my presets");
+    std::fs::create_dir_all(&mine).unwrap();
+    let mut pale = Preset::default_skin();
+    pale.name = "My pale skin".into();
+    pale.save(&mine.join("pale.ron")).unwrap();
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, false),
+        [1500.0, 900.0],
+    );
+    h.state_mut().set_thumbnail_dir(dir.join("thumbs"));
+    menu_item(&mut h, "File", "Browse presets…");
+    h.run_steps(2);
+    assert!(h.query_by_label("My pale skin").is_none());
+    h.get_by_label("+ choose folder…").click_accesskit();
+    h.run_steps(2);
+    wait_for_file_dialog(&mut h);
+    assert!(h.state_mut().dialog_goto(&mine), "no folder dialog");
+    wait_for_file_dialog(&mut h);
+    h.get_by_label("Add this folder").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().ui_state.preset_folders, vec![mine.clone()]);
+    wait_for_label(&mut h, "My pale skin");
+    // Chosen again: listed once, and said so.
+    h.get_by_label("+ choose folder…").click_accesskit();
+    h.run_steps(2);
+    wait_for_file_dialog(&mut h);
+    assert!(h.state_mut().dialog_goto(&mine));
+    wait_for_file_dialog(&mut h);
+    h.get_by_label("Add this folder").click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().ui_state.preset_folders, vec![mine.clone()]);
+    assert!(
+        h.state().status().contains("already listed"),
+        "{}",
+        h.state().status()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -6,7 +6,7 @@
 //! first if the open look has unsaved changes.
 
 use super::{Action, Menu, Window, WindowView};
-use crate::app::state;
+use crate::app::{state, DialogKind};
 use crate::app::viewport::{Look, Request, Viewport};
 use crate::settings::{library, Preset};
 use std::path::{Path, PathBuf};
@@ -380,12 +380,14 @@ impl PresetBrowser {
     }
 
     /// The artist's folders: each can be removed, the look's own folder
-    /// and a typed one added. The folders as they should be, when changed.
+    /// and a typed one added, or one chosen in the folder dialog (`choose`
+    /// set). The folders as they should be, when changed.
     fn folders_ui(
         &mut self,
         ui: &mut egui::Ui,
         folders: &[PathBuf],
         doc_path: Option<&Path>,
+        choose: &mut bool,
     ) -> Option<Vec<PathBuf>> {
         let mut changed = None;
         ui.horizontal_wrapped(|ui| {
@@ -413,6 +415,13 @@ impl PresetBrowser {
                 {
                     changed = Some([folders, &[dir]].concat());
                 }
+            }
+            if ui
+                .button("+ choose folder…")
+                .on_hover_text("Pick a folder of .ron presets in a folder dialog and list them here.")
+                .clicked()
+            {
+                *choose = true;
             }
             if let Some(dir) = self.typed_folder_ui(ui, label.id) {
                 if !folders.contains(&dir) {
@@ -593,8 +602,14 @@ impl Window for BrowserWindow {
             .show(ctx, |ui| {
                 browser.progress_ui(ui);
                 ui.label("Click a shipped preset to start a new look from it, one of yours to open it. The head on screen from the front under the studio sky (the procedural head close up, or your mesh framed whole), drawn with the preset's own method (burley for the ground truth); a profile whose albedo is the material's (HDRP's) with the default skin's albedo.");
-                if let Some(f) = browser.folders_ui(ui, view.preset_folders, view.doc_path) {
+                let mut choose = false;
+                if let Some(f) =
+                    browser.folders_ui(ui, view.preset_folders, view.doc_path, &mut choose)
+                {
                     actions.push(Action::SetPresetFolders(f));
+                }
+                if choose {
+                    actions.push(Action::OpenDialog(DialogKind::PresetFolder));
                 }
                 match browser.thumbnails_ui(ui) {
                     Some((_, Some(path))) => actions.push(Action::OpenPreset(path)),
