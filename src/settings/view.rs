@@ -106,6 +106,28 @@ impl OrbitView {
     }
 }
 
+/// The height of the 35 mm full frame (36 × 24 mm) that the focal length
+/// is given for: the field of view is vertical, so the lens is the one a
+/// full-frame camera held in landscape would need for the same vertical
+/// view (Blender's camera with Sensor Fit Vertical and a 24 mm sensor).
+pub const FULL_FRAME_HEIGHT_MM: f32 = 24.0;
+
+impl OrbitView {
+    /// The focal length (mm) of the full-frame lens with this vertical
+    /// field of view: a pinhole's f = (h / 2) / tan(fov / 2), h =
+    /// [`FULL_FRAME_HEIGHT_MM`]. Tested by `focal_length_of_known_lenses`.
+    pub fn focal_length_mm(&self) -> f32 {
+        0.5 * FULL_FRAME_HEIGHT_MM / (0.5 * self.fov_y_rad).tan()
+    }
+
+    /// Sets the vertical field of view to that of a full-frame lens of
+    /// `mm` (the inverse of [`OrbitView::focal_length_mm`]); the camera
+    /// stays where it is, so a longer lens zooms in.
+    pub fn set_focal_length_mm(&mut self, mm: f32) {
+        self.fov_y_rad = 2.0 * (0.5 * FULL_FRAME_HEIGHT_MM / mm.max(1.0)).atan();
+    }
+}
+
 impl Default for OrbitView {
     fn default() -> Self {
         Self {
@@ -250,5 +272,43 @@ mod framing_whole_tests {
                 "the outline should nearly touch the narrower edges: {widest:?}"
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod focal_length_tests {
+    use super::OrbitView;
+
+    /// Published fields of view of full-frame lenses (vertical, 24 mm):
+    /// 50 mm sees 27.0°, 24 mm 53.1°, 85 mm 16.1°, 200 mm 6.9° (e.g. Nikon's
+    /// and Canon's lens tables, which give the diagonal 46.8°, 84°, 28.5°,
+    /// 12.3°; the vertical figures are 2·atan(12/f), checked here against
+    /// the diagonal ones through the 36 × 24 mm frame's 43.27 mm diagonal).
+    #[test]
+    fn focal_length_of_known_lenses() {
+        for (mm, vertical_deg, diagonal_deg) in [
+            (50.0f32, 27.0f32, 46.8f32),
+            (24.0, 53.1, 84.0),
+            (85.0, 16.1, 28.5),
+            (200.0, 6.9, 12.3),
+        ] {
+            let mut v = OrbitView::default();
+            v.set_focal_length_mm(mm);
+            assert!(
+                (v.fov_y_rad.to_degrees() - vertical_deg).abs() < 0.06,
+                "{mm} mm: {}°",
+                v.fov_y_rad.to_degrees()
+            );
+            // The same lens's diagonal view, from the same vertical one.
+            let half_diag = (0.5 * v.fov_y_rad).tan() * (36.0f32.hypot(24.0) / 24.0);
+            let diag = 2.0 * half_diag.atan().to_degrees();
+            assert!(
+                (diag - diagonal_deg).abs() < 0.15,
+                "{mm} mm: {diag}° diagonal"
+            );
+            assert!((v.focal_length_mm() - mm).abs() < 1e-3);
+        }
+        // The default 30° view is a 44.8 mm lens.
+        assert!((OrbitView::default().focal_length_mm() - 44.78).abs() < 0.01);
     }
 }

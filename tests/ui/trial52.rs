@@ -852,3 +852,42 @@ fn a_presets_folder_is_chosen_in_a_folder_dialog() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The professional's list: the camera's focal length in the UI. Light &
+/// display shows the lens as a full-frame camera's (the default 30°
+/// vertical view is a 44.8 mm lens: 12 / tan 15°); an 85 mm typed there
+/// gives the view an 85 mm lens's vertical field, 2·atan(12 / 85) = 16.07°
+/// (Canon's and Nikon's tables: 16.1° for a 28.5° diagonal), with the
+/// camera where it was; Reset view goes back.
+#[test]
+fn the_cameras_focal_length_is_set_in_mm() {
+    let mut h = harness(false);
+    h.step();
+    menu_item(&mut h, "View", "Light & display…");
+    h.run_steps(2);
+    let lens = |h: &Harness<'_, EditorApp>| {
+        h.get_all_by_role(egui::accesskit::Role::SpinButton)
+            .find(|n| n.value().is_some_and(|v| v.starts_with("focal length ")))
+            .map(|n| n.value().unwrap_or_default())
+            .expect("no focal length field")
+    };
+    assert_eq!(lens(&h), "focal length 44.8 mm");
+    let distance = h.state().ui_state.view.orbit.camera_distance_m;
+    h.get_all_by_role(egui::accesskit::Role::SpinButton)
+        .find(|n| n.value().is_some_and(|v| v.starts_with("focal length ")))
+        .unwrap()
+        .set_value_accesskit(85.0);
+    h.run_steps(2);
+    let o = h.state().ui_state.view.orbit;
+    let want = 2.0 * (12.0f32 / 85.0).atan();
+    assert!(
+        (o.fov_y_rad - want).abs() < 1e-4,
+        "{}° for 85 mm",
+        o.fov_y_rad.to_degrees()
+    );
+    assert_eq!(o.camera_distance_m, distance);
+    assert_eq!(lens(&h), "focal length 85.0 mm");
+    h.get_by_label("Reset view").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(lens(&h), "focal length 44.8 mm");
+}

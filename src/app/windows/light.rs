@@ -78,7 +78,8 @@ fn rigs_ui(ui: &mut egui::Ui, v: &state::ViewState, actions: &mut Vec<Action>) {
     .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light.");
 }
 
-/// The key light's intensity, the exposure and the display transform.
+/// The key light's intensity, the exposure, the camera's focal length and
+/// the display transform.
 fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
     egui::Grid::new("light_display").num_columns(2).show(ui, |ui| {
         ui.label("Key light");
@@ -106,6 +107,27 @@ fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
             .changed()
         {
             v.orbit.exposure = ev.exp2();
+        }
+        ui.end_row();
+        ui.label("Camera");
+        let mut mm = v.orbit.focal_length_mm();
+        if ui
+            .add(
+                egui::DragValue::new(&mut mm)
+                    .range(12.0..=300.0)
+                    .speed(0.2)
+                    .max_decimals(1)
+                    .prefix("focal length ")
+                    .suffix(" mm"),
+            )
+            .on_hover_text(format!(
+                "The lens, as a full-frame (36 × 24 mm) camera's: {:.1}° vertical field of view. A longer lens zooms in from where the camera is (F frames the mesh again); Reset view goes back to {:.1} mm.",
+                v.orbit.fov_y_rad.to_degrees(),
+                crate::settings::OrbitView::default().focal_length_mm()
+            ))
+            .changed()
+        {
+            v.orbit.set_focal_length_mm(mm);
         }
         ui.end_row();
         ui.label("Display");
