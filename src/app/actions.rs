@@ -294,6 +294,11 @@ impl EditorApp {
         self.layout.viewport_layout()
     }
 
+    /// The Histogram window's counts, as last counted (UI tests).
+    pub fn histogram(&self) -> Option<&crate::render::StopsHistogram> {
+        self.windows.histogram.counted()
+    }
+
     /// The probe's text as last drawn (UI tests).
     pub fn probe_text(&self) -> Option<&str> {
         self.layout.probe.as_deref()
@@ -315,6 +320,7 @@ impl EditorApp {
             look_name: &self.doc.preset.name,
             colour_map_mean: self.meshes.colour_map_mean(),
             viewport_rect: self.layout.viewport_rect,
+            radiance: self.view.radiance.as_ref(),
         };
         let actions = self.windows.show(ctx, &view);
         self.apply(actions);

@@ -321,9 +321,12 @@ impl ViewportPanel<'_> {
 
     /// Each side of a comparison labelled on its own half, on a dark plate
     /// that reads over skin (kept for the UI tests: `viewport_layout`).
-    /// The pixel probe: under the pointer, the frame's sRGB bytes, their
-    /// linear values and CIE L*; side by side, both sides' L* and their
-    /// difference; on a difference view, the |ΔL*| its colour stands for.
+    /// The pixel probe: under the pointer, the frame's sRGB bytes, the
+    /// scene-linear radiance there (before exposure and the display
+    /// transform; once the view has settled) and CIE L*; while comparing,
+    /// the bytes decoded to display-linear values, side by side both
+    /// sides' L* and their difference, on a difference view the |ΔL*| its
+    /// colour stands for.
     fn probe_ui(&mut self, ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect) {
         use crate::render::compare;
         self.layout.probe = None;
@@ -349,9 +352,30 @@ impl ViewportPanel<'_> {
         };
         let pixel = |name: &str, p: &compare::Probe| {
             format!(
-                "{name}sRGB {} {} {} · linear {:.3} {:.3} {:.3} · L* {:.1}",
+                "{name}sRGB {} {} {} · display-linear {:.3} {:.3} {:.3} · L* {:.1}",
                 p.srgb[0], p.srgb[1], p.srgb[2], p.linear[0], p.linear[1], p.linear[2], p.lightness
             )
+        };
+        // One look alone: the scene-linear radiance under the pointer, as
+        // the render thread read it back once the view settled.
+        let scene = self
+            .view
+            .radiance
+            .as_deref()
+            .filter(|r| (r.width, r.height) == img.dimensions());
+        let alone = |p: &compare::Probe| {
+            let srgb = format!("sRGB {} {} {}", p.srgb[0], p.srgb[1], p.srgb[2]);
+            match scene.map(|r| r.at(x, y)) {
+                Some(Some(l)) => format!(
+                    "{srgb} · scene-linear {:.4} {:.4} {:.4} · L* {:.1}",
+                    l[0], l[1], l[2], p.lightness
+                ),
+                Some(None) => format!("{srgb} · background, not the mesh · L* {:.1}", p.lightness),
+                None => format!(
+                    "{srgb} · L* {:.1} · scene-linear once the view settles",
+                    p.lightness
+                ),
+            }
         };
         let comparing = self.ui_state.compare != CompareMode::Off && self.view.ab == AbView::Both;
         let text = match (comparing, self.ui_state.compare) {
@@ -388,7 +412,7 @@ impl ViewportPanel<'_> {
                 };
                 pixel(side, &p)
             }
-            _ => pixel("", &p),
+            _ => alone(&p),
         };
         let galley = painter.layout_no_wrap(
             text.clone(),

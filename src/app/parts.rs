@@ -50,6 +50,9 @@ pub struct ViewportState {
     pub(super) show_before: bool,
     /// The last viewport frame, and how many have arrived.
     pub(super) last_frame: Option<(image::RgbaImage, u64)>,
+    /// The last frame's scene-linear radiance, where the render thread
+    /// sent it (a settled view of one look), for the probe and histogram.
+    pub(super) radiance: Option<std::sync::Arc<crate::render::SceneLinear>>,
     /// How far the last frame had got (preview, refining, converged).
     pub(super) quality: Option<viewport::Quality>,
     /// The newest frames' quality, size and status line, oldest first
@@ -287,6 +290,7 @@ impl ViewportState {
             show_before: false,
             difference_shown: None,
             last_frame: None,
+            radiance: None,
             background_map: None,
             show_mouse_hint: false,
             adapter: String::new(),

@@ -19,6 +19,7 @@
 use super::state::{CompareB, CompareMode, EnvironmentChoice, ViewState};
 use crate::render::{
     FrameStats, GpuContext, Mesh, Method, ProfileInputs, Progressive, RenderSettings, Renderer,
+    SceneLinear,
 };
 use crate::settings::rendering::MethodId;
 use crate::settings::{Preset, ProfileSpec, RenderingSpec};
@@ -281,6 +282,10 @@ pub enum Reply {
         /// The request it answers.
         seq: u64,
         quality: Quality,
+        /// The frame's scene-linear radiance (before exposure and the
+        /// display transform): sent with a view's converged frame when it
+        /// shows one look alone, else `None`.
+        radiance: Option<std::sync::Arc<crate::render::SceneLinear>>,
     },
     Error(String),
     /// The mesh in the request was loaded (`None`: the default head).

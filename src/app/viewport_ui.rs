@@ -250,7 +250,9 @@ impl ViewportState {
                 note,
                 quality,
                 seq,
+                radiance,
             } => {
+                self.radiance = radiance;
                 // A ground truth in tiles adds how far it has got and the
                 // time left it showed (tools/measure_live.sh checks both).
                 let tiles = match quality {

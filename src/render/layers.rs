@@ -62,6 +62,82 @@ impl FrameLayers {
     }
 }
 
+/// A frame's scene-linear radiance, before exposure and the display
+/// transform (what the composite pass tone-maps: scattered × albedo^post +
+/// specular), row-major with y down; alpha the coverage, 0 on the
+/// background (whose light is not the mesh's). The editor's pixel probe
+/// and histogram read it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneLinear {
+    pub width: u32,
+    pub height: u32,
+    pub radiance: Vec<[f32; 4]>,
+}
+
+/// Relative luminance of linear Rec. 709 / sRGB primaries (ITU-R BT.709-6
+/// item 3.3; IEC 61966-2-1's Y row).
+pub fn luminance(rgb: [f32; 3]) -> f32 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+/// A histogram of the mesh's luminance in stops: bin k counts the covered
+/// pixels with log2(Y / 0.18) in [lo + k·step, lo + (k+1)·step); those
+/// below `lo` (and black ones) fall in the first bin, those above the last
+/// in the last.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StopsHistogram {
+    /// The first bin's lower edge (stops from 18 % grey).
+    pub lo_ev: f32,
+    pub step_ev: f32,
+    pub counts: Vec<u32>,
+    /// Covered pixels counted.
+    pub pixels: u32,
+    /// The median's stops from 18 % grey.
+    pub median_ev: Option<f32>,
+}
+
+impl SceneLinear {
+    /// The radiance at pixel (x, y), if it is on the mesh.
+    pub fn at(&self, x: u32, y: u32) -> Option<[f32; 3]> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let p = self.radiance.get((y * self.width + x) as usize)?;
+        (p[3] > 0.0).then_some([p[0], p[1], p[2]])
+    }
+
+    /// The mesh's luminance as a histogram of `bins` bins of `step_ev`
+    /// stops from `lo_ev`.
+    pub fn histogram(&self, lo_ev: f32, step_ev: f32, bins: usize) -> StopsHistogram {
+        let mut counts = vec![0u32; bins.max(1)];
+        let mut evs: Vec<f32> = Vec::new();
+        for p in self.radiance.iter().filter(|p| p[3] > 0.0) {
+            let y = luminance([p[0], p[1], p[2]]);
+            let ev = if y > 0.0 {
+                (y / 0.18).log2()
+            } else {
+                f32::NEG_INFINITY
+            };
+            let k = ((ev - lo_ev) / step_ev)
+                .floor()
+                .clamp(0.0, (counts.len() - 1) as f32);
+            counts[k as usize] += 1;
+            evs.push(ev);
+        }
+        let median_ev = (!evs.is_empty()).then(|| {
+            let mid = evs.len() / 2;
+            *evs.select_nth_unstable_by(mid, f32::total_cmp).1
+        });
+        StopsHistogram {
+            lo_ev,
+            step_ev,
+            counts,
+            pixels: evs.len() as u32,
+            median_ev,
+        }
+    }
+}
+
 /// Submits `encoder` and reads back the 8-bit output and what `want`
 /// asks for: the scattered diffuse irradiance composite used (the shown
 /// texture on SSS pixels, the scene's diffuse elsewhere), or every layer.
@@ -141,4 +217,42 @@ pub(super) fn sss_counts(
         timer.set_samples(label, counts.0);
     }
     counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SceneLinear;
+
+    /// Stops from 18 % grey by hand: grey (Y 0.18) is 0 EV, twice it +1,
+    /// a quarter of it −2; BT.709's weights make pure green 0.7152 (log2
+    /// of 0.7152 / 0.18 = 1.990 stops); black goes to the first bin and
+    /// the background is not counted.
+    #[test]
+    fn histogram_counts_stops_from_grey() {
+        let px = |rgb: [f32; 3], a: f32| [rgb[0], rgb[1], rgb[2], a];
+        let radiance = vec![
+            px([0.18; 3], 1.0),
+            px([0.36; 3], 1.0),
+            px([0.045; 3], 1.0),
+            px([0.0, 1.0, 0.0], 1.0),
+            px([0.0; 3], 1.0),
+            px([5.0; 3], 0.0),
+        ];
+        let s = SceneLinear {
+            width: 3,
+            height: 2,
+            radiance,
+        };
+        let h = s.histogram(-4.0, 0.5, 16);
+        assert_eq!(h.pixels, 5);
+        let bin = |ev: f32| ((ev + 4.0) / 0.5).floor() as usize;
+        assert_eq!(h.counts[bin(0.0)], 1);
+        assert_eq!(h.counts[bin(1.0)], 1);
+        assert_eq!(h.counts[bin(-2.0)], 1);
+        assert_eq!(h.counts[bin(1.99)], 1, "green: {:?}", h.counts);
+        assert_eq!(h.counts[0], 1, "black");
+        assert_eq!(h.median_ev, Some(0.0));
+        assert_eq!(s.at(2, 1), None, "background");
+        assert_eq!(s.at(1, 0), Some([0.36; 3]));
+    }
 }

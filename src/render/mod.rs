@@ -47,7 +47,7 @@ pub mod uv_layout;
 #[cfg(feature = "gpu")]
 pub use context::{GpuContext, GpuError};
 #[cfg(feature = "gpu")]
-pub use layers::FrameLayers;
+pub use layers::{luminance, FrameLayers, SceneLinear, StopsHistogram};
 pub use mesh::{procedural, Mesh};
 #[cfg(feature = "gpu")]
 pub use renderer::Renderer;

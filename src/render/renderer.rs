@@ -21,7 +21,7 @@ pub use super::settings::{
     FrameStats, IrradiancePattern, Method, RenderSettings, Specular, TexturingMode, Transmission,
 };
 use super::sss::{self, ProfileGpu, ProfileInputs, SssFrame, SssPipelines};
-use super::targets::Targets;
+use super::targets::{HdrTarget, Targets};
 use super::textures::MeshTextures;
 use super::timing::{sss_gpu_ms, PassTimer};
 use glam::Vec3;
@@ -71,6 +71,25 @@ pub struct Renderer {
     /// Set to stop a ground truth under way (the editor's newer request;
     /// [`Renderer::cancel_with`]).
     cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Where the last frame's scattered light was left for the composite
+    /// (a running mean, or one of the HDR targets), and the frame's size:
+    /// [`Renderer::read_last_radiance`] reads it back.
+    last_shown: Option<(Shown, (u32, u32))>,
+}
+
+/// The texture a frame's composite read its scattered light from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Shown {
+    /// Progressive refinement's running mean of this slot.
+    Mean(usize),
+    Target(HdrTarget),
+}
+
+impl Shown {
+    /// A frame's: the running mean where it refines, else its target.
+    fn of(progressive: Option<super::Progressive>, target: HdrTarget) -> Self {
+        progressive.map_or(Shown::Target(target), |p| Shown::Mean(p.slot))
+    }
 }
 
 impl Renderer {
@@ -123,6 +142,7 @@ impl Renderer {
             },
             sss_state: Default::default(),
             cancel: Default::default(),
+            last_shown: None,
             ctx,
         })
     }
@@ -182,6 +202,39 @@ impl Renderer {
         self.mesh.textures = std::sync::Arc::new(maps.clone());
         self.sss_state = Default::default();
         Ok(())
+    }
+
+    /// The last frame's scene-linear radiance, before exposure and the
+    /// display transform, read back from the targets it left (nothing is
+    /// drawn again): [`FrameLayers::radiance`], alpha the coverage. The
+    /// editor reads it once a view has settled, for its pixel probe and
+    /// histogram. Fails when no frame was drawn, or the targets have been
+    /// made anew since.
+    pub fn read_last_radiance(&mut self) -> Result<super::layers::SceneLinear, GpuError> {
+        let none = || GpuError::Readback("no frame drawn to read the radiance of".into());
+        let (shown, size) = self.last_shown.ok_or_else(none)?;
+        let t = self
+            .targets
+            .as_ref()
+            .filter(|t| t.size == size)
+            .ok_or_else(none)?;
+        let texture = match shown {
+            Shown::Mean(slot) => &t.accum[slot].as_ref().ok_or_else(none)?.0,
+            Shown::Target(target) => t.texture(target),
+        };
+        let encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("read radiance"),
+            });
+        let (_, layers) = read_frame(&self.ctx, encoder, t, texture, Want::Layers, size)?;
+        let layers = layers.ok_or_else(none)?;
+        Ok(super::layers::SceneLinear {
+            width: size.0,
+            height: size.1,
+            radiance: layers.radiance(),
+        })
     }
 
     /// Uploads the profile's tables, patterns and kernels unless the same
@@ -417,6 +470,7 @@ impl Renderer {
         } = f;
         timer.resolve(&mut encoder);
         let (image, diffuse) = read_frame(ctx, encoder, t, shown, want, (s.width, s.height))?;
+        self.last_shown = Some((Shown::of(s.progressive, target), (s.width, s.height)));
         let (sss_samples, lod_skipped_pixels) =
             sss_counts(ctx, &scattered, &counters_read, sss_pixels, &mut timer);
         let passes = timer.finish(ctx);

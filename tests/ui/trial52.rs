@@ -891,3 +891,149 @@ fn the_cameras_focal_length_is_set_in_mm() {
     h.run_steps(2);
     assert_eq!(lens(&h), "focal length 44.8 mm");
 }
+
+/// The probe's reading under `at`: the sRGB bytes and the scene-linear
+/// radiance ("sRGB a b c · scene-linear r g b · L* l").
+fn probe_at(h: &mut Harness<'_, EditorApp>, at: egui::Pos2) -> ([f64; 3], [f64; 3]) {
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.run_steps(2);
+    let text = h.state().probe_text().expect("no probe").to_owned();
+    let numbers = |after: &str| -> [f64; 3] {
+        let rest = text
+            .split(after)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no '{after}' in {text}"));
+        let v: Vec<f64> = rest
+            .split_whitespace()
+            .take(3)
+            .map(|t| t.parse().unwrap_or_else(|_| panic!("{t} in {text}")))
+            .collect();
+        [v[0], v[1], v[2]]
+    };
+    (numbers("sRGB "), numbers("scene-linear "))
+}
+
+/// Narkowicz's 2015 fit of the ACES filmic curve as he published it
+/// ("ACES Filmic Tone Mapping Curve", 2016: x(2.51x + 0.03) / (x(2.43x +
+/// 0.59) + 0.14), saturated), then the sRGB encoding of IEC 61966-2-1, in
+/// 8-bit steps.
+fn narkowicz_srgb(x: f64) -> f64 {
+    let x = x.max(0.0);
+    let y = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+    let v = if y <= 0.003_130_8 {
+        12.92 * y
+    } else {
+        1.055 * y.powf(1.0 / 2.4) - 0.055
+    };
+    255.0 * v
+}
+
+/// Item 8 and the professional's list: the probe's "linear" was the
+/// display's bytes decoded, after exposure and the display transform. It
+/// now reads the scene-linear radiance, read back once the view settles:
+/// exposure × that radiance through the ACES fit and sRGB's encoding, as
+/// published (not the shader's code), gives the bytes on screen, and a
+/// stop more exposure brightens the bytes but leaves the radiance.
+#[test]
+fn the_probe_reads_scene_linear_radiance() {
+    let mut h = viewport_harness([1500.0, 900.0]);
+    h.state_mut().ui_state.view.tone_map = scatterlab::render::tonemap::ToneMap::AcesFit;
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
+    super::artist::settle(&mut h);
+    let rect = h.state().viewport_layout().viewport.unwrap();
+    // The cheek (left of the middle, lit) and the middle.
+    let spots = [
+        rect.center(),
+        rect.center() - egui::vec2(rect.width() * 0.06, 0.0),
+    ];
+    let mut before = Vec::new();
+    for at in spots {
+        let (srgb, lin) = probe_at(&mut h, at);
+        let exposure = f64::from(h.state().ui_state.view.orbit.exposure);
+        for c in 0..3 {
+            let want = narkowicz_srgb(exposure * lin[c]);
+            assert!(
+                (want - srgb[c]).abs() <= 1.5,
+                "channel {c}: {lin:?} at exposure {exposure} gives {want:.1}, the screen {srgb:?}"
+            );
+        }
+        before.push((srgb, lin));
+    }
+    h.state_mut().ui_state.view.orbit.exposure *= 2.0;
+    super::artist::settle(&mut h);
+    for (at, (srgb0, lin0)) in spots.into_iter().zip(before) {
+        let (srgb, lin) = probe_at(&mut h, at);
+        for c in 0..3 {
+            assert!(
+                (lin[c] - lin0[c]).abs() <= 0.02 * lin0[c] + 1e-4,
+                "the radiance moved with the exposure: {lin0:?} to {lin:?}"
+            );
+            let want = narkowicz_srgb(2.0 * lin[c]);
+            assert!(
+                (want - srgb[c]).abs() <= 1.5,
+                "{lin:?} ×2: {want:.1}, {srgb:?}"
+            );
+        }
+        assert!(srgb.iter().sum::<f64>() > srgb0.iter().sum::<f64>() + 10.0);
+    }
+}
+
+/// The professional's list: a histogram of the view. View → Histogram
+/// counts the mesh's pixels (as many as the frame's pixels that are not
+/// the background's grey) by their scene-linear luminance in stops. With
+/// the key light alone (environment black), twice its intensity moves the
+/// median up one stop, since light adds linearly (specular and diffuse
+/// alike); a stop more exposure leaves the scene's histogram where it was
+/// and moves display white down a stop.
+#[test]
+fn the_histogram_counts_the_scene_in_stops() {
+    use scatterlab::app::state::EnvironmentChoice;
+    let mut h = viewport_harness([1500.0, 900.0]);
+    h.state_mut().ui_state.view.environment = EnvironmentChoice::Black;
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
+    menu_item(&mut h, "View", "Histogram…");
+    super::artist::settle(&mut h);
+    h.run_steps(2);
+    let counted = |h: &Harness<'_, EditorApp>| h.state().histogram().expect("no histogram").clone();
+    let first = counted(&h);
+    let img = h.state().viewport().frame().unwrap().0.clone();
+    let corner = *img.get_pixel(0, 0);
+    let not_background = img.pixels().filter(|p| **p != corner).count() as f64;
+    assert!(
+        (f64::from(first.pixels) - not_background).abs() < 0.005 * not_background,
+        "{} pixels counted, {not_background} on the frame",
+        first.pixels
+    );
+    assert_eq!(first.counts.iter().sum::<u32>(), first.pixels);
+    let m0 = first.median_ev.unwrap();
+    let white = |h: &Harness<'_, EditorApp>| {
+        let text = h
+            .query_by_label_contains("at or over display white")
+            .and_then(|n| n.value())
+            .expect("no histogram summary");
+        let ev = text.split("display white (").nth(1).unwrap();
+        ev.split(" EV").next().unwrap().parse::<f64>().unwrap()
+    };
+    let w0 = white(&h);
+    h.state_mut().ui_state.view.orbit.light_intensity *= 2.0;
+    super::artist::settle(&mut h);
+    h.run_steps(2);
+    let m1 = counted(&h).median_ev.unwrap();
+    assert!(
+        (m1 - m0 - 1.0).abs() < 0.05,
+        "median {m0} to {m1} for twice the light"
+    );
+    h.state_mut().ui_state.view.orbit.exposure *= 2.0;
+    super::artist::settle(&mut h);
+    h.run_steps(2);
+    let m2 = counted(&h).median_ev.unwrap();
+    assert!(
+        (m2 - m1).abs() < 0.02,
+        "median {m1} to {m2} for a stop of exposure"
+    );
+    assert!(
+        (white(&h) - (w0 - 1.0)).abs() < 0.011,
+        "white {w0} to {}",
+        white(&h)
+    );
+}

@@ -376,6 +376,7 @@ fn send_kept(w: &mut Worker, req: &Request, t0: Instant, tx: &Sender<Reply>) -> 
         note,
         seq: req.seq,
         quality: Quality::Converged { frames: 1, ms: 0.0 },
+        radiance: f.radiance,
     };
     Some(tx.send(reply).is_ok())
 }
@@ -464,6 +465,9 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
         && r.truth_of.is_none()
         && !r.req.has_truth()
         && r.req.b.is_none();
+    let radiance = (done && !to_truth)
+        .then(|| last_radiance(w, &r.req))
+        .flatten();
     if done && !to_truth {
         keep_finished(
             w,
@@ -473,6 +477,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
                 stats: rendered.stats.clone(),
                 note: note.clone(),
                 difference_scale: rendered.difference_scale,
+                radiance: radiance.clone(),
             },
         );
     }
@@ -485,6 +490,7 @@ pub(super) fn refine_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) ->
         note,
         seq: r.req.seq,
         quality,
+        radiance,
     };
     let sent = tx.send(reply).is_ok();
     if sent && to_truth {
@@ -507,6 +513,7 @@ fn coarse_truth_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool
             note: with_truth_note(&r.truth_of, rendered.note),
             seq: r.req.seq,
             quality: Quality::Coarse { divisor },
+            radiance: None,
         },
         Err(e) if is_cancelled(&e) => return true,
         Err(e) => {
@@ -561,6 +568,7 @@ fn start_truth_tiles(
                 left_s: None,
                 under: from,
             },
+            radiance: None,
         };
         if tx.send(next).is_err() {
             return false;
@@ -634,6 +642,7 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
         }
     };
     let note = with_truth_note(&r.truth_of, rendered.note);
+    let radiance = finished.then(|| last_radiance(w, &r.req)).flatten();
     if finished {
         keep_finished(
             w,
@@ -643,6 +652,7 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
                 stats: rendered.stats.clone(),
                 note: note.clone(),
                 difference_scale: None,
+                radiance: radiance.clone(),
             },
         );
     }
@@ -654,6 +664,7 @@ fn truth_tiles_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bool 
         note,
         seq: r.req.seq,
         quality,
+        radiance,
     };
     tx.send(reply).is_ok() && !finished
 }
@@ -688,6 +699,7 @@ fn truth_stand_in_step(w: &mut Worker, r: &mut Refine, tx: &Sender<Reply>) -> bo
             left_s: None,
             under: method,
         },
+        radiance: None,
     };
     tx.send(reply).is_ok()
 }
@@ -735,11 +747,29 @@ pub(super) fn send_frame(
             wall_ms: t0.elapsed().as_secs_f64() * 1e3,
             note: r.note,
             seq: req.seq,
+            radiance: None,
         },
         Err(e) if is_cancelled(&e) => return true,
         Err(e) => Reply::Error(e),
     };
     tx.send(reply).is_ok()
+}
+
+/// The scene-linear radiance of the frame just drawn, when the viewport
+/// shows one look alone (side by side, split or a difference, the targets
+/// hold B's last side): the pixel probe's and the histogram's. `None`
+/// where it cannot be read (said nowhere: the probe then says it has
+/// none).
+fn last_radiance(w: &mut Worker, req: &Request) -> Option<std::sync::Arc<SceneLinear>> {
+    let alone = match &req.b {
+        Some((_, mode, _)) => req.show_b || *mode == CompareMode::Off,
+        None => true,
+    };
+    if !alone {
+        return None;
+    }
+    let read = w.renderer.as_mut()?.read_last_radiance();
+    read.ok().map(std::sync::Arc::new)
 }
 
 /// Whether a frame's error is the ground truth stopping for a newer

@@ -46,6 +46,8 @@ pub(super) struct Finished {
     pub(super) stats: FrameStats,
     pub(super) note: Option<String>,
     pub(super) difference_scale: Option<f32>,
+    /// Its scene-linear radiance, where it shows one look alone.
+    pub(super) radiance: Option<std::sync::Arc<SceneLinear>>,
 }
 
 pub(super) fn timings_on() -> bool {

@@ -147,6 +147,8 @@ pub struct WindowView<'a> {
     pub colour_map_mean: Option<[f32; 3]>,
     /// Where the viewport was drawn last frame.
     pub viewport_rect: Option<egui::Rect>,
+    /// The last frame's scene-linear radiance (a settled view of one look).
+    pub radiance: Option<&'a std::sync::Arc<crate::render::SceneLinear>>,
 }
 
 impl WindowView<'_> {
@@ -286,6 +288,7 @@ windows! {
     maps: MapsWindow,
     reference: ReferenceWindow,
     light: LightWindow,
+    histogram: HistogramWindow,
     shortcuts: ShortcutsWindow,
     about: AboutWindow,
 }
