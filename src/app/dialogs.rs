@@ -251,8 +251,9 @@ impl EditorApp {
                 .insert(dialog.kind.folder_key().into(), dir.to_path_buf());
         }
         let existing: Vec<PathBuf> = match &dialog.kind {
-            DialogKind::SaveAs | DialogKind::SaveImage | DialogKind::SaveStill => {
-                vec![path.clone()]
+            DialogKind::SaveAs | DialogKind::SaveImage => vec![path.clone()],
+            DialogKind::SaveStill => {
+                super::windows::still::planned_paths(&path, &self.ui_state.still)
             }
             DialogKind::SaveTurntable => {
                 super::windows::turntable::planned_paths(&path, &self.ui_state.turntable)

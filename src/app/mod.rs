@@ -89,7 +89,8 @@ impl DialogKind {
             DialogKind::Mesh => &crate::render::mesh::Mesh::EXTENSIONS,
             DialogKind::Environment => &["hdr"],
             DialogKind::Map(_) | DialogKind::Reference => &["png", "jpg", "jpeg"],
-            DialogKind::SaveImage | DialogKind::SaveStill => &["png"],
+            DialogKind::SaveImage => &["png"],
+            DialogKind::SaveStill => &["png", "exr"],
             DialogKind::SaveTurntable => &["gif"],
             DialogKind::Export(f) => return vec![f.extension()],
             // What the export targets' readers read (`Target::reader`).
@@ -113,7 +114,9 @@ impl DialogKind {
             DialogKind::Mesh => "Load mesh (.obj, .gltf, .glb)".into(),
             DialogKind::Environment => "Environment map (equirectangular .hdr)".into(),
             DialogKind::SaveImage => "Save the viewport image (.png)".into(),
-            DialogKind::SaveStill => "Save the image at size (.png)".into(),
+            DialogKind::SaveStill => {
+                "Save the image at size (.png, or .exr for linear light)".into()
+            }
             DialogKind::Reference => "Reference image (.png, .jpg)".into(),
             DialogKind::PresetFolder => "Add a folder of your presets (.ron)".into(),
             DialogKind::SaveTurntable => "Save turntable (.gif)".into(),

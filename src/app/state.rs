@@ -386,6 +386,9 @@ pub struct StillSettings {
     pub height: u32,
     /// Rendered pixels a side per saved pixel (a k×k box filter).
     pub supersample: u32,
+    /// Also write the subsurface layer (the light through the skin, no
+    /// specular, the background transparent) as its own file.
+    pub subsurface_file: bool,
 }
 
 impl Default for StillSettings {
@@ -394,6 +397,7 @@ impl Default for StillSettings {
             width: 2048,
             height: 2048,
             supersample: 2,
+            subsurface_file: false,
         }
     }
 }

@@ -247,6 +247,9 @@ pub fn converged(prev: &image::RgbaImage, next: &image::RgbaImage) -> bool {
     moved * 1000 <= prev.pixels().len()
 }
 
+/// A converged frame and its scene-linear radiance (one look alone).
+pub type Converged = (image::RgbaImage, Option<std::sync::Arc<SceneLinear>>);
+
 /// What the editor needs to frame and scale a loaded mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshInfo {
@@ -474,17 +477,19 @@ impl Viewport {
         cancelled: &dyn Fn() -> bool,
     ) -> Result<Option<image::RgbaImage>, String> {
         self.render_converged_with(req, cancelled, &|_, _| {})
+            .map(|f| f.map(|(image, _)| image))
     }
 
     /// [`Viewport::render_converged`], telling `on_frame` each frame of the
     /// request that is not yet the last (its quality, and its render time
-    /// in ms): a still's progress.
+    /// in ms): a still's progress. With the frame, its scene-linear
+    /// radiance where it shows one look alone.
     pub fn render_converged_with(
         &mut self,
         req: Request,
         cancelled: &dyn Fn() -> bool,
         on_frame: &dyn Fn(Quality, f64),
-    ) -> Result<Option<image::RgbaImage>, String> {
+    ) -> Result<Option<Converged>, String> {
         self.request(req);
         let want = self.seq;
         loop {
@@ -498,8 +503,9 @@ impl Viewport {
                         image,
                         seq,
                         quality: Quality::Converged { .. },
+                        radiance,
                         ..
-                    } if seq == want => return Ok(Some(image)),
+                    } if seq == want => return Ok(Some((image, radiance))),
                     Reply::Frame {
                         seq,
                         quality,

@@ -98,6 +98,39 @@ fn exr_bytes(
     Ok(cursor.into_inner())
 }
 
+/// Float RGBA OpenEXR bytes (row-major, y down; alpha as given, colour
+/// premultiplied by it as OpenEXR keeps colour) with `description` in the
+/// `comments` attribute: the editor's stills.
+pub fn rgba_exr_bytes(
+    (w, h): (u32, u32),
+    pixels: &[[f32; 4]],
+    description: &str,
+) -> Result<Vec<u8>, String> {
+    use exr::prelude::*;
+    let w = w as usize;
+    let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
+        let p = pixels[y * w + x];
+        (p[0], p[1], p[2], p[3])
+    });
+    let mut attributes = LayerAttributes::named("");
+    attributes.comments = Some(Text::from(description));
+    attributes.software_name = Some(Text::from(
+        format!("scatterlab {}", env!("CARGO_PKG_VERSION")).as_str(),
+    ));
+    let layer = Layer::new(
+        (w, h as usize),
+        attributes,
+        Encoding::FAST_LOSSLESS,
+        channels,
+    );
+    let mut cursor = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut cursor)
+        .map_err(|e| format!("OpenEXR: {e}"))?;
+    Ok(cursor.into_inner())
+}
+
 fn write_image(
     path: &Path,
     size: (usize, usize),

@@ -29,7 +29,7 @@ pub use gltf::{
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
 };
-pub use images::{LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
+pub use images::{rgba_exr_bytes, LUT_LAYOUT, PROFILE_TEXELS, SHADOW_LAYOUT, TRANSMITTANCE_TEXELS};
 pub use import::{import_file, import_text, ImportError, ImportOptions, ImportedLook};
 pub use materialx::{materialx_document, open_pbr_subsurface, OpenPbrSubsurface};
 pub use shaders::{kernel_source, samples_json, ShaderLanguage};

@@ -72,6 +72,9 @@ pub struct SceneLinear {
     pub width: u32,
     pub height: u32,
     pub radiance: Vec<[f32; 4]>,
+    /// The specular part of the radiance (never scattered); empty where
+    /// not read.
+    pub specular: Vec<[f32; 3]>,
 }
 
 /// Relative luminance of linear Rec. 709 / sRGB primaries (ITU-R BT.709-6
@@ -104,6 +107,45 @@ impl SceneLinear {
         }
         let p = self.radiance.get((y * self.width + x) as usize)?;
         (p[3] > 0.0).then_some([p[0], p[1], p[2]])
+    }
+
+    /// The light through the skin alone: the radiance less its specular
+    /// (scattered × albedo^post on the mesh), alpha the coverage; the
+    /// radiance itself where the specular was not read.
+    pub fn subsurface(&self) -> Vec<[f32; 4]> {
+        self.radiance
+            .iter()
+            .enumerate()
+            .map(|(i, p)| match self.specular.get(i) {
+                Some(s) if p[3] > 0.0 => [p[0] - s[0], p[1] - s[1], p[2] - s[2], p[3]],
+                _ => *p,
+            })
+            .collect()
+    }
+
+    /// `pixels` (this frame's size) averaged over k×k blocks, a box
+    /// filter: on the mesh's edge the colour comes out premultiplied by
+    /// the coverage, as OpenEXR keeps it.
+    pub fn box_downsample(&self, pixels: &[[f32; 4]], k: u32) -> (u32, u32, Vec<[f32; 4]>) {
+        let k = k.max(1);
+        let (w, h) = (self.width / k, self.height / k);
+        let n = (k * k) as f32;
+        let mut out = Vec::with_capacity((w * h) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let mut sum = [0.0f32; 4];
+                for dy in 0..k {
+                    for dx in 0..k {
+                        let p = pixels[((y * k + dy) * self.width + x * k + dx) as usize];
+                        for c in 0..4 {
+                            sum[c] += p[c];
+                        }
+                    }
+                }
+                out.push(sum.map(|v| v / n));
+            }
+        }
+        (w, h, out)
     }
 
     /// The mesh's luminance as a histogram of `bins` bins of `step_ev`
@@ -242,6 +284,7 @@ mod tests {
             width: 3,
             height: 2,
             radiance,
+            specular: Vec::new(),
         };
         let h = s.histogram(-4.0, 0.5, 16);
         assert_eq!(h.pixels, 5);

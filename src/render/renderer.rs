@@ -234,6 +234,7 @@ impl Renderer {
             width: size.0,
             height: size.1,
             radiance: layers.radiance(),
+            specular: layers.specular,
         })
     }
 

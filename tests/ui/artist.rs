@@ -1023,9 +1023,10 @@ fn save_image_at_size_renders_offscreen_at_that_size() {
             width: 320,
             height: 200,
             supersample: k,
+            ..Default::default()
         };
         h.run_steps(2);
-        h.get_by_label("Save image as PNG…").click_accesskit();
+        h.get_by_label("Save image (PNG or EXR)…").click_accesskit();
         wait_for_file_dialog(&mut h);
         assert_eq!(
             name_field(&h).value().unwrap(),

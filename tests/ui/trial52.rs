@@ -560,9 +560,10 @@ fn save_image_at_size_says_how_far_it_got_and_when_it_is_done() {
         width: 320,
         height: 200,
         supersample: 2,
+        ..Default::default()
     };
     h.run_steps(2);
-    h.get_by_label("Save image as PNG…").click_accesskit();
+    h.get_by_label("Save image (PNG or EXR)…").click_accesskit();
     wait_for_file_dialog(&mut h);
     let out = dir.join("still.png");
     choose(&mut h, &out);
@@ -1036,4 +1037,109 @@ fn the_histogram_counts_the_scene_in_stops() {
         "white {w0} to {}",
         white(&h)
     );
+}
+
+/// An OpenEXR still's first layer as premultiplied RGBA, row-major.
+fn read_exr(path: &std::path::Path) -> (usize, usize, Vec<[f32; 4]>) {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |size, _| (size.0, vec![[0.0f32; 4]; size.0 * size.1]),
+        |(w, px), Vec2(x, y), (r, g, b, a): (f32, f32, f32, f32)| px[y * *w + x] = [r, g, b, a],
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let size = image.layer_data.size;
+    (size.0, size.1, image.layer_data.channel_data.pixels.1)
+}
+
+/// The professional's list: a linear EXR still with a transparent
+/// background, and the subsurface layer (the "SSS only" light) as its own
+/// file. Save image at size to .exr writes scene-linear RGBA: alpha 0 and
+/// no light off the head, 1 on it; exposure × its light through
+/// Narkowicz's published ACES fit and sRGB's encoding gives the PNG still's
+/// bytes. Its `_subsurface` file is the light less the specular (never
+/// more, and less where the specular shows); as a PNG it is transparent
+/// off the head and the same curve on it.
+#[test]
+fn a_still_saves_linear_exr_and_its_subsurface_layer() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-exr-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = viewport_harness([900.0, 560.0]);
+    h.state_mut().ui_state.view.tone_map = scatterlab::render::tonemap::ToneMap::AcesFit;
+    h.step();
+    super::artist::settle(&mut h);
+    menu_item(&mut h, "File", "Save image at size…");
+    h.state_mut().ui_state.still = scatterlab::app::state::StillSettings {
+        width: 160,
+        height: 100,
+        supersample: 1,
+        subsurface_file: false,
+    };
+    h.run_steps(2);
+    h.get_by_label("Subsurface layer as its own file")
+        .click_accesskit();
+    h.run_steps(2);
+    assert!(h.state().ui_state.still.subsurface_file);
+    for name in ["still.png", "still.exr"] {
+        h.get_by_label("Save image (PNG or EXR)…").click_accesskit();
+        wait_for_file_dialog(&mut h);
+        choose(&mut h, &dir.join(name));
+        step_until(&mut h, "the still", |a| !a.still_running());
+        assert!(
+            h.state().status().starts_with("Saved image"),
+            "{}",
+            h.state().status()
+        );
+    }
+    let exposure = f64::from(h.state().ui_state.view.orbit.exposure);
+    let png = image::open(dir.join("still.png")).unwrap().to_rgba8();
+    let sub_png = image::open(dir.join("still_subsurface.png"))
+        .unwrap()
+        .to_rgba8();
+    let (w, hh, exr) = read_exr(&dir.join("still.exr"));
+    let (_, _, sub) = read_exr(&dir.join("still_subsurface.exr"));
+    assert_eq!((w, hh), (160, 100));
+    assert_eq!(png.dimensions(), (160, 100));
+    assert_eq!(exr[0], [0.0; 4], "the background is not transparent");
+    assert_eq!(sub_png.get_pixel(0, 0)[3], 0);
+    let (mut checked, mut specular, mut total) = (0, 0.0f64, 0.0f64);
+    for y in 0..hh {
+        for x in 0..w {
+            let (p, s) = (exr[y * w + x], sub[y * w + x]);
+            for c in 0..3 {
+                assert!(s[c] <= p[c] + 1e-5, "subsurface over the light at {x},{y}");
+                specular += f64::from(p[c] - s[c]);
+                total += f64::from(p[c]);
+            }
+            assert_eq!(s[3], p[3]);
+            if p[3] < 1.0 {
+                continue;
+            }
+            let (shown, shown_sub) = (
+                png.get_pixel(x as u32, y as u32),
+                sub_png.get_pixel(x as u32, y as u32),
+            );
+            for c in 0..3 {
+                let want = narkowicz_srgb(exposure * f64::from(p[c]));
+                assert!(
+                    (want - f64::from(shown[c])).abs() <= 2.0,
+                    "{x},{y} channel {c}: EXR {p:?} gives {want:.1}, the PNG {shown:?}"
+                );
+                let want = narkowicz_srgb(exposure * f64::from(s[c]));
+                assert!(
+                    (want - f64::from(shown_sub[c])).abs() <= 1.0,
+                    "{x},{y}: {want:.1} vs {shown_sub:?}"
+                );
+            }
+            assert_eq!(shown_sub[3], 255);
+            checked += 1;
+        }
+    }
+    assert!(checked > 2000, "only {checked} pixels on the head");
+    assert!(
+        specular > 0.005 * total,
+        "no specular left out: {specular} of {total}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -115,17 +115,93 @@ fn render_still(
     let mut req = base;
     req.interactive = false;
     req.size = (s.width * k, s.height * k);
+    let (exposure, tone_map) = (req.view.orbit.exposure, req.view.tone_map);
     let mut viewport = Viewport::start(|| {});
-    let image = viewport
+    let (image, radiance) = viewport
         .render_converged_with(req, &|| cancel.load(Ordering::Relaxed), on_frame)?
         .ok_or_else(|| CANCELLED.to_string())?;
-    let still = crate::export::frames::box_downsample(&image, k);
+    let linear = || {
+        radiance.as_deref().ok_or_else(|| {
+            "the linear light is one look's: turn Compare off to save an EXR or the subsurface layer (or save a PNG without it)".to_string()
+        })
+    };
+    let size = if is_exr(out) {
+        let r = linear()?;
+        let (w, h, pixels) = r.box_downsample(&r.radiance, k);
+        let bytes = crate::export::rgba_exr_bytes((w, h), &pixels, EXR_NOTE)?;
+        crate::fsutil::write_atomic(out, &bytes).map_err(|e| e.to_string())?;
+        (w, h)
+    } else {
+        let still = crate::export::frames::box_downsample(&image, k);
+        crate::fsutil::write_atomic(out, &png_bytes(&still)?).map_err(|e| e.to_string())?;
+        still.dimensions()
+    };
+    if s.subsurface_file {
+        let r = linear()?;
+        let (w, h, pixels) = r.box_downsample(&r.subsurface(), k);
+        let path = subsurface_path(out);
+        let bytes = if is_exr(out) {
+            crate::export::rgba_exr_bytes((w, h), &pixels, SUBSURFACE_NOTE)?
+        } else {
+            png_bytes(&display_rgba((w, h), &pixels, exposure, tone_map))?
+        };
+        crate::fsutil::write_atomic(&path, &bytes).map_err(|e| e.to_string())?;
+    }
+    Ok(size)
+}
+
+const EXR_NOTE: &str = "scatterlab still: scene-linear radiance (scattered x albedo + specular) before exposure and the display transform; alpha the mesh's coverage, the background transparent (0), colour premultiplied";
+const SUBSURFACE_NOTE: &str = "scatterlab still, subsurface layer: the light through the skin (scattered x albedo), no specular, before exposure and the display transform; alpha the coverage";
+
+/// Whether `out` asks for OpenEXR (else a PNG).
+fn is_exr(out: &Path) -> bool {
+    out.extension()
+        .is_some_and(|x| x.eq_ignore_ascii_case("exr"))
+}
+
+/// Where a still's subsurface layer goes: beside it, `_subsurface` added
+/// to its name.
+pub fn subsurface_path(out: &Path) -> PathBuf {
+    let stem = out.file_stem().map_or("still".into(), |s| s.to_string_lossy());
+    let ext = out.extension().map_or("png".into(), |s| s.to_string_lossy());
+    out.with_file_name(format!("{stem}_subsurface.{ext}"))
+}
+
+/// The files a still to `out` writes with `s`.
+pub fn planned_paths(out: &Path, s: &StillSettings) -> Vec<PathBuf> {
+    let mut paths = vec![out.to_path_buf()];
+    if s.subsurface_file {
+        paths.push(subsurface_path(out));
+    }
+    paths
+}
+
+fn png_bytes(img: &image::RgbaImage) -> Result<Vec<u8>, String> {
     let mut png = Vec::new();
-    still
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| e.to_string())?;
-    crate::fsutil::write_atomic(out, &png).map_err(|e| e.to_string())?;
-    Ok(still.dimensions())
+    Ok(png)
+}
+
+/// Premultiplied linear RGBA through the exposure and the display
+/// transform to 8-bit sRGB with straight alpha (a PNG's): the colour is
+/// divided by the coverage first.
+fn display_rgba(
+    (w, h): (u32, u32),
+    pixels: &[[f32; 4]],
+    exposure: f32,
+    tone_map: crate::render::tonemap::ToneMap,
+) -> image::RgbaImage {
+    use crate::model::colour::linear_to_srgb8;
+    image::RgbaImage::from_fn(w, h, |x, y| {
+        let p = pixels[(y * w + x) as usize];
+        if p[3] <= 0.0 {
+            return image::Rgba([0, 0, 0, 0]);
+        }
+        let c = tone_map.apply([p[0], p[1], p[2]].map(|v| exposure * v / p[3]));
+        let c = c.map(|v| linear_to_srgb8(v.clamp(0.0, 1.0)));
+        image::Rgba([c[0], c[1], c[2], (p[3].clamp(0.0, 1.0) * 255.0).round() as u8])
+    })
 }
 
 /// File → Save image at size: its open flag and the still rendering.
@@ -164,16 +240,22 @@ impl StillWindow {
             ctx.request_repaint_after(Duration::from_millis(200));
             return None;
         };
-        let (out, secs, k) = (
+        let (out, secs, k, subsurface) = (
             job.out.clone(),
             job.started.elapsed().as_secs_f64(),
             job.settings.supersample,
+            job.settings.subsurface_file,
         );
         self.job = None;
         Some(match r {
             Ok((w, h)) => format!(
-                "Saved image {} ({w}×{h}, {k}× supersampled, converged, {secs:.1} s)",
-                out.display()
+                "Saved image {} ({w}×{h}, {k}× supersampled, converged, {secs:.1} s){}",
+                out.display(),
+                if subsurface {
+                    format!(" and its subsurface layer {}", subsurface_path(&out).display())
+                } else {
+                    String::new()
+                }
             ),
             Err(e) if e == CANCELLED => format!("Image {CANCELLED}"),
             Err(e) => format!("Error: {}: {e}", out.display()),
@@ -225,6 +307,9 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut StillSettings) {
             });
         }
     });
+    ui.checkbox(&mut s.subsurface_file, "Subsurface layer as its own file")
+        .on_hover_text("Also write the light through the skin alone (scattered × albedo, no specular; the background transparent) beside the image, its name ending in _subsurface: linear in an .exr, through the exposure and display transform in a .png. One look alone (Compare off). The viewport's \"SSS only\" view, what scattering adds as |ΔL*|, is saved as seen by Save image (F12).");
+    ui.label("A name ending in .exr saves the scene-linear light (before exposure and the display transform) with a transparent background; .png saves what the viewport shows.");
     ui.label(format!(
         "Renders {}×{} offscreen, whatever the window's size: the viewport's look, comparison, mesh, light and camera (the framing follows the aspect).",
         s.width * s.supersample,
@@ -297,7 +382,7 @@ impl Window for StillWindow {
                             }
                             None => {}
                         }
-                        if ui.button("Save image as PNG…").clicked() {
+                        if ui.button("Save image (PNG or EXR)…").clicked() {
                             actions.push(Action::OpenDialog(DialogKind::SaveStill));
                         }
                     }
@@ -335,6 +420,7 @@ mod tests {
             width: w,
             height: h,
             supersample: 1,
+            subsurface_file: false,
         };
         assert_eq!(factors(&s(4096, 4096)), vec![1, 2]);
         assert_eq!(factors(&s(2048, 1024)), vec![1, 2, 3, 4]);
