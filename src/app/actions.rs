@@ -320,6 +320,7 @@ impl EditorApp {
             look_name: &self.doc.preset.name,
             colour_map_mean: self.meshes.colour_map_mean(),
             viewport_rect: self.layout.viewport_rect,
+            profile_panel_rect: self.layout.panel_rects[1],
             radiance: self.view.radiance.as_ref(),
         };
         let actions = self.windows.show(ctx, &view);

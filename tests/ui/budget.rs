@@ -6,7 +6,7 @@ use scatterlab::app::windows::budget::BudgetPairs;
 
 /// A budget folder as `scatterlab budget` writes one: budget.json and the
 /// pair presets it names.
-fn budget_dir(name: &str) -> std::path::PathBuf {
+pub(super) fn budget_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!(
         "scatterlab-ui-budget-{}-{name}",
         std::process::id()

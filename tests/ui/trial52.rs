@@ -1143,3 +1143,54 @@ fn a_still_saves_linear_exr_and_its_subsurface_layer() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 5: at 1280×720 the Budget merges window opened inside the
+/// viewport (covering the pair it shows) and the Reference window where
+/// egui put it, over the Look panel's Albedo fields its eyedropper picks
+/// into. Both now open over the Profile panel: clear of the viewport and
+/// of the Look panel, within the window.
+#[test]
+fn budget_and_reference_windows_leave_the_view_and_the_fields() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-place-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let photo = dir.join("photo.png");
+    image::RgbaImage::from_pixel(640, 480, image::Rgba([200, 120, 90, 255]))
+        .save(&photo)
+        .unwrap();
+    let mut h = harness_of(
+        EditorApp::new(None, UiState::default(), None, false),
+        [1280.0, 720.0],
+    );
+    h.run_steps(3);
+    let pairs =
+        scatterlab::app::windows::budget::BudgetPairs::load(&super::budget::budget_dir("place"))
+            .unwrap();
+    h.state_mut().open_budget(pairs);
+    h.run_steps(4);
+    menu_item(&mut h, "File", "Reference image…");
+    wait_for_file_dialog(&mut h);
+    choose(&mut h, &photo);
+    h.run_steps(4);
+    let layout = h.state().viewport_layout();
+    let (viewport, look) = (layout.viewport.unwrap(), layout.params.unwrap());
+    let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 720.0));
+    for title in ["Budget merges", "Reference"] {
+        let r = h
+            .get_all_by_role(egui::accesskit::Role::Window)
+            .find(|n| {
+                use egui_kittest::kittest::NodeT;
+                n.accesskit_node().label().as_deref() == Some(title)
+            })
+            .map(|n| n.rect())
+            .unwrap_or_else(|| panic!("no {title} window"));
+        for (what, other) in [("viewport", viewport), ("Look panel", look)] {
+            let overlap = r.intersect(other);
+            assert!(
+                !overlap.is_positive() || overlap.width() < 2.0,
+                "{title} {r:?} covers the {what} {other:?}"
+            );
+        }
+        assert!(screen.contains_rect(r), "{title} {r:?} off the window");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -107,15 +107,9 @@ impl Window for BudgetWindow {
             return Vec::new();
         };
         let mut chosen = None;
-        // Inside the viewport, clear of both panels (at 1280×720 the
-        // viewport is under 500 points wide).
-        let (pos, width) = match view.viewport_rect {
-            Some(r) => (
-                r.left_top() + egui::vec2(8.0, 8.0),
-                (r.width() - 16.0).clamp(280.0, 460.0),
-            ),
-            None => (egui::pos2(330.0, 96.0), 460.0),
-        };
+        // Over the Profile panel: a pair chosen here shows in the viewport,
+        // which it covered at 1280×720 when it opened inside it.
+        let (pos, width) = view.over_profile_panel(460.0, 4.0);
         egui::Window::new(self.title())
             .open(&mut self.open)
             .default_width(width)

@@ -147,11 +147,28 @@ pub struct WindowView<'a> {
     pub colour_map_mean: Option<[f32; 3]>,
     /// Where the viewport was drawn last frame.
     pub viewport_rect: Option<egui::Rect>,
+    /// Where the Profile panel (the plots, right) was drawn last frame.
+    pub profile_panel_rect: Option<egui::Rect>,
     /// The last frame's scene-linear radiance (a settled view of one look).
     pub radiance: Option<&'a std::sync::Arc<crate::render::SceneLinear>>,
 }
 
 impl WindowView<'_> {
+    /// Where a window that works with the viewport and the Look panel
+    /// (the budget's pairs, the reference's eyedropper) first opens: over
+    /// the Profile panel, as wide as it, so that neither the render nor
+    /// the fields it picks into are covered, `down` below the panel's top
+    /// (two such windows open at once stay apart); its place and width.
+    pub fn over_profile_panel(&self, width: f32, down: f32) -> (egui::Pos2, f32) {
+        match self.profile_panel_rect {
+            Some(r) => (
+                r.left_top() + egui::vec2(4.0, down),
+                (r.width() - 8.0).min(width),
+            ),
+            None => (egui::pos2(860.0, 96.0), width),
+        }
+    }
+
     /// A window's first place: inside the viewport's top left, `down`
     /// below its top (clear of the Look panel), or near the top left
     /// before the viewport was drawn.

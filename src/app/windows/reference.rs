@@ -228,14 +228,18 @@ impl Window for ReferenceWindow {
     }
 
     /// Beside the render, or its controls while it is over the viewport.
-    fn show(&mut self, ctx: &egui::Context, _view: &WindowView) -> Vec<Action> {
+    fn show(&mut self, ctx: &egui::Context, view: &WindowView) -> Vec<Action> {
         let Some(r) = self.reference.as_mut() else {
             return Vec::new();
         };
         let mut open = true;
+        // Over the Profile panel: egui's own first place covered the Look
+        // panel's Albedo fields the eyedropper picks into.
+        let (pos, width) = view.over_profile_panel(360.0, 200.0);
         let picked = egui::Window::new("Reference")
             .open(&mut open)
-            .default_width(360.0)
+            .default_pos(pos)
+            .default_width(width)
             .show(ctx, |ui| r.ui(ui))
             .and_then(|i| i.inner.flatten());
         let into = r.pick_into;
