@@ -83,11 +83,20 @@ impl CompareBar {
                 s.ab = AbView::Both;
             }
         }
-        ui.add_enabled_ui(self.has_before, |ui| {
-            ui.toggle_value(&mut s.show_before, "before")
-                .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
-                .on_disabled_hover_text("No edit yet to compare with.");
-        });
+        // A widget of the row, not a nested ui: squeezed at the row's end
+        // (1280×720 at 130 %), a nested ui wrapped "before" a letter a line
+        // and made the toolbar as tall as the viewport.
+        if ui
+            .add_enabled(
+                self.has_before,
+                egui::Button::selectable(s.show_before, "before"),
+            )
+            .on_hover_text("Flicker: show the look as it was before the last edit (F toggles), to see what the edit changed.")
+            .on_disabled_hover_text("No edit yet to compare with.")
+            .clicked()
+        {
+            s.show_before = !s.show_before;
+        }
         let none = CompareB::Method(MethodId::baseline());
         let sss_only = s.mode == CompareMode::Difference && s.b == none && s.ab == AbView::Both;
         if ui

@@ -1194,3 +1194,52 @@ fn budget_and_reference_windows_leave_the_view_and_the_fields() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Item 5: at 130 % on 1280×720 the compare toolbar ran under the Profile
+/// panel, its "before" toggle squeezed to a letter a line (as tall as the
+/// toolbar's other rows together) and the viewport pushed down to start
+/// at 276 points of 554. Now "before" is one line like the modes beside
+/// it, every toolbar button lies between the side panels, and the
+/// viewport starts within the top quarter.
+#[test]
+fn the_toolbars_fit_between_the_panels_at_130_percent() {
+    let state = UiState {
+        ui_scale: 1.3,
+        ..Default::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1280.0, 720.0]);
+    h.run_steps(6);
+    let l = h.state().viewport_layout();
+    let (viewport, look, profile) = (l.viewport.unwrap(), l.params.unwrap(), l.plots.unwrap());
+    let screen_h = 720.0 / 1.3;
+    let off = h.get_by_label("off").rect();
+    let before = h.get_by_label("before").rect();
+    assert!(
+        before.height() <= off.height() + 1.0,
+        "'before' {before:?} against 'off' {off:?}"
+    );
+    for label in [
+        "off",
+        "split",
+        "side by side",
+        "difference",
+        "before",
+        "SSS only",
+        "Reset view",
+    ] {
+        let r = h.get_by_label(label).rect();
+        assert!(
+            r.left() >= look.right() && r.right() <= profile.left(),
+            "{label} {r:?} is not between the panels {look:?} {profile:?}"
+        );
+    }
+    assert!(
+        viewport.right() <= profile.left() + 1.0,
+        "{viewport:?} under {profile:?}"
+    );
+    assert!(
+        viewport.top() < 0.25 * screen_h,
+        "the viewport starts at {}",
+        viewport.top()
+    );
+}
