@@ -137,32 +137,29 @@ pub(super) fn worker(
     faults: &Faults,
 ) {
     let mut w = Worker::new(cancel, focus);
-    // Set up the default head before the UI's first request arrives (an
-    // error here recurs, and is reported, at that request).
-    // The editor learns the head's framing from it (Reset view, zoom limits,
-    // and the start-up check of a remembered view).
-    if let (Ok(true), Some(info)) = (
-        w.ensure_renderer(&None, &Default::default(), 1.0),
-        w.mesh_info,
-    ) {
-        let _ = tx.send(Reply::MeshLoaded(None, info));
-    }
-    // The head's skin maps (curvature, thickness: about a second) bake
-    // now, before the first frame, so that frame already has them (they
-    // used to pop in a second or two after it).
-    if let Err(e) = w.apply_pending_maps() {
-        let _ = tx.send(Reply::Error(e));
+    // The UI's first request comes with its first frame (a tenth of a
+    // second): with a mesh of its own (the head scan the editor opens on),
+    // the default head is not set up first, which took more than a second
+    // before the scan's first frame (its renderer and its baked maps).
+    let mut pending = match rx.recv_timeout(FIRST_REQUEST_WAIT) {
+        Ok(first) => Some(newest_after(rx, first)),
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => None,
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => return,
+    };
+    if pending.as_ref().is_none_or(|r| r.mesh.is_none()) {
+        default_head(&mut w, tx);
     }
     let mut refine: Option<Refine> = None;
     loop {
         // Refining: take a new request if there is one, else add a frame.
         // Otherwise wait for the next request. Either way only the newest.
-        let next = match &refine {
-            Some(_) => match try_newest(rx) {
+        let next = match (pending.take(), &refine) {
+            (Some(first), _) => Some(first),
+            (None, Some(_)) => match try_newest(rx) {
                 Ok(r) => r,
                 Err(()) => return,
             },
-            None => match crate::app::wake::recv_newest(rx) {
+            (None, None) => match crate::app::wake::recv_newest(rx) {
                 Some(r) => Some(r),
                 None => return,
             },
@@ -183,6 +180,19 @@ pub(super) fn worker(
         };
         wake();
     }
+}
+
+/// How long the render thread waits for its first request before it sets
+/// up the default head anyway.
+const FIRST_REQUEST_WAIT: std::time::Duration = std::time::Duration::from_secs(1);
+
+/// `first`, or the newest request queued behind it.
+fn newest_after(rx: &Receiver<Request>, first: Request) -> Request {
+    let mut newest = first;
+    while let Ok(newer) = rx.try_recv() {
+        newest = newer;
+    }
+    newest
 }
 
 /// What the render loop does after a new request: stop (the UI has
@@ -753,23 +763,6 @@ pub(super) fn send_frame(
         Err(e) => Reply::Error(e),
     };
     tx.send(reply).is_ok()
-}
-
-/// The scene-linear radiance of the frame just drawn, when the viewport
-/// shows one look alone (side by side, split or a difference, the targets
-/// hold B's last side): the pixel probe's and the histogram's. `None`
-/// where it cannot be read (said nowhere: the probe then says it has
-/// none).
-fn last_radiance(w: &mut Worker, req: &Request) -> Option<std::sync::Arc<SceneLinear>> {
-    let alone = match &req.b {
-        Some((_, mode, _)) => req.show_b || *mode == CompareMode::Off,
-        None => true,
-    };
-    if !alone {
-        return None;
-    }
-    let read = w.renderer.as_mut()?.read_last_radiance();
-    read.ok().map(std::sync::Arc::new)
 }
 
 /// Whether a frame's error is the ground truth stopping for a newer

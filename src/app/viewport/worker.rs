@@ -402,3 +402,38 @@ fn compose(
         }
     }
 }
+
+/// Sets up the default head before a request for it is drawn (an error
+/// here recurs, and is reported, at that request); the editor learns the
+/// head's framing from it (Reset view, zoom limits, and the start-up check
+/// of a remembered view). Its skin maps (curvature, thickness: about a
+/// second) bake now, before the first frame, so that frame already has
+/// them (they used to pop in a second or two after it).
+pub(super) fn default_head(w: &mut Worker, tx: &Sender<Reply>) {
+    if let (Ok(true), Some(info)) = (
+        w.ensure_renderer(&None, &Default::default(), 1.0),
+        w.mesh_info,
+    ) {
+        let _ = tx.send(Reply::MeshLoaded(None, info));
+    }
+    if let Err(e) = w.apply_pending_maps() {
+        let _ = tx.send(Reply::Error(e));
+    }
+}
+
+/// The scene-linear radiance of the frame just drawn, when the viewport
+/// shows one look alone (side by side, split or a difference, the targets
+/// hold B's last side): the pixel probe's and the histogram's. `None`
+/// where it cannot be read (said nowhere: the probe then says it has
+/// none).
+pub(super) fn last_radiance(w: &mut Worker, req: &Request) -> Option<std::sync::Arc<SceneLinear>> {
+    let alone = match &req.b {
+        Some((_, mode, _)) => req.show_b || *mode == CompareMode::Off,
+        None => true,
+    };
+    if !alone {
+        return None;
+    }
+    let read = w.renderer.as_mut()?.read_last_radiance();
+    read.ok().map(std::sync::Arc::new)
+}
