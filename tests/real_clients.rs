@@ -839,7 +839,8 @@ fn within_1e3(what: &str, got: &Value, want: &Value) {
 /// gives the material the subsurface fields the file's `extras` state for
 /// Babylon, within 1e-3 — as PBRMaterial (translucency, tint,
 /// diffusionDistance, thickness, IOR) and as OpenPBRMaterial (the mean
-/// free path as radius × scale, the multi-scatter colour).
+/// free path as radius × scale, the multi-scatter colour). The same of
+/// the head scan exported as the editor shows it, with its maps.
 #[test]
 fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
     use scatterlab::export::{export_with, ExportOptions, GltfMesh};
@@ -869,6 +870,23 @@ fn gltf_export_validates_and_babylon_reads_what_the_notes_state() {
             },
         ));
     }
+    // Issue 52: the mesh on the editor's screen, the head scan with its
+    // colour and normal maps as textures and its tangents (the validator
+    // checks the images, UVs and tangents too).
+    let (scan, settings) = scatterlab::app::state::scanned_head().expect("assets/scan");
+    let mesh = scatterlab::app::viewport::load_mesh(&scan, &settings, 5.0).unwrap();
+    runs.push((
+        "scan_on_screen".into(),
+        preset("skin_default.ron"),
+        ExportOptions {
+            gltf_on_mesh: Some(scatterlab::export::GltfOnMesh {
+                mesh: std::sync::Arc::new(mesh),
+                name: "LeePerrySmith".into(),
+                map_colour: Default::default(),
+            }),
+            ..Default::default()
+        },
+    ));
     for (tag, p, options) in runs {
         let out = dir.join(format!("{tag}.gltf"));
         export_with(&p, None, Format::Gltf, &out, &options).unwrap();

@@ -211,8 +211,9 @@ impl EditorApp {
             DialogKind::Export(format) => Some(format),
             _ => None,
         };
+        let mesh = self.mesh_path().map(Path::to_path_buf);
         self.dialogs
-            .work_out_export_notes(&self.doc.preset, format, &self.waker);
+            .work_out_export_notes(&self.doc.preset, format, mesh.as_deref(), &self.waker);
         self.show_dialog(kind, &dir, &name);
     }
 
@@ -313,7 +314,11 @@ impl EditorApp {
     /// Starts an export on its own thread (table bakes take seconds).
     pub fn export(&mut self, format: Format, out: PathBuf) {
         let look = (self.doc.preset.clone(), self.doc.path.clone());
-        self.jobs.export(look, format, out, &self.waker);
+        let on_mesh = self.mesh_path().map(|p| {
+            let settings = self.ui_state.meshes.get(p).cloned().unwrap_or_default();
+            (p.to_path_buf(), settings, self.ui_state.map_colour)
+        });
+        self.jobs.export(look, format, out, on_mesh, &self.waker);
         self.say(format!("Exporting {} …", format.id()));
     }
 

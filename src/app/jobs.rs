@@ -52,13 +52,13 @@ impl Jobs {
         (preset, source): (Preset, Option<PathBuf>),
         format: Format,
         out: PathBuf,
+        on_mesh: Option<OnMesh>,
         waker: &wake::Waker,
     ) {
         let (tx, rx) = std::sync::mpsc::channel();
         let waker = waker.clone();
         std::thread::spawn(move || {
-            let r = crate::export::export(&preset, source.as_deref(), format, &out)
-                .map_err(|e| e.to_string());
+            let r = export_on(&preset, source.as_deref(), format, &out, on_mesh);
             let _ = tx.send(r);
             waker.wake();
         });
@@ -129,4 +129,37 @@ impl Jobs {
             }
         }
     }
+}
+
+/// The mesh on screen for a glTF export: its file, its units and maps, and
+/// how the look draws its colour map.
+pub(super) type OnMesh = (
+    PathBuf,
+    state::MeshSettings,
+    crate::render::textures::MapColour,
+);
+
+/// An export; a glTF one on the mesh on screen (`on_mesh`), loaded here as
+/// the viewport draws it.
+fn export_on(
+    preset: &Preset,
+    source: Option<&std::path::Path>,
+    format: Format,
+    out: &std::path::Path,
+    on_mesh: Option<OnMesh>,
+) -> Result<Vec<PathBuf>, String> {
+    let mut options = crate::export::ExportOptions::default();
+    if let (Format::Gltf, Some((path, settings, map_colour))) = (format, on_mesh) {
+        let range = preset.rendering.thickness_remap_mm.1 as f32;
+        let mesh = super::viewport::load_mesh(&path, &settings, range)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        options.gltf_on_mesh = Some(crate::export::GltfOnMesh {
+            mesh: std::sync::Arc::new(mesh),
+            name: path
+                .file_stem()
+                .map_or("mesh".into(), |s| s.to_string_lossy().into_owned()),
+            map_colour,
+        });
+    }
+    crate::export::export_with(preset, source, format, out, &options).map_err(|e| e.to_string())
 }

@@ -160,6 +160,7 @@ impl Dialogs {
         &mut self,
         preset: &Preset,
         format: Option<Format>,
+        mesh: Option<&std::path::Path>,
         waker: &wake::Waker,
     ) {
         self.export_notes = None;
@@ -167,11 +168,20 @@ impl Dialogs {
             return;
         };
         let preset = preset.clone();
+        // glTF writes the mesh on screen: said first.
+        let on = (format == Format::Gltf).then(|| match mesh {
+            Some(p) => format!(
+                "Mesh: {}, as on screen, with its UVs, its colour map as the base colour's texture (as the viewport draws it) and its normal map.",
+                p.display()
+            ),
+            None => "Mesh: scatterlab's procedural head, as on screen (no maps written).".into(),
+        });
         let (tx, rx) = std::sync::mpsc::channel();
         let waker = waker.clone();
         std::thread::spawn(move || {
-            let notes = crate::export::export_notes(&preset, format)
+            let mut notes = crate::export::export_notes(&preset, format)
                 .unwrap_or_else(|e| vec![format!("Cannot export this look: {e}")]);
+            notes.splice(0..0, on);
             let _ = tx.send(notes);
             waker.wake();
         });

@@ -34,6 +34,7 @@ mod worker;
 use framing::*;
 pub use thread::Fault;
 use thread::*;
+pub use worker::load_mesh;
 use worker::*;
 
 /// One side of a comparison: a look and the method it is rendered with.

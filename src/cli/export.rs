@@ -71,6 +71,7 @@ impl ExportArgs {
         }
         let options = crate::export::ExportOptions {
             gltf_mesh: self.gltf_mesh,
+            gltf_on_mesh: None,
             gltf_volume_scatter: self.gltf_volume_scatter,
             unreal_substrate_diffusion: self.substrate_diffusion,
         };

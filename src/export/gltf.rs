@@ -50,14 +50,16 @@ use super::{burley_of, fit_note, ExportError, Provenance};
 use crate::model::burley::{Burley, ScalingFit};
 use crate::model::fit::shape_error;
 use crate::model::{ModelError, Rgb};
-use crate::render::gpu_types::SurfaceKind;
 use crate::settings::rendering::RenderingSpec;
 use crate::settings::Preset;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::path::Path;
 
+mod mesh;
 mod read;
+pub use mesh::GltfOnMesh;
+use mesh::{head, mesh_data_on, sphere, Buffer, MeshData};
 pub use read::{gltf_has_volume, read};
 
 /// The extensions' names.
@@ -310,112 +312,6 @@ fn who_draws_it(readings: &[Reading]) -> String {
     }
 }
 
-/// The mesh as glTF wants it: positions (m), unit normals, and one index
-/// list per surface kind with its material.
-struct MeshData {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    /// (surface, triangle indices).
-    parts: Vec<(SurfaceKind, Vec<u32>)>,
-    /// `thicknessFactor` (m): the sphere's diameter, or the median of the
-    /// head's baked skin thickness.
-    thickness_m: f64,
-}
-
-fn unit(n: [f32; 3]) -> [f32; 3] {
-    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if l > 0.0 && l.is_finite() {
-        n.map(|v| v / l)
-    } else {
-        [0.0, 0.0, 1.0]
-    }
-}
-
-fn sphere() -> MeshData {
-    let (nu, nv) = (64usize, 32usize);
-    let r = SPHERE_RADIUS_M as f32;
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    for j in 0..=nv {
-        let theta = std::f32::consts::PI * j as f32 / nv as f32;
-        for i in 0..=nu {
-            let phi = 2.0 * std::f32::consts::PI * i as f32 / nu as f32;
-            let n = unit([
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                -theta.sin() * phi.sin(),
-            ]);
-            positions.push(n.map(|x| x * r));
-            normals.push(n);
-        }
-    }
-    let row = (nu + 1) as u32;
-    let mut idx = Vec::new();
-    for j in 0..nv as u32 {
-        for i in 0..nu as u32 {
-            let (a, b) = (j * row + i, (j + 1) * row + i);
-            // Counter-clockwise seen from outside; the poles' collapsed
-            // triangles are left out.
-            if j != 0 {
-                idx.extend_from_slice(&[a, b, a + 1]);
-            }
-            if j != nv as u32 - 1 {
-                idx.extend_from_slice(&[a + 1, b, b + 1]);
-            }
-        }
-    }
-    MeshData {
-        positions,
-        normals,
-        parts: vec![(SurfaceKind::Skin, idx)],
-        thickness_m: 2.0 * SPHERE_RADIUS_M,
-    }
-}
-
-fn head() -> Result<MeshData, ExportError> {
-    use crate::render::mesh::{Mesh, DEFAULT_HEAD_METRES_PER_UNIT, DEFAULT_HEAD_OBJ};
-    let mesh = Mesh::from_obj_text(
-        DEFAULT_HEAD_OBJ,
-        "<embedded default head>",
-        DEFAULT_HEAD_METRES_PER_UNIT,
-    )
-    .map_err(|e| ExportError::Encode {
-        path: "<embedded default head>".into(),
-        message: e.to_string(),
-    })?;
-    let m = mesh.metres_per_unit;
-    let positions = mesh
-        .vertices
-        .iter()
-        .map(|v| v.position.map(|x| x * m))
-        .collect();
-    let normals = mesh.vertices.iter().map(|v| unit(v.normal)).collect();
-    let mut parts: Vec<(SurfaceKind, Vec<u32>)> = Vec::new();
-    for t in mesh.indices.chunks_exact(3) {
-        let kind = SurfaceKind::of(mesh.vertices[t[0] as usize].material);
-        match parts.iter_mut().find(|(k, _)| *k == kind) {
-            Some((_, v)) => v.extend_from_slice(t),
-            None => parts.push((kind, t.to_vec())),
-        }
-    }
-    parts.sort_by_key(|(k, _)| k.code() as u32);
-    let mut skin: Vec<f64> = mesh
-        .vertices
-        .iter()
-        .filter(|v| SurfaceKind::of(v.material) == SurfaceKind::Skin)
-        .map(|v| v.thickness_mm as f64)
-        .filter(|t| t.is_finite() && *t > 0.0)
-        .collect();
-    skin.sort_by(f64::total_cmp);
-    let median_mm = skin.get(skin.len() / 2).copied().unwrap_or(10.0);
-    Ok(MeshData {
-        positions,
-        normals,
-        parts,
-        thickness_m: median_mm * 1e-3,
-    })
-}
-
 /// The `.gltf` document of a look on `mesh`, with the buffer inline.
 pub fn gltf_document(
     preset: &Preset,
@@ -423,45 +319,35 @@ pub fn gltf_document(
     mesh: GltfMesh,
     with_scatter: bool,
 ) -> Result<String, ExportError> {
-    use base64::Engine as _;
-    let (v, fit_error) = gltf_volume(preset)?;
     let data = match mesh {
         GltfMesh::Head => head()?,
         GltfMesh::Sphere => sphere(),
     };
+    document(preset, prov, data, with_scatter)
+}
+
+/// The `.gltf` document of a look on the artist's mesh `on`, with its UVs,
+/// its colour map as the base colour's texture (as the editor draws it)
+/// and its normal map, all inline.
+pub fn gltf_document_on(
+    preset: &Preset,
+    prov: &Provenance,
+    on: &GltfOnMesh,
+    with_scatter: bool,
+) -> Result<String, ExportError> {
+    let (v, _) = gltf_volume(preset)?;
+    document(preset, prov, mesh_data_on(on, v.albedo)?, with_scatter)
+}
+
+fn document(
+    preset: &Preset,
+    prov: &Provenance,
+    data: MeshData,
+    with_scatter: bool,
+) -> Result<String, ExportError> {
+    use base64::Engine as _;
+    let (v, fit_error) = gltf_volume(preset)?;
     let readings = gltf_readings(preset, data.thickness_m, with_scatter)?;
-    // The buffer: positions, normals, then each part's indices; every view
-    // starts on a 4-byte boundary (glTF 2.0 §3.6.2.4; all are 4-byte types).
-    let mut bytes: Vec<u8> = Vec::new();
-    let mut views = Vec::new();
-    let mut accessors = Vec::new();
-    let mut push_view = |bytes: &mut Vec<u8>, chunk: Vec<u8>, target: u32| -> usize {
-        let offset = bytes.len();
-        let len = chunk.len();
-        bytes.extend(chunk);
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": len, "target": target}));
-        views.len() - 1
-    };
-    let f32s = |v: &[[f32; 3]]| -> Vec<u8> {
-        v.iter()
-            .flat_map(|p| p.iter().flat_map(|x| x.to_le_bytes()))
-            .collect()
-    };
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for p in &data.positions {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    let count = data.positions.len();
-    // 34962: ARRAY_BUFFER, 34963: ELEMENT_ARRAY_BUFFER; 5126 FLOAT, 5125
-    // UNSIGNED_INT (glTF 2.0 §5.11, §5.1).
-    let pv = push_view(&mut bytes, f32s(&data.positions), 34962);
-    accessors.push(json!({"bufferView": pv, "componentType": 5126, "count": count, "type": "VEC3", "min": lo, "max": hi}));
-    let nv = push_view(&mut bytes, f32s(&data.normals), 34962);
-    accessors
-        .push(json!({"bufferView": nv, "componentType": 5126, "count": count, "type": "VEC3"}));
     let skin = SkinMaterial {
         volume: &v,
         fit_error,
@@ -470,42 +356,18 @@ pub fn gltf_document(
         with_scatter,
     };
     let mut materials = vec![skin.material(preset, prov)];
-    let mut primitives = Vec::new();
-    for (kind, idx) in &data.parts {
-        let material = match kind {
-            SurfaceKind::Skin => 0,
-            SurfaceKind::Eye => {
-                materials.push(json!({"name": "eye", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.78, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.05}}));
-                materials.len() - 1
-            }
-            SurfaceKind::Teeth => {
-                materials.push(json!({"name": "teeth", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.72, 0.65, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.3}}));
-                materials.len() - 1
-            }
-        };
-        let iv = push_view(
-            &mut bytes,
-            idx.iter().flat_map(|i| i.to_le_bytes()).collect(),
-            34963,
-        );
-        accessors.push(
-            json!({"bufferView": iv, "componentType": 5125, "count": idx.len(), "type": "SCALAR"}),
-        );
-        primitives.push(json!({
-            "attributes": {"POSITION": 0, "NORMAL": 1},
-            "indices": accessors.len() - 1,
-            "material": material,
-        }));
-    }
+    let mut buffer = Buffer::default();
+    let primitives = buffer.primitives(&data, &mut materials);
+    let maps = buffer.maps(&data, &mut materials[0]);
     let mut used = vec![VOLUME, DIFFUSE_TRANSMISSION, IOR];
     if with_scatter {
         used.push(VOLUME_SCATTER);
     }
     let uri = format!(
         "data:application/octet-stream;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&bytes)
+        base64::engine::general_purpose::STANDARD.encode(&buffer.bytes)
     );
-    let doc = json!({
+    let mut doc = json!({
         "asset": {
             "version": "2.0",
             "generator": format!("scatterlab {}", env!("CARGO_PKG_VERSION")),
@@ -514,13 +376,20 @@ pub fn gltf_document(
         "extensionsUsed": used,
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [{"name": match mesh { GltfMesh::Head => "head", GltfMesh::Sphere => "sphere" }, "mesh": 0}],
-        "meshes": [{"name": match mesh { GltfMesh::Head => "head", GltfMesh::Sphere => "sphere" }, "primitives": primitives}],
+        "nodes": [{"name": data.name, "mesh": 0}],
+        "meshes": [{"name": data.name, "primitives": primitives}],
         "materials": materials,
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"byteLength": bytes.len(), "uri": uri}],
+        "accessors": buffer.accessors,
+        "bufferViews": buffer.views,
+        "buffers": [{"byteLength": buffer.bytes.len(), "uri": uri}],
     });
+    if let Some((images, textures)) = maps {
+        // 9729 LINEAR, 9987 LINEAR_MIPMAP_LINEAR, 10497 REPEAT (§5.26).
+        doc["samplers"] =
+            json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]);
+        doc["images"] = json!(images);
+        doc["textures"] = json!(textures);
+    }
     serde_json::to_string_pretty(&doc).map_err(|e| ExportError::Encode {
         path: "glTF".into(),
         message: e.to_string(),
@@ -622,12 +491,15 @@ fn params(burley: &Burley, _world_scale: Option<f64>) -> Result<Value, ModelErro
 pub(super) const TARGET: super::Target = super::Target {
     id: "gltf",
     name: "glTF 2.0 (volume extensions)",
-    description: "a .gltf on the head or a sphere; KHR_materials_volume and diffuse transmission, each reader's error stated",
+    description: "a .gltf on the mesh on screen (with its maps) or the head or a sphere; KHR_materials_volume and diffuse transmission, each reader's error stated",
     extension: "gltf",
     companion: None,
     slow: false,
     write: |preset, prov, out, _, options| {
-        let text = gltf_document(preset, prov, options.gltf_mesh, options.gltf_volume_scatter)?;
+        let text = match &options.gltf_on_mesh {
+            Some(on) => gltf_document_on(preset, prov, on, options.gltf_volume_scatter)?,
+            None => gltf_document(preset, prov, options.gltf_mesh, options.gltf_volume_scatter)?,
+        };
         super::write(out, text.as_bytes())
     },
     notes: gltf_notes,

@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 
 pub use blender::blender_python;
 pub use gltf::{
-    gltf_document, gltf_has_volume, gltf_notes, gltf_readings, gltf_volume, GltfMesh, GltfVolume,
-    Reading,
+    gltf_document, gltf_document_on, gltf_has_volume, gltf_notes, gltf_readings, gltf_volume,
+    GltfMesh, GltfOnMesh, GltfVolume, Reading,
 };
 pub use godot::{
     godot_material, godot_notes, godot_subsurface, GodotSubsurface, GodotTransmittance,
@@ -357,10 +357,14 @@ pub fn planned_paths(format: Format, out: &Path) -> Vec<PathBuf> {
 
 /// Choices that only some targets take; each target reads its own and
 /// ignores the rest.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default)]
 pub struct ExportOptions {
     /// glTF: the mesh the material is put on.
     pub gltf_mesh: GltfMesh,
+    /// glTF: the mesh on the editor's screen instead, with its maps (its
+    /// colour map as the base colour's texture, as the look draws it, and
+    /// its normal map).
+    pub gltf_on_mesh: Option<GltfOnMesh>,
     /// glTF: also write the draft `KHR_materials_volume_scatter`.
     pub gltf_volume_scatter: bool,
     /// Unreal: the Substrate Slab of type Diffusion with its own mean free

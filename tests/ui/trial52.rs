@@ -1294,3 +1294,132 @@ fn the_first_frame_of_the_scan_does_not_wait_for_the_default_head() {
         "meshes loaded before the first frame"
     );
 }
+
+/// The bytes of image `k` of a `.gltf` whose one buffer is a base64 data
+/// URI (glTF 2.0 §3.8.2: an image in a bufferView).
+fn gltf_image(doc: &serde_json::Value, k: usize) -> Vec<u8> {
+    use base64::Engine as _;
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap();
+    let data = uri.split("base64,").nth(1).unwrap();
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(data)
+        .unwrap();
+    let view = &doc["bufferViews"][doc["images"][k]["bufferView"].as_u64().unwrap() as usize];
+    let (o, n) = (
+        view["byteOffset"].as_u64().unwrap() as usize,
+        view["byteLength"].as_u64().unwrap() as usize,
+    );
+    bytes[o..o + n].to_vec()
+}
+
+/// Item 7: the glTF export wrote the procedural head whatever was on
+/// screen. With the head scan on screen it now writes the scan: named for
+/// its file, its UVs, its colour map as the base colour's texture (the
+/// pixels of the scan's own Map-COL.jpg, as decoded from that file, rows
+/// flipped as the scan's map slot says) and its normal map
+/// (Infinite-Level_02_Tangent_SmoothUV.jpg's pixels, alike), and
+/// its positions in metres: the scan's own accessor range (read from the
+/// .glb's JSON chunk here) × 0.0462 m/unit. The export's notes say so.
+#[test]
+fn the_gltf_export_writes_the_mesh_on_screen_with_its_maps() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-gltf-scan-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scan = repo("assets/scan/LeePerrySmith.glb");
+    let mut h = viewport_harness([1500.0, 900.0]);
+    assert!(h.state_mut().open_scanned_head());
+    step_until(&mut h, "the scan", |a: &EditorApp| {
+        a.viewport().has_frame() && a.mesh_info().is_some_and(|m| m.colour_map_mean.is_some())
+    });
+    let out = dir.join("look.gltf");
+    h.get_by_label("Export").click_accesskit();
+    h.run_steps(3);
+    h.get_by_label_contains("glTF 2.0").click_accesskit();
+    h.run_steps(5);
+    wait_for_label_containing(&mut h, "Mesh: ");
+    assert!(
+        h.query_by_label_contains("LeePerrySmith.glb, as on screen")
+            .is_some(),
+        "the notes do not name the mesh"
+    );
+    choose(&mut h, &out);
+    h.step();
+    step_until(&mut h, "the export", |a| {
+        a.status().starts_with("Exported") || a.status().starts_with("Error")
+    });
+    assert!(
+        h.state().status().starts_with("Exported"),
+        "{}",
+        h.state().status()
+    );
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["nodes"][0]["name"], "LeePerrySmith");
+    let prim = &doc["meshes"][0]["primitives"][0];
+    assert!(prim["attributes"]["TEXCOORD_0"].is_u64(), "{prim}");
+    let pbr = &doc["materials"][0]["pbrMetallicRoughness"];
+    assert_eq!(
+        pbr["baseColorFactor"],
+        serde_json::json!([1.0, 1.0, 1.0, 1.0])
+    );
+    let image_of = |texture: &serde_json::Value| {
+        let t = texture["index"].as_u64().expect("no texture") as usize;
+        let k = doc["textures"][t]["source"].as_u64().unwrap() as usize;
+        image::load_from_memory(&gltf_image(&doc, k))
+            .unwrap()
+            .to_rgb8()
+    };
+    for (texture, file) in [
+        (&pbr["baseColorTexture"], "assets/scan/Map-COL.jpg"),
+        (
+            &doc["materials"][0]["normalTexture"],
+            "assets/scan/Infinite-Level_02_Tangent_SmoothUV.jpg",
+        ),
+    ] {
+        let written = image_of(texture);
+        // The scan's maps were made with V up: the editor flips them for
+        // the mesh's UVs (glTF's top left), and the file holds them so.
+        let source = image::imageops::flip_vertical(&image::open(repo(file)).unwrap().to_rgb8());
+        assert_eq!(written.dimensions(), source.dimensions(), "{file}");
+        let diff = written
+            .pixels()
+            .zip(source.pixels())
+            .map(|(a, b)| (0..3).map(|c| a[c].abs_diff(b[c]) as u64).sum::<u64>())
+            .sum::<u64>();
+        assert_eq!(diff, 0, "{file}: the texture is not its pixels");
+    }
+    // The scan's positions, from its own .glb (JSON chunk after the
+    // 12-byte header and the chunk's 8-byte header).
+    let glb = std::fs::read(&scan).unwrap();
+    let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let src: serde_json::Value = serde_json::from_slice(&glb[20..20 + len]).unwrap();
+    let pos = src["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+        .as_u64()
+        .unwrap() as usize;
+    let range = |a: &serde_json::Value| -> Vec<f64> {
+        (0..3)
+            .map(|c| a["max"][c].as_f64().unwrap() - a["min"][c].as_f64().unwrap())
+            .collect()
+    };
+    let (want, got) = (
+        range(&src["accessors"][pos]),
+        range(&doc["accessors"][prim["attributes"]["POSITION"].as_u64().unwrap() as usize]),
+    );
+    for c in 0..3 {
+        assert!(
+            (got[c] - 0.0462 * want[c]).abs() < 1e-4 * (1.0 + want[c]),
+            "axis {c}: {got:?} m against {want:?} units × 0.0462"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Steps until a widget whose label contains `part` shows.
+fn wait_for_label_containing(h: &mut Harness<'_, EditorApp>, part: &str) {
+    let t0 = Instant::now();
+    while h.query_by_label_contains(part).is_none() {
+        assert!(t0.elapsed() < Duration::from_secs(60), "no \"{part}\"");
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}

@@ -99,7 +99,6 @@ impl Worker {
         if self.renderer.is_some() && self.mesh_path == *mesh && same_settings {
             return Ok(false);
         }
-        let mpu = settings.metres_per_unit;
         let t = Instant::now();
         // The GPU context starts while the mesh loads; the default head's
         // surface maps (about a second) are left to `apply_pending_maps`,
@@ -108,20 +107,7 @@ impl Worker {
         let (mesh_data, ctx) = std::thread::scope(|s| {
             let ctx = s.spawn(GpuContext::new_headless);
             let mesh_data = match mesh {
-                Some(p) => Mesh::load(p, mpu)
-                    .map_err(|e| e.to_string())
-                    .and_then(|mut m| {
-                        if settings.turn_outward {
-                            m.turn_outward();
-                        }
-                        crate::render::textures::apply_slots(
-                            std::sync::Arc::make_mut(&mut m.textures),
-                            &settings.maps,
-                            thickness_range_mm,
-                        )
-                        .map_err(|e| e.to_string())?;
-                        Ok(m)
-                    }),
+                Some(p) => load_mesh(p, settings, thickness_range_mm),
                 None if bake_later => Mesh::default_head_without_maps().map_err(|e| e.to_string()),
                 None => Mesh::default_head().map_err(|e| e.to_string()),
             };
@@ -436,4 +422,25 @@ pub(super) fn last_radiance(w: &mut Worker, req: &Request) -> Option<std::sync::
     }
     let read = w.renderer.as_mut()?.read_last_radiance();
     read.ok().map(std::sync::Arc::new)
+}
+
+/// The artist's mesh at `path` as the viewport draws it: at its units,
+/// turned outward where asked, with the maps its slots name (the render
+/// thread's, and the glTF export's of the mesh on screen).
+pub fn load_mesh(
+    path: &std::path::Path,
+    settings: &crate::app::state::MeshSettings,
+    thickness_range_mm: f32,
+) -> Result<Mesh, String> {
+    let mut m = Mesh::load(path, settings.metres_per_unit).map_err(|e| e.to_string())?;
+    if settings.turn_outward {
+        m.turn_outward();
+    }
+    crate::render::textures::apply_slots(
+        std::sync::Arc::make_mut(&mut m.textures),
+        &settings.maps,
+        thickness_range_mm,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(m)
 }
