@@ -330,6 +330,11 @@ impl ViewportPanel<'_> {
     fn probe_ui(&mut self, ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect) {
         use crate::render::compare;
         self.layout.probe = None;
+        // A file dialog or a prompt holds the artist's attention: the
+        // probe, left where the pointer last was, read on behind it.
+        if self.dialog_up {
+            return;
+        }
         let Some(pos) = ui.ctx().pointer_hover_pos().filter(|p| rect.contains(*p)) else {
             return;
         };

@@ -41,6 +41,8 @@ pub(super) struct ViewportPanel<'a> {
     pub names: (String, String),
     /// The reference photograph drawn over the frame, if one is shown.
     pub reference: &'a ReferenceWindow,
+    /// A file dialog or a modal prompt is up (the probe stands down).
+    pub dialog_up: bool,
     /// What this frame asks for, in order.
     pub actions: Vec<Action>,
 }

@@ -1423,3 +1423,38 @@ fn wait_for_label_containing(h: &mut Harness<'_, EditorApp>, part: &str) {
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+/// Item 8: the pixel probe stayed on screen, reading on, while a file
+/// dialog was open over the editor (the pointer left on the viewport). It
+/// now goes while a file dialog or a prompt is up, and comes back after.
+#[test]
+fn the_probe_goes_while_a_dialog_is_open() {
+    let mut h = viewport_harness([1500.0, 900.0]);
+    step_until(&mut h, "the head", |a: &EditorApp| a.viewport().has_frame());
+    let rect = h.state().viewport_layout().viewport.unwrap();
+    // Near the viewport's left edge, clear of the dialog in the middle.
+    let at = rect.left_center() + egui::vec2(20.0, 0.0);
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.run_steps(2);
+    assert!(
+        h.state().probe_text().is_some(),
+        "no probe over the viewport"
+    );
+    menu_item(&mut h, "File", "Open…  (Ctrl+O)");
+    wait_for_file_dialog(&mut h);
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.run_steps(2);
+    assert_eq!(
+        h.state().probe_text(),
+        None,
+        "the probe reads on behind the dialog"
+    );
+    h.key_press(Key::Escape);
+    h.run_steps(3);
+    h.input_mut().events.push(egui::Event::PointerMoved(at));
+    h.run_steps(2);
+    assert!(
+        h.state().probe_text().is_some(),
+        "the probe did not come back"
+    );
+}
