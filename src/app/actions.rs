@@ -167,7 +167,7 @@ impl EditorApp {
     pub(super) fn viewport_panel_ui(&mut self, ui: &mut egui::Ui) {
         self.compare_toolbar_ui(ui);
         self.view_toolbar_ui(ui);
-        let dialog_up = self.dialogs.dialog.is_some() || self.modal_prompt_open();
+        let dialog_up = self.dialog_up();
         let panel = viewport_ui::ViewportPanel {
             camera: self.ui_state.view,
             a_albedo: self.a_albedo(),

@@ -21,6 +21,11 @@ impl EditorApp {
         self.windows.modal_open() || self.autosave.as_ref().is_some_and(|a| a.found.is_some())
     }
 
+    /// Whether a file dialog or a modal prompt is up.
+    pub(super) fn dialog_up(&self) -> bool {
+        self.dialogs.dialog.is_some() || self.modal_prompt_open()
+    }
+
     /// The titles of the open windows Escape can close.
     fn open_windows(&self) -> Vec<&'static str> {
         self.windows.open_titles()

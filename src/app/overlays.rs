@@ -368,20 +368,7 @@ impl ViewportPanel<'_> {
             .radiance
             .as_deref()
             .filter(|r| (r.width, r.height) == img.dimensions());
-        let alone = |p: &compare::Probe| {
-            let srgb = format!("sRGB {} {} {}", p.srgb[0], p.srgb[1], p.srgb[2]);
-            match scene.map(|r| r.at(x, y)) {
-                Some(Some(l)) => format!(
-                    "{srgb} · scene-linear {:.4} {:.4} {:.4} · L* {:.1}",
-                    l[0], l[1], l[2], p.lightness
-                ),
-                Some(None) => format!("{srgb} · background, not the mesh · L* {:.1}", p.lightness),
-                None => format!(
-                    "{srgb} · L* {:.1} · scene-linear once the view settles",
-                    p.lightness
-                ),
-            }
-        };
+        let alone = |p: &compare::Probe| alone_text(p, scene.map(|r| r.at(x, y)));
         let comparing = self.ui_state.compare != CompareMode::Off && self.view.ab == AbView::Both;
         let text = match (comparing, self.ui_state.compare) {
             (true, CompareMode::Difference) => match self.view.difference_shown {
@@ -528,4 +515,22 @@ fn before_plate_ui(painter: &egui::Painter, rect: egui::Rect) {
         galley,
         egui::Color32::WHITE,
     );
+}
+
+/// The probe's text for one look alone: the bytes, the scene-linear
+/// radiance read back at the pixel (`Some(None)`: off the mesh; `None`:
+/// not read yet) and L*.
+fn alone_text(p: &crate::render::compare::Probe, scene: Option<Option<[f32; 3]>>) -> String {
+    let srgb = format!("sRGB {} {} {}", p.srgb[0], p.srgb[1], p.srgb[2]);
+    match scene {
+        Some(Some(l)) => format!(
+            "{srgb} · scene-linear {:.4} {:.4} {:.4} · L* {:.1}",
+            l[0], l[1], l[2], p.lightness
+        ),
+        Some(None) => format!("{srgb} · background, not the mesh · L* {:.1}", p.lightness),
+        None => format!(
+            "{srgb} · L* {:.1} · scene-linear once the view settles",
+            p.lightness
+        ),
+    }
 }
