@@ -532,17 +532,30 @@ fn the_hdr_maps_turn_is_typed_into_with_a_pointer_and_keys() {
         s.wait_log("a request with the map turned 45°", 30, |l| {
             l.contains(" request ") && l.contains(" turn=45 ")
         });
+        // Issue 52: the camera's focal length, typed in the same window.
+        let lens = |c: &Widget| c.role == "SpinButton" && c.value.starts_with("focal length ");
+        let field = s.find("the focal length field", lens);
+        s.click(&field);
+        // As a text edit it shows the number alone: 44.8 (mm, the default).
+        s.find("the focal length field as a text edit", |c| {
+            c.role == "SpinButton" && c.value.trim() == "44.8"
+        });
+        s.type_into_focused("85");
+        s.find("the focal length field showing 85 mm", |c| {
+            c.role == "SpinButton" && c.value == "focal length 85.0 mm"
+        });
     }
 }
 
-/// Every window of the View and Help menus opens with a pointer (the
-/// menu, then its item: the window's title is on screen) and Escape closes
-/// it again.
+/// Every window of the View and Help menus (issue 52's Histogram among
+/// them) opens with a pointer (the menu, then its item: the window's title
+/// is on screen) and Escape closes it again.
 #[test]
 fn the_view_and_help_menus_open_their_windows_with_a_pointer() {
     let _one = one_at_a_time();
     let items = [
         ("View", "Light & display…", "Light & display"),
+        ("View", "Histogram…", "Histogram"),
         ("Help", "Shortcuts  (F1)", "Shortcuts"),
         ("Help", "About scatterlab", "About scatterlab"),
     ];
