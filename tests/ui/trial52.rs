@@ -1458,3 +1458,38 @@ fn the_probe_goes_while_a_dialog_is_open() {
         "the probe did not come back"
     );
 }
+
+/// Item 1, as the trial's start-up repeat found it: a file imported as the
+/// editor opens (`edit --import`) asks before the scan is in, so the
+/// prompt's default was the default skin's, though the head on screen a
+/// moment later has a colour map. An untouched default now turns to the
+/// head's map when the map arrives, and Enter takes the map's mean.
+#[test]
+fn an_import_asked_before_the_scan_is_in_takes_its_map_on_enter() {
+    let mut h = viewport_harness([1500.0, 900.0]);
+    assert!(h.state_mut().open_scanned_head());
+    h.state_mut()
+        .import_now(&repo("tests/data/hdrp/Skin Diffusion Profile.asset"));
+    h.run_steps(2);
+    assert!(h.query_by_label("Material albedo").is_some(), "no prompt");
+    assert!(
+        h.state()
+            .mesh_info()
+            .is_none_or(|i| i.colour_map_mean.is_none()),
+        "the scan was in before the prompt: this test needs it after"
+    );
+    step_until(&mut h, "the scan with its map", |a| {
+        a.mesh_info().is_some_and(|i| i.colour_map_mean.is_some())
+    });
+    h.run_steps(2);
+    h.key_press(Key::Enter);
+    h.run_steps(2);
+    let mean = h.state().mesh_info().unwrap().colour_map_mean.unwrap();
+    let a = albedo(&h);
+    for c in 0..3 {
+        assert!(
+            (a[c] - f64::from(mean[c])).abs() < 1e-4,
+            "{a:?} against the map's {mean:?}"
+        );
+    }
+}

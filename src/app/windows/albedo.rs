@@ -39,6 +39,10 @@ pub struct AlbedoPrompt {
     /// Look A's albedo when the prompt opened (for a document: the look
     /// open before it).
     pub a_albedo: Rgb,
+    /// The choice is still the default the prompt opened with (a look's:
+    /// it turns to the head's map when the map arrives after the prompt,
+    /// as when a file is imported at start-up, before the scan is in).
+    pub by_default: bool,
 }
 
 /// The prompt, while it is asking.
@@ -76,6 +80,7 @@ impl AlbedoWindow {
             },
             typed: a_albedo.map(|c| c as f32),
             a_albedo,
+            by_default: true,
         });
     }
 
@@ -95,6 +100,7 @@ impl AlbedoWindow {
                 _ => a_albedo.map(|c| c as f32),
             },
             a_albedo,
+            by_default: false,
         });
     }
 }
@@ -200,7 +206,13 @@ impl Window for AlbedoWindow {
                 p.name,
                 if p.target == PromptFor::Look { "it" } else { "B" }
             ));
-            p.choices_ui(ui, view.colour_map_mean.is_some());
+            let has_map = view.colour_map_mean.is_some();
+            if p.by_default && has_map && p.target == PromptFor::Look {
+                p.choice = MaterialAlbedo::Map;
+            }
+            let before = p.choice.clone();
+            p.choices_ui(ui, has_map);
+            p.by_default &= p.choice == before;
             ui.separator();
             p.buttons_ui(ui)
         });
