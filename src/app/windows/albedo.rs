@@ -210,7 +210,7 @@ impl Window for AlbedoWindow {
             if p.by_default && has_map && p.target == PromptFor::Look {
                 p.choice = MaterialAlbedo::Map;
             }
-            let before = p.choice.clone();
+            let before = p.choice;
             p.choices_ui(ui, has_map);
             p.by_default &= p.choice == before;
             ui.separator();
