@@ -171,7 +171,7 @@ impl Dialogs {
         // glTF writes the mesh on screen: said first.
         let on = (format == Format::Gltf).then(|| match mesh {
             Some(p) => format!(
-                "Mesh: {}, as on screen, with its UVs, its colour map as the base colour's texture (as the viewport draws it) and its normal map.",
+                "Mesh: {}, as on screen, with its UVs; its colour map, where it has one and the look draws it, as the base colour's texture, and its normal map, where it has one.",
                 p.display()
             ),
             None => "Mesh: scatterlab's procedural head, as on screen (no maps written).".into(),

@@ -108,6 +108,11 @@ pub struct Request {
     /// The HDR map to draw behind the head when `view.background.show`
     /// and the environment is the map.
     pub background_map: Option<SharedMap>,
+    /// Read back the converged frame's scene-linear radiance and send it
+    /// with the frame (the editor's probe and histogram, an EXR still):
+    /// 28 bytes a pixel, so only where it is used (not thumbnails or
+    /// turntables).
+    pub want_radiance: bool,
 }
 
 impl Request {
@@ -287,8 +292,9 @@ pub enum Reply {
         seq: u64,
         quality: Quality,
         /// The frame's scene-linear radiance (before exposure and the
-        /// display transform): sent with a view's converged frame when it
-        /// shows one look alone, else `None`.
+        /// display transform): sent with a view's converged frame when the
+        /// request wants it and it shows one look alone, else `None` (also
+        /// on the method's converged frame that "to truth" goes on from).
         radiance: Option<std::sync::Arc<crate::render::SceneLinear>>,
     },
     Error(String),

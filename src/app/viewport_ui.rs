@@ -225,6 +225,7 @@ impl ViewportPanel<'_> {
             mesh: self.meshes.mesh.clone(),
             seq: 0,
             background_map: self.view.background_map.clone(),
+            want_radiance: true,
             mesh_settings: self
                 .meshes
                 .mesh

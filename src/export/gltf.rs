@@ -1,6 +1,7 @@
 //! glTF 2.0, both ways: a `.gltf` whose material carries the look through
-//! Khronos' volume extensions, on the default head or on a sphere, and the
-//! reader of those extensions. The definitions, from the KhronosGroup/glTF
+//! Khronos' volume extensions, on the default head, on a sphere or (from
+//! the editor) on the mesh on screen with its maps, and the reader of
+//! those extensions. The definitions, from the KhronosGroup/glTF
 //! repository (`extensions/2.0/Khronos/`, at 77b44be7; the drafts at their
 //! pull requests' heads):
 //! - `KHR_materials_volume` (ratified), README lines 112–115:
@@ -335,8 +336,10 @@ pub fn gltf_document_on(
     on: &GltfOnMesh,
     with_scatter: bool,
 ) -> Result<String, ExportError> {
-    let (v, _) = gltf_volume(preset)?;
-    document(preset, prov, mesh_data_on(on, v.albedo)?, with_scatter)
+    // The colour the viewport tints a map to: the look's albedo as it is
+    // drawn (a kernel model's surface albedo, not a Burley fit's A).
+    let albedo = crate::settings::albedo::look_albedo(preset);
+    document(preset, prov, mesh_data_on(on, albedo)?, with_scatter)
 }
 
 fn document(

@@ -95,7 +95,9 @@ impl OrbitView {
     /// and tested by `visible_fraction_of_views`.
     pub fn visible_fraction(&self, framing_distance_m: f32) -> f32 {
         let framing = framing_distance_m.max(1e-6);
-        let half_mesh = framing * (0.5 * self.fov_y_rad).tan();
+        // The framing distance is worked out at the default field of view
+        // (the render thread's `framing_distance_m`), whatever this view's.
+        let half_mesh = framing * (0.5 * OrbitView::default().fov_y_rad).tan();
         let half_view = self.camera_distance_m.max(0.0) * (0.5 * self.fov_y_rad).tan();
         let overlap = |pan: f32| {
             let lo = (pan - half_view).max(-half_mesh);

@@ -1269,6 +1269,7 @@ fn the_first_frame_of_the_scan_does_not_wait_for_the_default_head() {
         refine_to_truth: false,
         seq: 0,
         background_map: None,
+        want_radiance: false,
     });
     let t0 = Instant::now();
     let mut loaded = Vec::new();

@@ -542,6 +542,12 @@ fn keep_finished(w: &mut Worker, r: &Refine, frame: Finished) {
         .as_ref()
         .map_or_else(|| r.req.key(), |(k, _)| k.key());
     w.finished.retain(|(k, _)| *k != key);
+    // The radiance (28 bytes a pixel) is kept for the newest view alone:
+    // a view gone back to shows its kept frame, and the probe says it has
+    // no scene-linear reading until that view is drawn again.
+    for (_, older) in &mut w.finished {
+        older.radiance = None;
+    }
     w.finished.insert(0, (key, frame));
     w.finished.truncate(KEPT_FRAMES);
 }

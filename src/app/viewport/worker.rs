@@ -413,6 +413,9 @@ pub(super) fn default_head(w: &mut Worker, tx: &Sender<Reply>) {
 /// where it cannot be read (said nowhere: the probe then says it has
 /// none).
 pub(super) fn last_radiance(w: &mut Worker, req: &Request) -> Option<std::sync::Arc<SceneLinear>> {
+    if !req.want_radiance {
+        return None;
+    }
     let alone = match &req.b {
         Some((_, mode, _)) => req.show_b || *mode == CompareMode::Off,
         None => true,

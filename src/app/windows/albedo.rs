@@ -212,7 +212,9 @@ impl Window for AlbedoWindow {
             }
             let before = p.choice;
             p.choices_ui(ui, has_map);
-            p.by_default &= p.choice == before;
+            // Any click in the prompt is the artist's choice, even of the
+            // default already shown.
+            p.by_default &= p.choice == before && !ui.input(|i| i.pointer.any_pressed());
             ui.separator();
             p.buttons_ui(ui)
         });

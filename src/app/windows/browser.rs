@@ -137,6 +137,7 @@ fn thumbnail_request(preset: &Preset, head: Option<&ThumbnailHead>) -> Request {
         refine_to_truth: false,
         seq: 0,
         background_map: None,
+        want_radiance: false,
     }
 }
 

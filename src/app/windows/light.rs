@@ -115,6 +115,9 @@ fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
             .add(
                 egui::DragValue::new(&mut mm)
                     .range(12.0..=300.0)
+                    // A remembered field of view outside the range is not
+                    // rewritten by opening the window.
+                    .clamp_existing_to_range(false)
                     .speed(0.2)
                     .max_decimals(1)
                     .prefix("focal length ")

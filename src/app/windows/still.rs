@@ -1,7 +1,10 @@
 //! File → Save image at size…: the viewport's view (look, comparison,
 //! mesh, light) rendered offscreen at a chosen size up to 4096 a side,
 //! supersampled, until it converges, on a thread of its own with progress
-//! and Cancel; written as a PNG to a temporary path and renamed.
+//! and Cancel; written as a PNG (what the viewport shows) or an OpenEXR
+//! (the scene-linear light, the background transparent), with the
+//! subsurface layer beside it if asked, each to a temporary path and
+//! renamed.
 //!
 //! Supersampling renders k times the size a side and averages each k×k
 //! block (a box filter: every rendered pixel weighs the same, so a flat
@@ -112,9 +115,22 @@ fn render_still(
     on_frame: &dyn Fn(crate::app::viewport::Quality, f64),
 ) -> Result<(u32, u32), String> {
     let k = s.supersample.max(1);
+    let needs_linear = is_exr(out) || s.subsurface_file;
+    if needs_linear {
+        let comparing = base
+            .b
+            .as_ref()
+            .is_some_and(|(_, mode, _)| *mode != crate::app::state::CompareMode::Off)
+            && !base.show_b;
+        linear_refused(comparing, &s).map_or(Ok(()), Err)?;
+    }
     let mut req = base;
     req.interactive = false;
     req.size = (s.width * k, s.height * k);
+    req.want_radiance = needs_linear;
+    // The method's converged frame is the still (the ground truth that
+    // "to truth" would go on to is not waited for).
+    req.refine_to_truth = false;
     let (exposure, tone_map) = (req.view.orbit.exposure, req.view.tone_map);
     let mut viewport = Viewport::start(|| {});
     let (image, radiance) = viewport
@@ -122,7 +138,7 @@ fn render_still(
         .ok_or_else(|| CANCELLED.to_string())?;
     let linear = || {
         radiance.as_deref().ok_or_else(|| {
-            "the linear light is one look's: turn Compare off to save an EXR or the subsurface layer (or save a PNG without it)".to_string()
+            "the frame's linear light could not be read back from the GPU: save a PNG without the subsurface layer".to_string()
         })
     };
     let size = if is_exr(out) {
@@ -152,6 +168,31 @@ fn render_still(
 
 const EXR_NOTE: &str = "scatterlab still: scene-linear radiance (scattered x albedo + specular) before exposure and the display transform; alpha the mesh's coverage, the background transparent (0), colour premultiplied";
 const SUBSURFACE_NOTE: &str = "scatterlab still, subsurface layer: the light through the skin (scattered x albedo), no specular, before exposure and the display transform; alpha the coverage";
+
+/// The most bytes one GPU buffer may hold here (wgpu's downlevel limit,
+/// `render::context`): the linear light is read back as 8 bytes a pixel.
+const MAX_READBACK_BYTES: u64 = 256 << 20;
+
+/// Why a still's linear light (an EXR, the subsurface layer) cannot be
+/// had, said before rendering: it is one look's (not a comparison's), and
+/// it is read back in one buffer.
+fn linear_refused(comparing: bool, s: &StillSettings) -> Option<String> {
+    if comparing {
+        return Some("an EXR or the subsurface layer holds one look's linear light: turn Compare off (or save a PNG without the subsurface layer)".into());
+    }
+    let k = u64::from(s.supersample.max(1));
+    let bytes = u64::from(s.width) * k * u64::from(s.height) * k * 8;
+    (bytes > MAX_READBACK_BYTES).then(|| {
+        format!(
+            "an EXR or the subsurface layer of {}×{} at {k}× reads back {} MB of linear light, over the {} MB a GPU buffer holds here: use less supersampling or a smaller size (at most {:.1} million pixels rendered)",
+            s.width,
+            s.height,
+            bytes >> 20,
+            MAX_READBACK_BYTES >> 20,
+            (MAX_READBACK_BYTES / 8) as f64 / 1e6
+        )
+    })
+}
 
 /// Whether `out` asks for OpenEXR (else a PNG).
 fn is_exr(out: &Path) -> bool {
@@ -411,6 +452,27 @@ mod tests {
         assert!((f - 0.0625).abs() < 1e-6);
         assert!(text.starts_with("frame 4 of at most 64 · 2.0 s a frame · at most 120 s left"), "{text}");
         assert_eq!(progress_text(0, 0.0, 3.0), (0.0, "the first frame … 3 s".to_string()));
+    }
+
+    /// An EXR or subsurface layer is refused before rendering while
+    /// comparing, and where its linear light (8 bytes a pixel) would pass
+    /// the 256 MiB a buffer holds: 4096² at 1× (128 MiB) and 5792² at 1×
+    /// (255.9 MiB) go, 4096² at 2× (512 MiB) and 5793² (256.05 MiB) do not.
+    #[test]
+    fn linear_stills_are_refused_before_rendering_where_they_cannot_be_read() {
+        let s = |w, h, k| StillSettings {
+            width: w,
+            height: h,
+            supersample: k,
+            subsurface_file: false,
+        };
+        assert_eq!(linear_refused(false, &s(4096, 4096, 1)), None);
+        assert_eq!(linear_refused(false, &s(5792, 5792, 1)), None);
+        let big = linear_refused(false, &s(4096, 4096, 2)).expect("512 MiB refused");
+        assert!(big.contains("512 MB") && big.contains("supersampling"), "{big}");
+        assert!(linear_refused(false, &s(5793, 5793, 1)).is_some());
+        let cmp = linear_refused(true, &s(64, 64, 1)).expect("comparing refused");
+        assert!(cmp.contains("Compare off"), "{cmp}");
     }
 
     /// Supersampling never renders past 8192 a side.

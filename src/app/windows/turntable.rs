@@ -161,6 +161,7 @@ fn render(
         let turn = std::f32::consts::TAU * k as f32 / n as f32;
         let mut req = base.clone();
         req.interactive = false;
+        req.want_radiance = false;
         req.view.orbit.camera_yaw_rad += turn;
         if settings.light_follows {
             req.view.orbit.light_azimuth_rad += turn;

@@ -36,7 +36,7 @@ pub(super) struct MeshData {
     /// (surface, triangle indices).
     pub(super) parts: Vec<(SurfaceKind, Vec<u32>)>,
     /// `thicknessFactor` (m): the sphere's diameter, or the median of the
-    /// head's baked skin thickness.
+    /// mesh's (the head's or the artist's) baked skin thickness.
     pub(super) thickness_m: f64,
 }
 
@@ -161,23 +161,47 @@ pub(super) fn mesh_data_on(on: &GltfOnMesh, albedo: [f64; 3]) -> Result<MeshData
     data.uvs = on.mesh.vertices.iter().map(|v| v.uv).collect();
     let t = &on.mesh.textures;
     let real = |img: &crate::render::textures::TextureImage| img.width * img.height > 1;
-    if t.albedo_mode == AlbedoMode::Absolute && real(&t.albedo) && on.map_colour != MapColour::Look
-    {
+    if t.albedo_mode == AlbedoMode::Absolute && real(&t.albedo) {
         let mut img = t.albedo.clone();
-        if on.map_colour == MapColour::Tinted {
-            if let Some(mean) = albedo_map_mean(&img) {
+        // As the viewport: a tinted map with no used texels is the look's
+        // albedo alone (no texture).
+        let shown = match (on.map_colour, albedo_map_mean(&img)) {
+            (MapColour::Map, _) => true,
+            (MapColour::Tinted, Some(mean)) => {
                 tint(&mut img, albedo, mean);
+                true
             }
+            (MapColour::Tinted, None) | (MapColour::Look, _) => false,
+        };
+        if shown {
+            data.base_colour_png = Some(png(&img, &on.name)?);
         }
-        data.base_colour_png = Some(png(&img, &on.name)?);
     }
     if real(&t.normal) {
         data.normal_png = Some(png(&t.normal, &on.name)?);
         // The tangents the viewport's normal mapping used, so that readers
-        // need not make their own (the validator warns where they must).
-        data.tangents = on.mesh.vertices.iter().map(|v| v.tangent).collect();
+        // need not make their own (the validator warns where they must);
+        // glTF asks for unit xyz and w = ±1 (§3.7.2.1).
+        data.tangents = on
+            .mesh
+            .vertices
+            .iter()
+            .map(|v| gltf_tangent(v.tangent, v.normal))
+            .collect();
     }
     Ok(data)
+}
+
+/// A vertex's tangent as glTF takes it: xyz of unit length (a degenerate
+/// one replaced by a unit vector across the normal), w ±1.
+fn gltf_tangent(t: [f32; 4], n: [f32; 3]) -> [f32; 4] {
+    let v = glam::Vec3::from_slice(&t[..3]);
+    let xyz = if v.length_squared() > 1e-12 && v.is_finite() {
+        v.normalize()
+    } else {
+        glam::Vec3::from(unit(n)).any_orthonormal_vector()
+    };
+    [xyz.x, xyz.y, xyz.z, if t[3] < 0.0 { -1.0 } else { 1.0 }]
 }
 
 /// Scales an sRGB colour map in linear light so that its mean `mean`
@@ -188,7 +212,7 @@ fn tint(img: &mut crate::render::textures::TextureImage, albedo: [f64; 3], mean:
     if img.channels != 4 {
         return;
     }
-    let k: [f32; 3] = std::array::from_fn(|c| albedo[c] as f32 / mean[c].max(1e-6));
+    let k: [f32; 3] = std::array::from_fn(|c| albedo[c] as f32 / mean[c].max(1e-3));
     for p in img.texels.chunks_exact_mut(4) {
         for c in 0..3 {
             p[c] = linear_to_srgb8((srgb8_to_linear(p[c]) * k[c]).clamp(0.0, 1.0));
