@@ -40,6 +40,29 @@ pub(super) struct MeshData {
     pub(super) thickness_m: f64,
 }
 
+impl MeshData {
+    /// A mesh without maps: its positions (m) and normals, its parts and
+    /// its `thicknessFactor` (m).
+    fn plain(
+        name: &str,
+        (positions, normals): (Vec<[f32; 3]>, Vec<[f32; 3]>),
+        parts: Vec<(SurfaceKind, Vec<u32>)>,
+        thickness_m: f64,
+    ) -> Self {
+        MeshData {
+            name: name.into(),
+            positions,
+            normals,
+            uvs: Vec::new(),
+            tangents: Vec::new(),
+            base_colour_png: None,
+            normal_png: None,
+            parts,
+            thickness_m,
+        }
+    }
+}
+
 fn unit(n: [f32; 3]) -> [f32; 3] {
     let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if l > 0.0 && l.is_finite() {
@@ -82,17 +105,12 @@ pub(super) fn sphere() -> MeshData {
             }
         }
     }
-    MeshData {
-        name: "sphere".into(),
-        positions,
-        normals,
-        uvs: Vec::new(),
-        tangents: Vec::new(),
-        base_colour_png: None,
-        normal_png: None,
-        parts: vec![(SurfaceKind::Skin, idx)],
-        thickness_m: 2.0 * SPHERE_RADIUS_M,
-    }
+    MeshData::plain(
+        "sphere",
+        (positions, normals),
+        vec![(SurfaceKind::Skin, idx)],
+        2.0 * SPHERE_RADIUS_M,
+    )
 }
 
 pub(super) fn head() -> Result<MeshData, ExportError> {
@@ -137,17 +155,7 @@ fn mesh_data(mesh: &crate::render::Mesh, name: &str) -> MeshData {
         .collect();
     skin.sort_by(f64::total_cmp);
     let median_mm = skin.get(skin.len() / 2).copied().unwrap_or(10.0);
-    MeshData {
-        name: name.into(),
-        positions,
-        normals,
-        uvs: Vec::new(),
-        tangents: Vec::new(),
-        base_colour_png: None,
-        normal_png: None,
-        parts,
-        thickness_m: median_mm * 1e-3,
-    }
+    MeshData::plain(name, (positions, normals), parts, median_mm * 1e-3)
 }
 
 /// `on`'s mesh with its UVs and maps: the colour map as the base colour's
