@@ -33,6 +33,8 @@ struct SceneUniforms {
     camera_position: vec4<f32>,
     light_direction: vec4<f32>,   // xyz: towards a directional light (unit); point light: xyz position, w = 1
     light_radiance: vec4<f32>,    // rgb: irradiance at normal incidence
+    rig_direction: array<vec4<f32>, 2>, // fill, rim: xyz towards each (directional, unshadowed)
+    rig_radiance: array<vec4<f32>, 2>,  // rgb: each one's irradiance at normal incidence (0: off)
     surface_albedo: vec4<f32>,    // rgb: the look's colour (total reflectance), linear
     transmission_tint: vec4<f32>,
     blur_sigma_mm: vec4<f32>,     // rgb: per-channel σ (mm) picking each blurred normal's mip (preintegrated)
@@ -426,7 +428,12 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     let shadow = shadow_factor(i.world, ng);
     let nl = max(dot(n, l), 0.0) * shadow;
     let hemi = environment_irradiance(n);
-    var irradiance = light_radiance * nl / PI + hemi;
+    // The fill and rim (directional, unshadowed): N·L each.
+    var rig = vec3<f32>(0.0);
+    for (var k = 0u; k < 2u; k = k + 1u) {
+        rig = rig + u.rig_radiance[k].rgb * max(dot(n, u.rig_direction[k].xyz), 0.0);
+    }
+    var irradiance = (light_radiance * nl + rig) / PI + hemi;
     if (u.preintegrated == 1u && mask > 1.0 / 255.0) {
         // Pre-integrated skin (Penner 2011): D(θ, κ) per channel replaces
         // saturate(N·L), each channel with its own normal (the normal map
@@ -443,7 +450,13 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
         if (u.penumbra_on == 1u) {
             s3 = scattered_shadow(shadow, max(dot(ng, l), 0.0));
         }
-        irradiance = light_radiance * lut_at * s3 / PI + hemi;
+        // The fill and rim through the same table, unshadowed.
+        var rig_d = vec3<f32>(0.0);
+        for (var k = 0u; k < 2u; k = k + 1u) {
+            let lk = u.rig_direction[k].xyz;
+            rig_d = rig_d + u.rig_radiance[k].rgb * preintegrated_d(dot(nr, lk), dot(ngr, lk), dot(nb, lk), curv);
+        }
+        irradiance = (light_radiance * lut_at * s3 + rig_d) / PI + hemi;
     }
     if (transmission && u.transmission_mode != TRANSMISSION_OFF && mask > 0.0) {
         // Light through the back face (Jimenez 2010; Golubev 2018): thin
@@ -505,14 +518,22 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     o.diffuse = vec4<f32>(irradiance * pow(albedo, vec3<f32>(pre)), select(DIFFUSE_ALPHA_NOT_SKIN, mask, skin));
     // Two lobes, never blurred: Unreal's dual GGX (lerp of two roughnesses)
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
-    var spec = mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.lobe_mix);
-    if (u.specular_model == SPECULAR_KELEMEN) {
-        spec = kelemen(n, v, l, r0, f0);
+    var specular = light_radiance * specular_lobes(n, v, l, r0, r1, f0) * shadow;
+    for (var k = 0u; k < 2u; k = k + 1u) {
+        specular = specular + u.rig_radiance[k].rgb * specular_lobes(n, v, u.rig_direction[k].xyz, r0, r1, f0);
     }
-    o.specular = vec4<f32>(light_radiance * spec * shadow, 1.0);
+    o.specular = vec4<f32>(specular, 1.0);
     o.albedo = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), 1.0);
     o.depth = i.view_depth;
     return o;
+}
+
+// The specular lobes for a light towards `l` (×N·L, per unit irradiance).
+fn specular_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, r0: f32, r1: f32, f0: f32) -> f32 {
+    if (u.specular_model == SPECULAR_KELEMEN) {
+        return kelemen(n, v, l, r0, f0);
+    }
+    return mix(ggx(n, v, l, r0, f0), ggx(n, v, l, r1, f0), u.lobe_mix);
 }
 
 // The normal map's tangent-space normal in world space (glTF/MikkTSpace:

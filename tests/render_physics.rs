@@ -629,9 +629,23 @@ fn scene_twin_matches_the_scene_pass() {
         (TexturingMode::PostScatter, 1.0),
     ] {
         let s = |method| RenderSettings {
+            // With a coloured fill and rim (issue 52's rig): the twin
+            // lights them as the shader does, unshadowed.
             view: scatterlab::settings::OrbitView {
                 light_azimuth_rad: 0.8,
                 light_elevation_rad: 0.4,
+                fill: scatterlab::settings::RigLight {
+                    azimuth_rad: -0.7,
+                    elevation_rad: 0.2,
+                    intensity: 1.2,
+                    colour: [0.7, 0.85, 1.0],
+                },
+                rim: scatterlab::settings::RigLight {
+                    azimuth_rad: 2.6,
+                    elevation_rad: 0.5,
+                    intensity: 2.5,
+                    colour: [1.0, 0.9, 0.8],
+                },
                 ..Default::default()
             },
             width: 128,
@@ -819,4 +833,153 @@ fn reference_in_tiles_is_the_whole_frame() {
     let (_, all_at_once, stats) = fresh.render_with_diffuse(&inputs, &whole).unwrap();
     assert!(stats.truth_tiles.is_none());
     assert_eq!(&all_at_once, last, "the tiled view is not the whole gather");
+}
+
+/// The fill and rim beside the key (issue 52's key + fill + rim rig, each
+/// light with its colour). Two judges outside the code:
+/// - Lambert's cosine law on the plane facing the camera: a coloured fill
+///   alone (environment black) gives every method a mean diffuse of E·c·
+///   cos θ / π per channel, cos θ = n·l = cos(az)·cos(el) for the orbit's
+///   direction (sin az cos el, sin el, cos az cos el) and n = +z; a rim
+///   behind the plane gives nothing (it casts no light on a face turned
+///   away).
+/// - Superposition on the default head: light adds, so every method's
+///   diffuse and the frame's scene-linear radiance (specular included)
+///   with key, fill and rim on are those with each alone, summed.
+#[test]
+fn rig_lights_add_and_follow_lambert() {
+    use scatterlab::model::gaussian::{GaussianSum, DEON_SKIN};
+    use scatterlab::settings::{OrbitView, RigLight};
+    // d'Eon's six-Gaussian skin, so that `gaussians` runs its own profile.
+    let profile = GaussianSum::deon_skin();
+    let mut inputs = ProfileInputs::new(&profile, 21, 17).unwrap();
+    inputs.methods.gaussians.set(&DEON_SKIN);
+    let (az, el, e, colour) = (0.6f32, 0.3f32, 2.0f32, [1.0f32, 0.5, 0.25]);
+    let fill = RigLight {
+        azimuth_rad: az,
+        elevation_rad: el,
+        intensity: e,
+        colour,
+    };
+    let rim = RigLight {
+        azimuth_rad: 2.8,
+        elevation_rad: 0.2,
+        intensity: 3.0,
+        colour: [0.5, 0.7, 1.0],
+    };
+    let mut plane = plane_renderer();
+    let cos = (az.cos() * el.cos()) as f64;
+    for method in Method::all() {
+        let s = RenderSettings {
+            view: OrbitView {
+                light_intensity: 0.0,
+                fill,
+                rim,
+                ..settings(*method).view
+            },
+            pattern: IrradiancePattern::Lit,
+            environment_sh: [[0.0; 3]; 9],
+            deterministic: false,
+            ..settings(*method)
+        };
+        let (_, d, _) = plane.render_with_diffuse(&inputs, &s).unwrap();
+        for c in 0..3 {
+            let mean = d.iter().map(|p| p[c] as f64).sum::<f64>() / d.len() as f64;
+            let want = e as f64 * colour[c] as f64 * cos / std::f64::consts::PI;
+            eprintln!(
+                "{} channel {c}: {mean:.5} vs E·c·cos θ/π {want:.5}",
+                method.id()
+            );
+            assert!(
+                (mean / want - 1.0).abs() < 0.01,
+                "{} channel {c}: {mean:.5} against Lambert's {want:.5}",
+                method.id()
+            );
+        }
+    }
+
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut head = Renderer::new(ctx, &Mesh::default_head().unwrap()).unwrap();
+    let key = OrbitView::default().light_intensity;
+    let lit = |method, key: f32, fill: RigLight, rim: RigLight| RenderSettings {
+        view: OrbitView {
+            light_intensity: key,
+            light_colour: [1.0, 0.9, 0.8],
+            fill,
+            rim,
+            ..Default::default()
+        },
+        width: 128,
+        height: 128,
+        method,
+        environment_sh: [[0.0; 3]; 9],
+        deterministic: true,
+        ..Default::default()
+    };
+    let off = RigLight::default();
+    for method in Method::all() {
+        let mut parts = Vec::new();
+        for (k, f, r) in [
+            (key, off, off),
+            (0.0, fill, off),
+            (0.0, off, rim),
+            (key, fill, rim),
+        ] {
+            let (_, d, _) = head
+                .render_with_diffuse(&inputs, &lit(*method, k, f, r))
+                .unwrap();
+            let radiance = head.read_last_radiance().unwrap().radiance;
+            parts.push((d, radiance));
+        }
+        let (all, pieces) = parts.split_last().unwrap();
+        // Each light must show somewhere (else the sum proves nothing).
+        for (i, (d, _)) in pieces.iter().enumerate() {
+            let lit_pixels = d.iter().filter(|p| p[3] >= 0.0 && p[0] > 1e-3).count();
+            assert!(
+                lit_pixels > 100,
+                "{}: light {i} lights {lit_pixels} pixels",
+                method.id()
+            );
+        }
+        for (what, layer) in [("diffuse", 0usize), ("radiance", 1)] {
+            let pick = |p: &(Vec<[f32; 4]>, Vec<[f32; 4]>)| -> Vec<[f32; 4]> {
+                if layer == 0 {
+                    p.0.clone()
+                } else {
+                    p.1.clone()
+                }
+            };
+            let whole = pick(all);
+            let mut summed = vec![[0.0f32; 4]; whole.len()];
+            for p in pieces {
+                for (s, v) in summed.iter_mut().zip(pick(p)) {
+                    for c in 0..3 {
+                        s[c] += v[c].max(0.0);
+                    }
+                }
+            }
+            let (mut diff, mut total) = (0.0f64, 0.0f64);
+            for (a, b) in whole.iter().zip(&summed) {
+                if a[3] < 0.0 && layer == 0 {
+                    continue;
+                }
+                for c in 0..3 {
+                    diff += (a[c].max(0.0) as f64 - b[c] as f64).abs();
+                    total += a[c].max(0.0) as f64;
+                }
+            }
+            eprintln!(
+                "{} {what}: Σ|rig − Σ lights| / Σ rig = {:.2e}",
+                method.id(),
+                diff / total
+            );
+            assert!(total > 0.0);
+            assert!(
+                diff / total < 2e-3,
+                "{} {what}: the rig is not the sum of its lights ({:.2e})",
+                method.id(),
+                diff / total
+            );
+        }
+    }
 }

@@ -560,7 +560,7 @@ impl EditorApp {
         if before == E::Map && now != E::Map && self.status().starts_with("Environment ") {
             self.say(match now {
                 E::Studio => "Environment: the studio sky (the HDR map is off)",
-                _ => "Environment: black, the key light alone (the HDR map is off)",
+                _ => "Environment: black, the rig's lights alone (the HDR map is off)",
             });
         }
     }

@@ -22,7 +22,7 @@ pub enum EnvironmentChoice {
     /// The procedural studio sky.
     #[default]
     Studio,
-    /// No environment: the key light alone.
+    /// No environment: the lights alone.
     Black,
     /// An equirectangular HDR map loaded by the user
     /// ([`ViewState::environment_map_sh`]).
@@ -34,7 +34,9 @@ pub enum EnvironmentChoice {
 /// view, wherever the orbit is) and the environment. The side light puts
 /// the terminator down the middle of the face, where scattering softens it
 /// most; the back light comes through the ear from behind (the bench's
-/// back-lit ear: 135° from the camera, 10° up).
+/// back-lit ear: 135° from the camera, 10° up); the three-point rig is the
+/// portrait photographer's warm key, cool fill and rim (the fill and rim
+/// are off in every other rig).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LightRig {
     Front,
@@ -42,16 +44,33 @@ pub enum LightRig {
     Side,
     Back,
     Rim,
+    ThreePoint,
     Hdr,
 }
 
+/// A rig's lights: each direction as (azimuth from the camera's,
+/// elevation) in degrees, with its intensity and colour.
+struct RigSetUp {
+    key: (f32, f32, f32, [f32; 3]),
+    fill: (f32, f32, f32, [f32; 3]),
+    rim: (f32, f32, f32, [f32; 3]),
+    environment: EnvironmentChoice,
+}
+
+/// The three-point rig's colours (linear RGB): a key a little warm (as a
+/// tungsten-balanced key reads under a daylight-balanced camera), a cool
+/// fill (sky light from the shadow side) and a white rim.
+pub const THREE_POINT_KEY_COLOUR: [f32; 3] = [1.0, 0.93, 0.84];
+pub const THREE_POINT_FILL_COLOUR: [f32; 3] = [0.78, 0.88, 1.0];
+
 impl LightRig {
-    pub const ALL: [LightRig; 6] = [
+    pub const ALL: [LightRig; 7] = [
         LightRig::Front,
         LightRig::ThreeQuarter,
         LightRig::Side,
         LightRig::Back,
         LightRig::Rim,
+        LightRig::ThreePoint,
         LightRig::Hdr,
     ];
 
@@ -62,6 +81,7 @@ impl LightRig {
             LightRig::Side => "side",
             LightRig::Back => "back, through the ear",
             LightRig::Rim => "rim",
+            LightRig::ThreePoint => "three-point",
             LightRig::Hdr => "HDR map",
         }
     }
@@ -73,51 +93,109 @@ impl LightRig {
             LightRig::Side => "Key light 90° to the right, 10° up, no environment: the terminator runs down the face, where scattering's softening and colour show most.",
             LightRig::Back => "Key light behind the head, 135° from the camera and 10° up, no environment: light through the ear shows transmission.",
             LightRig::Rim => "Key light almost behind, 170° from the camera and 20° up, no environment: a rim on the outline and thin parts.",
+            LightRig::ThreePoint => "Key, fill and rim, no environment: a warm key 45° to the right and 25° up; a cool fill a third as bright, 60° to the left and 10° up; a white rim behind on the left, 150° from the camera and 30° up. Each light's colour and strength are set below.",
             LightRig::Hdr => "The loaded HDR map alone (key light off); asks for a map if none is loaded.",
         }
     }
 
-    /// (azimuth from the camera's, elevation) in degrees, light intensity
-    /// and environment; `None` for the HDR rig's key light (off).
-    fn set_up(self) -> (f32, f32, f32, EnvironmentChoice) {
+    fn set_up(self) -> RigSetUp {
         let key = crate::settings::OrbitView::default().light_intensity;
+        let white = [1.0; 3];
+        let off = (0.0, 0.0, 0.0, white);
+        let lone = |az: f32, el: f32, env| RigSetUp {
+            key: (az, el, key, white),
+            fill: off,
+            rim: off,
+            environment: env,
+        };
         match self {
-            LightRig::Front => (0.0, 20.0, key, EnvironmentChoice::Studio),
-            LightRig::ThreeQuarter => (45.0, 25.0, key, EnvironmentChoice::Studio),
-            LightRig::Side => (90.0, 10.0, key, EnvironmentChoice::Black),
-            LightRig::Back => (135.0, 10.0, key, EnvironmentChoice::Black),
-            LightRig::Rim => (170.0, 20.0, key, EnvironmentChoice::Black),
-            LightRig::Hdr => (45.0, 25.0, 0.0, EnvironmentChoice::Map),
+            LightRig::Front => lone(0.0, 20.0, EnvironmentChoice::Studio),
+            LightRig::ThreeQuarter => lone(45.0, 25.0, EnvironmentChoice::Studio),
+            LightRig::Side => lone(90.0, 10.0, EnvironmentChoice::Black),
+            LightRig::Back => lone(135.0, 10.0, EnvironmentChoice::Black),
+            LightRig::Rim => lone(170.0, 20.0, EnvironmentChoice::Black),
+            LightRig::ThreePoint => RigSetUp {
+                key: (45.0, 25.0, key, THREE_POINT_KEY_COLOUR),
+                fill: (-60.0, 10.0, key / 3.0, THREE_POINT_FILL_COLOUR),
+                rim: (-150.0, 30.0, key, white),
+                environment: EnvironmentChoice::Black,
+            },
+            LightRig::Hdr => RigSetUp {
+                key: (45.0, 25.0, 0.0, white),
+                ..lone(0.0, 0.0, EnvironmentChoice::Map)
+            },
         }
     }
 
-    /// Puts the rig's light into `view`. Returns false for the HDR rig
+    /// Puts the rig's lights into `view`. Returns false for the HDR rig
     /// when no map is loaded (nothing changed: the caller asks for one).
     pub fn apply(self, view: &mut ViewState) -> bool {
-        let (az, el, intensity, env) = self.set_up();
-        if env == EnvironmentChoice::Map && view.environment_map_sh.is_none() {
+        let r = self.set_up();
+        if r.environment == EnvironmentChoice::Map && view.environment_map_sh.is_none() {
             return false;
         }
         let o = &mut view.orbit;
-        o.light_azimuth_rad = o.camera_yaw_rad + az.to_radians();
+        let yaw = o.camera_yaw_rad;
+        let (az, el, intensity, colour) = r.key;
+        o.light_azimuth_rad = yaw + az.to_radians();
         o.light_elevation_rad = el.to_radians();
         o.light_intensity = intensity;
-        view.environment = env;
+        o.light_colour = colour;
+        let rig_light =
+            |(az, el, intensity, colour): (f32, f32, f32, [f32; 3])| crate::settings::RigLight {
+                azimuth_rad: yaw + f32::to_radians(az),
+                elevation_rad: f32::to_radians(el),
+                intensity,
+                colour,
+            };
+        o.fill = rig_light(r.fill);
+        o.rim = rig_light(r.rim);
+        view.environment = r.environment;
         true
     }
 
-    /// The rig `view` is lit by now, if any (the light dragged or the
-    /// environment changed since: none).
+    /// The rig `view` is lit by now, if any (a light dragged or edited or
+    /// the environment changed since: none).
     pub fn current(view: &ViewState) -> Option<LightRig> {
+        let o = &view.orbit;
+        let turn = std::f32::consts::TAU;
+        let same_azimuth = |rad: f32, deg: f32| {
+            let d = (rad - o.camera_yaw_rad - deg.to_radians()).rem_euclid(turn);
+            d < 1e-3 || turn - d < 1e-3
+        };
+        let same = |az_rad: f32,
+                    el_rad: f32,
+                    i: f32,
+                    c: [f32; 3],
+                    (az, el, intensity, colour): (f32, f32, f32, [f32; 3])| {
+            // An unlit light's direction does not matter.
+            i == intensity
+                && (i == 0.0
+                    || (same_azimuth(az_rad, az)
+                        && (el_rad - f32::to_radians(el)).abs() < 1e-3
+                        && c == colour))
+        };
         LightRig::ALL.into_iter().find(|r| {
-            let (az, el, intensity, env) = r.set_up();
-            let o = &view.orbit;
-            let turn = std::f32::consts::TAU;
-            let d_az = (o.light_azimuth_rad - o.camera_yaw_rad - az.to_radians()).rem_euclid(turn);
-            (d_az < 1e-3 || turn - d_az < 1e-3)
-                && (o.light_elevation_rad - el.to_radians()).abs() < 1e-3
-                && o.light_intensity == intensity
-                && view.environment == env
+            let r = r.set_up();
+            same(
+                o.light_azimuth_rad,
+                o.light_elevation_rad,
+                o.light_intensity,
+                o.light_colour,
+                r.key,
+            ) && same(
+                o.fill.azimuth_rad,
+                o.fill.elevation_rad,
+                o.fill.intensity,
+                o.fill.colour,
+                r.fill,
+            ) && same(
+                o.rim.azimuth_rad,
+                o.rim.elevation_rad,
+                o.rim.intensity,
+                o.rim.colour,
+                r.rim,
+            ) && view.environment == r.environment
         })
     }
 }

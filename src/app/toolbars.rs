@@ -303,7 +303,7 @@ impl ViewBar<'_> {
                 ui.selectable_value(&mut v.environment, EnvironmentChoice::Studio, "studio sky")
                     .on_hover_text("The procedural studio sky.");
                 ui.selectable_value(&mut v.environment, EnvironmentChoice::Black, "black")
-                    .on_hover_text("No environment light: the key light alone.");
+                    .on_hover_text("No environment light: the rig's lights alone.");
                 if v.environment_map_sh.is_some() {
                     let tip =
                         self.environment_file

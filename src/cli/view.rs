@@ -30,6 +30,25 @@ pub struct ViewArgs {
     /// Irradiance of the key light at normal incidence (default 3.2).
     #[arg(long, allow_hyphen_values = true)]
     pub light_intensity: Option<f32>,
+    /// The key light's colour, linear R,G,B (multiplies its intensity;
+    /// default 1,1,1).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub light_colour: Option<Color>,
+    /// A fill light beside the key: INTENSITY,AZIMUTH,ELEVATION
+    /// (irradiance at normal incidence; degrees as --light-azimuth and
+    /// --light-elevation). Directional and unshadowed; light through thin
+    /// parts is the key's alone.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_rig_light, value_name = "I,AZ,EL")]
+    pub fill_light: Option<RigLightArg>,
+    /// The fill light's colour, linear R,G,B (default 1,1,1).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub fill_colour: Option<Color>,
+    /// A rim light: INTENSITY,AZIMUTH,ELEVATION, as --fill-light.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_rig_light, value_name = "I,AZ,EL")]
+    pub rim_light: Option<RigLightArg>,
+    /// The rim light's colour, linear R,G,B (default 1,1,1).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_color, value_name = "R,G,B")]
+    pub rim_colour: Option<Color>,
     /// Exposure multiplier before tonemapping (default 1).
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
@@ -215,6 +234,9 @@ impl ViewArgs {
         if let Some(v) = self.camera_pitch {
             crate::model::check_range("camera_pitch", v as f64, -89.0, 89.0, "°")?;
         }
+        let light_colour = checked_colour("light_colour", self.light_colour)?;
+        let fill = rig_light("fill", self.fill_light, self.fill_colour)?;
+        let rim = rig_light("rim", self.rim_light, self.rim_colour)?;
         Ok(OrbitView {
             camera_yaw_rad: self.camera_yaw.to_radians(),
             camera_pitch_rad: self
@@ -231,8 +253,74 @@ impl ViewArgs {
             light_intensity: self.light_intensity.unwrap_or(d.light_intensity),
             point_light_distance_m: self.point_light,
             exposure: self.exposure.unwrap_or(d.exposure),
+            light_colour,
+            fill,
+            rim,
         })
     }
+}
+
+/// `--fill-light`/`--rim-light`: intensity, azimuth and elevation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigLightArg(pub [f32; 3]);
+
+fn parse_rig_light(s: &str) -> Result<RigLightArg, String> {
+    let v = super::args::parse_list(s)?.0;
+    match v.as_slice() {
+        [i, az, el] => Ok(RigLightArg([*i as f32, *az as f32, *el as f32])),
+        _ => Err(format!(
+            "expected INTENSITY,AZIMUTH,ELEVATION (three numbers), got {} number(s) in `{s}`",
+            v.len()
+        )),
+    }
+}
+
+/// A light's colour from the command line, white when not given; each
+/// channel finite and 0–1e4 (the error names `field`).
+fn checked_colour(field: &str, c: Option<Color>) -> Result<[f32; 3]> {
+    let c = c.map_or([1.0; 3], |c| c.0);
+    for (channel, v) in ["r", "g", "b"].iter().zip(c) {
+        crate::model::check_range(&format!("{field}.{channel}"), v, 0.0, 1e4, "")?;
+    }
+    Ok(c.map(|v| v as f32))
+}
+
+/// The fill or rim light from `--<name>-light` and `--<name>-colour`
+/// (off when no light is given; a colour alone is refused, as it would
+/// light nothing).
+fn rig_light(
+    name: &str,
+    light: Option<RigLightArg>,
+    colour: Option<Color>,
+) -> Result<crate::settings::RigLight> {
+    let Some(RigLightArg([intensity, az, el])) = light else {
+        if colour.is_some() {
+            anyhow::bail!("--{name}-colour needs --{name}-light INTENSITY,AZIMUTH,ELEVATION");
+        }
+        return Ok(crate::settings::RigLight::default());
+    };
+    let check = crate::model::check_range;
+    check(
+        &format!("{name}_light intensity"),
+        intensity as f64,
+        0.0,
+        1e4,
+        "",
+    )?;
+    check(&format!("{name}_light azimuth"), az as f64, -1e4, 1e4, "°")?;
+    check(
+        &format!("{name}_light elevation"),
+        el as f64,
+        -90.0,
+        90.0,
+        "°",
+    )?;
+    Ok(crate::settings::RigLight {
+        azimuth_rad: az.to_radians(),
+        elevation_rad: el.to_radians(),
+        intensity,
+        colour: checked_colour(&format!("{name}_colour"), colour)?,
+    })
 }
 
 /// The look's rendering settings (`RenderingSpec`, a preset's `rendering`

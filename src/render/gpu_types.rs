@@ -74,6 +74,11 @@ gpu_struct! {
         pub light_direction: [f32; 4],
         /// rgb: irradiance at normal incidence.
         pub light_radiance: [f32; 4],
+        /// The fill and rim lights (`settings::RigLight`): xyz towards
+        /// each (unit, directional, unshadowed).
+        pub rig_direction: [[f32; 4]; 2],
+        /// rgb: each one's irradiance at normal incidence (0: off).
+        pub rig_radiance: [[f32; 4]; 2],
         /// rgb: the look's colour (total reflectance), linear.
         pub surface_albedo: [f32; 4],
         /// rgb: transmission tint.
@@ -146,7 +151,7 @@ gpu_struct! {
         pub pad1: f32,
     }
 }
-const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 17 * 16 + 8 * 16);
+const _: () = assert!(std::mem::size_of::<SceneUniforms>() == 3 * 64 + 21 * 16 + 8 * 16);
 
 gpu_struct! {
     /// Twin of `SssUniforms` in `shaders/sss_common.wgsl`: what every

@@ -2,7 +2,8 @@
 //! the mesh, seen by the camera or not: what the ground truth
 //! (`render::ground_truth`) integrates. A twin of `fs_main` in
 //! `shaders/scene.wgsl` for the SSS surface, line for line: the light
-//! (directional or point, `light_at`), its PCF shadow from the same shadow
+//! (directional or point, `light_at`) and the rig's unshadowed fill and
+//! rim, the key's PCF shadow from the same shadow
 //! map read back from the GPU (`shadow_factor`: 3×3 bilinear comparison
 //! taps, LessEqual, clamp to edge), the SH environment
 //! (`environment_irradiance`), the tangent-space normal map, the irradiance
@@ -214,6 +215,8 @@ impl<'a> SceneIrradiance<'a> {
             light_clip_from_world,
             light_direction,
             light_radiance,
+            rig_direction,
+            rig_radiance,
             surface_albedo,
             environment_sh,
             pre_scatter_exponent,
@@ -232,6 +235,9 @@ impl<'a> SceneIrradiance<'a> {
             m.map(f32::to_bits).hash(&mut h);
         }
         for v in [light_direction, light_radiance, surface_albedo] {
+            v.map(f32::to_bits).hash(&mut h);
+        }
+        for v in rig_direction.iter().chain(rig_radiance) {
             v.map(f32::to_bits).hash(&mut h);
         }
         for v in environment_sh {
@@ -411,7 +417,14 @@ impl SurfaceIrradiance for SceneIrradiance<'_> {
             } else {
                 0.0
             };
-            radiance * (nl * shadow) / pi + self.environment(n)
+            // The fill and rim: unshadowed N·L each (`shade`).
+            let rig: Vec3 = (0..2)
+                .map(|k| {
+                    let l = Self::v4(u.rig_direction[k]).truncate();
+                    Self::v4(u.rig_radiance[k]).truncate() * n.dot(l).max(0.0)
+                })
+                .sum();
+            (radiance * (nl * shadow) + rig) / pi + self.environment(n)
         };
         let pre = u.pre_scatter_exponent;
         if pre > 0.0 {

@@ -12,4 +12,4 @@ pub mod view;
 pub use preset::{is_preset_file, Preset, PresetError, PRESET_EXTENSION};
 pub use profile::ProfileSpec;
 pub use rendering::RenderingSpec;
-pub use view::OrbitView;
+pub use view::{OrbitView, RigLight};

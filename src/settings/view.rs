@@ -30,6 +30,55 @@ pub struct OrbitView {
     pub point_light_distance_m: Option<f32>,
     /// Multiplier before tonemapping.
     pub exposure: f32,
+    /// The key light's colour (linear RGB, multiplies its intensity;
+    /// white in a view saved before lights had colours).
+    pub light_colour: [f32; 3],
+    /// The fill and rim lights beside the key (off in a view saved before
+    /// there were any, and in every rig but the three-point one).
+    pub fill: RigLight,
+    pub rim: RigLight,
+}
+
+/// A light of the rig beside the key: directional and unshadowed (the one
+/// shadow map is the key's, as a studio's soft fill casts none worth
+/// seeing), lighting the surface and its highlights but not coming through
+/// thin parts (transmission is the key's). Each adds to the key's light
+/// (the renderer is linear in its lights:
+/// `tests/render_physics.rs::rig_lights_add_and_follow_lambert`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RigLight {
+    /// Direction towards the light, as the key's: azimuth about +y (0 =
+    /// +z) and elevation.
+    pub azimuth_rad: f32,
+    pub elevation_rad: f32,
+    /// Irradiance at normal incidence; 0 = off.
+    pub intensity: f32,
+    /// Linear RGB, multiplies the intensity.
+    pub colour: [f32; 3],
+}
+
+impl Default for RigLight {
+    fn default() -> Self {
+        Self {
+            azimuth_rad: 0.0,
+            elevation_rad: 0.0,
+            intensity: 0.0,
+            colour: [1.0; 3],
+        }
+    }
+}
+
+impl RigLight {
+    /// Unit direction towards the light (world, the orbit's axes).
+    pub fn direction(&self) -> [f32; 3] {
+        orbit(self.azimuth_rad, self.elevation_rad)
+    }
+
+    /// Irradiance at normal incidence per channel (intensity × colour).
+    pub fn radiance(&self) -> [f32; 3] {
+        self.colour.map(|c| c * self.intensity)
+    }
 }
 
 impl OrbitView {
@@ -143,6 +192,9 @@ impl Default for OrbitView {
             light_intensity: 3.2,
             point_light_distance_m: None,
             exposure: 1.0,
+            light_colour: [1.0; 3],
+            fill: RigLight::default(),
+            rim: RigLight::default(),
         }
     }
 }
@@ -187,6 +239,26 @@ mod light_tests {
             v.light_elevation_rad = std::f32::consts::FRAC_PI_2;
             assert!(close(v.light_in_view(), [0.0, 1.0, 0.0]), "{yaw}");
         }
+    }
+}
+
+#[cfg(test)]
+mod rig_tests {
+    use super::{OrbitView, RigLight};
+
+    /// A view saved before lights had colours (issue 52's rig) loads with
+    /// a white key and the fill and rim off: its look is unchanged.
+    #[test]
+    fn a_view_saved_before_the_rig_loads_with_it_off() {
+        let old = "(camera_yaw_rad: 0.5, light_intensity: 2.0, exposure: 1.5)";
+        let v: OrbitView = ron::from_str(old).unwrap();
+        assert_eq!(v.light_colour, [1.0; 3]);
+        assert_eq!(v.fill.intensity, 0.0);
+        assert_eq!(v.rim.intensity, 0.0);
+        assert_eq!((v.camera_yaw_rad, v.light_intensity), (0.5, 2.0));
+        // A fill saved with its intensity alone is white.
+        let f: RigLight = ron::from_str("(intensity: 0.7)").unwrap();
+        assert_eq!(f.radiance(), [0.7; 3]);
     }
 }
 

@@ -755,6 +755,43 @@ fn render_takes_every_field_of_the_look() {
     let (_, dull) = render(&["--method", "none", "--ior", "1.0"]);
     let (_, shiny) = render(&["--method", "none", "--ior", "1.8"]);
     assert!(dull < shiny, "IOR 1.0 sums {dull}, IOR 1.8 {shiny}");
+    // The rig's lights (issue 52): a fill adds light; a red key leaves the
+    // blue channel to the sky, so the blue in the frame falls.
+    let (_, key) = render(&["--method", "none"]);
+    let (_, filled) = render(&["--method", "none", "--fill-light", "2,-60,10"]);
+    assert!(filled > key, "a fill sums {filled}, the key alone {key}");
+    let blue = || {
+        let img = image::open(&png).unwrap().to_rgb8();
+        img.pixels().map(|p| p[2] as u64).sum::<u64>()
+    };
+    render(&["--method", "none"]);
+    let white_blue = blue();
+    render(&["--method", "none", "--light-colour", "1,0,0"]);
+    assert!(
+        blue() < white_blue,
+        "a red key: blue {} vs {white_blue}",
+        blue()
+    );
+    for (args, field) in [
+        (&["--fill-light", "1,0,95"][..], "fill_light elevation"),
+        (&["--rim-light", "-1,0,0"][..], "rim_light intensity"),
+        (&["--rim-light", "1,2"][..], "INTENSITY,AZIMUTH,ELEVATION"),
+        (
+            &["--fill-colour", "1,1,1"][..],
+            "--fill-colour needs --fill-light",
+        ),
+        (&["--light-colour", "-1,0,0"][..], "light_colour.r"),
+        (
+            &["--rim-light", "1,0,0", "--rim-colour", "0,nan,0"][..],
+            "rim_colour.g",
+        ),
+    ] {
+        let mut a = vec!["render", "--out", png.to_str().unwrap()];
+        a.extend_from_slice(args);
+        let (code, _, err) = run(&a);
+        assert_ne!(code, 0, "{args:?}");
+        assert!(err.contains(field), "{args:?}: {err}");
+    }
     for (flag, value, field) in [
         ("--ior", "3", "rendering.ior"),
         ("--lobe-mix", "1.5", "rendering.specular.lobe_mix"),

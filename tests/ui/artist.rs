@@ -156,7 +156,10 @@ fn scattering_distance(app: &EditorApp) -> [f64; 3] {
 
 /// The open colour picker's number field for `channel` ("R", "G", "B"):
 /// its value reads "R 0.911" (the panel's own fields read "R: 0.91058").
-fn picker_field<'h>(h: &'h Harness<'_, EditorApp>, channel: &str) -> egui_kittest::Node<'h> {
+pub(crate) fn picker_field<'h>(
+    h: &'h Harness<'_, EditorApp>,
+    channel: &str,
+) -> egui_kittest::Node<'h> {
     h.get_all_by_role(egui::accesskit::Role::SpinButton)
         .find(|n| {
             n.value()

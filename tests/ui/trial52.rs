@@ -1494,3 +1494,108 @@ fn an_import_asked_before_the_scan_is_in_takes_its_map_on_enter() {
         );
     }
 }
+
+/// The professional's list: a key + fill + rim rig, with each light's
+/// colour. Light & display's "three-point" puts in what its tooltip says:
+/// a warm key 45° to the right and 25° up, a cool fill a third as bright
+/// 60° to the left and 10° up, a white rim 150° from the camera and 30°
+/// up, no environment; the toolbar names it. Its rows then edit each light
+/// (the toolbar says "custom"): the fill's intensity and its azimuth from
+/// the camera typed, the rim's colour in the picker (linear numbers, as
+/// the look's colour fields), the key's colour. That the lights add up,
+/// each in its colour, is judged in tests/render_physics.rs
+/// (`rig_lights_add_and_follow_lambert`).
+#[test]
+fn a_key_fill_and_rim_rig_with_each_lights_colour() {
+    use scatterlab::app::state::EnvironmentChoice;
+    let mut h = harness(false);
+    h.step();
+    menu_item(&mut h, "View", "Light & display…");
+    h.run_steps(2);
+    h.get_by_label("three-point").click_accesskit();
+    h.run_steps(2);
+    let o = h.state().ui_state.view.orbit;
+    let yaw = o.camera_yaw_rad;
+    let from_camera = |az: f32| ((az - yaw).to_degrees() + 540.0).rem_euclid(360.0) - 180.0;
+    for (az, want) in [
+        (o.light_azimuth_rad, 45.0),
+        (o.fill.azimuth_rad, -60.0),
+        (o.rim.azimuth_rad, -150.0),
+    ] {
+        assert!(
+            (from_camera(az) - want).abs() < 1e-3,
+            "{} vs {want}",
+            from_camera(az)
+        );
+    }
+    for (el, want) in [
+        (o.light_elevation_rad, 25.0f32),
+        (o.fill.elevation_rad, 10.0),
+        (o.rim.elevation_rad, 30.0),
+    ] {
+        assert!((el.to_degrees() - want).abs() < 1e-3);
+    }
+    let key = scatterlab::settings::OrbitView::default().light_intensity;
+    assert_eq!((o.light_intensity, o.rim.intensity), (key, key));
+    assert!((o.fill.intensity - key / 3.0).abs() < 1e-6);
+    let [r, g, b] = o.light_colour;
+    assert!(r > g && g > b, "a warm key: {:?}", o.light_colour);
+    let [r, g, b] = o.fill.colour;
+    assert!(b > g && g > r, "a cool fill: {:?}", o.fill.colour);
+    assert_eq!(o.rim.colour, [1.0; 3]);
+    assert_eq!(
+        h.state().ui_state.view.environment,
+        EnvironmentChoice::Black
+    );
+    assert!(h.query_by_label("Light: three-point").is_some());
+
+    let spin = |h: &Harness<'_, EditorApp>, prefix: &str| -> f64 {
+        h.get_all_by_role(egui::accesskit::Role::SpinButton)
+            .filter(|n| n.value().is_some_and(|v| v.starts_with(prefix)))
+            .count() as f64
+    };
+    assert_eq!(spin(&h, "fill "), 1.0);
+    assert_eq!(spin(&h, "rim "), 1.0);
+    h.get_all_by_role(egui::accesskit::Role::SpinButton)
+        .find(|n| n.value().is_some_and(|v| v.starts_with("fill ")))
+        .unwrap()
+        .set_value_accesskit(1.5);
+    h.run_steps(2);
+    assert_eq!(h.state().ui_state.view.orbit.fill.intensity, 1.5);
+    assert!(h.query_by_label("Light: custom").is_some());
+    // The fill's azimuth (the first of the two rows' azimuths), from the
+    // camera: −90° puts it on the camera's left.
+    h.get_all_by_role(egui::accesskit::Role::SpinButton)
+        .find(|n| n.value().is_some_and(|v| v.starts_with("azimuth ")))
+        .unwrap()
+        .set_value_accesskit(-90.0);
+    h.run_steps(2);
+    let o = h.state().ui_state.view.orbit;
+    assert!((from_camera(o.fill.azimuth_rad) + 90.0).abs() < 1e-3);
+    let mut left = o;
+    left.light_azimuth_rad = o.fill.azimuth_rad;
+    left.light_elevation_rad = 0.0;
+    assert!(
+        left.light_in_view()[0] < -0.99,
+        "{:?}",
+        left.light_in_view()
+    );
+    // The rim's colour in the picker: blue typed 0.25, red and green kept.
+    h.get_by_label("rim light colour").click_accesskit();
+    h.run_steps(2);
+    super::artist::picker_field(&h, "B").set_value_accesskit(0.25);
+    h.run_steps(2);
+    let c = h.state().ui_state.view.orbit.rim.colour;
+    assert!(
+        (c[2] - 0.25).abs() < 1e-3 && c[0] == 1.0 && c[1] == 1.0,
+        "{c:?}"
+    );
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    h.get_by_label("key light colour").click_accesskit();
+    h.run_steps(2);
+    super::artist::picker_field(&h, "G").set_value_accesskit(0.5);
+    h.run_steps(2);
+    let c = h.state().ui_state.view.orbit.light_colour;
+    assert!((c[1] - 0.5).abs() < 1e-3, "{c:?}");
+}

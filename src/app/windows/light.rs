@@ -78,19 +78,25 @@ fn rigs_ui(ui: &mut egui::Ui, v: &state::ViewState, actions: &mut Vec<Action>) {
     .on_hover_text("Lighting set-ups that show scattering, each one click: the key light's direction is relative to the camera. Right-drag the view or drag the light gizmo (bottom right) to move the light.");
 }
 
-/// The key light's intensity, the exposure, the camera's focal length and
-/// the display transform.
+/// The key, fill and rim lights, the exposure, the camera's focal length
+/// and the display transform.
 fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
     egui::Grid::new("light_display").num_columns(2).show(ui, |ui| {
         ui.label("Key light");
-        ui.add(
-            egui::DragValue::new(&mut v.orbit.light_intensity)
-                .range(0.0..=50.0)
-                .speed(0.05)
-                .prefix("intensity "),
-        )
-        .on_hover_text("Irradiance of the key light (linear).");
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut v.orbit.light_intensity)
+                    .range(0.0..=50.0)
+                    .speed(0.05)
+                    .prefix("intensity "),
+            )
+            .on_hover_text("Irradiance of the key light at normal incidence (linear). It casts the shadow and comes through thin parts; right-drag the view or drag the light gizmo to move it.");
+            light_colour_ui(ui, "key light", &mut v.orbit.light_colour);
+        });
         ui.end_row();
+        let yaw = v.orbit.camera_yaw_rad;
+        rig_light_ui(ui, "Fill light", &mut v.orbit.fill, yaw);
+        rig_light_ui(ui, "Rim light", &mut v.orbit.rim, yaw);
         ui.label("Exposure");
         // In stops (EV): the multiplier is 2^EV.
         let mut ev = v.orbit.exposure.max(1e-4).log2();
@@ -154,6 +160,70 @@ fn key_light_ui(ui: &mut egui::Ui, v: &mut state::ViewState) {
     });
 }
 
+/// A light's colour: the swatch that opens the picker (linear RGB, 0–1),
+/// named for AccessKit as "<name> colour".
+fn light_colour_ui(ui: &mut egui::Ui, name: &str, colour: &mut [f32; 3]) {
+    let mut rgb = colour.map(f64::from);
+    if crate::app::colour_ui::colour_picker_ui(ui, name, &mut rgb, &(0.0..=1.0)) {
+        *colour = rgb.map(|c| c as f32);
+    }
+}
+
+/// A fill or rim light's row: intensity (0 = off), colour and direction
+/// from the camera, as the rigs give it (the azimuth is kept in world
+/// terms, so the light stays put while the camera orbits).
+fn rig_light_ui(ui: &mut egui::Ui, label: &str, l: &mut crate::settings::RigLight, yaw: f32) {
+    ui.label(label);
+    let name = label.to_lowercase();
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut l.intensity)
+                .range(0.0..=50.0)
+                .speed(0.05)
+                .max_decimals(3)
+                .prefix(format!("{} ", name.trim_end_matches(" light"))),
+        )
+        .on_hover_text(format!("Intensity: irradiance of the {name} at normal incidence (linear); 0 turns it off. It casts no shadow and does not come through thin parts (the key's shadow map and transmission are the key's alone); it adds to the key's light."));
+        light_colour_ui(ui, &name, &mut l.colour);
+        ui.add_enabled_ui(l.intensity > 0.0, |ui| {
+            let turn = std::f32::consts::TAU;
+            let mut az = ((l.azimuth_rad - yaw + std::f32::consts::PI).rem_euclid(turn)
+                - std::f32::consts::PI)
+                .to_degrees();
+            if ui
+                .add(
+                    egui::DragValue::new(&mut az)
+                        .range(-180.0..=180.0)
+                        .speed(0.5)
+                        .max_decimals(1)
+                        .prefix("azimuth ")
+                        .suffix("°"),
+                )
+                .on_hover_text(format!("Where the {name} comes from, seen from the camera: 0° beside the camera, +90° from the right, −90° from the left, ±180° from behind the head."))
+                .changed()
+            {
+                l.azimuth_rad = yaw + az.to_radians();
+            }
+            let mut el = l.elevation_rad.to_degrees();
+            if ui
+                .add(
+                    egui::DragValue::new(&mut el)
+                        .range(-90.0..=90.0)
+                        .speed(0.5)
+                        .max_decimals(1)
+                        .prefix("elevation ")
+                        .suffix("°"),
+                )
+                .on_hover_text(format!("How high the {name} is: 0° level with the head's centre, 90° straight above."))
+                .changed()
+            {
+                l.elevation_rad = el.to_radians();
+            }
+        });
+    });
+    ui.end_row();
+}
+
 /// What lights the head besides the key light, and the HDR map's
 /// background, turn and blur.
 fn environment_ui(
@@ -168,7 +238,7 @@ fn environment_ui(
         ui.selectable_value(&mut v.environment, EnvironmentChoice::Studio, "studio sky")
             .on_hover_text("The procedural studio sky.");
         ui.selectable_value(&mut v.environment, EnvironmentChoice::Black, "black")
-            .on_hover_text("No environment light: the key light alone.");
+            .on_hover_text("No environment light: the rig's lights alone.");
         if v.environment_map_sh.is_some() {
             let name = view
                 .environment_file

@@ -164,7 +164,10 @@ fn render(
         req.want_radiance = false;
         req.view.orbit.camera_yaw_rad += turn;
         if settings.light_follows {
-            req.view.orbit.light_azimuth_rad += turn;
+            let o = &mut req.view.orbit;
+            o.light_azimuth_rad += turn;
+            o.fill.azimuth_rad += turn;
+            o.rim.azimuth_rad += turn;
         }
         let image = viewport
             .render_converged(req, &|| cancel.load(Ordering::Relaxed))
@@ -309,7 +312,7 @@ fn settings_ui(ui: &mut egui::Ui, s: &mut TurntableSettings) {
             .on_hover_text("How long the GIF takes for one turn.");
             ui.end_row();
         });
-    ui.checkbox(&mut s.light_follows, "Key light turns with the camera")
+    ui.checkbox(&mut s.light_follows, "Lights turn with the camera")
         .on_hover_text("On: the head spins under a fixed studio light. Off: the camera walks round a head lit from one side. An HDR environment never turns.");
     ui.checkbox(&mut s.apng, "Also an animated PNG")
         .on_hover_text("<name>.png beside the GIF: an APNG in full colour (the GIF has 256 colours a frame). Browsers, Discord and most viewers play it; others show its first frame.");
