@@ -494,7 +494,9 @@ fn the_display_transform_is_chosen_with_a_pointer() {
 /// The HDR map's turn, typed in with the keyboard after a pointer click
 /// (View → Light & display, a shipped map chosen there, the turn field
 /// clicked, 45 typed, Enter): the field shows 45° and the render thread
-/// is asked for a new frame.
+/// is asked for a new frame. In the same window, the focal length typed,
+/// the three-point rig clicked, the fill's intensity typed and the rim's
+/// colour picker opened (issue 52).
 #[test]
 fn the_hdr_maps_turn_is_typed_into_with_a_pointer_and_keys() {
     let _one = one_at_a_time();
@@ -543,6 +545,35 @@ fn the_hdr_maps_turn_is_typed_into_with_a_pointer_and_keys() {
         s.type_into_focused("85");
         s.find("the focal length field showing 85 mm", |c| {
             c.role == "SpinButton" && c.value == "focal length 85.0 mm"
+        });
+        // Issue 52: the key + fill + rim rig, one click, then the fill's
+        // intensity typed and the rim's colour picker opened.
+        let rig = s.find("the three-point rig", |c| {
+            c.role == "Button" && c.label == "three-point"
+        });
+        s.click(&rig);
+        s.find("the toolbar naming the three-point rig", |c| {
+            c.role == "Button" && c.label == "Light: three-point"
+        });
+        let fill = |c: &Widget| c.role == "SpinButton" && c.label == "fill";
+        let field = s.find("the fill light's intensity", fill);
+        s.click(&field);
+        s.find("the fill's field as a text edit", |c| {
+            fill(c) && !c.value.starts_with("fill")
+        });
+        s.type_into_focused("2");
+        s.find("the fill's field showing 2", |c| {
+            fill(c) && c.value.starts_with("fill 2.0")
+        });
+        s.wait_log("a request with the fill at 2", 30, |l| {
+            l.contains(" request ") && l.contains(" fill=2 ")
+        });
+        let well = s.find("the rim light's colour", |c| {
+            c.role == "ColorWell" && c.label == "rim light colour"
+        });
+        s.click(&well);
+        s.find("the rim colour's picker (its blue field)", |c| {
+            c.role == "SpinButton" && c.value.starts_with("B ")
         });
     }
 }

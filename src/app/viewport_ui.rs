@@ -83,6 +83,7 @@ impl ViewportPanel<'_> {
         let interactive = req.interactive;
         let display = req.view.tone_map.label();
         let turn = req.view.background.turn_deg;
+        let fill = req.view.orbit.fill.intensity;
         let valid = self.valid;
         let (replies, sent) = match self.view.viewport.as_mut() {
             Some(vp) => {
@@ -98,7 +99,7 @@ impl ViewportPanel<'_> {
         // asked for, and when (tools/measure_live.sh's profile).
         if let Some(seq) = sent {
             self.actions.push(Action::Log(format!(
-                "request seq={seq} interactive={} turn={turn} display={display}",
+                "request seq={seq} interactive={} turn={turn} fill={fill} display={display}",
                 u8::from(interactive)
             )));
         }
