@@ -616,10 +616,11 @@ fn the_view_and_help_menus_open_their_windows_with_a_pointer() {
 
 /// The File menu's windows used with a pointer, each kind of control in
 /// them: Save image at size (a preset button, the width typed into its
-/// drag value, a supersampling radio button), Save turntable (a checkbox,
-/// the frame count typed) and Browse presets (a folder typed into its text
-/// field and refused by name, then a preset's button, which opens it: the
-/// window's title names it).
+/// drag value, a supersampling radio button, the subsurface layer's
+/// checkbox), Save turntable (a checkbox, the frame count typed) and
+/// Browse presets (a folder typed into its text field and refused by name,
+/// the folder dialog opened and cancelled, then a preset's button, which
+/// opens it: the window's title names it).
 #[test]
 fn the_file_menus_windows_are_used_with_a_pointer() {
     let _one = one_at_a_time();
@@ -654,6 +655,15 @@ fn the_file_menus_windows_are_used_with_a_pointer() {
         });
         s.find_in(still, "the size rendered at 640×2160, 3×", |c| {
             c.role == "Label" && c.value.starts_with("Renders 1920×6480 ")
+        });
+        // Issue 52: the subsurface layer as its own file.
+        let layer = "Subsurface layer as its own file";
+        let sss = s.find_in(still, "the subsurface layer's checkbox", |c| {
+            c.role == "CheckBox" && c.label == layer && c.value == "unchecked"
+        });
+        s.click(&sss);
+        s.find_in(still, "the subsurface layer's checkbox checked", |c| {
+            c.role == "CheckBox" && c.label == layer && c.value == "checked"
         });
         s.escape();
         s.gone("Save image at size after Escape", |c| {
@@ -690,6 +700,23 @@ fn the_file_menus_windows_are_used_with_a_pointer() {
         s.type_into_focused("/no/such/folder");
         s.find_in(presets, "the typed folder refused by name", |c| {
             c.role == "Label" && c.value == "Not listed: /no/such/folder: not a folder"
+        });
+        // Issue 52: a folder chosen in a folder dialog, not typed.
+        let choose = s.find_in(presets, "the choose-folder button", |c| {
+            c.role == "Button" && c.label == "+ choose folder…"
+        });
+        s.click(&choose);
+        let dialog = "Add a folder of your presets (.ron)";
+        // egui_file puts a folder glyph before the title.
+        s.find("the folder dialog's title", |c| {
+            c.role == "Window" && c.label.ends_with(dialog)
+        });
+        let cancel = s.find("the folder dialog's Cancel", |c| {
+            c.role == "Button" && c.label == "Cancel"
+        });
+        s.click(&cancel);
+        s.gone("the folder dialog after Cancel", |c| {
+            c.role == "Window" && c.label.ends_with(dialog)
         });
         // The grid settles once every thumbnail is in (an image button is
         // taller than the spinner it replaces, and the rows below it move):
