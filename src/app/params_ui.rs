@@ -311,7 +311,7 @@ fn burley_ui(ui: &mut Ui, b: &mut BurleySpec) {
     let BurleySpec { albedo, shape } = b;
     rgb_ui(ui, "Albedo", "", "Total diffuse reflectance A per channel (Burley's volume albedo): how much light comes back out; it also sets the profile's shape through s(A).", albedo, span(burley::ALBEDO_RANGE), 0.003, true);
     let mut is_sd = matches!(shape, BurleyShape::ScatteringDistance { .. });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label("Shape from");
         let sd = ui
             .radio_value(&mut is_sd, true, "scattering distance")
@@ -687,7 +687,7 @@ fn transmission_ui(
         })
         .response
         .on_hover_text("Light passing through thin parts from behind.");
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let tip = "Thickness that black and white texels of a thickness map stand for (mm).";
         ui.label("Thickness remap").on_hover_text(tip);
         let range = span(limits::THICKNESS_REMAP_MM);

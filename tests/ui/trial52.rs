@@ -1599,3 +1599,45 @@ fn a_key_fill_and_rim_rig_with_each_lights_colour() {
     let c = h.state().ui_state.view.orbit.light_colour;
     assert!((c[1] - 0.5).abs() < 1e-3, "{c:?}");
 }
+
+/// Item 5, what was left: at 130 % on 1280×720 the Look panel's widest
+/// rows ran past its edge and were cut ("mean fre…", the scattering
+/// distance's swatch, the thickness range's "5.00 mm", the tint's green).
+/// Every control of the panel now lies within it: rows wrap instead.
+#[test]
+fn the_look_panels_rows_fit_it_at_130_percent() {
+    use egui::accesskit::Role;
+    use egui_kittest::kittest::NodeT;
+    let state = UiState {
+        ui_scale: 1.3,
+        ..Default::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, false), [1280.0, 720.0]);
+    h.run_steps(6);
+    let look = h.state().viewport_layout().params.unwrap();
+    let mut seen = 0;
+    for role in [
+        Role::SpinButton,
+        Role::RadioButton,
+        Role::Button,
+        Role::CheckBox,
+        Role::ComboBox,
+        Role::ColorWell,
+        Role::Label,
+    ] {
+        for n in h.get_all_by_role(role) {
+            let r = n.rect();
+            if !look.contains(r.left_top()) {
+                continue;
+            }
+            seen += 1;
+            assert!(
+                r.right() <= look.right() + 1.0,
+                "{role:?} '{}' '{}' at {r:?} runs past the Look panel {look:?}",
+                n.accesskit_node().label().unwrap_or_default(),
+                n.value().unwrap_or_default()
+            );
+        }
+    }
+    assert!(seen > 30, "{seen} controls in the Look panel");
+}
