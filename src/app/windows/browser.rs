@@ -89,16 +89,36 @@ pub struct ThumbnailHead {
 }
 
 /// The cache file of `preset`'s thumbnail: its look, the head it is drawn
-/// on (none: the procedural head, as before there was a choice), the
-/// thumbnail size and [`THUMBNAIL_VERSION`] name it.
+/// on (none: the procedural head, as before there was a choice) with the
+/// size and modification time of its file and its maps' files (a mesh
+/// saved again under the same name is drawn again), the thumbnail size and
+/// [`THUMBNAIL_VERSION`] name it.
 fn cache_path(dir: &Path, preset: &Preset, head: Option<&ThumbnailHead>) -> PathBuf {
     let look = ron::to_string(&(&preset.profile, &preset.rendering)).unwrap_or_default();
     let mut key = format!("{THUMBNAIL_VERSION} {}x{} {look}", THUMB.0, THUMB.1);
     if let Some(h) = head {
         let settings = ron::to_string(&h.settings).unwrap_or_default();
         key += &format!(" on {} {settings}", h.mesh.display());
+        let maps = h.settings.maps.iter().filter_map(|m| m.path.as_deref());
+        for file in std::iter::once(h.mesh.as_path()).chain(maps) {
+            key += &file_stamp(file);
+        }
     }
     dir.join(format!("{:016x}.png", fnv1a(key.as_bytes())))
+}
+
+/// A file's size and modification time (ns since the epoch), or nothing
+/// where they cannot be read.
+fn file_stamp(path: &Path) -> String {
+    let Ok(m) = std::fs::metadata(path) else {
+        return String::new();
+    };
+    let modified = m
+        .modified()
+        .ok()
+        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+        .map_or(0, |d| d.as_nanos());
+    format!(" {} bytes at {modified}", m.len())
 }
 
 /// The request for a preset's thumbnail: the head on screen (`head`, else
@@ -626,5 +646,39 @@ impl Window for BrowserWindow {
             self.browser = None;
         }
         actions
+    }
+}
+
+#[cfg(test)]
+mod cache_tests {
+    use super::{cache_path, ThumbnailHead};
+    use crate::settings::Preset;
+
+    /// A mesh saved again under the same name (another modification time)
+    /// gets another cache file: its thumbnails are drawn again, not read
+    /// from the cache of the old mesh. The same file untouched keeps its.
+    #[test]
+    fn a_mesh_saved_again_is_drawn_again() {
+        let dir = std::env::temp_dir().join(format!("scatterlab-thumbkey-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mesh = dir.join("head.obj");
+        std::fs::write(&mesh, "v 0 0 0\n").unwrap();
+        let set = |secs: u64| {
+            let f = std::fs::File::options().write(true).open(&mesh).unwrap();
+            f.set_modified(std::time::UNIX_EPOCH + std::time::Duration::from_secs(secs))
+                .unwrap();
+        };
+        set(1_700_000_000);
+        let head = ThumbnailHead {
+            mesh: mesh.clone(),
+            settings: Default::default(),
+            framing_m: 0.5,
+        };
+        let preset = Preset::default_skin();
+        let first = cache_path(&dir, &preset, Some(&head));
+        assert_eq!(first, cache_path(&dir, &preset, Some(&head)));
+        set(1_700_000_100);
+        assert_ne!(first, cache_path(&dir, &preset, Some(&head)));
+        std::fs::remove_dir_all(&dir).ok();
     }
 }
