@@ -579,13 +579,29 @@ impl EditorApp {
 
     /// F: the whole mesh in view from where the camera is, whatever its
     /// shape ([`crate::settings::OrbitView::framing_whole`]: the sphere
-    /// that holds it fits the viewport's narrower side).
+    /// that holds it fits the viewport's narrower side). Side by side, it
+    /// fits a half: the render thread steps each half's camera back by
+    /// [`super::viewport::side_by_side_zoom_out`], so the distance is
+    /// taken back by as much here.
     fn frame_mesh(&mut self) {
+        let side_by_side = self
+            .view
+            .viewport
+            .as_ref()
+            .and_then(|vp| vp.last_request())
+            .is_some_and(|r| {
+                !r.show_b && matches!(r.b, Some((_, state::CompareMode::SideBySide, _)))
+            });
         let o = &mut self.ui_state.view.orbit;
         match (self.meshes.mesh_info, self.layout.viewport_rect) {
             (Some(info), Some(rect)) => {
-                let aspect = rect.width() / rect.height().max(1.0);
-                *o = o.framing_whole(info.bounds_centre_m, info.bounds_radius_m, aspect);
+                let w = if side_by_side { 0.5 } else { 1.0 } * rect.width();
+                let h = rect.height().max(1.0);
+                *o = o.framing_whole(info.bounds_centre_m, info.bounds_radius_m, w / h);
+                if side_by_side {
+                    o.camera_distance_m /=
+                        super::viewport::side_by_side_zoom_out((w as u32, h as u32));
+                }
             }
             _ => {
                 o.camera_distance_m = self.meshes.framing_distance_m();

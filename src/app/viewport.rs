@@ -31,7 +31,7 @@ use std::time::Instant;
 mod framing;
 mod thread;
 mod worker;
-use framing::*;
+pub use framing::side_by_side_zoom_out;
 pub use thread::Fault;
 use thread::*;
 pub use worker::load_mesh;

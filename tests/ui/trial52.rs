@@ -1641,3 +1641,65 @@ fn the_look_panels_rows_fit_it_at_130_percent() {
     }
     assert!(seen > 30, "{seen} controls in the Look panel");
 }
+
+/// Noted in the trial: F side by side framed the whole viewport, not a
+/// half. In a landscape viewport whose halves are narrower than tall, F
+/// fitted an 18 cm sphere to the viewport's height and each half (stepped
+/// back only by 0.85 / its aspect) cut the sphere at its sides. F now
+/// fits a half: in the frame rendered after F, the sphere touches neither
+/// half's left or right edge and spans most of each half's width; judged
+/// on the frame's pixels against the background at its corner.
+#[test]
+fn f_side_by_side_frames_the_mesh_in_each_half() {
+    use scatterlab::app::state::CompareMode;
+    let dir = std::env::temp_dir().join(format!("scatterlab-ui-sbs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("sphere.obj");
+    sphere_obj(&obj, 0.18, false);
+    let state = UiState {
+        compare: CompareMode::SideBySide,
+        ..UiState::default()
+    };
+    let mut h = harness_of(EditorApp::new(None, state, None, true), [1612.0, 650.0]);
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: obj.clone(),
+        metres_per_unit: Some(1.0),
+    });
+    step_until(&mut h, "the sphere", |a| {
+        a.mesh_path() == Some(obj.as_path()) && a.viewport().idle()
+    });
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
+    h.key_press(Key::F);
+    step_until(&mut h, "the framed sphere", |a| {
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
+    });
+    let (frame, _) = h.state().viewport().frame().unwrap();
+    let (w, fh) = frame.dimensions();
+    let half = w / 2;
+    assert!(
+        w > fh && half < fh,
+        "{w}×{fh}: the viewport wider than tall, each half narrower"
+    );
+    let bg = *frame.get_pixel(0, 0);
+    let on = |x: u32, y: u32| {
+        let p = frame.get_pixel(x, y);
+        (0..3).any(|c| (p[c] as i32 - bg[c] as i32).abs() > 24)
+    };
+    for (side, x0) in [("A", 0), ("B", half)] {
+        for x in [x0, x0 + half - 1] {
+            let touching = (0..fh).filter(|&y| on(x, y)).count();
+            assert!(
+                touching == 0,
+                "{side}: the sphere on column {x} in {touching} rows"
+            );
+        }
+        let columns = (x0..x0 + half)
+            .filter(|&x| (0..fh).any(|y| on(x, y)))
+            .count();
+        assert!(
+            columns as f32 > 0.8 * half as f32,
+            "{side}: the sphere spans {columns} of {half} columns: framed too far"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

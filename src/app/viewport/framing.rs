@@ -7,7 +7,7 @@
 /// framing distance frames the head by height, and a half 242 px wide at
 /// 1280×720 cut off an eye and the ears. Tested by
 /// `side_by_side_halves_zoom_out_to_keep_the_head_whole`.
-pub(super) fn side_by_side_zoom_out((w, h): (u32, u32)) -> f32 {
+pub fn side_by_side_zoom_out((w, h): (u32, u32)) -> f32 {
     if w == 0 || h == 0 {
         return 1.0;
     }
