@@ -431,7 +431,9 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     // The fill and rim (directional, unshadowed): N·L each.
     var rig = vec3<f32>(0.0);
     for (var k = 0u; k < 2u; k = k + 1u) {
-        rig = rig + u.rig_radiance[k].rgb * max(dot(n, u.rig_direction[k].xyz), 0.0);
+        if (any(u.rig_radiance[k].rgb > vec3<f32>(0.0))) {
+            rig = rig + u.rig_radiance[k].rgb * max(dot(n, u.rig_direction[k].xyz), 0.0);
+        }
     }
     var irradiance = (light_radiance * nl + rig) / PI + hemi;
     if (u.preintegrated == 1u && mask > 1.0 / 255.0) {
@@ -453,8 +455,10 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
         // The fill and rim through the same table, unshadowed.
         var rig_d = vec3<f32>(0.0);
         for (var k = 0u; k < 2u; k = k + 1u) {
-            let lk = u.rig_direction[k].xyz;
-            rig_d = rig_d + u.rig_radiance[k].rgb * preintegrated_d(dot(nr, lk), dot(ngr, lk), dot(nb, lk), curv);
+            if (any(u.rig_radiance[k].rgb > vec3<f32>(0.0))) {
+                let lk = u.rig_direction[k].xyz;
+                rig_d = rig_d + u.rig_radiance[k].rgb * preintegrated_d(dot(nr, lk), dot(ngr, lk), dot(nb, lk), curv);
+            }
         }
         irradiance = (light_radiance * lut_at * s3 + rig_d) / PI + hemi;
     }
@@ -520,7 +524,9 @@ fn shade(i: VertexOut, maps: Maps, transmission: bool) -> TargetsOut {
     // or the Kelemen/Szirmay-Kalos lobe d'Eon 2007 uses for skin.
     var specular = light_radiance * specular_lobes(n, v, l, r0, r1, f0) * shadow;
     for (var k = 0u; k < 2u; k = k + 1u) {
-        specular = specular + u.rig_radiance[k].rgb * specular_lobes(n, v, u.rig_direction[k].xyz, r0, r1, f0);
+        if (any(u.rig_radiance[k].rgb > vec3<f32>(0.0))) {
+            specular = specular + u.rig_radiance[k].rgb * specular_lobes(n, v, u.rig_direction[k].xyz, r0, r1, f0);
+        }
     }
     o.specular = vec4<f32>(specular, 1.0);
     o.albedo = vec4<f32>(pow(albedo, vec3<f32>(1.0 - pre)), 1.0);

@@ -701,23 +701,6 @@ fn the_file_menus_windows_are_used_with_a_pointer() {
         s.find_in(presets, "the typed folder refused by name", |c| {
             c.role == "Label" && c.value == "Not listed: /no/such/folder: not a folder"
         });
-        // Issue 52: a folder chosen in a folder dialog, not typed.
-        let choose = s.find_in(presets, "the choose-folder button", |c| {
-            c.role == "Button" && c.label == "+ choose folder…"
-        });
-        s.click(&choose);
-        let dialog = "Add a folder of your presets (.ron)";
-        // egui_file puts a folder glyph before the title.
-        s.find("the folder dialog's title", |c| {
-            c.role == "Window" && c.label.ends_with(dialog)
-        });
-        let cancel = s.find("the folder dialog's Cancel", |c| {
-            c.role == "Button" && c.label == "Cancel"
-        });
-        s.click(&cancel);
-        s.gone("the folder dialog after Cancel", |c| {
-            c.role == "Window" && c.label.ends_with(dialog)
-        });
         // The grid settles once every thumbnail is in (an image button is
         // taller than the spinner it replaces, and the rows below it move):
         // a click before that once landed on the thumbnail under the name.
@@ -740,6 +723,25 @@ fn the_file_menus_windows_are_used_with_a_pointer() {
             s.xdotool(&["mousemove", "--window", &wid, "2", "2"]);
             std::thread::sleep(Duration::from_millis(500));
         }
+        // Issue 52: a folder chosen in a folder dialog, not typed (once
+        // the thumbnails are in: the window widens as they come, and its
+        // text above the button rewraps).
+        let choose = s.find_in(presets, "the choose-folder button", |c| {
+            c.role == "Button" && c.label == "+ choose folder…"
+        });
+        s.click(&choose);
+        let dialog = "Add a folder of your presets (.ron)";
+        // egui_file puts a folder glyph before the title.
+        s.find("the folder dialog's title", |c| {
+            c.role == "Window" && c.label.ends_with(dialog)
+        });
+        let cancel = s.find("the folder dialog's Cancel", |c| {
+            c.role == "Button" && c.label == "Cancel"
+        });
+        s.click(&cancel);
+        s.gone("the folder dialog after Cancel", |c| {
+            c.role == "Window" && c.label.ends_with(dialog)
+        });
         let jade = s.find_in(presets, "Jade's button", |c| {
             c.role == "Button" && c.label == "Jade"
         });

@@ -163,17 +163,21 @@ impl LightRig {
             let d = (rad - o.camera_yaw_rad - deg.to_radians()).rem_euclid(turn);
             d < 1e-3 || turn - d < 1e-3
         };
+        // Within what the fields show (the fill's third of the key is
+        // 1.067 once its field has been clicked into and left: egui writes
+        // the text it shows back).
+        let near = |a: f32, b: f32| (a - b).abs() <= 1e-3 * b.abs().max(1.0);
         let same = |az_rad: f32,
                     el_rad: f32,
                     i: f32,
                     c: [f32; 3],
                     (az, el, intensity, colour): (f32, f32, f32, [f32; 3])| {
             // An unlit light's direction does not matter.
-            i == intensity
+            near(i, intensity)
                 && (i == 0.0
                     || (same_azimuth(az_rad, az)
                         && (el_rad - f32::to_radians(el)).abs() < 1e-3
-                        && c == colour))
+                        && (0..3).all(|k| near(c[k], colour[k]))))
         };
         LightRig::ALL.into_iter().find(|r| {
             let r = r.set_up();
@@ -229,8 +233,8 @@ impl Default for CompareB {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(from = "StoredViewState")]
 pub struct ViewState {
-    /// Camera, key light and exposure (radians and metres), as the
-    /// renderer and the command line take them.
+    /// Camera, the lights (key, fill, rim) and exposure (radians and
+    /// metres), as the renderer and the command line take them.
     pub orbit: crate::settings::OrbitView,
     pub environment: EnvironmentChoice,
     /// The loaded HDR map's irradiance as order-2 SH (kept, so a restart
@@ -435,7 +439,8 @@ pub struct TurntableSettings {
     pub frames: u32,
     /// One turn's length in the GIF (s).
     pub seconds: f32,
-    /// The key light turns with the camera (the head spins under it).
+    /// The lights (key, fill, rim) turn with the camera (the head spins
+    /// under them).
     pub light_follows: bool,
     /// Also write each frame as a PNG, in `<name>_frames/`.
     pub png_sequence: bool,

@@ -325,7 +325,9 @@ impl ViewBar<'_> {
             info.current_text_value = Some(current.clone());
             info
         });
-        env.on_hover_text("Environment: what lights the head besides the key light.");
+        env.on_hover_text(
+            "Environment: what lights the head besides the key, fill and rim lights.",
+        );
         actions
     }
 
@@ -334,7 +336,7 @@ impl ViewBar<'_> {
         if ui
             .button("Reset view")
             .on_hover_text(
-                "Camera, key light and exposure back to their defaults; the environment stays.",
+                "Camera, lights and exposure back to their defaults (a white key light, the fill and rim off); the environment stays.",
             )
             .clicked()
         {
@@ -391,8 +393,8 @@ fn maps_ui(ui: &mut egui::Ui) -> Vec<Action> {
     actions
 }
 
-/// The light rigs, one click each, and the Light & display window (the
-/// key light's intensity, the exposure, the display transform: fields and
+/// The light rigs, one click each, and the Light & display window (each
+/// light's intensity and colour, the exposure, the display transform: fields and
 /// a combo box that a menu cannot hold, tests/pointer.rs).
 fn light_menu_ui(ui: &mut egui::Ui, v: &ViewState) -> Vec<Action> {
     let title = super::windows::light::TITLE;
@@ -415,7 +417,7 @@ fn light_menu_ui(ui: &mut egui::Ui, v: &ViewState) -> Vec<Action> {
         ui.separator();
         if ui
             .button(format!("{title}…"))
-            .on_hover_text("The key light's intensity, the exposure, the display transform (ACES, AgX, PBR Neutral) and the environment, in a window that stays open.")
+            .on_hover_text("The key, fill and rim lights' intensity, colour and direction, the exposure, the camera's focal length, the display transform (ACES, AgX, PBR Neutral) and the environment, in a window that stays open.")
             .clicked()
         {
             actions.push(Action::OpenWindow(title));

@@ -36,8 +36,10 @@ pub struct ViewArgs {
     pub light_colour: Option<Color>,
     /// A fill light beside the key: INTENSITY,AZIMUTH,ELEVATION
     /// (irradiance at normal incidence; degrees as --light-azimuth and
-    /// --light-elevation). Directional and unshadowed; light through thin
-    /// parts is the key's alone.
+    /// --light-elevation: the head's own azimuth, not from the camera).
+    /// Directional and unshadowed; light through thin parts is the key's
+    /// alone in the real-time methods (the ground truth lights every
+    /// surface, the backs of ears included).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_rig_light, value_name = "I,AZ,EL")]
     pub fill_light: Option<RigLightArg>,
     /// The fill light's colour, linear R,G,B (default 1,1,1).

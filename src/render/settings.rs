@@ -213,7 +213,8 @@ impl Specular {
 }
 
 /// Irradiance for test scenes: lit normally, a step at world x = 0, or a
-/// checkerboard, each of irradiance light_intensity (flat, unshaded).
+/// checkerboard, each of the key light's irradiance (its intensity ×
+/// colour; flat, unshaded, the fill and rim left out).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum IrradiancePattern {
     Lit,

@@ -42,7 +42,9 @@ pub struct OrbitView {
 /// A light of the rig beside the key: directional and unshadowed (the one
 /// shadow map is the key's, as a studio's soft fill casts none worth
 /// seeing), lighting the surface and its highlights but not coming through
-/// thin parts (transmission is the key's). Each adds to the key's light
+/// thin parts in the real-time methods (their transmission is the key's;
+/// the ground truth, which integrates light on every surface cell, takes
+/// it through the backs of ears too). Each adds to the key's light
 /// (the renderer is linear in its lights:
 /// `tests/render_physics.rs::rig_lights_add_and_follow_lambert`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

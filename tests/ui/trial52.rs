@@ -1548,6 +1548,11 @@ fn a_key_fill_and_rim_rig_with_each_lights_colour() {
         EnvironmentChoice::Black
     );
     assert!(h.query_by_label("Light: three-point").is_some());
+    // The fill's field clicked into and left writes back the 1.067 it
+    // shows (egui's drag value): still the rig, not "custom".
+    h.state_mut().ui_state.view.orbit.fill.intensity = 1.067;
+    h.run_steps(2);
+    assert!(h.query_by_label("Light: three-point").is_some());
 
     let spin = |h: &Harness<'_, EditorApp>, prefix: &str| -> f64 {
         h.get_all_by_role(egui::accesskit::Role::SpinButton)
@@ -1580,6 +1585,14 @@ fn a_key_fill_and_rim_rig_with_each_lights_colour() {
         "{:?}",
         left.light_in_view()
     );
+    // Typed past 180° it comes round: 200° is −160° from the camera.
+    h.get_all_by_role(egui::accesskit::Role::SpinButton)
+        .find(|n| n.value().is_some_and(|v| v.starts_with("azimuth ")))
+        .unwrap()
+        .set_value_accesskit(200.0);
+    h.run_steps(2);
+    let az = from_camera(h.state().ui_state.view.orbit.fill.azimuth_rad);
+    assert!((az + 160.0).abs() < 1e-3, "{az}");
     // The rim's colour in the picker: blue typed 0.25, red and green kept.
     h.get_by_label("rim light colour").click_accesskit();
     h.run_steps(2);

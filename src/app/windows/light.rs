@@ -1,5 +1,5 @@
 //! View → Light & display (and the toolbar's "Light" menu): the light
-//! rigs, the key light's intensity, the exposure, the display transform
+//! rigs, the key, fill and rim lights, the exposure, the display transform
 //! and the environment with its HDR map's turn and blur, in a window that
 //! stays open while they are used. In a menu, the display transform's
 //! combo box could not be opened with a pointer (the click that opens its
@@ -183,7 +183,7 @@ fn rig_light_ui(ui: &mut egui::Ui, label: &str, l: &mut crate::settings::RigLigh
                 .max_decimals(3)
                 .prefix(format!("{} ", name.trim_end_matches(" light"))),
         )
-        .on_hover_text(format!("Intensity: irradiance of the {name} at normal incidence (linear); 0 turns it off. It casts no shadow and does not come through thin parts (the key's shadow map and transmission are the key's alone); it adds to the key's light."));
+        .on_hover_text(format!("Intensity: irradiance of the {name} at normal incidence (linear); 0 turns it off. It casts no shadow (the one shadow map is the key's) and in the real-time methods does not come through thin parts (transmission is the key's; the ground truth, which lights every surface, takes it through the backs of ears too: judge transmission with the key alone); it adds to the key's light."));
         light_colour_ui(ui, &name, &mut l.colour);
         ui.add_enabled_ui(l.intensity > 0.0, |ui| {
             let turn = std::f32::consts::TAU;
@@ -192,8 +192,8 @@ fn rig_light_ui(ui: &mut egui::Ui, label: &str, l: &mut crate::settings::RigLigh
                 .to_degrees();
             if ui
                 .add(
+                    // Not clamped: dragged past ±180° it comes round.
                     egui::DragValue::new(&mut az)
-                        .range(-180.0..=180.0)
                         .speed(0.5)
                         .max_decimals(1)
                         .prefix("azimuth ")
@@ -202,7 +202,8 @@ fn rig_light_ui(ui: &mut egui::Ui, label: &str, l: &mut crate::settings::RigLigh
                 .on_hover_text(format!("Where the {name} comes from, seen from the camera: 0° beside the camera, +90° from the right, −90° from the left, ±180° from behind the head."))
                 .changed()
             {
-                l.azimuth_rad = yaw + az.to_radians();
+                let wrapped = (az + 180.0).rem_euclid(360.0) - 180.0;
+                l.azimuth_rad = yaw + wrapped.to_radians();
             }
             let mut el = l.elevation_rad.to_degrees();
             if ui
@@ -224,7 +225,7 @@ fn rig_light_ui(ui: &mut egui::Ui, label: &str, l: &mut crate::settings::RigLigh
     ui.end_row();
 }
 
-/// What lights the head besides the key light, and the HDR map's
+/// What lights the head besides the key, fill and rim, and the HDR map's
 /// background, turn and blur.
 fn environment_ui(
     ui: &mut egui::Ui,

@@ -6,8 +6,8 @@
 //! Each frame is the viewport's own request (look, comparison, mesh, maps,
 //! light, environment, size) with the camera turned by 360°·k/N about the
 //! head, rendered by a second render thread (`viewport::Viewport`) until it
-//! converges, so a turntable shows what the viewport would. The key light
-//! turns with the camera unless asked not to (the head then spins under a
+//! converges, so a turntable shows what the viewport would. The lights
+//! (key, fill and rim) turn with the camera unless asked not to (the head then spins under a
 //! fixed studio light); an HDR environment stays put. Nothing is written
 //! until every frame is in: a cancelled turntable leaves no files.
 
