@@ -8,11 +8,13 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-const SCENES: [&str; 7] = [
+const SCENES: [&str; 9] = [
     "head_front",
     "head_backlit_ear",
     "head_backlit_ear_thick",
     "head_closeup",
+    "scan_front",
+    "scan_backlit_ear",
     "head_far",
     "plane_edge",
     "plane_checker",
@@ -177,7 +179,16 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
     assert_eq!(floors.len(), SCENES.len());
     for f in &floors {
         let scene = f["scene"].as_str();
-        assert!(num(f, "d_to_zero_rel_rmse") < 0.005, "{f:?}");
+        // The scan's shots (issue 53): 0.31 % front-lit, 0.63 % back-lit
+        // through the ear at this size (its 5 mm triangles and normal map
+        // at 1.8 mm pixels: 6–8 % of its pixels mix surfaces, against 2–3 %
+        // on the default head's).
+        let floor = if scene.starts_with("scan_") {
+            0.008
+        } else {
+            0.005
+        };
+        assert!(num(f, "d_to_zero_rel_rmse") < floor, "{f:?}");
         let bound = if scene == "head_far" { 0.05 } else { 0.006 };
         assert!(num(f, "supersampled_rel_rmse") < bound, "{f:?}");
         assert!(num(f, "mixed_fraction") < 0.25, "{f:?}");
@@ -204,7 +215,13 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
         let floor = floors.iter().find(|f| f["scene"] == scene).unwrap();
         assert_eq!(fin["d_to_zero_rel_rmse"], floor["d_to_zero_rel_rmse"]);
         assert!(num(loose, "from_final_rel_rmse") < 0.01, "{loose:?}");
-        assert!(num(loose, "d_to_zero_rel_rmse") < 0.005, "{loose:?}");
+        // The scan's floor, as above.
+        let floor = if scene.starts_with("scan_") {
+            0.008
+        } else {
+            0.005
+        };
+        assert!(num(loose, "d_to_zero_rel_rmse") < floor, "{loose:?}");
         assert!(num(loose, "gather_ms") > 0.0 && num(fin, "gather_ms") > 0.0);
         assert!(loose["gpu_unfinished"].is_empty());
     }

@@ -199,6 +199,7 @@ pub fn measure(
 pub fn renderer_for(stage: Stage) -> Result<Renderer> {
     let mesh = match stage {
         Stage::Head => Mesh::default_head()?,
+        Stage::Scan => scenes::scan_mesh()?,
         Stage::Plane => Mesh::plane(200.0, 0.001),
     };
     Ok(Renderer::new(GpuContext::new_headless()?, &mesh)?)
@@ -351,6 +352,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>, gpu_truth: bool) 
     let scenes = scenes::scenes(options.size);
     let mut head: Option<Renderer> = None;
     let mut plane: Option<Renderer> = None;
+    let mut scan: Option<Renderer> = None;
     let mut rows = Vec::new();
     let mut floors = Vec::new();
     let mut truths = Vec::new();
@@ -358,6 +360,7 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>, gpu_truth: bool) 
         let t = Instant::now();
         let slot = match scene.stage {
             Stage::Head => &mut head,
+            Stage::Scan => &mut scan,
             Stage::Plane => &mut plane,
         };
         let renderer = match slot {

@@ -8,6 +8,9 @@ use crate::settings::OrbitView;
 pub enum Stage {
     /// The default head.
     Head,
+    /// Lee Perry-Smith's head scan with its colour and normal maps, as the
+    /// editor opens it ([`scan_mesh`]).
+    Scan,
     /// A 200 mm square plane, 1 mm per unit, facing the camera.
     Plane,
 }
@@ -67,8 +70,44 @@ fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> R
     }
 }
 
-/// The six scenes of issue 5 and the thick-transmission ear at `size`
-/// pixels.
+/// The scan's scale: its glTF is in units of 0.0462 m (the editor's
+/// `scanned_head`; the head then measures 0.24 m from chin to crown).
+pub const SCAN_METRES_PER_UNIT: f32 = 0.0462;
+
+/// Lee Perry-Smith's head scan (assets/scan, CC BY 3.0) with its colour
+/// map drawn as the map (the editor's "the map's colour") and its
+/// tangent-space normal map, both V-flipped as the scan's tool wrote them.
+pub fn scan_mesh() -> anyhow::Result<crate::render::Mesh> {
+    use crate::render::textures::{self, AlbedoMode, TextureSlot};
+    use anyhow::Context;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scan");
+    let glb = root.join("LeePerrySmith.glb");
+    let mut mesh = crate::render::Mesh::load(&glb, SCAN_METRES_PER_UNIT)
+        .with_context(|| format!("the bench's head scan {}", glb.display()))?;
+    let maps = std::sync::Arc::make_mut(&mut mesh.textures);
+    let load = |name: &str, slot| {
+        let path = root.join(name);
+        textures::load(&path, slot).with_context(|| format!("the scan's map {}", path.display()))
+    };
+    let mut albedo = load("Map-COL.jpg", TextureSlot::Albedo)?;
+    albedo.flip_v();
+    maps.albedo = albedo;
+    maps.albedo_mode = AlbedoMode::Absolute;
+    let mut normal = load(
+        "Infinite-Level_02_Tangent_SmoothUV.jpg",
+        TextureSlot::Normal,
+    )?;
+    normal.flip_v();
+    maps.normal = normal;
+    Ok(mesh)
+}
+
+/// The scan's camera distance: the face about as large in the frame as
+/// the default head's at 0.55 m, the crown inside a 16:9 frame.
+const SCAN_DISTANCE_M: f32 = 0.6;
+
+/// The six scenes of issue 5, the thick-transmission ear and the scan's
+/// front-lit and back-lit-ear shots (issue 53) at `size` pixels.
 pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
     vec![
         Scene {
@@ -104,6 +143,23 @@ pub fn scenes(size: (u32, u32)) -> Vec<Scene> {
             stage: Stage::Head,
             head_shot: true,
             settings: head(size, 25.0, 0.32, (75.0, 20.0)),
+        },
+        Scene {
+            id: "scan_front",
+            description: "Lee Perry-Smith's scan with its colour and normal maps, front-left key light (camera yaw 20°, light azimuth 50°, elevation 25°, 0.6 m)",
+            stage: Stage::Scan,
+            head_shot: true,
+            settings: head(size, 20.0, SCAN_DISTANCE_M, (50.0, 25.0)),
+        },
+        Scene {
+            id: "scan_backlit_ear",
+            description: "the scan back-lit through the ear, thin-object transmission (camera yaw 65°, light azimuth 200°, elevation 10°, 0.6 m)",
+            stage: Stage::Scan,
+            head_shot: true,
+            settings: RenderSettings {
+                transmission: Transmission::ThinObject,
+                ..head(size, 65.0, SCAN_DISTANCE_M, (200.0, 10.0))
+            },
         },
         Scene {
             id: "head_far",
