@@ -70,8 +70,9 @@ fn head(size: (u32, u32), yaw_deg: f32, distance_m: f32, light: (f32, f32)) -> R
     }
 }
 
-/// The scan's scale: its glTF is in units of 0.0462 m (the editor's
-/// `scanned_head`; the head then measures 0.24 m from chin to crown).
+/// The scan's scale: its glTF is in units of 0.0462 m, as the editor
+/// opens it (`app::state::scanned_head`) and the yardstick's tests load it
+/// (tests/common/scan.rs).
 pub const SCAN_METRES_PER_UNIT: f32 = 0.0462;
 
 /// Lee Perry-Smith's head scan (assets/scan, CC BY 3.0) with its colour
