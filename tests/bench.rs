@@ -170,7 +170,8 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
     // The ground truth's floor (issue 22), at the quick run's 320×180
     // (pixels of 1.8 mm on the head, twice the full run's): a profile that
     // scatters nothing gives back the none frame within 0.5 % everywhere
-    // (measured 0.02–0.45 %); 2 × 2 points a pixel change the plain ground
+    // (measured 0.02–0.45 %) but on the scan's back-lit ear (issue 53:
+    // 0.63 %); 2 × 2 points a pixel change the plain ground
     // truth by under 0.6 % on the near scenes (0.04–0.51 %; the full run's
     // 0.9 mm pixels are what the 0.3 % target is judged on, docs/accuracy.md)
     // and by under 5 % on the far shot, where the profile fits inside a
@@ -179,11 +180,14 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
     assert_eq!(floors.len(), SCENES.len());
     for f in &floors {
         let scene = f["scene"].as_str();
-        // The scan's shots (issue 53): 0.31 % front-lit, 0.63 % back-lit
-        // through the ear at this size (its 5 mm triangles and normal map
-        // at 1.8 mm pixels: 6–8 % of its pixels mix surfaces, against 2–3 %
-        // on the default head's).
-        let floor = if scene.starts_with("scan_") {
+        // The scan back-lit through the ear (issue 53): 0.63 % at this
+        // size (the front-lit scan 0.31 %). The residue docs/accuracy.md
+        // finds on the procedural head's back-lit ear in the full run
+        // (0.60 % there): speckle along the back of the head's outline, lit
+        // at grazing angles from behind and seen edge-on, where N·L, the
+        // PCF and the normal map's mip level move by per cents between
+        // neighbouring pixels.
+        let floor = if scene == "scan_backlit_ear" {
             0.008
         } else {
             0.005
@@ -215,8 +219,8 @@ fn quick_bench_writes_every_row_chart_and_skip_figure() {
         let floor = floors.iter().find(|f| f["scene"] == scene).unwrap();
         assert_eq!(fin["d_to_zero_rel_rmse"], floor["d_to_zero_rel_rmse"]);
         assert!(num(loose, "from_final_rel_rmse") < 0.01, "{loose:?}");
-        // The scan's floor, as above.
-        let floor = if scene.starts_with("scan_") {
+        // The scan's back-lit ear's floor, as above.
+        let floor = if scene == "scan_backlit_ear" {
             0.008
         } else {
             0.005

@@ -2,7 +2,7 @@
 //! it (issue 22). The ground truth (`reference`) must give back answers
 //! known exactly: the unscattered frame when the profile scatters nothing,
 //! its own answer when each pixel is sampled at 2 × 2 points, on a real
-//! scan with its own maps (the bench checks the same on its six scenes,
+//! scan with its own maps (the bench checks the same on its nine scenes,
 //! tests/bench.rs). The methods must draw the look the ground truth
 //! integrates: one reading of a Jimenez 2012 look, and one edge convention
 //! where skin meets teeth or eyes. Each compares with the strip CDF Φ of

@@ -352,7 +352,14 @@ pub fn run_cli(out: &Path, quick: bool, preset: Option<&Path>, gpu_truth: bool) 
     let scenes = scenes::scenes(options.size);
     let mut head: Option<Renderer> = None;
     let mut plane: Option<Renderer> = None;
+    // The scan's files are read first: a binary run away from its
+    // checkout fails here, not minutes in.
     let mut scan: Option<Renderer> = None;
+    if scenes.iter().any(|s| s.stage == Stage::Scan) {
+        scan = Some(renderer_for(Stage::Scan).context(
+            "bench needs the head scan of the checkout it was built from (assets/scan); run it from there",
+        )?);
+    }
     let mut rows = Vec::new();
     let mut floors = Vec::new();
     let mut truths = Vec::new();
