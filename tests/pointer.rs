@@ -556,15 +556,8 @@ fn the_hdr_maps_turn_is_typed_into_with_a_pointer_and_keys() {
             c.role == "Button" && c.label == "Light: three-point"
         });
         let fill = |c: &Widget| c.role == "SpinButton" && c.label == "fill";
-        let field = s.find("the fill light's intensity", fill);
-        s.click(&field);
-        s.find("the fill's field as a text edit", |c| {
-            fill(c) && !c.value.starts_with("fill")
-        });
-        s.type_into_focused("2");
-        s.find("the fill's field showing 2", |c| {
-            fill(c) && c.value.starts_with("fill 2.0")
-        });
+        let shown = s.type_into_field("Light & display", "the fill light's intensity", fill, "2");
+        assert!(shown.value.starts_with("fill 2.0"), "{}", shown.value);
         s.wait_log("a request with the fill at 2", 30, |l| {
             l.contains(" request ") && l.contains(" fill=2 ")
         });

@@ -250,6 +250,23 @@ fn sphere_obj(path: &std::path::Path, diameter_m: f32, inside_out: bool) {
     std::fs::write(path, common::uv_sphere_obj(diameter_m, inside_out)).unwrap();
 }
 
+/// Opens the mesh `obj` (1 m a unit), waits for its frame, presses F and
+/// waits for the framed frame.
+fn open_and_frame(h: &mut Harness<'_, EditorApp>, obj: &std::path::Path) {
+    h.state_mut().open_mesh(scatterlab::app::MeshArg {
+        path: obj.to_owned(),
+        metres_per_unit: Some(1.0),
+    });
+    step_until(h, "the sphere", |a| {
+        a.mesh_path() == Some(obj) && a.viewport().idle()
+    });
+    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
+    h.key_press(Key::F);
+    step_until(h, "the framed sphere", |a| {
+        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
+    });
+}
+
 /// Item 3: F left an 18 cm sphere overflowing the viewport (the camera
 /// framed the bounding box's height at the focus, 62 % up it, and the
 /// viewport is narrower than tall). After F the sphere is whole in the
@@ -262,18 +279,7 @@ fn f_frames_a_sphere_whole() {
     let obj = dir.join("sphere.obj");
     sphere_obj(&obj, 0.18, false);
     let mut h = harness(true);
-    h.state_mut().open_mesh(scatterlab::app::MeshArg {
-        path: obj.clone(),
-        metres_per_unit: Some(1.0),
-    });
-    step_until(&mut h, "the sphere", |a| {
-        a.mesh_path() == Some(obj.as_path()) && a.viewport().idle()
-    });
-    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
-    h.key_press(Key::F);
-    step_until(&mut h, "the framed sphere", |a| {
-        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
-    });
+    open_and_frame(&mut h, &obj);
     assert!(
         h.state().status().contains("Framed"),
         "{}",
@@ -1674,18 +1680,7 @@ fn f_side_by_side_frames_the_mesh_in_each_half() {
         ..UiState::default()
     };
     let mut h = harness_of(EditorApp::new(None, state, None, true), [1612.0, 650.0]);
-    h.state_mut().open_mesh(scatterlab::app::MeshArg {
-        path: obj.clone(),
-        metres_per_unit: Some(1.0),
-    });
-    step_until(&mut h, "the sphere", |a| {
-        a.mesh_path() == Some(obj.as_path()) && a.viewport().idle()
-    });
-    let n0 = h.state().viewport().frame().map_or(0, |f| f.1);
-    h.key_press(Key::F);
-    step_until(&mut h, "the framed sphere", |a| {
-        a.viewport().idle() && a.viewport().frame().is_some_and(|f| f.1 > n0)
-    });
+    open_and_frame(&mut h, &obj);
     let (frame, _) = h.state().viewport().frame().unwrap();
     let (w, fh) = frame.dimensions();
     let half = w / 2;
