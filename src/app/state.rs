@@ -376,7 +376,7 @@ impl From<StoredViewState> for ViewState {
             }
         };
         Self {
-            orbit,
+            orbit: orbit.with_usable_lights(),
             environment: s.environment,
             environment_map_sh: s.environment_map_sh,
             environment_intensity: s.environment_intensity,
@@ -638,6 +638,7 @@ pub fn scanned_head() -> Option<(PathBuf, MeshSettings)> {
 
 #[cfg(test)]
 mod tests {
+
     use super::*;
 
     /// A view remembered before the camera and light became an OrbitView

@@ -71,6 +71,34 @@ impl Default for RigLight {
     }
 }
 
+impl OrbitView {
+    /// The view with its lights as the renderer can use them: a fill or
+    /// rim whose intensity or direction is not a finite number (or is
+    /// negative) is off, and a colour with a channel that is not a finite
+    /// number ≥ 0 is white (a hand-edited or damaged state file would draw
+    /// NaN). The editor's remembered view goes through it on load.
+    pub fn with_usable_lights(mut self) -> Self {
+        let usable = |c: [f32; 3]| {
+            if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                c
+            } else {
+                [1.0; 3]
+            }
+        };
+        self.light_colour = usable(self.light_colour);
+        for l in [&mut self.fill, &mut self.rim] {
+            let finite = [l.intensity, l.azimuth_rad, l.elevation_rad]
+                .iter()
+                .all(|v| v.is_finite());
+            if !finite || l.intensity < 0.0 {
+                *l = RigLight::default();
+            }
+            l.colour = usable(l.colour);
+        }
+        self
+    }
+}
+
 impl RigLight {
     /// Unit direction towards the light (world, the orbit's axes).
     pub fn direction(&self) -> [f32; 3] {
@@ -247,6 +275,25 @@ mod light_tests {
 #[cfg(test)]
 mod rig_tests {
     use super::{OrbitView, RigLight};
+
+    /// A damaged state file's rig (NaN and negative numbers) is made
+    /// usable: the fill and rim off and white colours, not NaN light;
+    /// good lights are kept.
+    #[test]
+    fn damaged_rig_lights_are_turned_off() {
+        let text = "(light_colour: (NaN, 1.0, 1.0), fill: (intensity: NaN), rim: (intensity: -2.0, colour: (0.5, -1.0, 0.5)))";
+        let v = ron::from_str::<OrbitView>(text)
+            .unwrap()
+            .with_usable_lights();
+        assert_eq!(v.light_colour, [1.0; 3]);
+        assert_eq!(v.fill, RigLight::default());
+        assert_eq!(v.rim, RigLight::default());
+        let good = "(fill: (intensity: 0.5, azimuth_rad: 1.0, colour: (0.2, 0.3, 0.4)))";
+        let v = ron::from_str::<OrbitView>(good)
+            .unwrap()
+            .with_usable_lights();
+        assert_eq!((v.fill.intensity, v.fill.colour), (0.5, [0.2, 0.3, 0.4]));
+    }
 
     /// A view saved before lights had colours (issue 52's rig) loads with
     /// a white key and the fill and rim off: its look is unchanged.
