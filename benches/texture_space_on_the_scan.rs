@@ -2,7 +2,9 @@
 //! 1; docs/accuracy.md, "Why `texture-space` loses to `burley` on the
 //! scan"): each suspect turned off or changed in turn on the bench's
 //! scenes, the ground truth rendered again for each, and where
-//! `texture-space`'s error exceeds `burley`'s.
+//! `texture-space`'s error exceeds `burley`'s; and the probe-ray gather
+//! (`--probe-rays on`, issue 53 item 2: the surface near in 3D but far in
+//! UV found by ray queries), with each one's SSS time beside burley's.
 //!
 //! `cargo bench --bench texture_space_on_the_scan [-- WIDTH [SCENE,...]]`
 //! (default 320 wide, 16:9; `scan_front`). Prints the share of `none`'s
@@ -13,6 +15,7 @@
 use scatterlab::bench::metrics::{relative_rmse, sss_mask};
 use scatterlab::bench::scenes::{scenes, Config};
 use scatterlab::bench::{measure, renderer_for, Prepared};
+use scatterlab::render::sss::texture_space::ProbeRays;
 use scatterlab::render::{Method, RenderSettings, TexturingMode};
 use scatterlab::settings::Preset;
 
@@ -77,34 +80,43 @@ fn main() -> anyhow::Result<()> {
                 |d: &[[f32; 4]]| 100.0 * (1.0 - relative_rmse(d, &truth.diffuse, &mask) / e0);
             let burley_config =
                 Config::of(Method::Burley, "improved", 21).expect("burley improved 21");
+            // The SSS passes' times (the fastest of 3) for the shipped
+            // case, side by side in this run.
+            let repeats = if case == "as shipped" { 3 } else { 1 };
             let b = measure(
                 &mut r,
                 &prepared.inputs(burley_config)?,
                 &s(Method::Burley),
-                1,
+                repeats,
             )?;
             let mut line = format!(
-                "{id} {case}: none {e0:.4} | burley {:.0} %",
-                share(&b.diffuse)
+                "{id} {case}: none {e0:.4} | burley {:.0} % ({:.0} ms)",
+                share(&b.diffuse),
+                b.sss_ms
             );
             let ts_config =
                 Config::of(Method::TextureSpace, "atlas1024", 21).expect("texture-space atlas1024");
-            for (atlas, near) in [
-                (1024u32, 1.0f32),
-                (2048, 1.0),
-                (1024, 0.0),
-                (2048, 0.0),
-                (1024, 3.0),
+            let (uv, rays) = (ProbeRays::Off, ProbeRays::On);
+            for (atlas, near, probe) in [
+                (1024u32, 1.0f32, uv),
+                (2048, 1.0, uv),
+                (1024, 0.0, uv),
+                (2048, 0.0, uv),
+                (1024, 3.0, uv),
+                (1024, 1.0, rays),
             ] {
                 let mut inputs = prepared.inputs(ts_config)?;
                 inputs.methods.texture_space.atlas_size = atlas;
                 inputs.methods.texture_space.near_field_mm = near;
-                let t = measure(&mut r, &inputs, &s(Method::TextureSpace), 1)?;
+                inputs.methods.texture_space.probe_rays = probe;
+                let t = measure(&mut r, &inputs, &s(Method::TextureSpace), repeats)?;
+                let how = if probe == rays { ", probe rays" } else { "" };
                 line += &format!(
-                    " | texture-space {atlas}/{near} mm {:.0} %",
-                    share(&t.diffuse)
+                    " | texture-space {atlas}/{near} mm{how} {:.0} % ({:.0} ms)",
+                    share(&t.diffuse),
+                    t.sss_ms
                 );
-                if (atlas, near, case) == (1024, 1.0, "as shipped") {
+                if (atlas, near, probe, case) == (1024, 1.0, uv, "as shipped") {
                     excess(
                         &out,
                         id,

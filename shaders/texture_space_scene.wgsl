@@ -121,7 +121,7 @@ struct Sample {
 // Twin of `render::gpu_types::TextureSpaceUniforms`.
 struct TextureSpaceUniforms {
     near_field_mm: f32,   // samples nearer are read on screen (0: none)
-    pad0: f32,
+    dom_channel: u32,     // the channel that placed burley's radii (probe rays)
     pad1: f32,
     pad2: f32,
 };
@@ -170,16 +170,41 @@ fn r2(p: vec2<i32>) -> f32 {
     return fract(0.5 + f32(p.x) * 0.7548776662 + f32(p.y) * 0.5698402910);
 }
 
-@fragment
-fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
-    // The triangle's maps, in uniform control flow: a step of one pixel
-    // moves W_x, W_y on the surface (mm) and D_x, D_y in UV.
-    let wx = dpdx(i.world) * u.mm_per_unit;
-    let wy = dpdy(i.world) * u.mm_per_unit;
-    let dx = dpdx(i.uv);
-    let dy = dpdy(i.uv);
+// The pixel's triangle maps (from the rasteriser's derivatives, taken
+// by the entry point in uniform control flow): a step of one pixel moves
+// W_x, W_y on the surface (mm) and D_x, D_y in UV.
+struct TriangleMaps {
+    wx: vec3<f32>,
+    wy: vec3<f32>,
+    dx: vec2<f32>,
+    dy: vec2<f32>,
+};
+
+fn triangle_maps(i: VertexOut) -> TriangleMaps {
+    var t: TriangleMaps;
+    t.wx = dpdx(i.world) * u.mm_per_unit;
+    t.wy = dpdy(i.world) * u.mm_per_unit;
+    t.dx = dpdx(i.uv);
+    t.dy = dpdy(i.uv);
+    return t;
+}
+
+// mm of surface per unit of UV on the pixel's triangle (isotropic: √ of
+// the area ratio).
+fn mm_per_uv(t: TriangleMaps) -> f32 {
+    return sqrt(length(cross(t.wx, t.wy)) / max(abs(t.dx.x * t.dy.y - t.dx.y * t.dy.x), 1e-30));
+}
+
+// The UV layout's gather at the pixel: Σ w·light and Σ w over burley's
+// samples (the near field on screen, the rest through the UV map), as
+// `fs_gather` normalises them; w = 0 everywhere where the triangle's map
+// is degenerate.
+fn uv_gather(i: VertexOut, t: TriangleMaps, pixel: vec4<f32>) -> array<vec3<f32>, 2> {
+    let wx = t.wx;
+    let wy = t.wy;
+    let dx = t.dx;
+    let dy = t.dy;
     let p = vec2<i32>(i.clip.xy);
-    let pixel = textureLoad(scene_diffuse, p, 0);
     // The tangent frame e1 = W_x/|W_x|, e2 ⟂ e1 in the triangle's plane:
     // W_x = (a, 0), W_y = (b, c) there, so a surface offset (s1, s2) mm
     // is the pixel step (t_x, t_y) with t_y = s2/c, t_x = (s1 − b·t_y)/a,
@@ -189,7 +214,7 @@ fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
     let b = dot(wy, e1);
     let c = length(wy - e1 * b);
     if (a <= 0.0 || c <= 0.0) {
-        return pixel;
+        return array<vec3<f32>, 2>(vec3<f32>(0.0), vec3<f32>(0.0));
     }
     let size = vec2<f32>(textureDimensions(atlas_irradiance, 0));
     let x = i.world * u.mm_per_unit;
@@ -197,8 +222,7 @@ fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
     // texel's diagonal from where it was placed (texel side in mm: √(mm²
     // per UV² of the triangle) / atlas size): that much of the 3D distance
     // is rounding, not a step onto another sheet of the surface.
-    let mm_per_uv = sqrt(length(cross(wx, wy)) / max(abs(dx.x * dy.y - dx.y * dy.x), 1e-30));
-    let rounding_mm = 0.70710678 * mm_per_uv / max(size.x, size.y);
+    let rounding_mm = 0.70710678 * mm_per_uv(t) / max(size.x, size.y);
     var rotation = 0.0;
     if (s.deterministic == 0u) {
         rotation = 6.28318531 * fract(r2(p) + s.rotation_offset_turns);
@@ -246,11 +270,19 @@ fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
         sum = sum + w * seen.rgb;
         wsum = wsum + w;
     }
+    return array<vec3<f32>, 2>(sum, wsum);
+}
+
+@fragment
+fn fs_gather(i: VertexOut) -> @location(0) vec4<f32> {
+    let t = triangle_maps(i);
+    let pixel = textureLoad(scene_diffuse, vec2<i32>(i.clip.xy), 0);
+    let g = uv_gather(i, t, pixel);
     // The centre carries the profile's Dirac share, CDF(0): the pixel's
     // own light, as fs_burley's centre (the atlas's texel there would
     // hand an unscattering share back at texel resolution, not as the
     // unscattered frame has it).
     let centre = pixel.rgb;
-    let ring = select(centre, sum / wsum, wsum > vec3<f32>(0.0));
+    let ring = select(centre, g[0] / g[1], g[1] > vec3<f32>(0.0));
     return vec4<f32>(mix(ring, centre, profile_lut[s.lut_entries].rgb), pixel.a);
 }

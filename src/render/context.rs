@@ -44,6 +44,10 @@ pub enum GpuError {
         bytes: u64,
         limit: u64,
     },
+    #[error(
+        "`texture-space --probe-rays on` needs ray queries: {0}; or gather through the UV layout alone (--probe-rays off)"
+    )]
+    NoRayQueries(String),
     /// A newer request asked for the ground truth running now to stop
     /// (`Renderer::cancel_with`): not a failure, nothing to show.
     #[error("the ground truth was cancelled by a newer request")]
@@ -67,6 +71,78 @@ const REQUIRED_RENDERABLE: [wgpu::TextureFormat; 5] = [
     wgpu::TextureFormat::Depth32Float,
 ];
 
+/// Whether a device has ray queries, or why not.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RayQueries {
+    Available,
+    /// Why not, in words an artist can act on.
+    Missing(String),
+}
+
+/// Set to 1, devices are made without ray queries where the adapter has
+/// them (the tests of the fallback; a driver whose ray queries misbehave).
+pub const NO_RAY_QUERY_ENV: &str = "SCATTERLAB_NO_RAY_QUERY";
+
+impl RayQueries {
+    fn of(adapter: &wgpu::Adapter) -> Self {
+        if std::env::var(NO_RAY_QUERY_ENV).is_ok_and(|v| v == "1") {
+            return Self::Missing(format!("{NO_RAY_QUERY_ENV}=1 turned them off"));
+        }
+        if adapter
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+        {
+            return Self::Available;
+        }
+        let info = adapter.get_info();
+        Self::Missing(format!(
+            "the adapter \"{}\" ({:?}, driver {}) has no ray queries: Mesa's lavapipe has them from 25 on (Debian 12: bookworm-backports' mesa-vulkan-drivers, tools/setup-debian.sh), GPUs through Vulkan's VK_KHR_ray_query",
+            info.name, info.backend, info.driver_info
+        ))
+    }
+
+    pub fn available(&self) -> bool {
+        *self == Self::Available
+    }
+
+    /// `limits` with the adapter's acceleration-structure limits where ray
+    /// queries are on (wgpu's defaults are 0 for them).
+    fn limits(&self, limits: wgpu::Limits, adapter: &wgpu::Limits) -> wgpu::Limits {
+        if !self.available() {
+            return limits;
+        }
+        wgpu::Limits {
+            max_blas_primitive_count: adapter.max_blas_primitive_count,
+            max_blas_geometry_count: adapter.max_blas_geometry_count,
+            max_tlas_instance_count: adapter.max_tlas_instance_count,
+            max_acceleration_structures_per_shader_stage: adapter
+                .max_acceleration_structures_per_shader_stage,
+            ..limits
+        }
+    }
+
+    /// wgpu's token for its `EXPERIMENTAL_` features, enabled only where
+    /// ray queries are asked for.
+    #[allow(unsafe_code)]
+    fn token(&self) -> wgpu::ExperimentalFeatures {
+        if !self.available() {
+            return wgpu::ExperimentalFeatures::disabled();
+        }
+        // SAFETY: the one `unsafe` in the crate. wgpu asks its users to
+        // acknowledge that its experimental APIs may still hold bugs; the
+        // only one used is EXPERIMENTAL_RAY_QUERY (`texture-space
+        // --probe-rays on`: an acceleration structure built from the mesh
+        // and queried in one fragment shader), and the known one is
+        // avoided: wgpu 30.0.1's naga emits invalid SPIR-V for a
+        // `ray_query` declared inside a loop, so the shader declares it at
+        // the function's top level (shaders/texture_space_rays.wgsl). The
+        // shader is validated by naga in tests/shaders.rs, and the gather
+        // is tested on lavapipe (tests/render_physics.rs,
+        // `texture_space_follows_the_strip_cdf_across_an_edge`).
+        unsafe { wgpu::ExperimentalFeatures::enabled() }
+    }
+}
+
 /// A device and queue plus what the adapter is.
 pub struct GpuContext {
     pub device: wgpu::Device,
@@ -83,6 +159,11 @@ pub struct GpuContext {
     /// Whether depth textures can be copied to buffers (not on GL): the
     /// ground truth reads the shadow map back.
     pub depth_copies: bool,
+    /// Whether the device was made with ray queries (wgpu's
+    /// `EXPERIMENTAL_RAY_QUERY`: Vulkan's `VK_KHR_ray_query`, lavapipe 25
+    /// and newer, most GPUs since 2018), or why not: `texture-space`
+    /// gathers by probe rays only with them ([`RayQueries`]).
+    pub ray_queries: RayQueries,
     /// Why the device was lost, once wgpu's device-lost callback has said
     /// so (a driver reset, a GPU removed, `Device::destroy`).
     lost: std::sync::Arc<std::sync::Mutex<Option<String>>>,
@@ -118,6 +199,10 @@ impl GpuContext {
         }
         if rg11b10 {
             required_features |= wgpu::Features::RG11B10UFLOAT_RENDERABLE;
+        }
+        let ray_queries = RayQueries::of(&adapter);
+        if ray_queries.available() {
+            required_features |= wgpu::Features::EXPERIMENTAL_RAY_QUERY;
         }
         let renderable = |f: wgpu::TextureFormat| {
             adapter
@@ -155,8 +240,12 @@ impl GpuContext {
                         .limits()
                         .max_storage_buffers_per_shader_stage
                         .clamp(4, 8),
-                    ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits())
+                    ..ray_queries.limits(
+                        wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+                        &adapter.limits(),
+                    )
                 },
+                experimental_features: ray_queries.token(),
                 ..Default::default()
             })
             .await
@@ -178,6 +267,7 @@ impl GpuContext {
             timestamps,
             linear_depth_format,
             depth_copies,
+            ray_queries,
             lost,
             specular_format: if rg11b10 {
                 wgpu::TextureFormat::Rg11b10Ufloat

@@ -68,6 +68,10 @@ pub(super) const FULLSCREEN: &str = include_str!("../../shaders/fullscreen.wgsl"
 /// `texture-space`'s module in [`shader_sources`].
 pub(super) const TEXTURE_SPACE_MODULE: &str = "texture_space";
 
+/// `texture-space`'s probe-ray gather in [`shader_sources`] (built only on
+/// a device with ray queries).
+pub(super) const TEXTURE_SPACE_RAYS_MODULE: &str = "texture_space_rays";
+
 pub(super) const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");
 
 /// Every WGSL module the renderer builds, as (name, full source) pairs;
@@ -99,6 +103,17 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             "{}\n{}",
             include_str!("../../shaders/scene.wgsl"),
             include_str!("../../shaders/texture_space_scene.wgsl")
+        ),
+    )])
+    // Its probe-ray gather: the same, with ray queries (naga's extension
+    // first) and the gather's own group 2 after them.
+    .chain([(
+        TEXTURE_SPACE_RAYS_MODULE,
+        format!(
+            "enable wgpu_ray_query;\n{}\n{}\n{}",
+            include_str!("../../shaders/scene.wgsl"),
+            include_str!("../../shaders/texture_space_scene.wgsl"),
+            include_str!("../../shaders/texture_space_rays.wgsl")
         ),
     )])
     // The GPU ground truth's gather as `reference --reference-gpu` builds

@@ -942,3 +942,44 @@ fn an_inside_out_mesh_is_named_and_turned_outward() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--probe-rays on` where the device has no ray queries
+/// (`SCATTERLAB_NO_RAY_QUERY=1` makes it so on lavapipe 25, which has
+/// them): one line that says why and what to do, no image; and the same
+/// render with them (lavapipe 25, as CI installs it) writes its image.
+#[test]
+fn probe_rays_say_why_they_are_missing() {
+    let png = std::env::temp_dir().join(format!("scatterlab-probe-{}.png", std::process::id()));
+    let args = [
+        "render",
+        "--method",
+        "texture-space",
+        "--probe-rays",
+        "on",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(args)
+        .env("SCATTERLAB_NO_RAY_QUERY", "1")
+        .output()
+        .expect("binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("needs ray queries"), "{err}");
+    assert!(
+        err.contains("SCATTERLAB_NO_RAY_QUERY=1 turned them off"),
+        "{err}"
+    );
+    assert!(err.contains("--probe-rays off"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!png.exists(), "a failed render wrote {}", png.display());
+    let (code, _, err) = run(&args);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (64, 48));
+    let _ = std::fs::remove_file(&png);
+}

@@ -35,11 +35,13 @@ use crate::render::context::GpuError;
 use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
 use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
 use crate::render::pipelines::{
-    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, TEXTURE_SPACE_MODULE,
-    HDR,
+    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, HDR, TEXTURE_SPACE_MODULE,
+    TEXTURE_SPACE_RAYS_MODULE,
 };
 use crate::render::sss::burley::LUT_SIZE;
 use crate::render::targets::HdrTarget;
+
+mod rays;
 
 /// `texture-space` in the registry (`sss::Method::sss`).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
@@ -99,6 +101,29 @@ pub struct Options {
         value_parser = near_field_parser
     )]
     pub near_field_mm: f32,
+    /// `texture-space`: also gather the skin that is near in 3D but far
+    /// in UV by probe rays through the mesh (the adapter's ray queries;
+    /// an error, saying why, where it has none). Off by default: on the
+    /// scan it measured worse than the UV layout's gather alone
+    /// (docs/accuracy.md).
+    #[arg(
+        id = "probe_rays",
+        long = "probe-rays",
+        value_name = "ON_OFF",
+        value_enum,
+        default_value_t = ProbeRays::Off
+    )]
+    pub probe_rays: ProbeRays,
+}
+
+/// Whether `texture-space` gathers by probe rays too ([`rays`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum ProbeRays {
+    /// The UV layout's gather alone.
+    Off,
+    /// Probe rays too: an error where the adapter has no ray queries
+    /// (`GpuContext::ray_queries` says why).
+    On,
 }
 
 /// `--near-field-mm`: finite, 0 to 100 mm.
@@ -123,6 +148,7 @@ impl Default for Options {
         Self {
             atlas_size: DEFAULT_ATLAS,
             near_field_mm: DEFAULT_NEAR_FIELD_MM,
+            probe_rays: ProbeRays::Off,
         }
     }
 }
@@ -134,6 +160,10 @@ pub struct Inputs {
     pub atlas_size: u32,
     /// Samples nearer (mm) are read on screen.
     pub near_field_mm: f32,
+    pub probe_rays: ProbeRays,
+    /// The channel whose quantiles placed burley's radii
+    /// (`sampling::widest_channel`): the probe rays' disk density.
+    pub dom_channel: u32,
 }
 
 impl MethodInputs for Inputs {
@@ -142,26 +172,36 @@ impl MethodInputs for Inputs {
         Ok(Self {
             atlas_size: o.atlas_size,
             near_field_mm: o.near_field_mm,
+            probe_rays: o.probe_rays,
+            dom_channel: crate::model::sampling::widest_channel(look.profile) as u32,
         })
     }
 
-    /// `variant` is `atlas<N>` (the default near field) or
-    /// `atlas<N>-only` (no near field: every sample in the atlas).
+    /// `variant` is `atlas<N>` (the default near field), `atlas<N>-only`
+    /// (no near field: every sample in the atlas), both through the UV
+    /// layout, or `atlas<N>-rays` (probe rays; an error without ray
+    /// queries).
     fn bench(&mut self, _: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
         let bad = || ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant));
         let rest = knob.variant.strip_prefix("atlas").ok_or_else(bad)?;
-        let (size, only) = match rest.strip_suffix("-only") {
-            Some(size) => (size, true),
-            None => (rest, false),
+        let (size, only, rays) = if let Some(size) = rest.strip_suffix("-only") {
+            (size, true, false)
+        } else if let Some(size) = rest.strip_suffix("-rays") {
+            (size, false, true)
+        } else {
+            (rest, false, false)
         };
         self.atlas_size = size.parse().map_err(|_| bad())?;
         self.near_field_mm = if only { 0.0 } else { DEFAULT_NEAR_FIELD_MM };
+        self.probe_rays = if rays { ProbeRays::On } else { ProbeRays::Off };
         Ok(())
     }
 
     fn fingerprint_into(&self, h: &mut impl std::hash::Hasher) {
         h.write_u32(self.atlas_size);
         h.write_u32(self.near_field_mm.to_bits());
+        h.write_u8(self.probe_rays as u8);
+        h.write_u32(self.dom_channel);
     }
 }
 
@@ -170,17 +210,24 @@ impl MethodInputs for Inputs {
 pub(in crate::render) type Buffers = ();
 
 /// The module of its two passes (scene.wgsl, then
-/// `shaders/texture_space_scene.wgsl`: `pipelines::shader_sources`); their
+/// `shaders/texture_space_scene.wgsl`: `pipelines::shader_sources`) and,
+/// on a device with ray queries, of the probe-ray gather; their
 /// pipelines need the scene's bind-group layout and are built with the
 /// [`State`].
 pub(in crate::render) struct Pipelines {
     module: wgpu::ShaderModule,
+    rays: Option<wgpu::ShaderModule>,
 }
 
 impl super::MethodPipelines for Pipelines {
-    fn new(_: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+    fn new(device: &wgpu::Device, module: &dyn Fn(&'static str) -> wgpu::ShaderModule) -> Self {
+        let rays = device
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+            .then(|| module(TEXTURE_SPACE_RAYS_MODULE));
         Self {
             module: module(TEXTURE_SPACE_MODULE),
+            rays,
         }
     }
 }
@@ -191,6 +238,8 @@ impl super::MethodPipelines for Pipelines {
 pub(in crate::render) struct State {
     passes: Option<MeshPasses>,
     atlas: Option<Atlas>,
+    /// The probe rays' acceleration structure, for one mesh.
+    rays: Option<rays::RayScene>,
 }
 
 /// The two passes that draw the mesh.
@@ -198,6 +247,8 @@ struct MeshPasses {
     atlas: wgpu::RenderPipeline,
     gather: wgpu::RenderPipeline,
     gather_layout: wgpu::BindGroupLayout,
+    /// The probe-ray gather and its group 2, on a device with ray queries.
+    rays: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
 }
 
 
@@ -245,6 +296,7 @@ impl MeshPasses {
     fn new(
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
+        rays_module: Option<&wgpu::ShaderModule>,
         scene_layout: &wgpu::BindGroupLayout,
     ) -> Self {
         let frag = wgpu::ShaderStages::FRAGMENT;
@@ -313,11 +365,21 @@ impl MeshPasses {
             "texture-space gather",
             &[Some(scene_layout), Some(&gather_layout)],
         );
-        let gather = gather_pipeline(device, module, &gather_pl, &vertices);
+        let gather = gather_pipeline(device, (module, "fs_gather"), &gather_pl, &vertices);
+        let rays = rays_module.map(|rays_module| {
+            let rays_layout = rays::layout(device);
+            let pl = layout(
+                "texture-space probe rays",
+                &[Some(scene_layout), Some(&gather_layout), Some(&rays_layout)],
+            );
+            let pipeline = gather_pipeline(device, (rays_module, "fs_gather_rays"), &pl, &vertices);
+            (pipeline, rays_layout)
+        });
         Self {
             atlas,
             gather,
             gather_layout,
+            rays,
         }
     }
 }
@@ -327,7 +389,7 @@ impl MeshPasses {
 /// (stencil 1).
 fn gather_pipeline(
     device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
+    (module, fragment): (&wgpu::ShaderModule, &'static str),
     layout: &wgpu::PipelineLayout,
     vertices: &[Option<wgpu::VertexBufferLayout>],
 ) -> wgpu::RenderPipeline {
@@ -348,7 +410,7 @@ fn gather_pipeline(
         },
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some("fs_gather"),
+            entry_point: Some(fragment),
             compilation_options: Default::default(),
             targets: &[Some(wgpu::ColorTargetState {
                 format: HDR,
@@ -407,9 +469,11 @@ fn encode(
     let state = &mut state.texture_space;
     let size = atlas_side(io.inputs.methods.texture_space.atlas_size, io.targets.size);
     let device = f.device;
-    let passes = state
-        .passes
-        .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
+    let passes = state.passes.get_or_insert_with(|| {
+        let rays = p.texture_space.rays.as_ref();
+        MeshPasses::new(device, &p.texture_space.module, rays, io.scene_layout)
+    });
+    let rays = probe_rays(io, &mut state.rays, &mut f.encoder)?;
     if state.atlas.as_ref().map(|a| a.size) != Some(size) {
         state.atlas = None;
         state.atlas = Some(Atlas::new(device, size));
@@ -458,7 +522,7 @@ fn encode(
             "texture-space uniforms",
             bytemuck::bytes_of(&TextureSpaceUniforms {
                 near_field_mm: io.inputs.methods.texture_space.near_field_mm,
-                pad0: 0.0,
+                dom_channel: io.inputs.methods.texture_space.dom_channel,
                 pad1: 0.0,
                 pad2: 0.0,
             }),
@@ -497,10 +561,55 @@ fn encode(
             ..Default::default()
         });
         pass.set_stencil_reference(1);
-        io.drawn
-            .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]);
+        match (rays, &passes.rays) {
+            (Some(scene), Some((pipeline, layout))) => {
+                let rays_bg = scene.bind_group(device, layout);
+                io.drawn
+                    .draw_with(&mut pass, pipeline, &[io.scene_bind, &gather_bg, &rays_bg]);
+            }
+            _ => io
+                .drawn
+                .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]),
+        }
     }
     Ok(Scattered::in_target(HdrTarget::Ping, n))
+}
+
+/// The probe rays' scene where this frame gathers by them too
+/// (`--probe-rays on`), built on `encoder` when the mesh is new to it;
+/// `None` where it gathers through the UV layout alone (off, or a mesh
+/// with no skin).
+fn probe_rays<'s>(
+    io: &SssFrame,
+    cache: &'s mut Option<rays::RayScene>,
+    encoder: &mut wgpu::CommandEncoder,
+) -> Result<Option<&'s rays::RayScene>, GpuError> {
+    use crate::render::context::RayQueries;
+    match (io.inputs.methods.texture_space.probe_rays, &io.ctx.ray_queries) {
+        (ProbeRays::Off, _) => return Ok(None),
+        (ProbeRays::On, RayQueries::Missing(why)) => {
+            return Err(GpuError::NoRayQueries(why.clone()))
+        }
+        (ProbeRays::On, RayQueries::Available) => {}
+    }
+    // The level of detail the scene pass drew: the pixels' surface points
+    // lie on it, and a ray through a finer one would find them up to its
+    // deviation away.
+    let mut mesh = io.mesh;
+    while mesh.indices.len() as u32 != io.drawn.index_count {
+        match &mesh.coarse {
+            Some(coarse) => mesh = coarse,
+            None => {
+                mesh = io.mesh;
+                break;
+            }
+        }
+    }
+    let key = rays::mesh_key(mesh);
+    if cache.as_ref().map(|r| r.key()) != Some(key) {
+        *cache = rays::RayScene::new(&io.ctx.device, encoder, mesh, key);
+    }
+    Ok(cache.as_ref())
 }
 
 #[cfg(test)]
