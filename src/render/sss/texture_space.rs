@@ -103,9 +103,9 @@ pub struct Options {
     pub near_field_mm: f32,
     /// `texture-space`: also gather the skin that is near in 3D but far
     /// in UV by probe rays through the mesh (the adapter's ray queries;
-    /// an error, saying why, where it has none). Off by default: on the
-    /// scan it measured worse than the UV layout's gather alone
-    /// (docs/accuracy.md).
+    /// an error, saying why, where it has none). Off by default: it gains
+    /// 2–10 points on the scan but loses 11–14 on the procedural head,
+    /// at 18–64 × the time on lavapipe (docs/accuracy.md).
     #[arg(
         id = "probe_rays",
         long = "probe-rays",
@@ -177,23 +177,20 @@ impl MethodInputs for Inputs {
         })
     }
 
-    /// `variant` is `atlas<N>` (the default near field), `atlas<N>-only`
-    /// (no near field: every sample in the atlas), both through the UV
-    /// layout, or `atlas<N>-rays` (probe rays; an error without ray
-    /// queries).
+    /// `variant` is `atlas<N>` (the default near field) or
+    /// `atlas<N>-only` (no near field: every sample in the atlas), both
+    /// through the UV layout alone (probe rays off: the bench tool
+    /// `texture_space_on_the_scan` measures them).
     fn bench(&mut self, _: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
         let bad = || ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant));
         let rest = knob.variant.strip_prefix("atlas").ok_or_else(bad)?;
-        let (size, only, rays) = if let Some(size) = rest.strip_suffix("-only") {
-            (size, true, false)
-        } else if let Some(size) = rest.strip_suffix("-rays") {
-            (size, false, true)
-        } else {
-            (rest, false, false)
+        let (size, only) = match rest.strip_suffix("-only") {
+            Some(size) => (size, true),
+            None => (rest, false),
         };
         self.atlas_size = size.parse().map_err(|_| bad())?;
         self.near_field_mm = if only { 0.0 } else { DEFAULT_NEAR_FIELD_MM };
-        self.probe_rays = if rays { ProbeRays::On } else { ProbeRays::Off };
+        self.probe_rays = ProbeRays::Off;
         Ok(())
     }
 
@@ -296,7 +293,6 @@ impl MeshPasses {
     fn new(
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
-        rays_module: Option<&wgpu::ShaderModule>,
         scene_layout: &wgpu::BindGroupLayout,
     ) -> Self {
         let frag = wgpu::ShaderStages::FRAGMENT;
@@ -322,11 +318,7 @@ impl MeshPasses {
                 ..Default::default()
             })
         };
-        let vertices = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32, 5 => Float32, 6 => Float32x4],
-        })];
+        let vertices = [Some(vertex_layout())];
         let target = |format| {
             Some(wgpu::ColorTargetState {
                 format,
@@ -366,21 +358,58 @@ impl MeshPasses {
             &[Some(scene_layout), Some(&gather_layout)],
         );
         let gather = gather_pipeline(device, (module, "fs_gather"), &gather_pl, &vertices);
-        let rays = rays_module.map(|rays_module| {
-            let rays_layout = rays::layout(device);
-            let pl = layout(
-                "texture-space probe rays",
-                &[Some(scene_layout), Some(&gather_layout), Some(&rays_layout)],
-            );
-            let pipeline = gather_pipeline(device, (rays_module, "fs_gather_rays"), &pl, &vertices);
-            (pipeline, rays_layout)
-        });
         Self {
             atlas,
             gather,
             gather_layout,
-            rays,
+            rays: None,
         }
+    }
+
+    /// Itself, with the probe rays' pipeline built where this frame casts
+    /// them (`on`: [`probe_rays`] required ray queries, so their module
+    /// exists).
+    fn with_rays(&mut self, on: bool, p: &SssPipelines, io: &SssFrame) -> &Self {
+        if let (true, Some(module)) = (on, p.texture_space.rays.as_ref()) {
+            self.build_rays(&io.ctx.device, module, io.scene_layout);
+        }
+        self
+    }
+
+    /// The probe-ray gather's pipeline and its group 2, built the first
+    /// time a frame asks for probe rays (a backend compile that frames
+    /// without them never pay).
+    fn build_rays(
+        &mut self,
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        scene_layout: &wgpu::BindGroupLayout,
+    ) {
+        if self.rays.is_some() {
+            return;
+        }
+        let gather_layout = &self.gather_layout;
+        self.rays = Some({
+            let rays_layout = rays::layout(device);
+            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("texture-space probe rays"),
+                bind_group_layouts: &[Some(scene_layout), Some(gather_layout), Some(&rays_layout)],
+                ..Default::default()
+            });
+            let vertices = [Some(vertex_layout())];
+            let pipeline = gather_pipeline(device, (module, "fs_gather_rays"), &pl, &vertices);
+            (pipeline, rays_layout)
+        });
+    }
+}
+
+/// The mesh's vertex buffer as the scene pass reads it ([`Vertex`]).
+fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32, 5 => Float32, 6 => Float32x4];
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRIBUTES,
     }
 }
 
@@ -469,11 +498,12 @@ fn encode(
     let state = &mut state.texture_space;
     let size = atlas_side(io.inputs.methods.texture_space.atlas_size, io.targets.size);
     let device = f.device;
-    let passes = state.passes.get_or_insert_with(|| {
-        let rays = p.texture_space.rays.as_ref();
-        MeshPasses::new(device, &p.texture_space.module, rays, io.scene_layout)
-    });
-    let rays = probe_rays(io, &mut state.rays, &mut f.encoder)?;
+    let passes = state
+        .passes
+        .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
+    let scene = probe_rays(io, &mut state.rays, &mut f.encoder)?;
+    let passes = passes.with_rays(scene.is_some(), p, io);
+    let rays = scene.zip(passes.rays.as_ref());
     if state.atlas.as_ref().map(|a| a.size) != Some(size) {
         state.atlas = None;
         state.atlas = Some(Atlas::new(device, size));
@@ -561,13 +591,13 @@ fn encode(
             ..Default::default()
         });
         pass.set_stencil_reference(1);
-        match (rays, &passes.rays) {
-            (Some(scene), Some((pipeline, layout))) => {
+        match rays {
+            Some((scene, (pipeline, layout))) => {
                 let rays_bg = scene.bind_group(device, layout);
                 io.drawn
                     .draw_with(&mut pass, pipeline, &[io.scene_bind, &gather_bg, &rays_bg]);
             }
-            _ => io
+            None => io
                 .drawn
                 .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]),
         }
