@@ -109,7 +109,16 @@ fn main() -> anyhow::Result<()> {
                 inputs.methods.texture_space.atlas_size = atlas;
                 inputs.methods.texture_space.near_field_mm = near;
                 inputs.methods.texture_space.probe_rays = probe;
-                let t = measure(&mut r, &inputs, &s(Method::TextureSpace), repeats)?;
+                let t = match measure(&mut r, &inputs, &s(Method::TextureSpace), repeats) {
+                    Ok(t) => t,
+                    // Probe rays on an adapter without ray queries: say
+                    // why, and go on with the rest.
+                    Err(e) if probe == rays => {
+                        line += &format!(" | probe rays: {e}");
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
                 let how = if probe == rays { ", probe rays" } else { "" };
                 line += &format!(
                     " | texture-space {atlas}/{near} mm{how} {:.0} % ({:.0} ms)",

@@ -121,7 +121,7 @@ struct Sample {
 // Twin of `render::gpu_types::TextureSpaceUniforms`.
 struct TextureSpaceUniforms {
     near_field_mm: f32,   // samples nearer are read on screen (0: none)
-    dom_channel: u32,     // the channel that placed burley's radii (probe rays)
+    pad0: f32,
     pad1: f32,
     pad2: f32,
 };
@@ -195,80 +195,128 @@ fn mm_per_uv(t: TriangleMaps) -> f32 {
     return sqrt(length(cross(t.wx, t.wy)) / max(abs(t.dx.x * t.dy.y - t.dx.y * t.dy.x), 1e-30));
 }
 
+// What every one of the UV layout's samples at a pixel shares: the
+// triangle's plane frame (e1 = W_x/|W_x|, e2 ⟂ e1 in the triangle's
+// plane: W_x = (a, 0), W_y = (b, c) there, so a surface offset (s1, s2)
+// mm is the pixel step (t_x, t_y) with t_y = s2/c, t_x = (s1 − b·t_y)/a,
+// and the UV offset t_x·D_x + t_y·D_y), the surface point x (mm), the
+// pixel's rotation and SSS mask m. `valid` is false where the triangle's
+// map is degenerate.
+struct UvFrame {
+    valid: bool,
+    x: vec3<f32>,
+    e1: vec3<f32>,
+    a: f32,
+    b: f32,
+    c: f32,
+    // Half a texel's diagonal (mm): a sample is read at the nearest
+    // texel's centre, up to this far from where it was placed (texel side
+    // in mm: √(mm² per UV² of the triangle) / atlas size), so that much of
+    // the 3D distance is rounding, not a step onto another sheet.
+    rounding_mm: f32,
+    rotation: f32,
+    // Pixels per mm at the pixel's depth.
+    ppm: f32,
+    // The SSS mask m scales the profile's radii, as the ground truth's
+    // (ρ_m(r) = ρ(r/m)/m², render/ground_truth/table.rs `Scaled`) and
+    // fs_burley's disk do: the samples go out to r·m, and the weight
+    // ρ_m/pdf_m is ρ(ρ/m)/pdf(r).
+    m: f32,
+};
+
+fn uv_frame(i: VertexOut, t: TriangleMaps, pixel: vec4<f32>) -> UvFrame {
+    var f: UvFrame;
+    f.a = length(t.wx);
+    f.e1 = t.wx / max(f.a, 1e-20);
+    f.b = dot(t.wy, f.e1);
+    f.c = length(t.wy - f.e1 * f.b);
+    f.valid = f.a > 0.0 && f.c > 0.0;
+    f.x = i.world * u.mm_per_unit;
+    let size = vec2<f32>(textureDimensions(atlas_irradiance, 0));
+    f.rounding_mm = 0.70710678 * mm_per_uv(t) / max(size.x, size.y);
+    f.rotation = 0.0;
+    if (s.deterministic == 0u) {
+        f.rotation = 6.28318531 * fract(r2(vec2<i32>(i.clip.xy)) + s.rotation_offset_turns);
+    }
+    f.ppm = s.pixels_per_unit_at_depth_1 / (max(i.view_depth, 1e-6) * u.mm_per_unit);
+    f.m = pixel.a;
+    return f;
+}
+
+// One of burley's samples as the UV layout reads it: w·light, w, and
+// whether it found the pixel's own sheet (a surface was there, no
+// further than 2r + 1 mm from x in 3D: a sample that crossed a UV seam or
+// an outline lands far away, and weighs next to nothing), and whether it
+// was read on screen (the near field).
+struct UvSample {
+    light: vec3<f32>,
+    w: vec3<f32>,
+    found: bool,
+    screen: bool,
+};
+
+fn uv_sample(i: VertexOut, t: TriangleMaps, f: UvFrame, k: u32) -> UvSample {
+    var o: UvSample;
+    let smp = samples[k];
+    let angle = smp.angle + f.rotation;
+    let dir = vec2<f32>(cos(angle), sin(angle));
+    let r_mm = smp.radius_mm * f.m;
+    if (smp.radius_mm < ts.near_field_mm) {
+        // The near field on screen, as fs_burley reads it (pixel
+        // resolution where the atlas's texels are coarser than the green
+        // and blue profiles): the same sample on a disk facing the camera,
+        // weighed at √(r² + Δz²).
+        let screen = vec2<i32>(textureDimensions(scene_diffuse, 0));
+        let p = vec2<i32>(i.clip.xy);
+        let aimed = p + vec2<i32>(round(dir * r_mm * f.ppm));
+        let q = clamp(aimed, vec2<i32>(0), screen - vec2<i32>(1));
+        let e = textureLoad(scene_diffuse, q, 0);
+        let seen = sees(e.a, e.rgb);
+        let dz = (textureLoad(scene_depth, q, 0).r - i.view_depth) * u.mm_per_unit;
+        let dist = sqrt(r_mm * r_mm + dz * dz);
+        let rho = dist / f.m;
+        o.w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a;
+        o.light = o.w * seen.rgb;
+        // Off the frame the clamped pixel stands in for the sample (the
+        // gather's convention); it did not find the surface there.
+        o.found = seen.a > 0.0 && dist <= 2.0 * r_mm + 1.0 && all(aimed == q);
+        o.screen = true;
+        return o;
+    }
+    let d = dir * r_mm;
+    let ty = d.y / f.c;
+    let tx = (d.x - f.b * ty) / f.a;
+    let uv = i.uv + tx * t.dx + ty * t.dy;
+    let size = vec2<f32>(textureDimensions(atlas_irradiance, 0));
+    let texel = atlas_texel(vec2<i32>(floor(uv * size)));
+    let seen = texel[0];
+    let y = texel[1];
+    // The profile at the 3D distance less the rounding, never nearer than
+    // the sample's own radius: r on the sample's own sheet, the 3D
+    // distance where it crossed a seam onto another island.
+    let dist = max(length(y.xyz - f.x) - f.rounding_mm, r_mm);
+    let rho = dist / f.m;
+    o.w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a * y.w;
+    o.light = o.w * seen.rgb;
+    o.found = seen.a * y.w > 0.0 && dist <= 2.0 * r_mm + 1.0;
+    return o;
+}
+
 // The UV layout's gather at the pixel: Σ w·light and Σ w over burley's
 // samples (the near field on screen, the rest through the UV map), as
 // `fs_gather` normalises them; w = 0 everywhere where the triangle's map
 // is degenerate.
 fn uv_gather(i: VertexOut, t: TriangleMaps, pixel: vec4<f32>) -> array<vec3<f32>, 2> {
-    let wx = t.wx;
-    let wy = t.wy;
-    let dx = t.dx;
-    let dy = t.dy;
-    let p = vec2<i32>(i.clip.xy);
-    // The tangent frame e1 = W_x/|W_x|, e2 ⟂ e1 in the triangle's plane:
-    // W_x = (a, 0), W_y = (b, c) there, so a surface offset (s1, s2) mm
-    // is the pixel step (t_x, t_y) with t_y = s2/c, t_x = (s1 − b·t_y)/a,
-    // and the UV offset t_x·D_x + t_y·D_y.
-    let a = length(wx);
-    let e1 = wx / max(a, 1e-20);
-    let b = dot(wy, e1);
-    let c = length(wy - e1 * b);
-    if (a <= 0.0 || c <= 0.0) {
-        return array<vec3<f32>, 2>(vec3<f32>(0.0), vec3<f32>(0.0));
-    }
-    let size = vec2<f32>(textureDimensions(atlas_irradiance, 0));
-    let x = i.world * u.mm_per_unit;
-    // A sample is read at the nearest texel's centre, up to half a
-    // texel's diagonal from where it was placed (texel side in mm: √(mm²
-    // per UV² of the triangle) / atlas size): that much of the 3D distance
-    // is rounding, not a step onto another sheet of the surface.
-    let rounding_mm = 0.70710678 * mm_per_uv(t) / max(size.x, size.y);
-    var rotation = 0.0;
-    if (s.deterministic == 0u) {
-        rotation = 6.28318531 * fract(r2(p) + s.rotation_offset_turns);
-    }
+    let f = uv_frame(i, t, pixel);
     var sum = vec3<f32>(0.0);
     var wsum = vec3<f32>(0.0);
-    let ppm = s.pixels_per_unit_at_depth_1 / (max(i.view_depth, 1e-6) * u.mm_per_unit);
-    let screen = vec2<i32>(textureDimensions(scene_diffuse, 0));
-    // The SSS mask m scales the profile's radii, as the ground truth's
-    // (ρ_m(r) = ρ(r/m)/m², render/ground_truth/table.rs `Scaled`) and
-    // fs_burley's disk do: the samples go out to r·m, and the weight
-    // ρ_m/pdf_m is ρ(ρ/m)/pdf(r).
-    let m = pixel.a;
+    if (!f.valid) {
+        return array<vec3<f32>, 2>(sum, wsum);
+    }
     for (var k = 0u; k < s.sample_count; k = k + 1u) {
-        let smp = samples[k];
-        let angle = smp.angle + rotation;
-        let dir = vec2<f32>(cos(angle), sin(angle));
-        if (smp.radius_mm < ts.near_field_mm) {
-            // The near field on screen, as fs_burley reads it (pixel
-            // resolution where the atlas's texels are coarser than the
-            // green and blue profiles): the same sample on a disk facing
-            // the camera, weighed at √(r² + Δz²).
-            let q = clamp(p + vec2<i32>(round(dir * smp.radius_mm * m * ppm)), vec2<i32>(0), screen - vec2<i32>(1));
-            let e = textureLoad(scene_diffuse, q, 0);
-            let seen = sees(e.a, e.rgb);
-            let dz = (textureLoad(scene_depth, q, 0).r - i.view_depth) * u.mm_per_unit;
-            let rho = sqrt(smp.radius_mm * smp.radius_mm * m * m + dz * dz) / m;
-            let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a;
-            sum = sum + w * seen.rgb;
-            wsum = wsum + w;
-            continue;
-        }
-        let d = dir * smp.radius_mm * m;
-        let ty = d.y / c;
-        let tx = (d.x - b * ty) / a;
-        let uv = i.uv + tx * dx + ty * dy;
-        let texel = atlas_texel(vec2<i32>(floor(uv * size)));
-        let seen = texel[0];
-        let y = texel[1];
-        // The profile at the 3D distance less the rounding, never nearer
-        // than the sample's own radius: r on the sample's own sheet, the
-        // 3D distance where it crossed a seam onto another island.
-        let rho = max(length(y.xyz - x) - rounding_mm, smp.radius_mm * m) / m;
-        let w = profile_rr(rho) / max(rho, 1e-6) * smp.inv_pdf * seen.a * y.w;
-        sum = sum + w * seen.rgb;
-        wsum = wsum + w;
+        let o = uv_sample(i, t, f, k);
+        sum = sum + o.light;
+        wsum = wsum + o.w;
     }
     return array<vec3<f32>, 2>(sum, wsum);
 }

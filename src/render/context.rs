@@ -122,7 +122,8 @@ impl RayQueries {
     }
 
     /// wgpu's token for its `EXPERIMENTAL_` features, enabled only where
-    /// ray queries are asked for.
+    /// the adapter offers ray queries (the device then has them whether
+    /// or not a frame casts probe rays: it is made before any frame).
     #[allow(unsafe_code)]
     fn token(&self) -> wgpu::ExperimentalFeatures {
         if !self.available() {
@@ -137,8 +138,10 @@ impl RayQueries {
         // `ray_query` declared inside a loop, so the shader declares it at
         // the function's top level (shaders/texture_space_rays.wgsl). The
         // shader is validated by naga in tests/shaders.rs, and the gather
-        // is tested on lavapipe (tests/render_physics.rs,
-        // `texture_space_follows_the_strip_cdf_across_an_edge`).
+        // is tested on lavapipe against closed forms
+        // (tests/render_physics.rs, `texture_space_probe_rays_*` and
+        // `texture_space_follows_the_strip_cdf_across_an_edge`). A driver
+        // that refuses the feature gets a device without it (`create`).
         unsafe { wgpu::ExperimentalFeatures::enabled() }
     }
 }
@@ -200,10 +203,7 @@ impl GpuContext {
         if rg11b10 {
             required_features |= wgpu::Features::RG11B10UFLOAT_RENDERABLE;
         }
-        let ray_queries = RayQueries::of(&adapter);
-        if ray_queries.available() {
-            required_features |= wgpu::Features::EXPERIMENTAL_RAY_QUERY;
-        }
+        let mut ray_queries = RayQueries::of(&adapter);
         let renderable = |f: wgpu::TextureFormat| {
             adapter
                 .get_texture_format_features(f)
@@ -228,28 +228,42 @@ impl GpuContext {
                 return Err(unsupported(f));
             }
         }
-        let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor {
-                label: Some("scatterlab"),
-                required_features,
-                required_limits: wgpu::Limits {
-                    // The GPU ground truth reads seven storage buffers in
-                    // one compute shader (ground_truth/gpu.rs); downlevel
-                    // devices that have fewer fall back to the CPU's.
-                    max_storage_buffers_per_shader_stage: adapter
-                        .limits()
-                        .max_storage_buffers_per_shader_stage
-                        .clamp(4, 8),
-                    ..ray_queries.limits(
-                        wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
-                        &adapter.limits(),
-                    )
-                },
-                experimental_features: ray_queries.token(),
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let descriptor = |ray_queries: &RayQueries| wgpu::DeviceDescriptor {
+            label: Some("scatterlab"),
+            required_features: match ray_queries.available() {
+                true => required_features | wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+                false => required_features,
+            },
+            required_limits: wgpu::Limits {
+                // The GPU ground truth reads seven storage buffers in
+                // one compute shader (ground_truth/gpu.rs); downlevel
+                // devices that have fewer fall back to the CPU's.
+                max_storage_buffers_per_shader_stage: adapter
+                    .limits()
+                    .max_storage_buffers_per_shader_stage
+                    .clamp(4, 8),
+                ..ray_queries.limits(
+                    wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+                    &adapter.limits(),
+                )
+            },
+            experimental_features: ray_queries.token(),
+            ..Default::default()
+        };
+        // Ray queries are experimental in wgpu: a driver that refuses a
+        // device with them still gets one without them, and says why.
+        let (device, queue) = match adapter.request_device(&descriptor(&ray_queries)).await {
+            Ok(made) => made,
+            Err(e) if ray_queries.available() => {
+                ray_queries =
+                    RayQueries::Missing(format!("the driver refused a device with them ({e})"));
+                adapter
+                    .request_device(&descriptor(&ray_queries))
+                    .await
+                    .map_err(|e| GpuError::Device(e.to_string()))?
+            }
+            Err(e) => return Err(GpuError::Device(e.to_string())),
+        };
         let lost = std::sync::Arc::new(std::sync::Mutex::new(None));
         let slot = lost.clone();
         device.set_device_lost_callback(move |reason, message| {

@@ -195,9 +195,7 @@ gpu_struct! {
         /// radii) are read on screen, the rest in the atlas; 0: all in
         /// the atlas.
         pub near_field_mm: f32,
-        /// The channel whose quantiles placed burley's radii (its areal
-        /// density is the probe rays' disk density).
-        pub dom_channel: u32,
+        pub pad0: f32,
         pub pad1: f32,
         pub pad2: f32,
     }

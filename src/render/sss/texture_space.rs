@@ -104,8 +104,9 @@ pub struct Options {
     /// `texture-space`: also gather the skin that is near in 3D but far
     /// in UV by probe rays through the mesh (the adapter's ray queries;
     /// an error, saying why, where it has none). Off by default: it gains
-    /// 2–10 points on the scan but loses 11–14 on the procedural head,
-    /// at 18–64 × the time on lavapipe (docs/accuracy.md).
+    /// 4–10 points on three of the bench's four head views, gives 1 back
+    /// on the fourth, and takes 11–40 × the time on lavapipe
+    /// (docs/accuracy.md).
     #[arg(
         id = "probe_rays",
         long = "probe-rays",
@@ -161,9 +162,6 @@ pub struct Inputs {
     /// Samples nearer (mm) are read on screen.
     pub near_field_mm: f32,
     pub probe_rays: ProbeRays,
-    /// The channel whose quantiles placed burley's radii
-    /// (`sampling::widest_channel`): the probe rays' disk density.
-    pub dom_channel: u32,
 }
 
 impl MethodInputs for Inputs {
@@ -173,7 +171,6 @@ impl MethodInputs for Inputs {
             atlas_size: o.atlas_size,
             near_field_mm: o.near_field_mm,
             probe_rays: o.probe_rays,
-            dom_channel: crate::model::sampling::widest_channel(look.profile) as u32,
         })
     }
 
@@ -198,7 +195,6 @@ impl MethodInputs for Inputs {
         h.write_u32(self.atlas_size);
         h.write_u32(self.near_field_mm.to_bits());
         h.write_u8(self.probe_rays as u8);
-        h.write_u32(self.dom_channel);
     }
 }
 
@@ -235,8 +231,9 @@ impl super::MethodPipelines for Pipelines {
 pub(in crate::render) struct State {
     passes: Option<MeshPasses>,
     atlas: Option<Atlas>,
-    /// The probe rays' acceleration structure, for one mesh.
-    rays: Option<rays::RayScene>,
+    /// The probe rays' acceleration structures, by mesh ([`probe_rays`];
+    /// `None`: that mesh has no skin).
+    rays: Vec<(u64, Option<rays::RayScene>)>,
 }
 
 /// The two passes that draw the mesh.
@@ -501,7 +498,7 @@ fn encode(
     let passes = state
         .passes
         .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
-    let scene = probe_rays(io, &mut state.rays, &mut f.encoder)?;
+    let scene = probe_rays(io, &mut state.rays)?;
     let passes = passes.with_rays(scene.is_some(), p, io);
     let rays = scene.zip(passes.rays.as_ref());
     if state.atlas.as_ref().map(|a| a.size) != Some(size) {
@@ -552,7 +549,7 @@ fn encode(
             "texture-space uniforms",
             bytemuck::bytes_of(&TextureSpaceUniforms {
                 near_field_mm: io.inputs.methods.texture_space.near_field_mm,
-                dom_channel: io.inputs.methods.texture_space.dom_channel,
+                pad0: 0.0,
                 pad1: 0.0,
                 pad2: 0.0,
             }),
@@ -606,13 +603,13 @@ fn encode(
 }
 
 /// The probe rays' scene where this frame gathers by them too
-/// (`--probe-rays on`), built on `encoder` when the mesh is new to it;
-/// `None` where it gathers through the UV layout alone (off, or a mesh
-/// with no skin).
+/// (`--probe-rays on`), built and submitted when the drawn mesh is new to
+/// the cache (which keeps the last [`RAY_SCENES`], so that switching
+/// between the levels of detail does not rebuild them); `None` where it
+/// gathers through the UV layout alone (off, or a mesh with no skin).
 fn probe_rays<'s>(
     io: &SssFrame,
-    cache: &'s mut Option<rays::RayScene>,
-    encoder: &mut wgpu::CommandEncoder,
+    cache: &'s mut Vec<(u64, Option<rays::RayScene>)>,
 ) -> Result<Option<&'s rays::RayScene>, GpuError> {
     use crate::render::context::RayQueries;
     match (io.inputs.methods.texture_space.probe_rays, &io.ctx.ray_queries) {
@@ -636,11 +633,23 @@ fn probe_rays<'s>(
         }
     }
     let key = rays::mesh_key(mesh);
-    if cache.as_ref().map(|r| r.key()) != Some(key) {
-        *cache = rays::RayScene::new(&io.ctx.device, encoder, mesh, key);
-    }
-    Ok(cache.as_ref())
+    let at = match cache.iter().position(|(k, _)| *k == key) {
+        Some(at) => at,
+        None => {
+            if cache.len() >= RAY_SCENES {
+                cache.remove(0);
+            }
+            let scene = rays::RayScene::new(&io.ctx.device, &io.ctx.queue, mesh);
+            cache.push((key, scene));
+            cache.len() - 1
+        }
+    };
+    Ok(cache[at].1.as_ref())
 }
+
+/// How many meshes' probe-ray scenes are kept (a mesh and its coarser
+/// level of detail).
+const RAY_SCENES: usize = 2;
 
 #[cfg(test)]
 mod tests {

@@ -1,20 +1,21 @@
 //! `texture-space`'s probe rays (`--probe-rays on`, on a device with ray
-//! queries: `GpuContext::ray_queries`): besides the UV layout's gather,
-//! each of burley's disk samples (Golubev 2018) casts a probe ray along
-//! the pixel's normal through its point on the tangent plane, across the
-//! profile's sphere, as NVIDIA's RTX Character Rendering SDK does (a disk
-//! sample, a probe ray, only skin accepted), and every skin triangle it
-//! crosses far from the pixel in UV adds its light at the 3D distance the
-//! ground truth weighs it by: the skin near in 3D but far in UV (closed
-//! lids and lips, the folds of the ear; issue 53's diagnosis) that the UV
-//! gather cannot reach. `shaders/texture_space_rays.wgsl` is the gather
-//! and states the estimator.
+//! queries: `GpuContext::ray_queries`): besides reading each of burley's
+//! disk samples (Golubev 2018) through the UV layout, the gather casts a
+//! probe ray along the triangle's normal through the sample's point,
+//! across the profile's sphere, as NVIDIA's RTX Character Rendering SDK
+//! does (a disk sample, a probe ray, only skin accepted). The skin it
+//! crosses far from the pixel in UV (closed lids and lips, the folds of
+//! the ear; issue 53's diagnosis), and the pixel's own sheet where the UV
+//! sample lost it at a seam, add their light at the 3D distance the ground
+//! truth weighs it by. `shaders/texture_space_rays.wgsl` is the gather and
+//! states the estimator.
 //!
 //! The acceleration structure holds the skin triangles (eyes and teeth do
 //! not scatter, as in the ground truth) of the level of detail the scene
-//! pass drew, built once per mesh. Measured, it gains 2–10 points on the
-//! scan and loses 11–14 on the procedural head (docs/accuracy.md), so it
-//! is off by default.
+//! pass drew, built once per mesh. Measured (docs/accuracy.md), it gains
+//! 4–10 points on three of the bench's four head views and gives 1 back
+//! on the fourth, at 11–40 × the UV gather's time on lavapipe, so it is
+//! off by default.
 
 use crate::render::mesh::Mesh;
 use crate::render::pipelines::buffer_entry;
@@ -23,16 +24,12 @@ use wgpu::util::DeviceExt;
 /// The mesh as the probe rays see it: its skin triangles in an
 /// acceleration structure, and each one's normal and UVs.
 pub(super) struct RayScene {
-    /// Which mesh it was built from ([`mesh_key`]).
-    key: u64,
     /// Kept alive with the TLAS that refers to it.
     _blas: wgpu::Blas,
     tlas: wgpu::Tlas,
     /// Per skin triangle, in the BLAS's order: its unit normal, then its
     /// three UVs ([`triangle_records`]).
     triangles: wgpu::Buffer,
-    /// The build's inputs, kept until the build has run.
-    _inputs: [wgpu::Buffer; 2],
 }
 
 /// A mesh's identity for the cache: its positions, UVs and indices.
@@ -83,15 +80,11 @@ fn triangle_records(mesh: &Mesh, triangles: &[[u32; 3]]) -> Vec<[f32; 12]> {
 }
 
 impl RayScene {
-    /// Builds the structures for `mesh` on `encoder` (they are ready once
-    /// it is submitted, before any pass recorded after it reads them).
-    /// `None` where the mesh has no skin.
-    pub fn new(
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        mesh: &Mesh,
-        key: u64,
-    ) -> Option<Self> {
+    /// Builds the structures for `mesh` and submits the build at once (on
+    /// its own encoder: a frame whose commands are dropped cannot leave
+    /// the cache holding a structure that was never built). `None` where
+    /// the mesh has no skin.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, mesh: &Mesh) -> Option<Self> {
         let triangles = skin_triangles(mesh);
         if triangles.is_empty() {
             return None;
@@ -136,6 +129,9 @@ impl RayScene {
         if let Some(slot) = tlas.get_mut_single(0) {
             *slot = Some(wgpu::TlasInstance::new(&blas, IDENTITY, 0, 0xff));
         }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("probe-ray build"),
+        });
         encoder.build_acceleration_structures(
             std::iter::once(&wgpu::BlasBuildEntry {
                 blas: &blas,
@@ -154,6 +150,7 @@ impl RayScene {
             }),
             std::iter::once(&tlas),
         );
+        queue.submit([encoder.finish()]);
         let records = triangle_records(mesh, &triangles);
         let triangles_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("probe-ray triangles"),
@@ -161,16 +158,10 @@ impl RayScene {
             usage: wgpu::BufferUsages::STORAGE,
         });
         Some(Self {
-            key,
             _blas: blas,
             tlas,
             triangles: triangles_buffer,
-            _inputs: [vertex_buffer, index_buffer],
         })
-    }
-
-    pub fn key(&self) -> u64 {
-        self.key
     }
 
     /// The gather's group 2 ([`layout`]).
