@@ -1170,12 +1170,17 @@ fn unsaved_work_is_recovered_after_a_kill_with_a_pointer() {
             red(c) && c.value.starts_with("R: 2.5")
         });
         s.wait_title("changed ('* ')", |t| t.starts_with("* "));
-        // The autosave (within 5 s of a change) holds the edit.
+        // The autosave (within 5 s of a change) holds the edit: its
+        // `<pid>.ron`, not the temporary file written before the rename
+        // (`fsutil::write_atomic`'s `.<name>.<pid>.tmp`; a kill between
+        // the two, on a busy machine, left no autosave to recover).
         let autosave = s.dir.join("data/scatterlab/autosave");
         let t0 = Instant::now();
         while !std::fs::read_dir(&autosave).is_ok_and(|d| {
-            d.flatten()
-                .any(|f| std::fs::read_to_string(f.path()).is_ok_and(|t| t.contains("2.5")))
+            d.flatten().any(|f| {
+                f.path().extension().is_some_and(|e| e == "ron")
+                    && std::fs::read_to_string(f.path()).is_ok_and(|t| t.contains("2.5"))
+            })
         }) {
             assert!(
                 t0.elapsed() < Duration::from_secs(20),
