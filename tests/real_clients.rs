@@ -192,6 +192,155 @@ fn blender_export_scatters_the_look_distance_in_cycles() {
     eprintln!("{report}worst |Δd|/d = {:.1} %", 100.0 * worst);
 }
 
+/// Renders `view` of a head with `scatterlab render` (`none` and
+/// `reference`, linear EXR, the key light alone: --ior 1, no environment,
+/// transmission off) and the same shot in Cycles from the recorded camera
+/// and mesh (tests/clients/blender_head.py); returns its figures.
+fn cycles_head(
+    tag: &str,
+    mesh: &[&str],
+    view: (&str, &str, &str),
+    size: u32,
+    samples: u32,
+) -> Value {
+    let dir = tmp_dir(tag);
+    let snippet = dir.join("snippet.py");
+    export(&Preset::default_skin(), None, Format::Blender, &snippet).unwrap();
+    let size = size.to_string();
+    let (yaw, az, el) = view;
+    for method in ["none", "reference"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+            .current_dir(root())
+            .arg("render")
+            .args(mesh)
+            .args([
+                "--camera-yaw",
+                yaw,
+                "--light-azimuth",
+                az,
+                "--light-elevation",
+                el,
+            ])
+            .args(["--no-lod", "--ior", "1", "--transmission", "off"])
+            .args(["--environment-intensity", "0", "--deterministic"])
+            .args(["--width", &size, "--height", &size, "--method", method])
+            .arg("--out")
+            .arg(dir.join(format!("{method}.exr")))
+            .arg("--stats")
+            .arg(dir.join(format!("{method}.json")))
+            .arg("--scene-obj")
+            .arg(dir.join("mesh.obj"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{tag} {method}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let p = |f: &str| dir.join(f).to_str().unwrap().to_owned();
+    let samples = samples.to_string();
+    run_client(
+        "blender_head.py",
+        &[
+            &p("snippet.py"),
+            &p("none.json"),
+            &p("mesh.obj"),
+            &p("none.exr"),
+            &p("reference.exr"),
+            &p("."),
+            "--samples",
+            &samples,
+            "--seeds",
+            "1,2",
+        ],
+        &[],
+    )
+}
+
+/// Cycles scatters the light on a whole head as the ground truth does
+/// (issue 53, item 3): the scan and the procedural head lit from the side
+/// (camera yaw 20°, sun at azimuth 100°, elevation 10°), 96², 256 samples
+/// and two seeds of Cycles' Christensen-Burley against `reference`, each
+/// minus its own unscattered frame (Cycles with Subsurface Weight 0,
+/// scatterlab's `none`). Figures are shares of the lit level A·E/π.
+/// - The shot is the same: the skin masks overlap by 99.9 % (IoU ≥ 0.995)
+///   and the unscattered frames differ by 1.0-1.3 % RMS (< 3 %; a camera a
+///   pixel off, or the mesh in other units, is far beyond).
+/// - Over the skin, the ground truth's scattering effect leaves 0.52-0.54
+///   of Cycles' (RMS of the difference over RMS of Cycles' effect; < 0.8):
+///   a frame that does not scatter leaves 1.0 (measured: `none` given as
+///   the ground truth fails all three). In the shadowed skin, where light
+///   scattered in is the whole signal, 0.35-0.36 (< 0.6), and its mean
+///   there is 0.75-0.88 of Cycles' (0.6-1.3). Cycles' seeds' noise there
+///   is 0.05 % against an RMS effect of 0.4-1.0 %.
+///
+/// What is left is Cycles' noise (the two seeds), Cycles' gain on curved
+/// surfaces (+3 % in red on a 10 mm sphere against a quadrature that the
+/// ground truth matches within 0.4 %; docs/accuracy.md) and the shadow
+/// map's light in creases.
+#[test]
+fn cycles_scatters_a_whole_head_as_the_ground_truth_does() {
+    let mut report = String::new();
+    let mut failures = Vec::new();
+    let heads: [(&str, &[&str]); 2] = [
+        (
+            "scan",
+            &[
+                "--mesh",
+                "assets/scan/LeePerrySmith.glb",
+                "--metres-per-unit",
+                "0.0462",
+                "--camera-distance",
+                "0.6",
+            ],
+        ),
+        (
+            "head",
+            &[
+                "--mesh",
+                "assets/head/head.obj",
+                "--metres-per-unit",
+                "0.1",
+                "--camera-distance",
+                "0.55",
+            ],
+        ),
+    ];
+    for (tag, mesh) in heads {
+        let v = cycles_head(&format!("head-{tag}"), mesh, ("20", "100", "10"), 96, 256);
+        let iou = v["pixels"]["mask_iou"].as_f64().unwrap();
+        let unscattered = v["unscattered"]["rms_none_vs_no_sss"].as_f64().unwrap();
+        let r = &v["regions"];
+        let f = |region: &str, key: &str| r[region][key].as_f64().unwrap();
+        let skill =
+            |region: &str| f(region, "rms_reference_minus_cycles") / f(region, "rms_cycles");
+        let mean_ratio = f("shadow", "effect_reference") / f("shadow", "effect_cycles");
+        report += &format!(
+            "{tag}: IoU {iou:.4}, unscattered RMS {:.2} %, left over skin {:.2}, in shadow {:.2}, shadow mean {:.2} (noise {:.2} % of RMS {:.2} %)\n",
+            100.0 * unscattered,
+            skill("skin"),
+            skill("shadow"),
+            mean_ratio,
+            100.0 * f("shadow", "noise"),
+            100.0 * f("shadow", "rms_cycles"),
+        );
+        for (ok, what) in [
+            (iou >= 0.995, "skin masks"),
+            (unscattered < 0.03, "unscattered frames"),
+            (skill("skin") < 0.8, "effect over the skin"),
+            (skill("shadow") < 0.6, "effect in shadow"),
+            ((0.6..1.3).contains(&mean_ratio), "mean effect in shadow"),
+        ] {
+            if !ok {
+                failures.push(format!("{tag}: {what}"));
+            }
+        }
+    }
+    eprint!("{report}");
+    assert!(failures.is_empty(), "{failures:?}\n{report}");
+}
+
 /// On an artist's object that already has a Principled BSDF (Random Walk,
 /// other colours), in a scene modelled in centimetres (Unit Scale 0.01),
 /// the snippet replaces the values and Cycles still scatters the look's

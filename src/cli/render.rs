@@ -32,9 +32,16 @@ pub struct RenderArgs {
     /// before exposure and tone mapping).
     #[arg(long, value_name = "FILE.png|FILE.exr")]
     pub out: PathBuf,
-    /// Also write per-frame statistics as JSON.
+    /// Also write per-frame statistics as JSON (with the camera and key
+    /// light in metres, `camera`).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
+    /// Also write the mesh as drawn, in metres in the renderer's world
+    /// frame (y up), as an OBJ with its normals and groups skin, eyes and
+    /// teeth: with --stats's `camera`, what another renderer needs to draw
+    /// the same shot (tests/clients/blender_head.py).
+    #[arg(long, value_name = "FILE.obj")]
+    pub scene_obj: Option<PathBuf>,
     #[command(flatten)]
     pub view: ViewArgs,
     /// Render a second method and show both, split at --split.
@@ -76,6 +83,10 @@ impl RenderArgs {
             anyhow::bail!(
                 "--supersample {n}: only the ground truth gathers sub-points of a pixel (use --method reference)"
             );
+        }
+        if let Some(path) = &self.scene_obj {
+            crate::fsutil::write_atomic(path, mesh.to_obj_metres().as_bytes())
+                .with_context(|| format!("{}: cannot write the mesh", path.display()))?;
         }
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
         for _ in 1..self.view.frames {

@@ -1,7 +1,7 @@
 //! Where the mesh sits and how the camera and light orbit it: the view,
 //! projection and light transforms every pass and the ground truth share.
 
-use super::settings::RenderSettings;
+use super::settings::{CameraRecord, RenderSettings};
 use glam::{Mat4, Vec3};
 
 /// The mesh's placement: what the camera and light orbit, and the scale
@@ -28,6 +28,8 @@ pub(super) struct PointLight {
 /// The camera and light of one frame.
 pub(super) struct CameraLight {
     pub eye: Vec3,
+    /// The point the camera looks at (world units).
+    pub target: Vec3,
     pub view: Mat4,
     pub projection: Mat4,
     /// Towards a directional light (unit).
@@ -73,6 +75,7 @@ impl Framing {
         };
         CameraLight {
             eye,
+            target,
             view,
             projection,
             light,
@@ -93,6 +96,36 @@ impl Framing {
             near: (distance - rad).max(0.01 * rad),
             far: distance + rad,
         })
+    }
+
+    /// The frame's camera and key light in metres, for another renderer
+    /// to set up the same shot ([`CameraRecord`]).
+    pub fn record(&self, camera: &CameraLight, s: &RenderSettings) -> CameraRecord {
+        let m = |p: Vec3| (p * self.metres_per_unit).to_array();
+        let v = &s.view;
+        CameraRecord {
+            eye_m: m(camera.eye),
+            target_m: m(camera.target),
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: v.fov_y_rad.to_degrees(),
+            width: s.width,
+            height: s.height,
+            toward_light: camera.light.to_array(),
+            light_irradiance: v.light_colour.map(|c| c * v.light_intensity),
+            point_light_m: self.point_light(s).map(|p| m(p.position)),
+            metres_per_unit: self.metres_per_unit,
+            unrecorded_light: [
+                ("fill", v.fill.intensity > 0.0),
+                ("rim", v.rim.intensity > 0.0),
+                (
+                    "environment",
+                    s.environment_sh.iter().flatten().any(|c| *c != 0.0),
+                ),
+            ]
+            .into_iter()
+            .filter_map(|(name, on)| on.then_some(name))
+            .collect(),
+        }
     }
 
     /// Pixels per world unit at the orbit's centre.

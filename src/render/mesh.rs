@@ -499,6 +499,8 @@ impl Mesh {
 }
 
 mod geometry;
+/// The mesh written as an OBJ in metres.
+mod obj_out;
 /// Which way a mesh faces, and a file inside out turned outward.
 mod orientation;
 pub use orientation::Facing;

@@ -52,7 +52,7 @@ pub use mesh::{procedural, Mesh};
 #[cfg(feature = "gpu")]
 pub use renderer::Renderer;
 #[cfg(feature = "gpu")]
-pub use settings::FrameStats;
+pub use settings::{CameraRecord, FrameStats};
 pub use settings::{
     IrradiancePattern, Method, Progressive, RenderSettings, Specular, TexturingMode, Transmission,
     TruthProgress, TruthTiles,

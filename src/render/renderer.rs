@@ -493,6 +493,7 @@ impl Renderer {
             triangles: lod.index_count as u64 / 3,
             width: s.width,
             height: s.height,
+            camera: self.framing.record(&camera, s),
             adapter: self.adapter_name(),
             driver: super::driver::describe(&self.ctx.adapter_info),
             driver_advice: super::driver::advice(&self.ctx.adapter_info),

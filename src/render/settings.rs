@@ -306,6 +306,8 @@ pub struct FrameStats {
     pub triangles: u64,
     pub width: u32,
     pub height: u32,
+    /// The camera and key light in metres, for another renderer.
+    pub camera: CameraRecord,
     pub adapter: String,
     /// The driver and its version ([`super::driver::describe`]): "lavapipe,
     /// Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)".
@@ -314,4 +316,30 @@ pub struct FrameStats {
     /// line that upgrades it ([`super::driver::advice`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub driver_advice: Option<String>,
+}
+
+/// A frame's camera and key light in the renderer's world frame (y up,
+/// right-handed, the mesh's units times `metres_per_unit`): what
+/// `scatterlab render --stats` writes so that another renderer (Cycles,
+/// tests/clients/blender_head.py) can set up the same shot. The camera is
+/// a pinhole at `eye_m` looking at `target_m` with `up`, the vertical
+/// field of view `fov_y_deg` over `height` pixels; the key light is
+/// directional towards `toward_light`, delivering `light_irradiance`
+/// (W/m², linear RGB) at normal incidence, or a point light at
+/// `point_light_m` (with the renderer's falloff; the Cycles script refuses
+/// it). The fill, rim and environment are not recorded: those that light
+/// the frame are named in `unrecorded_light`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CameraRecord {
+    pub eye_m: [f32; 3],
+    pub target_m: [f32; 3],
+    pub up: [f32; 3],
+    pub fov_y_deg: f32,
+    pub width: u32,
+    pub height: u32,
+    pub toward_light: [f32; 3],
+    pub light_irradiance: [f32; 3],
+    pub point_light_m: Option<[f32; 3]>,
+    pub metres_per_unit: f32,
+    pub unrecorded_light: Vec<&'static str>,
 }
