@@ -1,4 +1,4 @@
-//! The shadow pass: the mesh's depth from the light, into a 1024² map the
+//! The shadow pass: the mesh's depth from the light, into a 2048² map the
 //! scene pass filters (PCF) and reads raw (thickness), and the ground truth
 //! reads back. Skipped while the light and the level of detail hold.
 
@@ -7,8 +7,13 @@ use super::super::gpu_types::SceneUniforms;
 use super::super::pipelines::{shadow_pipeline, uniform_entry};
 use super::{depth_attachment, MeshLod};
 
-/// The shadow map's size (texels per side).
-pub(in crate::render) const SHADOW_SIZE: u32 = 1024;
+/// The shadow map's size (texels per side). 2048: on the scan (bounding
+/// radius 0.3 m, a texel of 0.3 mm, PCF over 1.2 mm, depth bias 1.2 mm)
+/// closed lids and lips get 4.6 % of the lit level more light than Cycles'
+/// ray-traced sun gives them, against 10.3 % at 1024² (2.4 % at 4096², for
+/// 2.6× the shadow pass's time on lavapipe); tools/cycles_heads.sh,
+/// docs/accuracy.md (issue 53, item 3).
+pub(in crate::render) const SHADOW_SIZE: u32 = 2048;
 
 pub(in crate::render) struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
