@@ -27,6 +27,23 @@ bin=target/release/scatterlab
 mkdir -p "$out"
 "$bin" export --format blender --out "$out/snippet.py" >/dev/null
 
+# Random Walk's reflectance on a flat plane (0.2 m across, lit and seen
+# square on), which the heads' Random Walk figures are also given divided by.
+plane="$out/plane"
+mkdir -p "$plane"
+printf 'v -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n' >"$plane/plane.obj"
+for m in none reference; do
+    "$bin" render --mesh "$plane/plane.obj" --metres-per-unit 0.001 --camera-yaw 0 --camera-pitch 0 \
+        --camera-distance 0.1 --light-azimuth 0 --light-elevation 0 --no-lod --ior 1 \
+        --transmission off --environment-intensity 0 --deterministic --width 64 --height 64 \
+        --method "$m" --out "$plane/$m.exr" --stats "$plane/$m.json" --scene-obj "$plane/mesh.obj" >/dev/null
+done
+"$py" tests/clients/blender_head.py "$out/snippet.py" "$plane/none.json" "$plane/mesh.obj" \
+    "$plane/none.exr" "$plane/reference.exr" "$plane" --samples "$samples" --random-walk \
+    2>/dev/null | tail -n 1 >"$plane/figures.json"
+flat=$("$py" -c "import json; print(','.join(f'{v:.4f}' for v in json.load(open('$plane/figures.json'))['random_walk_over_no_sss']))")
+echo "Random Walk over no subsurface on a plane: $flat" >&2
+
 # head: mesh arguments; view: camera yaw, light azimuth, light elevation.
 declare -A mesh=(
     [scan]="--mesh assets/scan/LeePerrySmith.glb --metres-per-unit 0.0462 --camera-distance 0.6"
@@ -52,18 +69,18 @@ for h in scan head; do
         done
         "$py" tests/clients/blender_head.py "$out/snippet.py" "$dir/none.json" "$dir/mesh.obj" \
             "$dir/none.exr" "$dir/reference.exr" "$dir" --samples "$samples" --random-walk \
-            2>/dev/null | tail -n 1 >"$dir/figures.json"
+            --random-walk-reflectance "$flat" 2>/dev/null | tail -n 1 >"$dir/figures.json"
         echo "${h}_$v: $(cut -c1-200 "$dir/figures.json")" >&2
     done
 done
 "$py" - "$out" <<'EOF'
 import json, os, sys
 out = sys.argv[1]
-print("| view | region | pixels | none - no-SSS | effect, Cycles C-B | effect, reference | RMS reference - C-B | C-B seeds' noise | effect, Random Walk | RMS RW - C-B |")
-print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+print("| view | region | pixels | none - no-SSS | effect, Cycles C-B | effect, reference | RMS reference - C-B | C-B seeds' noise | effect, Random Walk | RMS RW - C-B | effect, RW / plane | RMS RW / plane - C-B |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for name in sorted(os.listdir(out)):
     f = os.path.join(out, name, "figures.json")
-    if not os.path.exists(f):
+    if name == "plane" or not os.path.exists(f):
         continue
     d = json.load(open(f))
     for region, r in d["regions"].items():
@@ -71,5 +88,6 @@ for name in sorted(os.listdir(out)):
         print(f"| {name} | {region} | {r['pixels']} | {pct(r['none_minus_no_sss'])} | {pct(r['effect_cycles'])} | "
               f"{pct(r['effect_reference'])} | {100 * r['rms_reference_minus_cycles']:.2f} % | "
               f"{100 * r['noise']:.2f} % | {pct(r['effect_random_walk'])} | "
-              f"{100 * r['rms_random_walk_minus_burley']:.2f} % |")
+              f"{100 * r['rms_random_walk_minus_burley']:.2f} % | {pct(r['effect_random_walk_flat'])} | "
+              f"{100 * r['rms_random_walk_flat_minus_burley']:.2f} % |")
 EOF

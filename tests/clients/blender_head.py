@@ -345,6 +345,13 @@ def main():
     ap.add_argument("--seeds", default="1,2")
     ap.add_argument("--random-walk", action="store_true")
     ap.add_argument("--box", type=int, default=5)
+    ap.add_argument(
+        "--random-walk-reflectance",
+        default="1,1,1",
+        help="R,G,B: Random Walk's radiance over the no-subsurface render on a flat, "
+        "uniformly lit plane (this script's `random_walk_over_no_sss` there); the "
+        "Random Walk renders are divided by it for the *_flat figures",
+    )
     args = ap.parse_args()
     import bpy
 
@@ -404,6 +411,19 @@ def main():
         ]
         eff_r = [f(x - no_sss) for x in rw]
         eff_rw = sum(eff_r) / len(eff_r)
+        # Random Walk's diffuse reflectance is not Base Color (with the
+        # snippet's IOR, internal reflection at the boundary: on a plane
+        # 0.98, 0.85, 0.83 of it): divided by what it gives on a plane, what
+        # is left is the spread and the curvature, not the albedo.
+        flat = np.asarray([float(v) for v in args.random_walk_reflectance.split(",")])
+        rw_mean = sum(rw) / len(rw)
+        eff_rw_flat = f(rw_mean / flat - no_sss)
+        interior_skin = skin & ~dilate(~skin, 2)
+        random_walk_over_no_sss = (
+            (rw_mean[interior_skin].sum(axis=0) / no_sss[interior_skin].sum(axis=0)).tolist()
+            if interior_skin.any()
+            else None
+        )
 
     def rms(a, m):
         return float(np.sqrt(np.mean(a[m] ** 2))) / scale if m.any() else 0.0
@@ -443,8 +463,12 @@ def main():
             row["effect_random_walk"] = mean(eff_rw, m)
             row["rms_random_walk_minus_burley"] = rms(eff_rw - eff_cycles, m)
             row["rms_random_walk"] = rms(eff_rw, m)
+            row["effect_random_walk_flat"] = mean(eff_rw_flat, m)
+            row["rms_random_walk_flat_minus_burley"] = rms(eff_rw_flat - eff_cycles, m)
         result["regions"][name] = row
 
+    if eff_rw is not None:
+        result["random_walk_over_no_sss"] = random_walk_over_no_sss
     # For eyes: the regions, and the two effects side by side (x8).
     palette = np.array([[1, 0.2, 0.2], [1, 0.8, 0], [0.2, 0.3, 1], [0.6, 0.2, 1], [0.2, 0.8, 0.3]])
     rmap = np.zeros(reg.shape + (3,))
