@@ -277,7 +277,7 @@ fn cycles_head(
 ///
 /// What is left is Cycles' noise (the two seeds), Cycles' gain on curved
 /// surfaces (+3 % in red on a 10 mm sphere against a quadrature that the
-/// ground truth matches within 0.4 %; docs/accuracy.md) and the shadow
+/// ground truth matches within 0.3 %; docs/accuracy.md) and the shadow
 /// map's light in creases.
 #[test]
 fn cycles_scatters_a_whole_head_as_the_ground_truth_does() {

@@ -13,7 +13,7 @@
 #   defaults: 160 256 target/cycles_heads, and every view; VIEWS is a
 #   comma-separated subset of scan_front, scan_side, scan_backlit_ear,
 #   head_front, head_side, head_backlit_ear.
-# About 1 minute a view at the defaults on 2 cores (release build).
+# About 30 s a view at the defaults on 2 cores (release build), 3 minutes in all.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 size=${1:-160}
@@ -27,22 +27,44 @@ bin=target/release/scatterlab
 mkdir -p "$out"
 "$bin" export --format blender --out "$out/snippet.py" >/dev/null
 
-# Random Walk's reflectance on a flat plane (0.2 m across, lit and seen
-# square on), which the heads' Random Walk figures are also given divided by.
-plane="$out/plane"
-mkdir -p "$plane"
-printf 'v -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n' >"$plane/plane.obj"
-for m in none reference; do
-    "$bin" render --mesh "$plane/plane.obj" --metres-per-unit 0.001 --camera-yaw 0 --camera-pitch 0 \
-        --camera-distance 0.1 --light-azimuth 0 --light-elevation 0 --no-lod --ior 1 \
-        --transmission off --environment-intensity 0 --deterministic --width 64 --height 64 \
-        --method "$m" --out "$plane/$m.exr" --stats "$plane/$m.json" --scene-obj "$plane/mesh.obj" >/dev/null
+# blender_head.py's own log goes to blender.log beside its figures, and is
+# shown when it fails.
+cycles() {
+    local dir=$1
+    shift
+    "$py" tests/clients/blender_head.py "$out/snippet.py" "$dir/none.json" "$dir/mesh.obj" \
+        "$dir/none.exr" "$dir/reference.exr" "$dir" --samples "$samples" --random-walk "$@" \
+        >"$dir/blender.log" 2>&1 || { tail -n 20 "$dir/blender.log" >&2; exit 1; }
+    tail -n 1 "$dir/blender.log" >"$dir/figures.json"
+}
+
+# Random Walk's (and Christensen-Burley's) radiance over the no-subsurface
+# render on a flat plane 0.2 m across, seen and lit at several angles from
+# its normal. Seen and lit square on, it is the reflectance the heads'
+# Random Walk figures are also given divided by.
+printf 'v -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n' >"$out/plane.obj"
+for angles in "0 0" "45 0" "70 0" "0 60"; do
+    read -r seen lit <<<"$angles"
+    plane="$out/plane_seen${seen}_lit${lit}"
+    mkdir -p "$plane"
+    for m in none reference; do
+        "$bin" render --mesh "$out/plane.obj" --metres-per-unit 0.001 --camera-yaw "$seen" \
+            --camera-pitch 0 --camera-distance 0.1 --light-azimuth "$lit" --light-elevation 0 \
+            --no-lod --ior 1 --transmission off --environment-intensity 0 --deterministic \
+            --width 64 --height 64 --method "$m" --out "$plane/$m.exr" --stats "$plane/$m.json" \
+            --scene-obj "$plane/mesh.obj" >/dev/null
+    done
+    cycles "$plane"
+    "$py" -c "
+import json
+d = json.load(open('$plane/figures.json'))
+r = d['regions']['skin']
+print('plane seen at $seen deg, lit at $lit deg: Random Walk / no subsurface',
+      [round(v, 4) for v in d['random_walk_over_no_sss']],
+      '; reference effect %+.2f %%, Cycles C-B effect %+.2f %% of the lit level'
+      % (100 * r['effect_reference'], 100 * r['effect_cycles']))" >&2
 done
-"$py" tests/clients/blender_head.py "$out/snippet.py" "$plane/none.json" "$plane/mesh.obj" \
-    "$plane/none.exr" "$plane/reference.exr" "$plane" --samples "$samples" --random-walk \
-    2>/dev/null | tail -n 1 >"$plane/figures.json"
-flat=$("$py" -c "import json; print(','.join(f'{v:.4f}' for v in json.load(open('$plane/figures.json'))['random_walk_over_no_sss']))")
-echo "Random Walk over no subsurface on a plane: $flat" >&2
+flat=$("$py" -c "import json; print(','.join(f'{v:.4f}' for v in json.load(open('$out/plane_seen0_lit0/figures.json'))['random_walk_over_no_sss']))")
 
 # head: mesh arguments; view: camera yaw, light azimuth, light elevation.
 declare -A mesh=(
@@ -67,9 +89,7 @@ for h in scan head; do
             "$bin" render "${common[@]}" --method "$m" --out "$dir/$m.exr" \
                 --stats "$dir/$m.json" --scene-obj "$dir/mesh.obj" >/dev/null
         done
-        "$py" tests/clients/blender_head.py "$out/snippet.py" "$dir/none.json" "$dir/mesh.obj" \
-            "$dir/none.exr" "$dir/reference.exr" "$dir" --samples "$samples" --random-walk \
-            --random-walk-reflectance "$flat" 2>/dev/null | tail -n 1 >"$dir/figures.json"
+        cycles "$dir" --random-walk-reflectance "$flat"
         echo "${h}_$v: $(cut -c1-200 "$dir/figures.json")" >&2
     done
 done
@@ -80,7 +100,7 @@ print("| view | region | pixels | none - no-SSS | effect, Cycles C-B | effect, r
 print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for name in sorted(os.listdir(out)):
     f = os.path.join(out, name, "figures.json")
-    if name == "plane" or not os.path.exists(f):
+    if name.startswith("plane") or not os.path.exists(f):
         continue
     d = json.load(open(f))
     for region, r in d["regions"].items():

@@ -47,9 +47,10 @@ common=(--mesh "$out/sphere.obj" --metres-per-unit 0.001 --camera-yaw 0 --camera
     --width 160 --height 160)
 for m in none reference; do
     "$bin" render "${common[@]}" --method "$m" --out "$out/$m.exr" --stats "$out/$m.json" \
-        --scene-obj "$out/mesh.obj" 2>/dev/null >/dev/null
+        --scene-obj "$out/mesh.obj" >/dev/null
 done
 "$bin" export --format blender --out "$out/snippet.py" >/dev/null
 "$py" tests/clients/blender_head.py "$out/snippet.py" "$out/none.json" "$out/mesh.obj" \
-    "$out/none.exr" "$out/reference.exr" "$out" --samples 256 >/dev/null 2>&1
+    "$out/none.exr" "$out/reference.exr" "$out" --samples 256 >"$out/blender.log" 2>&1 ||
+    { tail -n 20 "$out/blender.log" >&2; exit 1; }
 "$py" tools/sphere_quadrature.py "$out" "$rho"

@@ -14,7 +14,8 @@ rho centred at the origin, lit by a sun of irradiance I towards L (no cast
 shadows on a sphere), the radiance leaving x is
     A * int R(|x - y|) E(y) dA(y),   E(y) = I / pi * max(0, n(y).L),
 with Burley's normalised profile R(r) = (e^{-r/d} + e^{-r/3d}) / (8 pi d r)
-(Christensen & Burley 2015, eq. 2) and the default skin's d and A. y is
+(Christensen & Burley 2015) and the look's d and A, read from the Blender
+snippet's comment (DIR/snippet.py). y is
 taken in polar coordinates about x on the sphere: geodesic angle alpha and
 azimuth beta, dA = rho^2 sin(alpha) dalpha dbeta, |x - y| = 2 rho
 sin(alpha / 2); alpha = alpha_max u^2 with 300 Gauss-Legendre nodes in u
@@ -30,6 +31,7 @@ quadrature, per channel, as sums over the pixels.
 import json
 import math
 import os
+import re
 import sys
 
 import numpy as np
@@ -37,9 +39,16 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests", "clients"))
 import blender_head as bh  # noqa: E402  (its EXR reader and mask helpers)
 
-# The default skin (`scatterlab export --format blender` states both).
-D_MM = np.array([0.756863, 0.321569, 0.2])
-ALBEDO = np.array([0.91058, 0.338275, 0.2718])
+def look(snippet):
+    """Burley's d (mm) and the albedo from the Blender snippet's comment
+    line `# ... d = (r, g, b) mm,` and the next, `# albedo (r, g, b).`"""
+    text = open(snippet, encoding="utf-8").read()
+    d = re.search(r"d = \(([^)]*)\) mm", text)
+    a = re.search(r"albedo \(([^)]*)\)", text)
+    if not d or not a:
+        raise SystemExit(f"{snippet}: no `d = (...) mm` and `albedo (...)` comment to read the look from")
+    return (np.array([float(v) for v in d.group(1).split(",")]),
+            np.array([float(v) for v in a.group(1).split(",")]))
 
 
 def profile(r, d):
@@ -71,9 +80,9 @@ def visible_points(cam, rho):
 
 def main():
     out, rho = sys.argv[1], float(sys.argv[2])
+    D_MM, ALBEDO = look(os.path.join(out, "snippet.py"))
     cam = json.load(open(os.path.join(out, "none.json")))["camera"]
     toward = np.array(cam["toward_light"])
-    irradiance = cam["light_irradiance"][0]
     x, hit = visible_points(cam, rho)
     n = x[hit] / rho
     g, gw = np.polynomial.legendre.leggauss(300)
@@ -94,7 +103,7 @@ def main():
             b = np.cross(xp, t)
             dirs = np.cos(beta)[:, None] * t + np.sin(beta)[:, None] * b
             ny = np.cos(alpha)[:, None, None] * xp + np.sin(alpha)[:, None, None] * dirs[None]
-            e = irradiance / math.pi * np.maximum(ny @ toward, 0)
+            e = cam["light_irradiance"][k] / math.pi * np.maximum(ny @ toward, 0)
             exact[p, k] = (w_alpha[:, None] * e).sum() * 2 * math.pi / nb
     img = np.zeros(hit.shape + (3,))
     img[hit] = exact * ALBEDO

@@ -39,7 +39,8 @@ pub struct RenderArgs {
     /// Also write the mesh as drawn, in metres in the renderer's world
     /// frame (y up), as an OBJ with its normals and groups skin, eyes and
     /// teeth: with --stats's `camera`, what another renderer needs to draw
-    /// the same shot (tests/clients/blender_head.py).
+    /// the same shot (tests/clients/blender_head.py). Needs --no-lod, and a
+    /// mesh without colour, normal or mask maps (the OBJ carries neither).
     #[arg(long, value_name = "FILE.obj")]
     pub scene_obj: Option<PathBuf>,
     #[command(flatten)]
@@ -84,10 +85,7 @@ impl RenderArgs {
                 "--supersample {n}: only the ground truth gathers sub-points of a pixel (use --method reference)"
             );
         }
-        if let Some(path) = &self.scene_obj {
-            crate::fsutil::write_atomic(path, mesh.to_obj_metres().as_bytes())
-                .with_context(|| format!("{}: cannot write the mesh", path.display()))?;
-        }
+        self.check_scene_obj(&mesh, &settings)?;
         let mut renderer = Renderer::new(GpuContext::new_headless()?, &mesh)?;
         for _ in 1..self.view.frames {
             renderer.render(&inputs, &settings)?;
@@ -101,6 +99,10 @@ impl RenderArgs {
             let (image, stats) = renderer.render(&inputs, &settings)?;
             (image, None, stats)
         };
+        if let Some(path) = &self.scene_obj {
+            crate::fsutil::write_atomic(path, mesh.to_obj_metres().as_bytes())
+                .with_context(|| format!("{}: cannot write the mesh", path.display()))?;
+        }
         if let (true, Some(layers)) = (exr, &layers) {
             let bytes = exr_layers(layers, settings.view.exposure, stats.method)
                 .with_context(|| format!("{}: cannot encode the layers", self.out.display()))?;
@@ -117,6 +119,43 @@ impl RenderArgs {
         if let Some(scale) = diff_scale {
             println!(
                 "difference heat map: top of the colour bar = |ΔL| {scale:.5} (linear luminance)"
+            );
+        }
+        Ok(())
+    }
+
+    /// `--scene-obj` writes the full mesh without its maps: refuse a frame
+    /// that would draw something else (a coarser level of detail, a colour,
+    /// normal or mask map), so that another renderer's shot is the same.
+    fn check_scene_obj(&self, mesh: &crate::render::Mesh, settings: &RenderSettings) -> Result<()> {
+        let Some(path) = &self.scene_obj else {
+            return Ok(());
+        };
+        if settings.mesh_lod && mesh.coarse.is_some() {
+            anyhow::bail!(
+                "--scene-obj {}: the frame may draw the mesh's coarser level of detail, which the OBJ does not hold: add --no-lod",
+                path.display()
+            );
+        }
+        let t = &mesh.textures;
+        let maps: Vec<&str> = [
+            ("colour", &t.albedo),
+            ("normal", &t.normal),
+            ("mask", &t.mask),
+        ]
+        .into_iter()
+        .filter(|(_, m)| m.width * m.height > 1)
+        .map(|(name, _)| name)
+        .collect();
+        if let Some((last, rest)) = maps.split_last() {
+            let named = if rest.is_empty() {
+                format!("a {last} map")
+            } else {
+                format!("{} and {last} maps", rest.join(", "))
+            };
+            anyhow::bail!(
+                "--scene-obj {}: the mesh has {named}, which the OBJ does not carry: render a mesh without maps (the default head is assets/head/head.obj, --metres-per-unit 0.1)",
+                path.display()
             );
         }
         Ok(())

@@ -114,12 +114,17 @@ impl Framing {
             light_irradiance: v.light_colour.map(|c| c * v.light_intensity),
             point_light_m: self.point_light(s).map(|p| m(p.position)),
             metres_per_unit: self.metres_per_unit,
-            unrecorded_light: [
-                ("fill", v.fill.intensity > 0.0),
-                ("rim", v.rim.intensity > 0.0),
+            unrecorded: [
+                ("fill light", v.fill.intensity > 0.0),
+                ("rim light", v.rim.intensity > 0.0),
                 (
                     "environment",
                     s.environment_sh.iter().flatten().any(|c| *c != 0.0),
+                ),
+                ("specular", s.specular_f0 > 0.0),
+                (
+                    "transmission",
+                    s.transmission != super::settings::Transmission::Off,
                 ),
             ]
             .into_iter()

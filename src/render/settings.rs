@@ -327,8 +327,9 @@ pub struct FrameStats {
 /// directional towards `toward_light`, delivering `light_irradiance`
 /// (W/m², linear RGB) at normal incidence, or a point light at
 /// `point_light_m` (with the renderer's falloff; the Cycles script refuses
-/// it). The fill, rim and environment are not recorded: those that light
-/// the frame are named in `unrecorded_light`.
+/// it). What else lights the frame and is not described here (a fill or
+/// rim light, the environment, specular reflection, transmission) is named
+/// in `unrecorded`, so that a script can refuse a frame it cannot match.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CameraRecord {
     pub eye_m: [f32; 3],
@@ -341,5 +342,5 @@ pub struct CameraRecord {
     pub light_irradiance: [f32; 3],
     pub point_light_m: Option<[f32; 3]>,
     pub metres_per_unit: f32,
-    pub unrecorded_light: Vec<&'static str>,
+    pub unrecorded: Vec<&'static str>,
 }

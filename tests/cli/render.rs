@@ -983,3 +983,66 @@ fn probe_rays_say_why_they_are_missing() {
     assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (64, 48));
     let _ = std::fs::remove_file(&png);
 }
+
+/// `--scene-obj` writes the full mesh without its maps, so it refuses a
+/// frame that would draw something else, in one line that says what to
+/// do, and writes neither the image nor the OBJ: the default head (its
+/// coarser level of detail; with --no-lod, its procedural colour, normal
+/// and mask maps). The same head from its OBJ file, without maps, writes
+/// both, and the stats name the light the record does not describe.
+#[test]
+fn scene_obj_refuses_a_frame_it_cannot_carry() {
+    let dir = std::env::temp_dir().join(format!("scatterlab-scene-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (png, obj, json) = (dir.join("a.png"), dir.join("a.obj"), dir.join("a.json"));
+    let base = [
+        "render",
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--out",
+        png.to_str().unwrap(),
+        "--stats",
+        json.to_str().unwrap(),
+        "--scene-obj",
+        obj.to_str().unwrap(),
+    ];
+    let (code, _, err) = run(&base);
+    assert_ne!(code, 0, "{err}");
+    assert!(err.contains("add --no-lod"), "{err}");
+    fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
+        [base, extra].concat()
+    }
+    let (code, _, err) = run(&with(&base, &["--no-lod"]));
+    assert_ne!(code, 0, "{err}");
+    assert!(
+        err.contains("the mesh has colour, normal and mask maps")
+            && err.contains("assets/head/head.obj"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        !png.exists() && !obj.exists(),
+        "a refused render wrote files"
+    );
+    let head = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/head/head.obj");
+    let (code, _, err) = run(&with(
+        &base,
+        &["--no-lod", "--mesh", head, "--metres-per-unit", "0.1"],
+    ));
+    assert_eq!(code, 0, "{err}");
+    assert!(png.exists() && obj.exists());
+    let stats: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    // The defaults: the studio environment, specular at IOR 1.4 and thin
+    // transmission light the frame beside the key.
+    assert_eq!(
+        stats["camera"]["unrecorded"],
+        serde_json::json!(["environment", "specular", "transmission"])
+    );
+    assert_eq!(
+        stats["camera"]["fov_y_deg"].as_f64().map(|f| f.round()),
+        Some(30.0)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -77,8 +77,14 @@ def read_obj(path):
             elif w[0] == "g":
                 current = w[1]
             elif w[0] == "f":
+                if len(w) != 4:
+                    raise SystemExit(f"{path}: a face of {len(w) - 1} corners; `scatterlab render "
+                                     "--scene-obj` writes triangles")
                 groups.setdefault(current, []).append(
                     [int(c.split("/")[0]) - 1 for c in w[1:4]])
+    if len(normals) != len(verts):
+        raise SystemExit(f"{path}: {len(verts)} vertices and {len(normals)} normals (vn); "
+                         "`scatterlab render --scene-obj` writes one normal a vertex")
     return verts, normals, groups
 
 
@@ -122,12 +128,14 @@ def build_scene(bpy, args, camera):
     bpy.context.view_layer.objects.active = skin
     skin.select_set(True)
 
-    if camera.get("unrecorded_light"):
+    if camera.get("unrecorded"):
         raise SystemExit(
-            f"{args.stats}: the frame is also lit by {camera['unrecorded_light']}, which this "
-            "script does not set up: render it with --environment-intensity 0 and without "
-            "--fill-light or --rim-light"
+            f"{args.stats}: camera.unrecorded: the frame also has {camera['unrecorded']}, which "
+            "this script does not set up: render it with --ior 1 --transmission off "
+            "--environment-intensity 0 and without --fill-light or --rim-light"
         )
+    if [float(c) for c in camera["up"]] != [0.0, 1.0, 0.0]:
+        raise SystemExit(f"{args.stats}: camera.up is {camera['up']}; this script knows y up only")
     if camera.get("point_light_m") is not None:
         raise SystemExit(f"{args.stats}: a point light; this script sets up a sun only")
     irr = camera["light_irradiance"]
@@ -155,8 +163,9 @@ def build_scene(bpy, args, camera):
     cam_data.type = "PERSP"
     cam_data.sensor_fit = "VERTICAL"
     cam_data.angle_y = math.radians(camera["fov_y_deg"])
-    cam_data.clip_start = 0.01
-    cam_data.clip_end = 20.0
+    distance = (Vector(camera["target_m"]) - Vector(camera["eye_m"])).length
+    cam_data.clip_start = 0.01 * distance
+    cam_data.clip_end = 100.0 * distance
     cam = bpy.data.objects.new("Cam", cam_data)
     eye = Vector(to_blender(camera["eye_m"]))
     target = Vector(to_blender(camera["target_m"]))
@@ -270,14 +279,23 @@ def render_passes(bpy, path, toward, samples=32):
                 obj.data.materials.append(m)
 
 
-def read_layers(path):
+def read_layers(path, need=(), size=None):
     """{layer name: (h, w, k) array}: scatterlab's (RGBA, scattered, ...)
-    or Blender's multilayer (ViewLayer.Combined as Combined)."""
+    or Blender's multilayer (ViewLayer.Combined as Combined); refuses a
+    file without the layers in `need`, or of another (width, height)."""
     with OpenEXR.File(path) as f:
-        return {
+        layers = {
             name.split(".")[-1]: np.asarray(ch.pixels, dtype=np.float64)
             for name, ch in f.channels().items()
         }
+    missing = [n for n in need if n not in layers]
+    if missing:
+        raise SystemExit(f"{path}: no layer {missing} (it has {sorted(layers)})")
+    for name, px in layers.items():
+        if size is not None and (px.shape[1], px.shape[0]) != tuple(size):
+            raise SystemExit(f"{path}: layer {name} is {px.shape[1]}x{px.shape[0]}, the stats' "
+                             f"camera is {size[0]}x{size[1]}")
+    return layers
 
 
 def box(img, mask, n):
@@ -355,7 +373,13 @@ def main():
     args = ap.parse_args()
     import bpy
 
-    camera = json.load(open(args.stats, encoding="utf-8"))["camera"]
+    if args.box < 1 or args.box % 2 == 0:
+        raise SystemExit(f"--box {args.box}: an odd number of pixels (the box is centred)")
+    stats = json.load(open(args.stats, encoding="utf-8"))
+    if "camera" not in stats:
+        raise SystemExit(f"{args.stats}: no `camera`: write it with this version's "
+                         "`scatterlab render --stats`")
+    camera = stats["camera"]
     skin_obj = build_scene(bpy, args, camera)
     code = open(args.snippet, encoding="utf-8").read()
     exec(compile(code, args.snippet, "exec"), {"__name__": "__main__"})
@@ -381,8 +405,9 @@ def main():
     no = read_layers(out("cycles_no_sss.exr"))
     no_sss = no["Combined"][..., :3]
     passes = read_layers(out("cycles_passes.exr"))["Combined"]
-    ours_none_l = read_layers(args.ours_none)
-    ours_ref_l = read_layers(args.ours_reference)
+    size = (camera["width"], camera["height"])
+    ours_none_l = read_layers(args.ours_none, ("RGBA", "scattered"), size)
+    ours_ref_l = read_layers(args.ours_reference, ("RGBA",), size)
     ours_none, ours_ref = ours_none_l["RGBA"][..., :3], ours_ref_l["RGBA"][..., :3]
     ours_skin = ours_none_l["scattered"][..., 3] > 0.5
     cycles_skin = (passes[..., 2] > 0.5) & (passes[..., 3] > 0.999)

@@ -57,7 +57,10 @@ mod tests {
     use super::*;
 
     /// Read back by the OBJ loader, the export gives the same triangles in
-    /// metres (at 1 m per unit), the same surfaces and UVs.
+    /// metres (at 1 m per unit) and the same surfaces; its `vn` lines are
+    /// the normals the renderer shades with (the loader recomputes its
+    /// own, so they are read from the text) and its `vt` lines the UVs with
+    /// v up, as OBJ has it.
     #[test]
     fn obj_in_metres_reads_back() {
         let head =
@@ -96,5 +99,38 @@ mod tests {
             (a / b - 1.0).abs() < 1e-4,
             "skin area {a} m² against {b} m²"
         );
+        let lines = |tag: &str| -> Vec<Vec<f32>> {
+            text.lines()
+                .filter(|l| l.split_whitespace().next() == Some(tag))
+                .map(|l| {
+                    l.split_whitespace()
+                        .skip(1)
+                        .map(|w| w.parse().unwrap())
+                        .collect()
+                })
+                .collect()
+        };
+        let (vn, vt) = (lines("vn"), lines("vt"));
+        assert_eq!(vn.len(), head.vertices.len());
+        assert_eq!(vt.len(), head.vertices.len());
+        for (k, v) in head.vertices.iter().enumerate() {
+            for c in 0..3 {
+                assert!(
+                    (vn[k][c] - v.normal[c]).abs() < 1e-6,
+                    "vertex {k}: vn {:?}",
+                    vn[k]
+                );
+            }
+            assert!(
+                (vt[k][0] - v.uv[0]).abs() < 1e-6,
+                "vertex {k}: vt {:?}",
+                vt[k]
+            );
+            assert!(
+                (vt[k][1] - (1.0 - v.uv[1])).abs() < 1e-6,
+                "vertex {k}: vt {:?}",
+                vt[k]
+            );
+        }
     }
 }
