@@ -35,7 +35,7 @@ cycles() {
     "$py" tests/clients/blender_head.py "$out/snippet.py" "$dir/none.json" "$dir/mesh.obj" \
         "$dir/none.exr" "$dir/reference.exr" "$dir" --samples "$samples" --random-walk "$@" \
         >"$dir/blender.log" 2>&1 || { tail -n 20 "$dir/blender.log" >&2; exit 1; }
-    tail -n 1 "$dir/blender.log" >"$dir/figures.json"
+    grep '^{' "$dir/blender.log" | tail -n 1 >"$dir/figures.json"
 }
 
 # Random Walk's (and Christensen-Burley's) radiance over the no-subsurface

@@ -137,15 +137,20 @@ impl RenderArgs {
                 path.display()
             );
         }
-        let t = &mesh.textures;
+        let (t, plain) = (
+            &mesh.textures,
+            crate::render::textures::MeshTextures::default(),
+        );
         let maps: Vec<&str> = [
-            ("colour", &t.albedo),
-            ("normal", &t.normal),
-            ("mask", &t.mask),
+            (
+                "colour",
+                t.albedo != plain.albedo || t.albedo_mode != plain.albedo_mode,
+            ),
+            ("normal", t.normal != plain.normal),
+            ("mask", t.mask != plain.mask),
         ]
         .into_iter()
-        .filter(|(_, m)| m.width * m.height > 1)
-        .map(|(name, _)| name)
+        .filter_map(|(name, on)| on.then_some(name))
         .collect();
         if let Some((last, rest)) = maps.split_last() {
             let named = if rest.is_empty() {
@@ -154,7 +159,7 @@ impl RenderArgs {
                 format!("{} and {last} maps", rest.join(", "))
             };
             anyhow::bail!(
-                "--scene-obj {}: the mesh has {named}, which the OBJ does not carry: render a mesh without maps (the default head is assets/head/head.obj, --metres-per-unit 0.1)",
+                "--scene-obj {}: the mesh has {named}, which the OBJ does not carry: drop --albedo, --normal and --mask, and for the default head use --mesh assets/head/head.obj --metres-per-unit 0.1 (the same head without its maps)",
                 path.display()
             );
         }

@@ -993,6 +993,7 @@ fn probe_rays_say_why_they_are_missing() {
 #[test]
 fn scene_obj_refuses_a_frame_it_cannot_carry() {
     let dir = std::env::temp_dir().join(format!("scatterlab-scene-obj-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (png, obj, json) = (dir.join("a.png"), dir.join("a.obj"), dir.join("a.json"));
     let base = [
@@ -1027,6 +1028,29 @@ fn scene_obj_refuses_a_frame_it_cannot_carry() {
         "a refused render wrote files"
     );
     let head = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/head/head.obj");
+    // A one-texel colour map is a map too (it replaces the look's albedo).
+    let texel = dir.join("texel.png");
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([200, 90, 70, 255]))
+        .save(&texel)
+        .unwrap();
+    let (code, _, err) = run(&with(
+        &base,
+        &[
+            "--no-lod",
+            "--mesh",
+            head,
+            "--metres-per-unit",
+            "0.1",
+            "--albedo",
+            texel.to_str().unwrap(),
+        ],
+    ));
+    assert_ne!(code, 0, "{err}");
+    assert!(err.contains("the mesh has a colour map"), "{err}");
+    assert!(
+        !png.exists() && !obj.exists(),
+        "a refused render wrote files"
+    );
     let (code, _, err) = run(&with(
         &base,
         &["--no-lod", "--mesh", head, "--metres-per-unit", "0.1"],
