@@ -341,6 +341,75 @@ fn cycles_scatters_a_whole_head_as_the_ground_truth_does() {
     assert!(failures.is_empty(), "{failures:?}\n{report}");
 }
 
+/// A frame that Cycles' script cannot match is refused with the field and
+/// the fix, before any render: the default render settings light the head
+/// with the studio environment, specular and thin transmission too, which
+/// the record names in `camera.unrecorded`.
+#[test]
+fn cycles_head_script_refuses_a_frame_it_cannot_match() {
+    let dir = tmp_dir("head-unmatched");
+    let p = |f: &str| dir.join(f).to_str().unwrap().to_owned();
+    export(
+        &Preset::default_skin(),
+        None,
+        Format::Blender,
+        &dir.join("snippet.py"),
+    )
+    .unwrap();
+    for method in ["none", "reference"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+            .current_dir(root())
+            .args([
+                "render",
+                "--mesh",
+                "assets/head/head.obj",
+                "--metres-per-unit",
+                "0.1",
+            ])
+            .args([
+                "--no-lod", "--width", "32", "--height", "32", "--method", method,
+            ])
+            .args([
+                "--out",
+                &p(&format!("{method}.exr")),
+                "--stats",
+                &p("none.json"),
+            ])
+            .args(["--scene-obj", &p("mesh.obj")])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let out = Command::new(python())
+        .arg(root().join("tests/clients/blender_head.py"))
+        .args([
+            p("snippet.py"),
+            p("none.json"),
+            p("mesh.obj"),
+            p("none.exr"),
+            p("reference.exr"),
+            p("."),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("camera.unrecorded")
+            && err.contains("environment")
+            && err.contains("--ior 1 --transmission off --environment-intensity 0"),
+        "{err}"
+    );
+    assert!(
+        !dir.join("cycles_no_sss.exr").exists(),
+        "it rendered before refusing"
+    );
+}
+
 /// On an artist's object that already has a Principled BSDF (Random Walk,
 /// other colours), in a scene modelled in centimetres (Unit Scale 0.01),
 /// the snippet replaces the values and Cycles still scatters the look's

@@ -43,6 +43,8 @@ import OpenEXR
 from scipy.optimize import least_squares
 from scipy.special import iti0k0
 
+from cycles_setup import unbiased_cpu_cycles
+
 
 def ki1(z):
     """Bickley function Ki1(z) = int_z^inf K0(t) dt for z >= 0."""
@@ -157,31 +159,12 @@ def build_scene(args):
     scene.collection.objects.link(cam)
     scene.camera = cam
 
-    r = scene.render
-    r.engine = "CYCLES"
-    r.resolution_x = args.pixels
-    r.resolution_y = args.rows
-    r.resolution_percentage = 100
-    r.threads_mode = "FIXED"
-    r.threads = os.cpu_count() or 2
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = args.samples
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = 1
-    # No firefly clamping: it would clip the rare, bright samples that carry
-    # the profile's tail into the shadow and narrow the measured d.
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.filter_width = 0.01
+    r, c = unbiased_cpu_cycles(scene, args.pixels, args.rows, args.samples)
     c.max_bounces = 1
     c.diffuse_bounces = 1
     c.glossy_bounces = 0
     c.transmission_bounces = 0
     c.transparent_max_bounces = 0
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
     r.image_settings.file_format = "OPEN_EXR"
     r.image_settings.color_depth = "32"
     return plane

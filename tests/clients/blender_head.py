@@ -54,6 +54,8 @@ import sys
 import numpy as np
 import OpenEXR
 
+from cycles_setup import unbiased_cpu_cycles
+
 REGIONS = ["rim", "crease", "shadow", "terminator", "lit"]
 
 
@@ -177,22 +179,8 @@ def build_scene(bpy, args, camera):
     scene.collection.objects.link(cam)
     scene.camera = cam
 
-    r = scene.render
-    r.engine = "CYCLES"
-    r.resolution_x = camera["width"]
-    r.resolution_y = camera["height"]
-    r.resolution_percentage = 100
+    r, c = unbiased_cpu_cycles(scene, camera["width"], camera["height"], args.samples)
     r.film_transparent = True
-    r.threads_mode = "FIXED"
-    r.threads = os.cpu_count() or 2
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = args.samples
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.filter_width = 0.01
     # Direct light only. Cycles' subsurface step is not a bounce: with
     # max_bounces 0 the disk or walk still runs and its exit point is lit
     # directly (measured here: 16 spp on the scan, the skin's mean radiance
@@ -205,8 +193,6 @@ def build_scene(bpy, args, camera):
     c.transmission_bounces = 0
     c.volume_bounces = 0
     c.transparent_max_bounces = 0
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
     if bpy.app.version >= (5, 0, 0):
         r.image_settings.media_type = "MULTI_LAYER_IMAGE"  # 5.0's way to ask for it
     r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
