@@ -15,7 +15,7 @@
 use scatterlab::bench::metrics::{relative_rmse, sss_mask};
 use scatterlab::bench::scenes::{scenes, Config};
 use scatterlab::bench::{measure, renderer_for, Prepared};
-use scatterlab::render::sss::texture_space::ProbeRays;
+use scatterlab::render::sss::texture_space::{Neighbours, ProbeRays};
 use scatterlab::render::{Method, RenderSettings, TexturingMode};
 use scatterlab::settings::Preset;
 
@@ -43,7 +43,8 @@ fn main() -> anyhow::Result<()> {
             ("normal map off", TexturingMode::PreAndPostScatter, 0.0),
             ("post-scatter only", TexturingMode::PostScatter, 1.0),
         ];
-        for (case, texturing, detail) in cases {
+        let quick = std::env::var("QUICK").is_ok();
+        for (case, texturing, detail) in cases.into_iter().take(if quick { 1 } else { 3 }) {
             let s = |m| RenderSettings {
                 method: m,
                 texturing,
@@ -97,18 +98,35 @@ fn main() -> anyhow::Result<()> {
             let ts_config =
                 Config::of(Method::TextureSpace, "atlas1024", 21).expect("texture-space atlas1024");
             let (uv, rays) = (ProbeRays::Off, ProbeRays::On);
-            for (atlas, near, probe) in [
-                (1024u32, 1.0f32, uv),
-                (2048, 1.0, uv),
-                (1024, 0.0, uv),
-                (2048, 0.0, uv),
-                (1024, 3.0, uv),
-                (1024, 1.0, rays),
-            ] {
+            let d3 = Neighbours::ThreeD;
+            let theta: Vec<f32> = std::env::var("THETA")
+                .unwrap_or_else(|_| "0.5".into())
+                .split(',')
+                .map(|t| t.parse().unwrap_or(0.5))
+                .collect();
+            let mut configs = vec![
+                (1024u32, 1.0f32, uv, Neighbours::Uv, 0.5f32),
+                (2048, 1.0, uv, Neighbours::Uv, 0.5),
+            ];
+            for &th in &theta {
+                configs.push((1024, 1.0, uv, d3, th));
+                configs.push((2048, 1.0, uv, d3, th));
+            }
+            if std::env::var("QUICK").is_err() {
+                configs.extend([
+                    (1024, 0.0, uv, Neighbours::Uv, 0.5),
+                    (2048, 0.0, uv, Neighbours::Uv, 0.5),
+                    (1024, 3.0, uv, Neighbours::Uv, 0.5),
+                    (1024, 1.0, rays, Neighbours::Uv, 0.5),
+                ]);
+            }
+            for (atlas, near, probe, neighbours, th) in configs {
                 let mut inputs = prepared.inputs(ts_config)?;
                 inputs.methods.texture_space.atlas_size = atlas;
                 inputs.methods.texture_space.near_field_mm = near;
                 inputs.methods.texture_space.probe_rays = probe;
+                inputs.methods.texture_space.neighbours = neighbours;
+                inputs.methods.texture_space.theta = th;
                 let t = match measure(&mut r, &inputs, &s(Method::TextureSpace), repeats) {
                     Ok(t) => t,
                     // Probe rays on an adapter without ray queries: say
@@ -119,13 +137,29 @@ fn main() -> anyhow::Result<()> {
                     }
                     Err(e) => return Err(e),
                 };
-                let how = if probe == rays { ", probe rays" } else { "" };
+                if neighbours == d3 && std::env::var("DUMP").is_ok() {
+                    ratio_map(
+                        &out,
+                        &format!("{id}_3d_{atlas}_{th}"),
+                        size,
+                        &mask,
+                        &truth.diffuse,
+                        &t.diffuse,
+                    )?;
+                }
+                let how = match (probe == rays, neighbours == d3) {
+                    (true, _) => ", probe rays".to_string(),
+                    (_, true) => format!(", 3D θ {th}"),
+                    _ => String::new(),
+                };
                 line += &format!(
                     " | texture-space {atlas}/{near} mm{how} {:.0} % ({:.0} ms)",
                     share(&t.diffuse),
                     t.sss_ms
                 );
-                if (atlas, near, probe, case) == (1024, 1.0, uv, "as shipped") {
+                if (atlas, near, probe, neighbours, case)
+                    == (1024, 1.0, uv, Neighbours::Uv, "as shipped")
+                {
                     excess(
                         &out,
                         id,
@@ -196,6 +230,54 @@ fn excess(
         d.len(),
         100.0 * top_sum / gap,
         path.display()
+    );
+    Ok(())
+}
+
+/// Diagnostic: method / truth per skin pixel (mean of the channels), grey
+/// at 1, red above, blue below (full at ±25 %), and the mean ratio.
+fn ratio_map(
+    out: &std::path::Path,
+    name: &str,
+    (w, h): (u32, u32),
+    mask: &[bool],
+    truth: &[[f32; 4]],
+    m: &[[f32; 4]],
+) -> anyhow::Result<()> {
+    let mut img = image::RgbImage::new(w, h);
+    let mut sums = [0.0f64; 3];
+    let mut n = 0.0;
+    for (i, ok) in mask.iter().enumerate() {
+        if !ok {
+            continue;
+        }
+        let r: Vec<f64> = (0..3)
+            .map(|c| f64::from(m[i][c]) / f64::from(truth[i][c]).max(1e-6))
+            .collect();
+        for c in 0..3 {
+            sums[c] += r[c];
+        }
+        n += 1.0;
+        let v = (r[0] + r[1] + r[2]) / 3.0 - 1.0;
+        let k = (v.abs() / 0.25).min(1.0);
+        let g = (128.0 * (1.0 - k)) as u8;
+        let hi = (128.0 + 127.0 * k) as u8;
+        img.put_pixel(
+            i as u32 % w,
+            i as u32 / w,
+            if v > 0.0 {
+                image::Rgb([hi, g, g])
+            } else {
+                image::Rgb([g, g, hi])
+            },
+        );
+    }
+    img.save(out.join(format!("{name}_ratio.png")))?;
+    println!(
+        "{name}: mean method/truth over skin {:.4} {:.4} {:.4}",
+        sums[0] / n,
+        sums[1] / n,
+        sums[2] / n
     );
     Ok(())
 }

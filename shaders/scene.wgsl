@@ -348,8 +348,9 @@ fn blurred_level(sigma_mm: f32, hardware: f32, texels_per_mm: f32) -> f32 {
     return max(hardware, log2(max(sigma_mm * texels_per_mm, 1.0)));
 }
 
-@fragment
-fn fs_main(i: VertexOut) -> TargetsOut {
+// The maps as the scene pass reads them at a pixel (its derivatives: call
+// in uniform control flow). texture_space_cloud.wgsl reads them again.
+fn pixel_maps(i: VertexOut) -> Maps {
     // Every map is sampled first, in uniform control flow (derivatives).
     var maps: Maps;
     maps.albedo = textureSample(albedo_map, surface_sampler, i.uv).rgb;
@@ -374,7 +375,12 @@ fn fs_main(i: VertexOut) -> TargetsOut {
         maps.blurred_g = textureSampleLevel(normal_map, surface_sampler, i.uv, blurred_level(s.y, hardware, texels_per_mm)).xyz * 2.0 - 1.0;
         maps.blurred_b = textureSampleLevel(normal_map, surface_sampler, i.uv, blurred_level(s.z, hardware, texels_per_mm)).xyz * 2.0 - 1.0;
     }
-    return shade(i, maps, true);
+    return maps;
+}
+
+@fragment
+fn fs_main(i: VertexOut) -> TargetsOut {
+    return shade(i, pixel_maps(i), true);
 }
 
 // What the scene pass writes for a point of the surface with its maps

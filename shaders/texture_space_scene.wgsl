@@ -48,7 +48,8 @@ struct AtlasOut {
     // What the scene pass writes to its diffuse target (scene.wgsl's head).
     @location(0) diffuse: vec4<f32>,
     // xyz: the surface point (mm) rounded to half floats, w: 1 where a
-    // triangle covers the texel; and what the rounding left out (half
+    // triangle covers the texel; and what the rounding left out, with the
+    // texel's area (mm²) in w (half
     // floats: a 32-bit target is not renderable on every backend, GL's
     // included, and hi + lo keeps ~1e-4 mm where half floats alone would
     // keep 0.125 mm at 200 mm).
@@ -58,6 +59,19 @@ struct AtlasOut {
 
 @fragment
 fn fs_atlas(i: VertexOut) -> AtlasOut {
+    return atlas_out(i, true);
+}
+
+// The atlas without the scene pass's transmission term, for the gather by
+// 3D neighbourhood (texture_space_cloud.wgsl), which takes the light
+// through thin parts from their far side's texels, as the ground truth
+// does (render/scene_cpu.rs: transmission is not added).
+@fragment
+fn fs_atlas_untransmitted(i: VertexOut) -> AtlasOut {
+    return atlas_out(i, false);
+}
+
+fn atlas_out(i: VertexOut, transmission: bool) -> AtlasOut {
     var maps: Maps;
     maps.albedo = textureSample(albedo_map, surface_sampler, i.uv).rgb;
     maps.normal = textureSample(normal_map, surface_sampler, i.uv).xyz * 2.0 - 1.0;
@@ -68,11 +82,14 @@ fn fs_atlas(i: VertexOut) -> AtlasOut {
     maps.blurred_g = maps.normal;
     maps.blurred_b = maps.normal;
     var o: AtlasOut;
-    o.diffuse = shade(i, maps, true).diffuse;
+    o.diffuse = shade(i, maps, transmission).diffuse;
     let p = i.world * u.mm_per_unit;
     let hi = vec3<f32>(unpack2x16float(pack2x16float(p.xy)), unpack2x16float(pack2x16float(vec2<f32>(p.z, 0.0))).x);
     o.position_hi = vec4<f32>(hi, 1.0);
-    o.position_lo = vec4<f32>(p - hi, 0.0);
+    // w: the surface the texel covers (mm²), for `--neighbours 3d`'s
+    // point cloud (texture_space_tree.wgsl): a step of one texel moves
+    // dpdx and dpdy over the surface.
+    o.position_lo = vec4<f32>(p - hi, length(cross(dpdx(p), dpdy(p))));
     return o;
 }
 

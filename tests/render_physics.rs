@@ -320,6 +320,89 @@ fn texture_space_probe_rays_find_a_sheet_far_in_uv() {
     }
 }
 
+/// The gather by 3D neighbourhood (`--neighbours 3d`) against the same
+/// closed form as the probe rays: a second sheet δ under the plane, on its
+/// own UV island, lit alike. Its near field (1 mm, on screen) sees only the
+/// top sheet, so δ = 1.5 mm puts the hidden sheet wholly in its reach, and
+/// the pixel must hold E·(2 − CDF(δ)) (Burley's closed-form CDF); d = 2, 1,
+/// 0.5 mm so that every channel has light to find there. The UV gather
+/// alone must give E within 1 %. Measured: 1.7162, 1.5254, 1.2999 against
+/// 1.7022, 1.5107, 1.2884 (+0.8 to +1.0 %: the band each node's light is
+/// spread over, texture_space_cloud.wgsl's `band`, takes a sheet straight
+/// below as spread in distance by its width, where it is spread only to
+/// second order); bound 2 %. Without the hidden sheet it would be 1.
+#[test]
+fn texture_space_3d_neighbours_find_a_sheet_far_in_uv() {
+    use scatterlab::render::sss::texture_space::Neighbours;
+    const DELTA_MM: f32 = 1.5;
+    let profile = Burley::from_scattering_distance([1.0; 3], [2.0, 1.0, 0.5]).unwrap();
+    let top = Mesh::plane(200.0, 0.001);
+    let mut mesh = top.clone();
+    for v in &mut mesh.vertices {
+        v.uv[0] *= 0.5;
+    }
+    let n = mesh.vertices.len() as u32;
+    mesh.vertices.extend(top.vertices.iter().map(|v| {
+        let mut v = *v;
+        v.position[2] -= DELTA_MM;
+        v.uv[0] = 0.5 + 0.5 * v.uv[0];
+        v
+    }));
+    mesh.indices.extend(top.indices.iter().map(|i| i + n));
+    let ctx = GpuContext::new_headless().expect("a GPU adapter (lavapipe)");
+    let mut r = Renderer::new(ctx, &mesh).unwrap();
+    let mut inputs = golubev_144(&profile);
+    let mut sh = [[0.0f32; 3]; 9];
+    sh[0] = [1.0; 3];
+    let s = |method| RenderSettings {
+        view: scatterlab::settings::OrbitView {
+            light_intensity: 0.0,
+            ..settings(method).view
+        },
+        pattern: IrradiancePattern::Lit,
+        environment_sh: sh,
+        ..settings(method)
+    };
+    let row_mean = |d: &[[f32; 4]]| {
+        [0, 1, 2].map(|c| {
+            let px = 24..WIDTH as usize - 24;
+            let n = px.len() * 48;
+            (8..56)
+                .flat_map(|y| px.clone().map(move |x| (y, x)))
+                .map(|(y, x)| d[y * WIDTH as usize + x][c] as f64)
+                .sum::<f64>()
+                / n as f64
+        })
+    };
+    let (_, flat, _) = r.render_with_diffuse(&inputs, &s(Method::None)).unwrap();
+    let e = row_mean(&flat);
+    assert!(e.iter().all(|e| *e > 0.1), "not lit: {e:?}");
+    let (_, uv, _) = r
+        .render_with_diffuse(&inputs, &s(Method::TextureSpace))
+        .unwrap();
+    inputs.methods.texture_space.neighbours = Neighbours::ThreeD;
+    let (_, d3, _) = r
+        .render_with_diffuse(&inputs, &s(Method::TextureSpace))
+        .unwrap();
+    let (uv, d3) = (row_mean(&uv), row_mean(&d3));
+    let cdf = profile.cdf(DELTA_MM as f64);
+    for c in 0..3 {
+        let want = 2.0 - cdf[c];
+        let (got_uv, got) = (uv[c] / e[c], d3[c] / e[c]);
+        eprintln!(
+            "channel {c}: 3D neighbours {got:.4}, UV gather {got_uv:.4}, closed form {want:.4}"
+        );
+        assert!(
+            (got_uv - 1.0).abs() < 0.01,
+            "channel {c}: the UV gather gave {got_uv:.4} of E"
+        );
+        assert!(
+            (got / want - 1.0).abs() < 0.02,
+            "channel {c}: 3D neighbours {got:.4} of E, the closed form {want:.4}"
+        );
+    }
+}
+
 /// A UV seam down the middle of a flat plane: its left and right halves
 /// on separate UV islands with a gap between them, lit alike (light and
 /// camera on the normal). Scattering must give back the plane's light at
@@ -330,7 +413,9 @@ fn texture_space_probe_rays_find_a_sheet_far_in_uv() {
 /// the renormalised half (which brightened it by 11 % in blue), and the
 /// light of a hit on the island's edge must be read (one texel in: it
 /// darkened the seam by 3 %). Measured: 0.0009 from `none` everywhere,
-/// with and without probe rays; bound 0.5 %.
+/// with and without probe rays; bound 0.5 %. The gather by 3D
+/// neighbourhood (`--neighbours 3d`) is held to the same bound away from
+/// the seam (its bound at the seam is below).
 #[test]
 fn texture_space_keeps_the_light_across_a_uv_seam() {
     use scatterlab::render::gpu_types::Vertex;
@@ -388,32 +473,53 @@ fn texture_space_keeps_the_light_across_a_uv_seam() {
         flat.iter().all(|p| p.iter().all(|c| *c > 0.5)),
         "plane not lit"
     );
-    for probe_rays in [ProbeRays::Off, ProbeRays::On] {
+    use scatterlab::render::sss::texture_space::Neighbours;
+    for (probe_rays, neighbours) in [
+        (ProbeRays::Off, Neighbours::Uv),
+        (ProbeRays::On, Neighbours::Uv),
+        (ProbeRays::Off, Neighbours::ThreeD),
+    ] {
         inputs.methods.texture_space.probe_rays = probe_rays;
+        inputs.methods.texture_space.neighbours = neighbours;
         let (_, d, _) = r
             .render_with_diffuse(&inputs, &lit(Method::TextureSpace))
             .unwrap();
         let d = columns(&d);
-        let mut worst = (0.0f64, 0usize);
+        // The worst |ratio − 1| within 64 columns (10 mm, the red
+        // profile's reach) of the seam, and beyond.
+        let seam = WIDTH as usize / 2;
+        let mut worst = [(0.0f64, 0usize); 2];
         for (x, (a, b)) in d.iter().zip(&flat).enumerate() {
+            let at = usize::from(x.abs_diff(seam) > 64);
             for c in 0..3 {
                 let dev = (a[c] / b[c] - 1.0).abs();
-                if dev > worst.0 {
-                    worst = (dev, x);
+                if dev > worst[at].0 {
+                    worst[at] = (dev, x);
                 }
             }
         }
         eprintln!(
-            "probe rays {probe_rays:?}: worst |ratio − 1| {:.4} at column {}",
-            worst.0, worst.1
+            "probe rays {probe_rays:?}, neighbours {neighbours:?}: worst |ratio − 1| {:.4} at column {} near the seam, {:.4} at column {} beyond",
+            worst[0].0, worst[0].1, worst[1].0, worst[1].1
         );
-        assert!(
-            worst.0 < 0.005,
-            "probe rays {probe_rays:?}: the light is off by {:.4} at column {} (the seam is at {})",
-            worst.0,
-            worst.1,
-            WIDTH / 2
-        );
+        // The gather by 3D neighbourhood does not see the seam, but the
+        // atlas's islands lose the surface between their edge and the
+        // first texel centre inside it: 0.4 texel a side here (the left
+        // island ends at u·512 = 230.4, the right begins at 281.6; a
+        // texel is 0.49 mm), 0.39 mm of plane along the seam, beyond the
+        // 1 mm near field. Measured: 4.5 % low 1.9 mm either side of the
+        // seam, 1.6 % at 8 mm, 0.3 % at 10 mm and beyond; bound 6 % within
+        // 10 mm, 0.5 % beyond.
+        let near_bound = match neighbours {
+            Neighbours::ThreeD => 0.06,
+            Neighbours::Uv => 0.005,
+        };
+        for ((dev, x), bound) in worst.into_iter().zip([near_bound, 0.005]) {
+            assert!(
+                dev < bound,
+                "probe rays {probe_rays:?}, neighbours {neighbours:?}: the light is off by {dev:.4} at column {x} (the seam is at {seam})"
+            );
+        }
     }
 }
 

@@ -35,12 +35,12 @@ fn parsed(module_name: &str) -> naga::Module {
 #[test]
 fn every_gpu_struct_matches_its_wgsl_twin() {
     use scatterlab::render::gpu_types::{
-        BurleyUniforms, CompositeUniforms, GatherParams, GpuSample, GpuTap, SceneUniforms,
-        SssUniforms, TextureSpaceUniforms,
+        BurleyUniforms, CloudNode, CloudUniforms, CompositeUniforms, GatherParams, GpuSample,
+        GpuTap, SceneUniforms, SssUniforms, TextureSpaceUniforms, TreeLevel,
     };
     type Fields = &'static [(&'static str, usize, &'static str)];
     // (WGSL module, WGSL struct, Rust size, Rust fields)
-    let twins: [(&str, &str, usize, Fields); 12] = [
+    let twins: [(&str, &str, usize, Fields); 16] = [
         (
             "scene",
             "SceneUniforms",
@@ -100,6 +100,30 @@ fn every_gpu_struct_matches_its_wgsl_twin() {
             "TextureSpaceUniforms",
             std::mem::size_of::<TextureSpaceUniforms>(),
             TextureSpaceUniforms::FIELDS,
+        ),
+        (
+            "texture_space_cloud",
+            "CloudUniforms",
+            std::mem::size_of::<CloudUniforms>(),
+            CloudUniforms::FIELDS,
+        ),
+        (
+            "texture_space_cloud",
+            "Node",
+            std::mem::size_of::<CloudNode>(),
+            CloudNode::FIELDS,
+        ),
+        (
+            "texture_space_tree",
+            "Node",
+            std::mem::size_of::<CloudNode>(),
+            CloudNode::FIELDS,
+        ),
+        (
+            "texture_space_tree",
+            "TreeLevel",
+            std::mem::size_of::<TreeLevel>(),
+            TreeLevel::FIELDS,
         ),
         (
             "composite",

@@ -48,6 +48,15 @@ pub enum GpuError {
         "`texture-space --probe-rays on` needs ray queries: {0}; or gather through the UV layout alone (--probe-rays off)"
     )]
     NoRayQueries(String),
+    #[error(
+        "`texture-space --neighbours 3d`: the point cloud's tree of a {size}² atlas takes {bytes} bytes, over the {limit} bytes this GPU binds in one storage buffer: use --atlas-size {half} or smaller"
+    )]
+    AtlasTreeTooLarge {
+        size: u32,
+        half: u32,
+        bytes: u64,
+        limit: u64,
+    },
     /// A newer request asked for the ground truth running now to stop
     /// (`Renderer::cancel_with`): not a failure, nothing to show.
     #[error("the ground truth was cancelled by a newer request")]

@@ -203,6 +203,63 @@ gpu_struct! {
 const _: () = assert!(std::mem::size_of::<TextureSpaceUniforms>() == 16);
 
 gpu_struct! {
+    /// Twin of `CloudUniforms` in `shaders/texture_space_cloud.wgsl`:
+    /// `texture-space --neighbours 3d`'s tree and where it hands over.
+    pub struct CloudUniforms {
+        /// Level l's offset in the tree's nodes (l ≥ 1), four to a row.
+        pub offsets: [[u32; 4]; 4],
+        /// The root's level (its side is one node).
+        pub top: u32,
+        /// A node counts whole where its radius is at most θ times its
+        /// centroid's distance.
+        pub theta: f32,
+        /// The near field's radius (mm, before the SSS mask scales it).
+        pub near_mm: f32,
+        /// The most surface (mm²) one texel stands for ([`TreeLevel`]'s).
+        pub max_area_mm2: f32,
+    }
+}
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 80);
+
+gpu_struct! {
+    /// Twin of `TreeLevel` in `shaders/texture_space_tree.wgsl`: one level
+    /// of `texture-space --neighbours 3d`'s tree to build.
+    pub struct TreeLevel {
+        /// This level's side in nodes.
+        pub side: u32,
+        /// 1: built from the atlas's texels; above, from the level below.
+        pub level: u32,
+        /// The level below's offset in the nodes.
+        pub below: u32,
+        /// This level's offset.
+        pub at: u32,
+        /// The most surface (mm²) one texel stands for: a sliver triangle
+        /// that covers one texel's centre would otherwise lend it its
+        /// whole surface-to-UV stretch (`cloud::texel_area_cap_mm2`).
+        pub max_area_mm2: f32,
+        pub pad0: f32,
+        pub pad1: f32,
+        pub pad2: f32,
+    }
+}
+const _: () = assert!(std::mem::size_of::<TreeLevel>() == 32);
+
+gpu_struct! {
+    /// Twin of `Node` in `shaders/texture_space_tree.wgsl` (and
+    /// `texture_space_cloud.wgsl`): a node of the atlas's point cloud.
+    pub struct CloudNode {
+        /// Σ A·E (rgb) and Σ A (mm²).
+        pub light: [f32; 4],
+        /// The area-weighted centroid (mm) and the bounding radius (mm).
+        pub sphere: [f32; 4],
+        /// The area-weighted mean squared distance from the centroid (mm²),
+        /// then nothing.
+        pub spread: [f32; 4],
+    }
+}
+const _: () = assert!(std::mem::size_of::<CloudNode>() == 48);
+
+gpu_struct! {
     /// Twin of `BurleyUniforms` in `shaders/sss_burley.wgsl`: the discrete
     /// LOD and the sampling flags.
     pub struct BurleyUniforms {

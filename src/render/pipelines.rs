@@ -72,6 +72,11 @@ pub(super) const TEXTURE_SPACE_MODULE: &str = "texture_space";
 /// a device with ray queries).
 pub(super) const TEXTURE_SPACE_RAYS_MODULE: &str = "texture_space_rays";
 
+/// `texture-space --neighbours 3d`'s gather by 3D neighbourhood in
+/// [`shader_sources`], and the compute pass that builds its tree.
+pub(super) const TEXTURE_SPACE_CLOUD_MODULE: &str = "texture_space_cloud";
+pub(super) const TEXTURE_SPACE_TREE_MODULE: &str = "texture_space_tree";
+
 pub(super) const SSS_COMMON: &str = include_str!("../../shaders/sss_common.wgsl");
 
 /// Every WGSL module the renderer builds, as (name, full source) pairs;
@@ -116,6 +121,23 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
             include_str!("../../shaders/texture_space_rays.wgsl")
         ),
     )])
+    // The gather by 3D neighbourhood: the same, with its tree's group 2
+    // after them; and the tree's build, on its own.
+    .chain([
+        (
+            TEXTURE_SPACE_CLOUD_MODULE,
+            format!(
+                "{}\n{}\n{}",
+                include_str!("../../shaders/scene.wgsl"),
+                include_str!("../../shaders/texture_space_scene.wgsl"),
+                include_str!("../../shaders/texture_space_cloud.wgsl")
+            ),
+        ),
+        (
+            TEXTURE_SPACE_TREE_MODULE,
+            include_str!("../../shaders/texture_space_tree.wgsl").to_owned(),
+        ),
+    ])
     // The GPU ground truth's gather as `reference --reference-gpu` builds
     // it: the scene's `shade` and the mesh's interpolation first (groups 0
     // and 1), the gather's own bindings after them.

@@ -89,6 +89,22 @@ impl PassTimer {
         })
     }
 
+    /// Timestamp writes for a new compute pass.
+    pub fn compute(
+        &mut self,
+        name: &'static str,
+        pixels: u64,
+        samples: u64,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let index = self.push(name, pixels, samples)?;
+        let (set, _, _) = self.queries.as_ref()?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(2 * index),
+            end_of_pass_write_index: Some(2 * index + 1),
+        })
+    }
+
     /// Overwrites the sample count of the last pass named `name` (for
     /// counts measured on the GPU after the frame).
     pub fn set_samples(&mut self, name: &str, samples: u64) {

@@ -984,6 +984,48 @@ fn probe_rays_say_why_they_are_missing() {
     let _ = std::fs::remove_file(&png);
 }
 
+/// `texture-space --neighbours 3d` renders on any adapter (no ray
+/// queries needed: the same render with them turned off writes its
+/// image), and cannot be asked for with `--probe-rays on`, which it
+/// replaces: clap's error names both flags.
+#[test]
+fn neighbours_3d_renders_and_excludes_probe_rays() {
+    let png = std::env::temp_dir().join(format!("scatterlab-3d-{}.png", std::process::id()));
+    let _ = std::fs::remove_file(&png);
+    let args = [
+        "render",
+        "--method",
+        "texture-space",
+        "--neighbours",
+        "3d",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_scatterlab"))
+        .args(args)
+        .env("SCATTERLAB_NO_RAY_QUERY", "1")
+        .output()
+        .expect("binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (64, 48));
+    let _ = std::fs::remove_file(&png);
+    let mut both = args.to_vec();
+    both.extend(["--probe-rays", "on"]);
+    let (code, _, err) = run(&both);
+    assert_ne!(code, 0, "{err}");
+    assert!(
+        err.contains("--neighbours") && err.contains("--probe-rays"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!png.exists(), "a refused render wrote {}", png.display());
+}
+
 /// `--scene-obj` writes the full mesh without its maps, so it refuses a
 /// frame that would draw something else, in one line that says what to
 /// do, and writes neither the image nor the OBJ: the default head (its

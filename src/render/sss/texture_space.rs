@@ -32,16 +32,20 @@
 use super::{Knob, Look, MethodInputs, Scattered, SssFrame, SssPipelines};
 use crate::model::ModelError;
 use crate::render::context::GpuError;
-use crate::render::frame::{buf, color_attachment, color_attachment_clearing, tex, FrameEncoder};
-use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
+use crate::render::frame::{buf, color_attachment, tex, FrameEncoder};
+use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms};
 use crate::render::pipelines::{
-    buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, HDR, TEXTURE_SPACE_MODULE,
-    TEXTURE_SPACE_RAYS_MODULE,
+    TEXTURE_SPACE_CLOUD_MODULE, TEXTURE_SPACE_MODULE, TEXTURE_SPACE_RAYS_MODULE,
+    TEXTURE_SPACE_TREE_MODULE,
 };
 use crate::render::sss::burley::LUT_SIZE;
 use crate::render::targets::HdrTarget;
 
+mod cloud;
+mod passes;
 mod rays;
+
+use passes::{Atlas, MeshPasses};
 
 /// `texture-space` in the registry (`sss::Method::sss`).
 pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
@@ -56,8 +60,9 @@ pub(in crate::render) static METHOD: super::MethodInfo = super::MethodInfo {
 };
 
 /// `bench`'s configurations: the default (a 1024² atlas with the 1 mm
-/// near field on screen) and every sample in the atlas, at burley's
-/// default count (21). (2048² was measured in the full bench of
+/// near field on screen), every sample in the atlas, and the gather by 3D
+/// neighbourhood (`--neighbours 3d`, issue 53), at burley's default count
+/// (21). (2048² was measured in the full bench of
 /// 2026-12-05 within 2 points of 1024² for 1.6–2.3× the time,
 /// docs/accuracy.md; at the quick bench's 320 × 180 [`atlas_side`] caps it
 /// to 1024².)
@@ -71,6 +76,7 @@ fn bench() -> Vec<Knob> {
     vec![
         knob("atlas1024", (" 1024²", None)),
         knob("atlas1024-only", (" 1024², atlas only", Some([247, 182, 210]))),
+        knob("atlas1024-3d", (" 1024², 3D neighbours", Some([148, 52, 110]))),
     ]
 }
 
@@ -115,6 +121,31 @@ pub struct Options {
         default_value_t = ProbeRays::Off
     )]
     pub probe_rays: ProbeRays,
+    /// `texture-space`: how a pixel finds its neighbours in the atlas:
+    /// along the surface through the UV layout (`uv`), or by 3D distance
+    /// over the atlas's texels as a point cloud (`3d`: every sheet within
+    /// reach, closed lids and lips and the far side of the ear included;
+    /// docs/accuracy.md).
+    #[arg(
+        id = "neighbours",
+        long = "neighbours",
+        value_name = "UV_3D",
+        value_enum,
+        default_value_t = Neighbours::Uv,
+        conflicts_with = "probe_rays"
+    )]
+    pub neighbours: Neighbours,
+}
+
+/// How `texture-space` finds a pixel's neighbours in the atlas.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Neighbours {
+    /// Along the surface, through the UV layout.
+    Uv,
+    /// By 3D distance, over the atlas's texels as a point cloud
+    /// (Jensen & Buhler 2002; [`cloud`]).
+    #[value(name = "3d")]
+    ThreeD,
 }
 
 /// Whether `texture-space` gathers by probe rays too ([`rays`]).
@@ -150,6 +181,7 @@ impl Default for Options {
             atlas_size: DEFAULT_ATLAS,
             near_field_mm: DEFAULT_NEAR_FIELD_MM,
             probe_rays: ProbeRays::Off,
+            neighbours: Neighbours::Uv,
         }
     }
 }
@@ -162,6 +194,9 @@ pub struct Inputs {
     /// Samples nearer (mm) are read on screen.
     pub near_field_mm: f32,
     pub probe_rays: ProbeRays,
+    pub neighbours: Neighbours,
+    /// `--neighbours 3d`'s opening ratio θ ([`cloud::DEFAULT_THETA`]).
+    pub theta: f32,
 }
 
 impl MethodInputs for Inputs {
@@ -171,23 +206,29 @@ impl MethodInputs for Inputs {
             atlas_size: o.atlas_size,
             near_field_mm: o.near_field_mm,
             probe_rays: o.probe_rays,
+            neighbours: o.neighbours,
+            theta: cloud::DEFAULT_THETA,
         })
     }
 
-    /// `variant` is `atlas<N>` (the default near field) or
-    /// `atlas<N>-only` (no near field: every sample in the atlas), both
-    /// through the UV layout alone (probe rays off: the bench tool
-    /// `texture_space_on_the_scan` measures them).
+    /// `variant` is `atlas<N>` (the default near field), `atlas<N>-only`
+    /// (no near field: every sample in the atlas), both through the UV
+    /// layout alone (probe rays off: the bench tool
+    /// `texture_space_on_the_scan` measures them), or `atlas<N>-3d` (the
+    /// gather by 3D neighbourhood, the default near field).
     fn bench(&mut self, _: &Look<'_>, knob: &Knob) -> Result<(), ModelError> {
         let bad = || ModelError::invalid("texture-space bench variant", format!("{:?}", knob.variant));
         let rest = knob.variant.strip_prefix("atlas").ok_or_else(bad)?;
-        let (size, only) = match rest.strip_suffix("-only") {
-            Some(size) => (size, true),
-            None => (rest, false),
+        let (size, only, by_3d) = match (rest.strip_suffix("-only"), rest.strip_suffix("-3d")) {
+            (Some(size), _) => (size, true, false),
+            (_, Some(size)) => (size, false, true),
+            _ => (rest, false, false),
         };
         self.atlas_size = size.parse().map_err(|_| bad())?;
         self.near_field_mm = if only { 0.0 } else { DEFAULT_NEAR_FIELD_MM };
         self.probe_rays = ProbeRays::Off;
+        self.neighbours = if by_3d { Neighbours::ThreeD } else { Neighbours::Uv };
+        self.theta = cloud::DEFAULT_THETA;
         Ok(())
     }
 
@@ -195,6 +236,8 @@ impl MethodInputs for Inputs {
         h.write_u32(self.atlas_size);
         h.write_u32(self.near_field_mm.to_bits());
         h.write_u8(self.probe_rays as u8);
+        h.write_u8(self.neighbours as u8);
+        h.write_u32(self.theta.to_bits());
     }
 }
 
@@ -210,6 +253,9 @@ pub(in crate::render) type Buffers = ();
 pub(in crate::render) struct Pipelines {
     module: wgpu::ShaderModule,
     rays: Option<wgpu::ShaderModule>,
+    /// The gather by 3D neighbourhood's module, and its tree's build.
+    cloud: wgpu::ShaderModule,
+    tree: cloud::Pipelines,
 }
 
 impl super::MethodPipelines for Pipelines {
@@ -221,6 +267,8 @@ impl super::MethodPipelines for Pipelines {
         Self {
             module: module(TEXTURE_SPACE_MODULE),
             rays,
+            cloud: module(TEXTURE_SPACE_CLOUD_MODULE),
+            tree: cloud::Pipelines::new(device, &module(TEXTURE_SPACE_TREE_MODULE)),
         }
     }
 }
@@ -234,240 +282,8 @@ pub(in crate::render) struct State {
     /// The probe rays' acceleration structures, by mesh ([`probe_rays`];
     /// `None`: that mesh has no skin).
     rays: Vec<(u64, Option<rays::RayScene>)>,
-}
-
-/// The two passes that draw the mesh.
-struct MeshPasses {
-    atlas: wgpu::RenderPipeline,
-    gather: wgpu::RenderPipeline,
-    gather_layout: wgpu::BindGroupLayout,
-    /// The probe-ray gather and its group 2, on a device with ray queries.
-    rays: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
-}
-
-
-/// The atlas's textures.
-struct Atlas {
-    size: u32,
-    irradiance: wgpu::TextureView,
-    /// The position (mm) in half floats, and what they left out: GL
-    /// cannot render to 32-bit floats.
-    position: wgpu::TextureView,
-    position_lo: wgpu::TextureView,
-}
-
-impl Atlas {
-    fn new(device: &wgpu::Device, size: u32) -> Self {
-        let make = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: size,
-                        height: size,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        };
-        Self {
-            size,
-            irradiance: make("texture-space irradiance", HDR),
-            position: make("texture-space position", HDR),
-            position_lo: make("texture-space position residual", HDR),
-        }
-    }
-}
-
-impl MeshPasses {
-    fn new(
-        device: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        scene_layout: &wgpu::BindGroupLayout,
-    ) -> Self {
-        let frag = wgpu::ShaderStages::FRAGMENT;
-        let storage = wgpu::BufferBindingType::Storage { read_only: true };
-        let gather_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("texture-space gather"),
-            entries: &[
-                uniform_entry::<SssUniforms>(0, frag),
-                texture_entry(1),
-                texture_entry(2),
-                texture_entry(3),
-                texture_entry(4),
-                buffer_entry(5, storage, frag),
-                buffer_entry(6, storage, frag),
-                texture_entry(7),
-                uniform_entry::<TextureSpaceUniforms>(8, frag),
-            ],
-        });
-        let layout = |label, groups: &[Option<&wgpu::BindGroupLayout>]| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: groups,
-                ..Default::default()
-            })
-        };
-        let vertices = [Some(vertex_layout())];
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let atlas_layout = layout("texture-space atlas", &[Some(scene_layout)]);
-        let atlas = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("texture-space atlas"),
-            layout: Some(&atlas_layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_atlas"),
-                compilation_options: Default::default(),
-                buffers: &vertices,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_atlas"),
-                compilation_options: Default::default(),
-                targets: &[target(HDR), target(HDR), target(HDR)],
-            }),
-            // UV islands are wound either way: nothing is culled, and no
-            // depth (islands do not overlap).
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-        let gather_pl = layout(
-            "texture-space gather",
-            &[Some(scene_layout), Some(&gather_layout)],
-        );
-        let gather = gather_pipeline(device, (module, "fs_gather"), &gather_pl, &vertices);
-        Self {
-            atlas,
-            gather,
-            gather_layout,
-            rays: None,
-        }
-    }
-
-    /// Itself, with the probe rays' pipeline built where this frame casts
-    /// them (`on`: [`probe_rays`] required ray queries, so their module
-    /// exists).
-    fn with_rays(&mut self, on: bool, p: &SssPipelines, io: &SssFrame) -> &Self {
-        if let (true, Some(module)) = (on, p.texture_space.rays.as_ref()) {
-            self.build_rays(&io.ctx.device, module, io.scene_layout);
-        }
-        self
-    }
-
-    /// The probe-ray gather's pipeline and its group 2, built the first
-    /// time a frame asks for probe rays (a backend compile that frames
-    /// without them never pay).
-    fn build_rays(
-        &mut self,
-        device: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        scene_layout: &wgpu::BindGroupLayout,
-    ) {
-        if self.rays.is_some() {
-            return;
-        }
-        let gather_layout = &self.gather_layout;
-        self.rays = Some({
-            let rays_layout = rays::layout(device);
-            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("texture-space probe rays"),
-                bind_group_layouts: &[Some(scene_layout), Some(gather_layout), Some(&rays_layout)],
-                ..Default::default()
-            });
-            let vertices = [Some(vertex_layout())];
-            let pipeline = gather_pipeline(device, (module, "fs_gather_rays"), &pl, &vertices);
-            (pipeline, rays_layout)
-        });
-    }
-}
-
-/// The mesh's vertex buffer as the scene pass reads it ([`Vertex`]).
-fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-    const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32, 4 => Float32, 5 => Float32, 6 => Float32x4];
-    wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &ATTRIBUTES,
-    }
-}
-
-/// The gather pass's pipeline: the scene's vertex shader and culling, and
-/// only where the scene pass kept its fragment (depth Equal) on SSS pixels
-/// (stencil 1).
-fn gather_pipeline(
-    device: &wgpu::Device,
-    (module, fragment): (&wgpu::ShaderModule, &'static str),
-    layout: &wgpu::PipelineLayout,
-    vertices: &[Option<wgpu::VertexBufferLayout>],
-) -> wgpu::RenderPipeline {
-    let sss_pixels = wgpu::StencilFaceState {
-        compare: wgpu::CompareFunction::Equal,
-        fail_op: wgpu::StencilOperation::Keep,
-        depth_fail_op: wgpu::StencilOperation::Keep,
-        pass_op: wgpu::StencilOperation::Keep,
-    };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("texture-space gather"),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_main"),
-            compilation_options: Default::default(),
-            buffers: vertices,
-        },
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fragment),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: HDR,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        // The scene pass's culling, and its depth: only the fragment
-        // the scene pass kept passes Equal (same vertex shader, same
-        // mesh, same uniforms); and only on SSS pixels (stencil 1, as
-        // the screen-space passes).
-        primitive: wgpu::PrimitiveState {
-            cull_mode: Some(wgpu::Face::Back),
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_STENCIL,
-            depth_write_enabled: Some(false),
-            depth_compare: Some(wgpu::CompareFunction::Equal),
-            stencil: wgpu::StencilState {
-                front: sss_pixels,
-                back: sss_pixels,
-                read_mask: 0xff,
-                write_mask: 0,
-            },
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
+    /// `--neighbours 3d`'s tree, for the atlas's size.
+    tree: Option<cloud::Tree>,
 }
 
 /// The atlas side a frame of `frame` pixels draws: `--atlas-size`, but
@@ -493,11 +309,16 @@ fn encode(
     state: &mut super::State,
 ) -> Result<Scattered, GpuError> {
     let state = &mut state.texture_space;
-    let size = atlas_side(io.inputs.methods.texture_space.atlas_size, io.targets.size);
+    let inputs = &io.inputs.methods.texture_space;
+    let size = atlas_side(inputs.atlas_size, io.targets.size);
     let device = f.device;
+    let by_3d = inputs.neighbours == Neighbours::ThreeD;
     let passes = state
         .passes
         .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
+    if by_3d {
+        passes.build_cloud(device, &p.texture_space, io.scene_layout);
+    }
     let scene = probe_rays(io, &mut state.rays)?;
     let passes = passes.with_rays(scene.is_some(), p, io);
     let rays = scene.zip(passes.rays.as_ref());
@@ -508,98 +329,113 @@ fn encode(
     let Some(atlas) = state.atlas.as_ref() else {
         return Err(GpuError::Readback("texture-space: no atlas".into()));
     };
-    let texels = (size as u64).pow(2);
     // 1. The irradiance atlas: every triangle at its UVs.
-    {
-        let label = "sss texture-space irradiance";
-        let background = wgpu::Color {
-            r: 0.0,
-            g: 0.0,
-            b: 0.0,
-            a: crate::render::gpu_types::DIFFUSE_ALPHA_BACKGROUND as f64,
-        };
-        let colour = [
-            Some(color_attachment_clearing(&atlas.irradiance, Some(background))),
-            Some(color_attachment(&atlas.position, false)),
-            Some(color_attachment(&atlas.position_lo, false)),
-        ];
-        let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(label),
-            color_attachments: &colour,
-            depth_stencil_attachment: None,
-            timestamp_writes: f.timer.render(label, texels, 0),
-            ..Default::default()
-        });
-        io.drawn.draw_with(&mut pass, &passes.atlas, &[io.scene_bind]);
+    match (by_3d, &passes.cloud) {
+        (true, Some((_, untransmitted))) => atlas.draw(f, io, untransmitted),
+        _ => atlas.draw(f, io, &passes.atlas),
     }
+    // 1b. With --neighbours 3d, the point cloud's tree over it.
+    let tree = match by_3d {
+        true => Some(built_tree(f, p, io, &mut state.tree, atlas)?),
+        false => None,
+    };
     // 2. The gather at each SSS pixel, into the ping target.
     // burley's disk and table (texture-space has none of its own).
     let disk = io.profile.methods.burley.disk();
     let n = disk.count;
-    {
-        let label = "sss texture-space gather";
-        let t = io.targets;
-        let uniforms = SssUniforms {
-            lut_radius_mm: disk.lut_radius_mm,
-            lut_entries: LUT_SIZE as u32,
-            ..io.uniforms(n)
-        };
-        let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
-        let near = f.uniform(
-            "texture-space uniforms",
-            bytemuck::bytes_of(&TextureSpaceUniforms {
-                near_field_mm: io.inputs.methods.texture_space.near_field_mm,
-                pad0: 0.0,
-                pad1: 0.0,
-                pad2: 0.0,
+    let label = "sss texture-space gather";
+    let t = io.targets;
+    let uniforms = SssUniforms {
+        lut_radius_mm: disk.lut_radius_mm,
+        lut_entries: LUT_SIZE as u32,
+        ..io.uniforms(n)
+    };
+    let u = f.uniform("sss uniforms", bytemuck::bytes_of(&uniforms));
+    let near = f.uniform(
+        "texture-space uniforms",
+        bytemuck::bytes_of(&TextureSpaceUniforms {
+            near_field_mm: inputs.near_field_mm,
+            pad0: 0.0,
+            pad1: 0.0,
+            pad2: 0.0,
+        }),
+    );
+    let gather_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &passes.gather_layout,
+        entries: &[
+            buf(0, &u),
+            tex(1, &atlas.irradiance),
+            tex(2, &atlas.position),
+            tex(3, &atlas.position_lo),
+            tex(4, t.view(HdrTarget::Diffuse)),
+            buf(5, disk.samples),
+            buf(6, disk.profile_lut),
+            tex(7, &t.linear_depth),
+            buf(8, &near),
+        ],
+    });
+    let cloud_bg = tree.map(|tree| {
+        let uniforms = tree.uniforms(inputs.theta, inputs.near_field_mm);
+        tree.bind_group(f, &p.texture_space.tree.gather_layout, &uniforms)
+    });
+    let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
+    let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &colour,
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth_stencil,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
             }),
-        );
-        let gather_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout: &passes.gather_layout,
-            entries: &[
-                buf(0, &u),
-                tex(1, &atlas.irradiance),
-                tex(2, &atlas.position),
-                tex(3, &atlas.position_lo),
-                tex(4, t.view(HdrTarget::Diffuse)),
-                buf(5, disk.samples),
-                buf(6, disk.profile_lut),
-                tex(7, &t.linear_depth),
-                buf(8, &near),
-            ],
-        });
-        let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
-        let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(label),
-            color_attachments: &colour,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &t.depth_stencil,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
+            stencil_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
             }),
-            timestamp_writes: f.timer.render(label, io.sss_pixels, io.sss_pixels * n as u64),
-            ..Default::default()
-        });
-        pass.set_stencil_reference(1);
-        match rays {
-            Some((scene, (pipeline, layout))) => {
-                let rays_bg = scene.bind_group(device, layout);
-                io.drawn
-                    .draw_with(&mut pass, pipeline, &[io.scene_bind, &gather_bg, &rays_bg]);
-            }
-            None => io
-                .drawn
-                .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]),
+        }),
+        timestamp_writes: f.timer.render(label, io.sss_pixels, io.sss_pixels * n as u64),
+        ..Default::default()
+    });
+    pass.set_stencil_reference(1);
+    let cloud = passes.cloud.as_ref().map(|(gather, _)| gather);
+    match (rays, cloud_bg.as_ref().zip(cloud)) {
+        (_, Some((cloud_bg, pipeline))) => {
+            io.drawn
+                .draw_with(&mut pass, pipeline, &[io.scene_bind, &gather_bg, cloud_bg]);
         }
+        (Some((scene, (pipeline, layout))), None) => {
+            let rays_bg = scene.bind_group(device, layout);
+            io.drawn
+                .draw_with(&mut pass, pipeline, &[io.scene_bind, &gather_bg, &rays_bg]);
+        }
+        (None, None) => io
+            .drawn
+            .draw_with(&mut pass, &passes.gather, &[io.scene_bind, &gather_bg]),
     }
+    drop(pass);
     Ok(Scattered::in_target(HdrTarget::Ping, n))
+}
+
+/// `--neighbours 3d`'s tree for `atlas` (made for its size, kept while the
+/// size is the same), built over this frame's atlas.
+fn built_tree<'s>(
+    f: &mut FrameEncoder,
+    p: &SssPipelines,
+    io: &SssFrame,
+    slot: &'s mut Option<cloud::Tree>,
+    atlas: &Atlas,
+) -> Result<&'s cloud::Tree, GpuError> {
+    if slot.as_ref().map(cloud::Tree::size) != Some(atlas.size) {
+        *slot = None;
+        *slot = Some(cloud::Tree::new(f.device, atlas.size)?);
+    }
+    let tree = slot
+        .as_mut()
+        .ok_or_else(|| GpuError::Readback("texture-space: no tree".into()))?;
+    tree.set_mesh(drawn_mesh(io));
+    tree.build(f, &p.texture_space.tree, atlas.views());
+    Ok(tree)
 }
 
 /// The probe rays' scene where this frame gathers by them too
@@ -622,16 +458,7 @@ fn probe_rays<'s>(
     // The level of detail the scene pass drew: the pixels' surface points
     // lie on it, and a ray through a finer one would find them up to its
     // deviation away.
-    let mut mesh = io.mesh;
-    while mesh.indices.len() as u32 != io.drawn.index_count {
-        match &mesh.coarse {
-            Some(coarse) => mesh = coarse,
-            None => {
-                mesh = io.mesh;
-                break;
-            }
-        }
-    }
+    let mesh = drawn_mesh(io);
     let key = rays::mesh_key(mesh);
     let at = match cache.iter().position(|(k, _)| *k == key) {
         Some(at) => at,
@@ -645,6 +472,18 @@ fn probe_rays<'s>(
         }
     };
     Ok(cache[at].1.as_ref())
+}
+
+/// The level of detail the scene pass drew this frame.
+fn drawn_mesh<'m>(io: &SssFrame<'m>) -> &'m crate::render::mesh::Mesh {
+    let mut mesh = io.mesh;
+    while mesh.indices.len() as u32 != io.drawn.index_count {
+        match &mesh.coarse {
+            Some(coarse) => mesh = coarse,
+            None => return io.mesh,
+        }
+    }
+    mesh
 }
 
 /// How many meshes' probe-ray scenes are kept (a mesh and its coarser
