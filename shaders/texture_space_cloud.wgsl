@@ -56,6 +56,8 @@ struct CloudUniforms {
 
 @group(2) @binding(0) var<storage, read> nodes: array<Node>;
 @group(2) @binding(1) var<uniform> cloud: CloudUniforms;
+// The resolved 4× atlas: Σ A·E and Σ A over each texel's samples.
+@group(2) @binding(2) var atlas_coverage: texture_2d<f32>;
 
 // The levels' codes on the traversal stack: level above bit 27, the
 // node's index within its level below.
@@ -81,17 +83,34 @@ fn density(d: f32, m: f32) -> vec3<f32> {
 }
 
 // A texel as a node (texture_space_tree.wgsl's `texel_node`, whose twin
-// this is: the gather reads level 0 from the atlas itself).
+// this is: the gather reads level 0 from the atlas itself). A texel
+// covered only off its centre takes its point from its neighbours: one
+// step on from the first covered one (within two texels' width of it),
+// or that one's point.
 fn leaf(q: vec2<i32>) -> Node {
     var n: Node;
-    let hi = textureLoad(atlas_position_hi, q, 0);
-    let lo = textureLoad(atlas_position_lo, q, 0);
-    let area = select(0.0, clamp(lo.w, 0.0, cloud.max_area_mm2), hi.w > 0.5);
-    let e = textureLoad(atlas_irradiance, q, 0);
-    let light = select(vec3<f32>(0.0), e.rgb, e.a > 0.5 * DIFFUSE_ALPHA_NOT_SKIN);
-    n.light = vec4<f32>(light * area, area);
-    n.sphere = vec4<f32>(hi.xyz + lo.xyz, sqrt(0.5 * area));
+    let cov = textureLoad(atlas_coverage, q, 0);
+    let area = clamp(cov.a, 0.0, cloud.max_area_mm2);
+    n.light = vec4<f32>(select(vec3<f32>(0.0), cov.rgb * (area / cov.a), cov.a > 0.0), area);
     n.spread = vec4<f32>(area / 6.0, 0.0, 0.0, 0.0);
+    var y = texel_point(q);
+    if (y.w == 0.0 && area > 0.0) {
+        let width = sqrt(area);
+        let steps = array<vec2<i32>, 4>(vec2<i32>(1, 0), vec2<i32>(-1, 0), vec2<i32>(0, 1), vec2<i32>(0, -1));
+        for (var k = 0; k < 4; k = k + 1) {
+            let one = texel_point(q + steps[k]);
+            if (one.w > 0.0) {
+                let two = texel_point(q + 2 * steps[k]);
+                let on = two.w > 0.0 && length(two.xyz - one.xyz) < 2.0 * width;
+                y = vec4<f32>(select(one.xyz, 2.0 * one.xyz - two.xyz, on), 1.0);
+                break;
+            }
+        }
+    }
+    n.sphere = vec4<f32>(y.xyz, sqrt(0.5 * area));
+    if (y.w == 0.0) {
+        n.light = vec4<f32>(0.0);
+    }
     return n;
 }
 
@@ -104,7 +123,10 @@ fn leaf(q: vec2<i32>) -> Node {
 // over a band of one decay length either side, where the midpoint rule is
 // 15 % low), times the share of the band beyond `near`.
 fn band(n: Node, d: f32, near: f32, m: f32) -> vec3<f32> {
-    let a = min(sqrt(1.5 * n.spread.x), n.sphere.w);
+    return band_mean(d, min(sqrt(1.5 * n.spread.x), n.sphere.w), near, m);
+}
+
+fn band_mean(d: f32, a: f32, near: f32, m: f32) -> vec3<f32> {
     let lo = max(d - a, near);
     let hi = d + a;
     if (hi <= lo) {
@@ -113,6 +135,64 @@ fn band(n: Node, d: f32, near: f32, m: f32) -> vec3<f32> {
     let share = select(1.0, (hi - lo) / (2.0 * a), a > 0.0);
     let mean = (density(lo, m) + 4.0 * density(0.5 * (lo + hi), m) + density(hi, m)) / 6.0;
     return mean * share;
+}
+
+// A texel's point (mm), or w = 0 where no surface covers it.
+fn texel_point(q: vec2<i32>) -> vec4<f32> {
+    let size = vec2<i32>(textureDimensions(atlas_irradiance, 0));
+    if (any(q < vec2<i32>(0)) || any(q >= size)) {
+        return vec4<f32>(0.0);
+    }
+    let hi = textureLoad(atlas_position_hi, q, 0);
+    let lo = textureLoad(atlas_position_lo, q, 0);
+    return vec4<f32>(hi.xyz + lo.xyz, select(0.0, 1.0, hi.w > 0.5));
+}
+
+// The step (mm) to the texel `dq` away, or its opposite's negated, where
+// that one lies on the same sheet (no further than 2 texels' width); zero
+// where neither does.
+fn texel_step(q: vec2<i32>, dq: vec2<i32>, y: vec3<f32>, width: f32) -> vec3<f32> {
+    let ahead = texel_point(q + dq);
+    if (ahead.w > 0.0 && length(ahead.xyz - y) < 2.0 * width) {
+        return ahead.xyz - y;
+    }
+    let behind = texel_point(q - dq);
+    if (behind.w > 0.0 && length(behind.xyz - y) < 2.0 * width) {
+        return y - behind.xyz;
+    }
+    return vec3<f32>(0.0);
+}
+
+// Sub-texels a side where a texel is too wide for its distance.
+const SUB: i32 = 4;
+
+// What a texel gives beyond `near`: as a node (`band`) where its half
+// width is under half its distance beyond the near field; otherwise (the
+// texels about x, where a texel of 0.5–1 mm spans much of the profile's
+// core) split into SUB × SUB parts laid along the steps to its
+// neighbours (the surface's own parametrisation, so a part lies where the
+// surface is), each a band of its own.
+fn texel_sum(n: Node, q: vec2<i32>, x: vec3<f32>, d: f32, near: f32, m: f32) -> vec3<f32> {
+    let width = sqrt(n.light.w);
+    let a = 0.5 * width;
+    if (a <= 0.5 * (d - near)) {
+        return band(n, d, near, m) * n.light.rgb;
+    }
+    let y = n.sphere.xyz;
+    let du = texel_step(q, vec2<i32>(1, 0), y, width);
+    let dv = texel_step(q, vec2<i32>(0, 1), y, width);
+    if (all(du == vec3<f32>(0.0)) || all(dv == vec3<f32>(0.0))) {
+        return band(n, d, near, m) * n.light.rgb;
+    }
+    var sum = vec3<f32>(0.0);
+    let k = f32(SUB);
+    for (var j = 0; j < SUB; j = j + 1) {
+        for (var i = 0; i < SUB; i = i + 1) {
+            let p = y + du * ((f32(i) + 0.5) / k - 0.5) + dv * ((f32(j) + 0.5) / k - 0.5);
+            sum = sum + band_mean(length(p - x), a / k, near, m);
+        }
+    }
+    return sum * (n.light.rgb / (k * k));
 }
 
 // Σ R_m(‖x − y‖)·A·E beyond `near` (mm) and within `reach` (mm).
@@ -144,7 +224,8 @@ fn cloud_sum(x: vec3<f32>, near: f32, reach: f32, m: f32) -> vec3<f32> {
         }
         if (level == 0u) {
             if (d <= reach) {
-                sum = sum + band(n, d, near, m) * n.light.rgb;
+                let q = vec2<i32>(i32(index % side), i32(index / side));
+                sum = sum + texel_sum(n, q, x, d, near, m);
             }
             continue;
         }

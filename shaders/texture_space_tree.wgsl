@@ -47,24 +47,57 @@ struct TreeLevel {
 @group(0) @binding(2) var atlas_irradiance: texture_2d<f32>;
 @group(0) @binding(3) var atlas_position_hi: texture_2d<f32>;
 @group(0) @binding(4) var atlas_position_lo: texture_2d<f32>;
+// The resolved 4× atlas: Σ A·E and Σ A over each texel's samples
+// (texture_space_scene.wgsl's `fs_atlas_coverage`).
+@group(0) @binding(5) var atlas_coverage: texture_2d<f32>;
 
-// Alpha of the atlas's eyes and teeth (scene.wgsl's DIFFUSE_ALPHA_NOT_SKIN,
-// −1) and of its empty texels (−2): skin is above half of −1.
-const SKIN_ABOVE: f32 = -0.5;
-
-// A texel as a node: skin gives its light, eyes and teeth none (they do
-// not scatter, as in the ground truth); an empty texel has no area.
-fn texel_node(q: vec2<i32>) -> Node {
-    var n: Node;
+// A texel's point (mm), or w = 0 where its centre is not covered.
+fn texel_point(q: vec2<i32>) -> vec4<f32> {
+    let size = vec2<i32>(textureDimensions(atlas_position_hi, 0));
+    if (any(q < vec2<i32>(0)) || any(q >= size)) {
+        return vec4<f32>(0.0);
+    }
     let hi = textureLoad(atlas_position_hi, q, 0);
     let lo = textureLoad(atlas_position_lo, q, 0);
-    let area = select(0.0, clamp(lo.w, 0.0, lv.max_area_mm2), hi.w > 0.5);
-    let e = textureLoad(atlas_irradiance, q, 0);
-    let light = select(vec3<f32>(0.0), e.rgb, e.a > SKIN_ABOVE);
-    n.light = vec4<f32>(light * area, area);
-    n.sphere = vec4<f32>(hi.xyz + lo.xyz, sqrt(0.5 * area));
+    return vec4<f32>(hi.xyz + lo.xyz, select(0.0, 1.0, hi.w > 0.5));
+}
+
+// A texel as a node: its surface and light from the resolved 4× atlas
+// (skin gives its light, eyes and teeth none: they do not scatter, as in
+// the ground truth), each texel's area at most `max_area_mm2`, and its
+// point. A texel covered only off its centre (at an island's edge) has no
+// point of its own in the single-sample atlas: it is placed one step on
+// from its first covered neighbour (+u, −u, +v, −v), extrapolated from
+// the next texel beyond where that lies within two texels' width, or at
+// the neighbour's point; with no covered neighbour it is dropped.
+// texture_space_cloud.wgsl's `leaf` is its twin.
+fn texel_node(q: vec2<i32>) -> Node {
+    var n: Node;
+    let cov = textureLoad(atlas_coverage, q, 0);
+    let area = clamp(cov.a, 0.0, lv.max_area_mm2);
+    let light = select(vec3<f32>(0.0), cov.rgb * (area / cov.a), cov.a > 0.0);
+    n.light = vec4<f32>(light, area);
     // A square of side s: s²/6.
     n.spread = vec4<f32>(area / 6.0, 0.0, 0.0, 0.0);
+    var y = texel_point(q);
+    if (y.w == 0.0 && area > 0.0) {
+        let width = sqrt(area);
+        let steps = array<vec2<i32>, 4>(vec2<i32>(1, 0), vec2<i32>(-1, 0), vec2<i32>(0, 1), vec2<i32>(0, -1));
+        for (var k = 0; k < 4; k = k + 1) {
+            let one = texel_point(q + steps[k]);
+            if (one.w > 0.0) {
+                let two = texel_point(q + 2 * steps[k]);
+                let on = two.w > 0.0 && length(two.xyz - one.xyz) < 2.0 * width;
+                y = vec4<f32>(select(one.xyz, 2.0 * one.xyz - two.xyz, on), 1.0);
+                break;
+            }
+        }
+    }
+    n.sphere = vec4<f32>(y.xyz, sqrt(0.5 * area));
+    if (y.w == 0.0) {
+        n.light = vec4<f32>(0.0);
+        n.spread = vec4<f32>(0.0);
+    }
     return n;
 }
 

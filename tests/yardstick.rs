@@ -337,6 +337,10 @@ fn the_methods_against_the_ground_truth_on_a_held_out_scan_view() {
             "texture-space 1024",
             Config::of(Method::TextureSpace, "atlas1024", 21).unwrap(),
         ),
+        (
+            "texture-space 1024 3d",
+            Config::of(Method::TextureSpace, "atlas1024-3d", 21).unwrap(),
+        ),
     ];
     let mut csv = String::from("method,rel_rmse,rel_rmse_interior,share_of_none_removed\n");
     let mut none = (0.0, 0.0);

@@ -331,12 +331,16 @@ fn encode(
     };
     // 1. The irradiance atlas: every triangle at its UVs.
     match (by_3d, &passes.cloud) {
-        (true, Some((_, untransmitted))) => atlas.draw(f, io, untransmitted),
+        (true, Some(cloud)) => atlas.draw(f, io, &cloud.atlas),
         _ => atlas.draw(f, io, &passes.atlas),
     }
     // 1b. With --neighbours 3d, the point cloud's tree over it.
     let tree = match by_3d {
-        true => Some(built_tree(f, p, io, &mut state.tree, atlas)?),
+        true => {
+            let coverage = passes.cloud.as_ref().map(|c| &c.coverage);
+            let coverage = coverage.ok_or_else(|| GpuError::Readback("texture-space: no cloud passes".into()))?;
+            Some(built_tree(f, p, io, (&mut state.tree, coverage), atlas)?)
+        }
         false => None,
     };
     // 2. The gather at each SSS pixel, into the ping target.
@@ -398,7 +402,7 @@ fn encode(
         ..Default::default()
     });
     pass.set_stencil_reference(1);
-    let cloud = passes.cloud.as_ref().map(|(gather, _)| gather);
+    let cloud = passes.cloud.as_ref().map(|c| &c.gather);
     match (rays, cloud_bg.as_ref().zip(cloud)) {
         (_, Some((cloud_bg, pipeline))) => {
             io.drawn
@@ -423,7 +427,7 @@ fn built_tree<'s>(
     f: &mut FrameEncoder,
     p: &SssPipelines,
     io: &SssFrame,
-    slot: &'s mut Option<cloud::Tree>,
+    (slot, coverage): (&'s mut Option<cloud::Tree>, &wgpu::RenderPipeline),
     atlas: &Atlas,
 ) -> Result<&'s cloud::Tree, GpuError> {
     if slot.as_ref().map(cloud::Tree::size) != Some(atlas.size) {
@@ -434,6 +438,7 @@ fn built_tree<'s>(
         .as_mut()
         .ok_or_else(|| GpuError::Readback("texture-space: no tree".into()))?;
     tree.set_mesh(drawn_mesh(io));
+    tree.draw_coverage(f, io, coverage);
     tree.build(f, &p.texture_space.tree, atlas.views());
     Ok(tree)
 }

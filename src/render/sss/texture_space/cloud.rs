@@ -14,7 +14,8 @@ use crate::render::context::GpuError;
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::{CloudNode, CloudUniforms, TreeLevel};
 use crate::render::mesh::Mesh;
-use crate::render::pipelines::{buffer_entry, uniform_entry};
+use crate::render::pipelines::{buffer_entry, texture_entry, uniform_entry, HDR};
+use crate::render::sss::SssFrame;
 
 /// θ: a node counts whole where its bounding radius is at most θ times its
 /// centroid's distance from the pixel (Jensen & Buhler 2002's solid-angle
@@ -39,7 +40,14 @@ pub(super) struct Tree {
     top: u32,
     /// [`texel_area_cap_mm2`] for the mesh last drawn, by its key.
     cap: (u64, f32),
+    /// The 4× atlas of each texel's surface and light, and its resolve
+    /// (`fs_atlas_coverage`).
+    coverage_msaa: wgpu::TextureView,
+    coverage: wgpu::TextureView,
 }
+
+/// The samples a texel of the coverage atlas takes.
+pub const COVERAGE_SAMPLES: u32 = 4;
 
 impl Tree {
     /// The tree's buffer for an atlas of `size` texels a side (a power of
@@ -71,12 +79,33 @@ impl Tree {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        let texture = |label, samples| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: size,
+                        height: size,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: HDR,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
         Ok(Self {
             size,
             nodes,
             offsets,
             top,
             cap: (0, f32::MAX),
+            coverage_msaa: texture("texture-space coverage (4×)", COVERAGE_SAMPLES),
+            coverage: texture("texture-space coverage", 1),
         })
     }
 
@@ -110,6 +139,28 @@ impl Tree {
         }
     }
 
+    /// Draws the 4× coverage atlas and resolves it.
+    pub fn draw_coverage(&self, f: &mut FrameEncoder, io: &SssFrame, pipeline: &wgpu::RenderPipeline) {
+        let label = "sss texture-space coverage";
+        let colour = [Some(wgpu::RenderPassColorAttachment {
+            view: &self.coverage_msaa,
+            resolve_target: Some(&self.coverage),
+            depth_slice: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Discard,
+            },
+        })];
+        let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &colour,
+            depth_stencil_attachment: None,
+            timestamp_writes: f.timer.render(label, u64::from(self.size).pow(2), 0),
+            ..Default::default()
+        });
+        io.drawn.draw_with(&mut pass, pipeline, &[io.scene_bind]);
+    }
+
     /// Builds the tree from the atlas's three textures, level by level,
     /// in one compute pass.
     pub fn build(
@@ -141,6 +192,7 @@ impl Tree {
                         tex(2, atlas[0]),
                         tex(3, atlas[1]),
                         tex(4, atlas[2]),
+                        tex(5, &self.coverage),
                     ],
                 })
             })
@@ -170,7 +222,7 @@ impl Tree {
         f.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("texture-space cloud"),
             layout,
-            entries: &[buf(0, &self.nodes), buf(1, &u)],
+            entries: &[buf(0, &self.nodes), buf(1, &u), tex(2, &self.coverage)],
         })
     }
 }
@@ -204,6 +256,7 @@ impl Pipelines {
                 texture(2),
                 texture(3),
                 texture(4),
+                texture(5),
             ],
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -225,6 +278,7 @@ impl Pipelines {
             entries: &[
                 buffer_entry(0, wgpu::BufferBindingType::Storage { read_only: true }, frag),
                 uniform_entry::<CloudUniforms>(1, frag),
+                texture_entry(2),
             ],
         });
         Self {

@@ -2,7 +2,7 @@
 //! its UVs) and the gathers at the SSS pixels (through the UV layout, by
 //! probe rays, or by 3D neighbourhood), and the atlas's textures.
 
-use super::{rays, Pipelines};
+use super::{cloud, rays, Pipelines};
 use crate::render::frame::{color_attachment, color_attachment_clearing, FrameEncoder};
 use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
 use crate::render::pipelines::{buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, HDR};
@@ -17,7 +17,16 @@ pub(super) struct MeshPasses {
     pub(super) rays: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
     /// The gather by 3D neighbourhood and its atlas (without the scene
     /// pass's transmission), built the first time a frame asks for them.
-    pub(super) cloud: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
+    pub(super) cloud: Option<CloudPasses>,
+}
+
+/// The gather by 3D neighbourhood's passes that draw the mesh.
+pub(super) struct CloudPasses {
+    pub(super) gather: wgpu::RenderPipeline,
+    /// The atlas without the scene pass's transmission term.
+    pub(super) atlas: wgpu::RenderPipeline,
+    /// The 4× atlas of each texel's surface and light (`fs_atlas_coverage`).
+    pub(super) coverage: wgpu::RenderPipeline,
 }
 
 
@@ -121,7 +130,17 @@ impl MeshPasses {
             ..Default::default()
         });
         let atlas = atlas_pipeline(device, (&p.cloud, "fs_atlas_untransmitted"), &atlas_layout);
-        self.cloud = Some((gather, atlas));
+        let coverage = atlas_pipeline_into(
+            device,
+            (&p.cloud, "fs_atlas_coverage"),
+            &atlas_layout,
+            (1, cloud::COVERAGE_SAMPLES),
+        );
+        self.cloud = Some(CloudPasses {
+            gather,
+            atlas,
+            coverage,
+        });
     }
 
     pub(super) fn new(
@@ -214,6 +233,16 @@ fn atlas_pipeline(
     (module, fragment): (&wgpu::ShaderModule, &'static str),
     layout: &wgpu::PipelineLayout,
 ) -> wgpu::RenderPipeline {
+    atlas_pipeline_into(device, (module, fragment), layout, (3, 1))
+}
+
+/// [`atlas_pipeline`] into `targets` HDR targets of `samples` samples.
+fn atlas_pipeline_into(
+    device: &wgpu::Device,
+    (module, fragment): (&wgpu::ShaderModule, &'static str),
+    layout: &wgpu::PipelineLayout,
+    (targets, samples): (usize, u32),
+) -> wgpu::RenderPipeline {
     let target = |format| {
         Some(wgpu::ColorTargetState {
             format,
@@ -234,7 +263,7 @@ fn atlas_pipeline(
             module,
             entry_point: Some(fragment),
             compilation_options: Default::default(),
-            targets: &[target(HDR), target(HDR), target(HDR)],
+            targets: &[target(HDR), target(HDR), target(HDR)][..targets],
         }),
         // UV islands are wound either way: nothing is culled, and no
         // depth (islands do not overlap).
@@ -243,7 +272,10 @@ fn atlas_pipeline(
             ..Default::default()
         },
         depth_stencil: None,
-        multisample: Default::default(),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
         multiview_mask: None,
         cache: None,
     })
