@@ -105,11 +105,14 @@ fn main() -> anyhow::Result<()> {
                 Config::of(Method::TextureSpace, "atlas1024", 21).expect("texture-space atlas1024");
             let (uv, rays) = (ProbeRays::Off, ProbeRays::On);
             let d3 = Neighbours::ThreeD;
-            let theta: Vec<f32> = std::env::var("THETA")
+            let theta = std::env::var("THETA")
                 .unwrap_or_else(|_| "0.3".into())
                 .split(',')
-                .map(|t| t.parse().unwrap_or(0.5))
-                .collect();
+                .map(|t| {
+                    t.parse::<f32>()
+                        .map_err(|e| anyhow::anyhow!("THETA {t:?}: {e}"))
+                })
+                .collect::<anyhow::Result<Vec<f32>>>()?;
             let mut configs = vec![
                 (1024u32, 1.0f32, uv, Neighbours::Uv, 0.5f32),
                 (2048, 1.0, uv, Neighbours::Uv, 0.5),

@@ -24,8 +24,10 @@
 //   whose bounding sphere lies beyond r₀ and whose radius is at most
 //   θ·‖x − centroid‖ counts whole at its centroid; otherwise its four
 //   children are visited, down to single texels. A texel across r₀ counts
-//   for the part of its width beyond it (a linear ramp over its diagonal),
-//   so that the hand-over does not alias on the texel grid. Nodes wholly
+//   for the part of its width beyond it (`band_mean`: its distances taken
+//   as spread evenly over d ± half its width), and texels wide for their
+//   distance are split 4 × 4 (`texel_sum`), so that the hand-over does not
+//   alias on the texel grid. Nodes wholly
 //   beyond the profile's reach (the table's radius, its 0.999 energy)
 //   are skipped, as the ground truth skips them.
 // R is the profile's areal density (mm⁻², ∫ R 2πr dr = 1 − CDF(0)), read
@@ -263,7 +265,7 @@ fn fs_gather_cloud(i: VertexOut) -> @location(0) vec4<f32> {
     let m = f.m;
     let centre = direct.rgb;
     let kept = select(vec3<f32>(1.0), min(direct.rgb / pixel.rgb, vec3<f32>(1.0)), pixel.rgb > vec3<f32>(0.0));
-    if (!f.valid || m <= 0.0) {
+    if (m <= 0.0) {
         return vec4<f32>(centre, pixel.a);
     }
     // Within r₀: the near field's samples, normalised. r₀ is never under
@@ -271,11 +273,14 @@ fn fs_gather_cloud(i: VertexOut) -> @location(0) vec4<f32> {
     // shrinks the profile under a texel leaves it all to the near field.
     let r0 = max(cloud.near_mm * m, cloud.near_mm);
     let rho0 = r0 / m;
+    // Every one of them read on screen (`uv_sample_below` with rho0), and
+    // none where the triangle's map is degenerate (the pixel's own light
+    // stands in).
     var sum = vec3<f32>(0.0);
     var wsum = vec3<f32>(0.0);
     for (var k = 0u; k < s.sample_count; k = k + 1u) {
-        if (samples[k].radius_mm < rho0) {
-            let o = uv_sample(i, t, f, k);
+        if (f.valid && samples[k].radius_mm < rho0) {
+            let o = uv_sample_below(i, t, f, k, rho0);
             sum = sum + o.light;
             wsum = wsum + o.w;
         }

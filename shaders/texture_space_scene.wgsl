@@ -290,12 +290,18 @@ struct UvSample {
 };
 
 fn uv_sample(i: VertexOut, t: TriangleMaps, f: UvFrame, k: u32) -> UvSample {
+    return uv_sample_below(i, t, f, k, ts.near_field_mm);
+}
+
+// `uv_sample` with the samples under `screen_mm` (before the mask scales
+// them) read on screen.
+fn uv_sample_below(i: VertexOut, t: TriangleMaps, f: UvFrame, k: u32, screen_mm: f32) -> UvSample {
     var o: UvSample;
     let smp = samples[k];
     let angle = smp.angle + f.rotation;
     let dir = vec2<f32>(cos(angle), sin(angle));
     let r_mm = smp.radius_mm * f.m;
-    if (smp.radius_mm < ts.near_field_mm) {
+    if (smp.radius_mm < screen_mm) {
         // The near field on screen, as fs_burley reads it (pixel
         // resolution where the atlas's texels are coarser than the green
         // and blue profiles): the same sample on a disk facing the camera,

@@ -986,8 +986,10 @@ fn probe_rays_say_why_they_are_missing() {
 
 /// `texture-space --neighbours 3d` renders on any adapter (no ray
 /// queries needed: the same render with them turned off writes its
-/// image), and cannot be asked for with `--probe-rays on`, which it
-/// replaces: clap's error names both flags.
+/// image), at an atlas side that is not a power of two too, and with
+/// `--probe-rays off` said outright; with `--probe-rays on`, which adds to
+/// the UV layout's gather, it is refused in one line that names both
+/// flags, while `--neighbours uv --probe-rays on` renders.
 #[test]
 fn neighbours_3d_renders_and_excludes_probe_rays() {
     let png = std::env::temp_dir().join(format!("scatterlab-3d-{}.png", std::process::id()));
@@ -1014,16 +1016,33 @@ fn neighbours_3d_renders_and_excludes_probe_rays() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (64, 48));
     let _ = std::fs::remove_file(&png);
+    for extra in [&["--probe-rays", "off"][..], &["--atlas-size", "1000"]] {
+        let mut with = args.to_vec();
+        with.extend(extra);
+        let (code, _, err) = run(&with);
+        assert_eq!(code, 0, "{extra:?}: {err}");
+        assert_eq!(image::open(&png).unwrap().to_rgba8().dimensions(), (64, 48));
+        let _ = std::fs::remove_file(&png);
+    }
     let mut both = args.to_vec();
     both.extend(["--probe-rays", "on"]);
     let (code, _, err) = run(&both);
     assert_ne!(code, 0, "{err}");
     assert!(
-        err.contains("--neighbours") && err.contains("--probe-rays"),
+        err.contains("--neighbours 3d") && err.contains("--probe-rays on"),
         "{err}"
     );
+    assert!(err.trim().lines().count() == 1, "{err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(!png.exists(), "a refused render wrote {}", png.display());
+    let uv_rays: Vec<&str> = args
+        .iter()
+        .map(|a| if *a == "3d" { "uv" } else { a })
+        .chain(["--probe-rays", "on"])
+        .collect();
+    let (code, _, err) = run(&uv_rays);
+    assert_eq!(code, 0, "--neighbours uv --probe-rays on: {err}");
+    let _ = std::fs::remove_file(&png);
 }
 
 /// `--scene-obj` writes the full mesh without its maps, so it refuses a

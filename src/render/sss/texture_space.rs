@@ -131,16 +131,17 @@ pub struct Options {
     /// along the surface through the UV layout (`uv`), or by 3D distance
     /// over the atlas's texels as a point cloud (`3d`: every sheet within
     /// reach, closed lids and lips and the far side of the ear included).
-    /// `3d` removed 75–83 % of `none`'s error on every head view of the
-    /// bench (the UV gather 25–55 %) at 28–40 × its time on lavapipe
-    /// (docs/accuracy.md, "The gather by 3D neighbourhood").
+    /// `3d` removed 76–83 % of `none`'s error on every head view of the
+    /// bench (the UV gather 25–55 %) at 28–37 × its time on lavapipe
+    /// (docs/accuracy.md, "The gather by 3D neighbourhood"); it takes the
+    /// atlas's side up to a power of two, and cannot be combined with
+    /// `--probe-rays on`.
     #[arg(
         id = "neighbours",
         long = "neighbours",
         value_name = "UV_3D",
         value_enum,
-        default_value_t = Neighbours::Uv,
-        conflicts_with = "probe_rays"
+        default_value_t = Neighbours::Uv
     )]
     pub neighbours: Neighbours,
 }
@@ -210,6 +211,12 @@ pub struct Inputs {
 impl MethodInputs for Inputs {
     fn new(look: &Look<'_>, _bake: bool) -> Result<Self, ModelError> {
         let o = &look.options.texture_space;
+        if (o.neighbours, o.probe_rays) == (Neighbours::ThreeD, ProbeRays::On) {
+            return Err(ModelError::invalid(
+                "texture-space --neighbours 3d with --probe-rays on",
+                "the gather by 3D neighbourhood already finds every sheet within reach, and the probe rays add to the UV layout's gather: pick one (--probe-rays off, or --neighbours uv)",
+            ));
+        }
         Ok(Self {
             atlas_size: o.atlas_size,
             near_field_mm: o.near_field_mm,
@@ -318,9 +325,12 @@ fn encode(
 ) -> Result<Scattered, GpuError> {
     let state = &mut state.texture_space;
     let inputs = &io.inputs.methods.texture_space;
-    let size = atlas_side(inputs.atlas_size, io.targets.size);
-    let device = f.device;
     let by_3d = inputs.neighbours == Neighbours::ThreeD;
+    // The point cloud's tree halves the atlas down to one node: a power of
+    // two a side (a side of 1000 gathers over a 1024² atlas).
+    let side = atlas_side(inputs.atlas_size, io.targets.size);
+    let size = if by_3d { side.next_power_of_two() } else { side };
+    let device = f.device;
     let passes = state
         .passes
         .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
@@ -343,13 +353,10 @@ fn encode(
         _ => atlas.draw(f, io, &passes.atlas),
     }
     // 1b. With --neighbours 3d, the point cloud's tree over it.
-    let tree = match by_3d {
-        true => {
-            let coverage = passes.cloud.as_ref().map(|c| &c.coverage);
-            let coverage = coverage.ok_or_else(|| GpuError::Readback("texture-space: no cloud passes".into()))?;
-            Some(built_tree(f, p, io, (&mut state.tree, coverage), atlas)?)
-        }
-        false => None,
+    let tree = match (by_3d, &passes.cloud) {
+        (true, Some(c)) => Some(built_tree(f, p, io, (&mut state.tree, &c.coverage), atlas)?),
+        (true, None) => return Err(GpuError::Readback("texture-space: no cloud passes".into())),
+        (false, _) => None,
     };
     // 2. The gather at each SSS pixel, into the ping target.
     // burley's disk and table (texture-space has none of its own).

@@ -14,7 +14,7 @@ use crate::render::context::GpuError;
 use crate::render::frame::{buf, tex, FrameEncoder};
 use crate::render::gpu_types::{CloudNode, CloudUniforms, TreeLevel};
 use crate::render::mesh::Mesh;
-use crate::render::pipelines::{buffer_entry, texture_entry, uniform_entry, HDR};
+use crate::render::pipelines::{buffer_entry, texture_entry, uniform_entry};
 use crate::render::sss::SssFrame;
 
 /// θ: a node counts whole where its bounding radius is at most θ times its
@@ -46,13 +46,16 @@ pub(super) struct Tree {
     coverage: wgpu::TextureView,
 }
 
-/// The samples a texel of the coverage atlas takes.
-pub const COVERAGE_SAMPLES: u32 = 4;
 
 impl Tree {
     /// The tree's buffer for an atlas of `size` texels a side (a power of
     /// two), or why this device cannot bind it.
     pub fn new(device: &wgpu::Device, size: u32) -> Result<Self, GpuError> {
+        if !size.is_power_of_two() {
+            return Err(GpuError::Readback(format!(
+                "texture-space --neighbours 3d: the tree halves a power of two, not {size}"
+            )));
+        }
         let top = size.trailing_zeros();
         let mut offsets = [0u32; 16];
         let mut count = 0u64;
@@ -79,32 +82,14 @@ impl Tree {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let texture = |label, samples| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: size,
-                        height: size,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: samples,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: HDR,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        };
+        let texture = |label, samples| super::passes::atlas_texture(device, label, size, samples);
         Ok(Self {
             size,
             nodes,
             offsets,
             top,
             cap: (0, f32::MAX),
-            coverage_msaa: texture("texture-space coverage (4×)", COVERAGE_SAMPLES),
+            coverage_msaa: texture("texture-space coverage (4×)", super::passes::COVERAGE_SAMPLES),
             coverage: texture("texture-space coverage", 1),
         })
     }
@@ -116,7 +101,11 @@ impl Tree {
     /// Takes `mesh`'s [`texel_area_cap_mm2`] (kept while the mesh is the
     /// same).
     pub fn set_mesh(&mut self, mesh: &Mesh) {
-        let key = super::rays::mesh_key(mesh);
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        super::rays::mesh_key(mesh).hash(&mut h);
+        mesh.metres_per_unit.to_bits().hash(&mut h);
+        let key = h.finish();
         if self.cap.0 != key {
             self.cap = (key, texel_area_cap_mm2(mesh, self.size));
         }

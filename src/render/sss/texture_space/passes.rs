@@ -2,7 +2,7 @@
 //! its UVs) and the gathers at the SSS pixels (through the UV layout, by
 //! probe rays, or by 3D neighbourhood), and the atlas's textures.
 
-use super::{cloud, rays, Pipelines};
+use super::{rays, Pipelines};
 use crate::render::frame::{color_attachment, color_attachment_clearing, FrameEncoder};
 use crate::render::gpu_types::{SssUniforms, TextureSpaceUniforms, Vertex};
 use crate::render::pipelines::{buffer_entry, texture_entry, uniform_entry, DEPTH_STENCIL, HDR};
@@ -42,30 +42,12 @@ pub(super) struct Atlas {
 
 impl Atlas {
     pub(super) fn new(device: &wgpu::Device, size: u32) -> Self {
-        let make = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: size,
-                        height: size,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        };
+        let make = |label| atlas_texture(device, label, size, 1);
         Self {
             size,
-            irradiance: make("texture-space irradiance", HDR),
-            position: make("texture-space position", HDR),
-            position_lo: make("texture-space position residual", HDR),
+            irradiance: make("texture-space irradiance"),
+            position: make("texture-space position"),
+            position_lo: make("texture-space position residual"),
         }
     }
 }
@@ -134,7 +116,7 @@ impl MeshPasses {
             device,
             (&p.cloud, "fs_atlas_coverage"),
             &atlas_layout,
-            (1, cloud::COVERAGE_SAMPLES),
+            (1, COVERAGE_SAMPLES),
         );
         self.cloud = Some(CloudPasses {
             gather,
@@ -223,6 +205,34 @@ impl MeshPasses {
             (pipeline, rays_layout)
         });
     }
+}
+
+/// The samples a texel of the coverage atlas takes (`fs_atlas_coverage`).
+pub(super) const COVERAGE_SAMPLES: u32 = 4;
+
+/// One `size²` HDR target of the atlas with `samples` samples a texel.
+pub(super) fn atlas_texture(
+    device: &wgpu::Device,
+    label: &'static str,
+    size: u32,
+    samples: u32,
+) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format: HDR,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
 }
 
 /// The atlas pass's pipeline: the mesh at its UVs, into the three atlas
