@@ -268,9 +268,11 @@ pub(in crate::render) type Buffers = ();
 pub(in crate::render) struct Pipelines {
     module: wgpu::ShaderModule,
     rays: Option<wgpu::ShaderModule>,
-    /// The gather by 3D neighbourhood's module, and its tree's build.
+    /// The gather by 3D neighbourhood's module, and its tree's build's
+    /// (whose compute pipeline is made the first time a frame asks for
+    /// it: a device without compute shaders renders everything else).
     cloud: wgpu::ShaderModule,
-    tree: cloud::Pipelines,
+    tree_module: wgpu::ShaderModule,
 }
 
 impl super::MethodPipelines for Pipelines {
@@ -283,7 +285,7 @@ impl super::MethodPipelines for Pipelines {
             module: module(TEXTURE_SPACE_MODULE),
             rays,
             cloud: module(TEXTURE_SPACE_CLOUD_MODULE),
-            tree: cloud::Pipelines::new(device, &module(TEXTURE_SPACE_TREE_MODULE)),
+            tree_module: module(TEXTURE_SPACE_TREE_MODULE),
         }
     }
 }
@@ -297,8 +299,10 @@ pub(in crate::render) struct State {
     /// The probe rays' acceleration structures, by mesh ([`probe_rays`];
     /// `None`: that mesh has no skin).
     rays: Vec<(u64, Option<rays::RayScene>)>,
-    /// `--neighbours 3d`'s tree, for the atlas's size.
+    /// `--neighbours 3d`'s tree, for the atlas's size, and its build's
+    /// pipelines (made on first use).
     tree: Option<cloud::Tree>,
+    tree_pipelines: Option<cloud::Pipelines>,
 }
 
 /// The atlas side a frame of `frame` pixels draws: `--atlas-size`, but
@@ -334,8 +338,14 @@ fn encode(
     let passes = state
         .passes
         .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
-    if by_3d {
-        passes.build_cloud(device, &p.texture_space, io.scene_layout);
+    let tree_pipelines = match by_3d {
+        true => Some(&*state.tree_pipelines.get_or_insert_with(|| {
+            cloud::Pipelines::new(device, &p.texture_space.tree_module)
+        })),
+        false => None,
+    };
+    if let Some(tp) = &tree_pipelines {
+        passes.build_cloud(device, &p.texture_space, (io.scene_layout, &tp.gather_layout));
     }
     let scene = probe_rays(io, &mut state.rays)?;
     let passes = passes.with_rays(scene.is_some(), p, io);
@@ -353,10 +363,10 @@ fn encode(
         _ => atlas.draw(f, io, &passes.atlas),
     }
     // 1b. With --neighbours 3d, the point cloud's tree over it.
-    let tree = match (by_3d, &passes.cloud) {
-        (true, Some(c)) => Some(built_tree(f, p, io, (&mut state.tree, &c.coverage), atlas)?),
-        (true, None) => return Err(GpuError::Readback("texture-space: no cloud passes".into())),
-        (false, _) => None,
+    let tree = match (tree_pipelines, &passes.cloud) {
+        (Some(tp), Some(c)) => Some((built_tree(f, tp, io, (&mut state.tree, &c.coverage), atlas)?, tp)),
+        (Some(_), None) => return Err(GpuError::Readback("texture-space: no cloud passes".into())),
+        (None, _) => None,
     };
     // 2. The gather at each SSS pixel, into the ping target.
     // burley's disk and table (texture-space has none of its own).
@@ -394,9 +404,9 @@ fn encode(
             buf(8, &near),
         ],
     });
-    let cloud_bg = tree.map(|tree| {
+    let cloud_bg = tree.map(|(tree, tp)| {
         let uniforms = tree.uniforms(inputs.theta, inputs.near_field_mm);
-        tree.bind_group(f, &p.texture_space.tree.gather_layout, &uniforms)
+        tree.bind_group(f, &tp.gather_layout, &uniforms)
     });
     let colour = [Some(color_attachment(t.view(HdrTarget::Ping), false))];
     let mut pass = f.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -440,7 +450,7 @@ fn encode(
 /// size is the same), built over this frame's atlas.
 fn built_tree<'s>(
     f: &mut FrameEncoder,
-    p: &SssPipelines,
+    pipelines: &cloud::Pipelines,
     io: &SssFrame,
     (slot, coverage): (&'s mut Option<cloud::Tree>, &wgpu::RenderPipeline),
     atlas: &Atlas,
@@ -454,7 +464,7 @@ fn built_tree<'s>(
         .ok_or_else(|| GpuError::Readback("texture-space: no tree".into()))?;
     tree.set_mesh(drawn_mesh(io));
     tree.draw_coverage(f, io, coverage);
-    tree.build(f, &p.texture_space.tree, atlas.views());
+    tree.build(f, pipelines, atlas.views());
     Ok(tree)
 }
 

@@ -90,7 +90,7 @@ impl MeshPasses {
         &mut self,
         device: &wgpu::Device,
         p: &Pipelines,
-        scene_layout: &wgpu::BindGroupLayout,
+        (scene_layout, tree_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     ) {
         if self.cloud.is_some() {
             return;
@@ -100,7 +100,7 @@ impl MeshPasses {
             bind_group_layouts: &[
                 Some(scene_layout),
                 Some(&self.gather_layout),
-                Some(&p.tree.gather_layout),
+                Some(tree_layout),
             ],
             ..Default::default()
         });
