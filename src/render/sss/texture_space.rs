@@ -338,15 +338,7 @@ fn encode(
     let passes = state
         .passes
         .get_or_insert_with(|| MeshPasses::new(device, &p.texture_space.module, io.scene_layout));
-    let tree_pipelines = match by_3d {
-        true => Some(&*state.tree_pipelines.get_or_insert_with(|| {
-            cloud::Pipelines::new(device, &p.texture_space.tree_module)
-        })),
-        false => None,
-    };
-    if let Some(tp) = &tree_pipelines {
-        passes.build_cloud(device, &p.texture_space, (io.scene_layout, &tp.gather_layout));
-    }
+    let tree_pipelines = by_3d.then(|| cloud_pipelines(&mut state.tree_pipelines, passes, p, io));
     let scene = probe_rays(io, &mut state.rays)?;
     let passes = passes.with_rays(scene.is_some(), p, io);
     let rays = scene.zip(passes.rays.as_ref());
@@ -444,6 +436,20 @@ fn encode(
     }
     drop(pass);
     Ok(Scattered::in_target(HdrTarget::Ping, n))
+}
+
+/// `--neighbours 3d`'s tree build (made on first use) and its passes that
+/// draw the mesh (built into `passes` on first use).
+fn cloud_pipelines<'s>(
+    slot: &'s mut Option<cloud::Pipelines>,
+    passes: &mut MeshPasses,
+    p: &SssPipelines,
+    io: &SssFrame,
+) -> &'s cloud::Pipelines {
+    let device = &io.ctx.device;
+    let tp = slot.get_or_insert_with(|| cloud::Pipelines::new(device, &p.texture_space.tree_module));
+    passes.build_cloud(device, &p.texture_space, (io.scene_layout, &tp.gather_layout));
+    tp
 }
 
 /// `--neighbours 3d`'s tree for `atlas` (made for its size, kept while the
